@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Builds Locus and runs every unit and integration test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+cd "${LOCUS_BUILD_DIR:-build}"
+ctest --output-on-failure -j"${LOCUS_JOBS:-2}" "$@"

@@ -1,0 +1,12 @@
+# Writes a C++ file holding each migration (in file-name order) and the demo map as raw strings.
+set(body "// Generated from schema/ by embed_schema.cmake. Do not edit.\n#include <string_view>\n#include <vector>\nnamespace locus::server {\n")
+string(APPEND body "const std::vector<std::string_view>& migrations() {\n  static const std::vector<std::string_view> m = {\n")
+foreach(f ${SQL_FILES})
+  file(READ ${f} sql)
+  string(APPEND body "    R\"locus_sql(${sql})locus_sql\",\n")
+endforeach()
+string(APPEND body "  };\n  return m;\n}\n")
+file(READ ${DEMO} demo)
+string(APPEND body "std::string_view demo_map_json() {\n  return R\"locus_json(${demo})locus_json\";\n}\n}\n")
+file(WRITE ${OUT}.tmp "${body}")
+file(COPY_FILE ${OUT}.tmp ${OUT} ONLY_IF_DIFFERENT)

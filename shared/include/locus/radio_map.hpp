@@ -1,0 +1,44 @@
+#pragma once
+// Radio-map value types shared by the server, the matchers and the tools.
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "locus/geometry.hpp"
+#include "locus/rss_stats.hpp"
+
+namespace locus {
+
+inline constexpr double kMinRss = -120.0;
+inline constexpr double kMaxRss = 0.0;
+
+bool valid_rss(double rss);  // finite and within [kMinRss, kMaxRss]
+
+// Lower-cases a BSSID; MACs written with '-' become ':' separated (aa:bb:cc:dd:ee:ff).
+// BLE ids and other free strings are only lower-cased and trimmed.
+std::string normalise_bssid(std::string_view raw);
+
+struct Measurement {
+    std::string type = "wifi";  // "wifi" or "ble"
+    std::string bssid;
+    RssStats stats;
+};
+
+struct ReferencePoint {
+    long long id = 0;
+    std::string name;
+    Point at;
+    std::vector<Measurement> measurements;
+};
+
+struct Reading {
+    std::string type = "wifi";
+    std::string bssid;
+    double rss = 0.0;
+};
+using Scan = std::vector<Reading>;
+
+// Per (type, bssid) aggregate of several scans, in first-seen order.
+std::vector<Measurement> aggregate_scans(const std::vector<Scan>& scans);
+
+}  // namespace locus

@@ -1,0 +1,22 @@
+#pragma once
+// Per-AP RSS aggregate (SPEC §3): mean, population variance and sample count, merged
+// exactly with Chan et al.'s parallel form of Welford's algorithm so that two uploads
+// combine to what a single upload of all their samples would give, in any order.
+#include <cstdint>
+#include <span>
+
+namespace locus {
+
+struct RssStats {
+    double mean = 0.0;
+    double variance = 0.0;  // population variance, dBm²
+    std::int64_t count = 0;
+
+    void add(double sample);
+    void merge(const RssStats& other);
+    static RssStats of(std::span<const double> samples);
+};
+
+RssStats merged(RssStats a, const RssStats& b);
+
+}  // namespace locus

@@ -1,0 +1,40 @@
+#include "locus/radio_map.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <map>
+#include <utility>
+
+namespace locus {
+
+bool valid_rss(double rss) { return std::isfinite(rss) && rss >= kMinRss && rss <= kMaxRss; }
+
+std::string normalise_bssid(std::string_view raw) {
+    while (!raw.empty() && std::isspace(static_cast<unsigned char>(raw.front()))) raw.remove_prefix(1);
+    while (!raw.empty() && std::isspace(static_cast<unsigned char>(raw.back()))) raw.remove_suffix(1);
+    std::string out(raw);
+    for (auto& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    // A MAC written aa-bb-cc-dd-ee-ff is the same AP as aa:bb:cc:dd:ee:ff.
+    const bool mac_with_dashes = out.size() == 17 &&
+        std::all_of(out.begin(), out.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) || c == '-'; }) &&
+        std::count(out.begin(), out.end(), '-') == 5;
+    if (mac_with_dashes) std::replace(out.begin(), out.end(), '-', ':');
+    return out;
+}
+
+std::vector<Measurement> aggregate_scans(const std::vector<Scan>& scans) {
+    std::vector<Measurement> out;
+    std::map<std::pair<std::string, std::string>, std::size_t> index;
+    for (const auto& scan : scans) {
+        for (const auto& r : scan) {
+            auto key = std::make_pair(r.type, normalise_bssid(r.bssid));
+            auto [it, inserted] = index.try_emplace(key, out.size());
+            if (inserted) out.push_back(Measurement{key.first, key.second, {}});
+            out[it->second].stats.add(r.rss);
+        }
+    }
+    return out;
+}
+
+}  // namespace locus
