@@ -1,5 +1,6 @@
 #pragma once
 // Radio-map value types shared by the server, the matchers and the tools.
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,6 +29,7 @@ struct ReferencePoint {
     long long id = 0;
     std::string name;
     Point at;
+    std::int64_t scans = 0;  // raw scans taken here: the denominator of an AP's detection rate
     std::vector<Measurement> measurements;
 };
 
