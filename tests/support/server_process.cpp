@@ -1,0 +1,173 @@
+#include "server_process.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#ifndef LOCUS_SERVER_BIN
+#error "LOCUS_SERVER_BIN must point at the locus-server binary"
+#endif
+
+namespace locus::testing {
+
+namespace {
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+Response to_response(const httplib::Result& r) {
+    Response out;
+    if (!r) return out;
+    out.status = r->status;
+    out.raw = r->body;
+    out.body = nlohmann::json::parse(r->body, nullptr, false);
+    return out;
+}
+
+int wait_status(pid_t pid) {
+    int status = 0;
+    if (waitpid(pid, &status, 0) < 0) return -1;
+    if (WIFEXITED(status)) return WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+    return -1;
+}
+}  // namespace
+
+std::string make_temp_dir() {
+    std::string tmpl = (std::getenv("TMPDIR") ? std::string(std::getenv("TMPDIR")) : std::string("/tmp")) +
+                       "/locus-test-XXXXXX";
+    if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
+    return tmpl;
+}
+
+ServerProcess::ServerProcess(std::vector<std::string> extra_args) : extra_args_(std::move(extra_args)) {
+    dir_ = make_temp_dir();
+    db_path_ = dir_ + "/locus.db";
+    log_path_ = dir_ + "/server.log";
+    start();
+}
+
+ServerProcess::~ServerProcess() {
+    if (pid_ > 0) stop();
+    std::error_code ec;
+    std::string cmd = "rm -rf '" + dir_ + "'";
+    [[maybe_unused]] int rc = std::system(cmd.c_str());
+}
+
+void ServerProcess::start() {
+    std::vector<std::string> args{LOCUS_SERVER_BIN, "--db", db_path_, "--host", "127.0.0.1", "--port", "0"};
+    args.insert(args.end(), extra_args_.begin(), extra_args_.end());
+    const auto offset = static_cast<std::size_t>(slurp(log_path_).size());
+    pid_ = fork();
+    if (pid_ == 0) {
+        FILE* f = std::fopen(log_path_.c_str(), "a");
+        if (f) {
+            dup2(fileno(f), 1);
+            dup2(fileno(f), 2);
+        }
+        std::vector<char*> cargs;
+        for (auto& a : args) cargs.push_back(a.data());
+        cargs.push_back(nullptr);
+        execv(cargs[0], cargs.data());
+        _exit(127);
+    }
+    // The server prints {"event":"listening",...,"port":N} once it accepts connections.
+    const std::regex listening(R"re("event":"listening".*"port":(\d+))re");
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (std::chrono::steady_clock::now() < deadline) {
+        const std::string log = slurp(log_path_).substr(offset);
+        std::smatch m;
+        if (std::regex_search(log, m, listening)) {
+            port_ = std::stoi(m[1].str());
+            return;
+        }
+        int status = 0;
+        if (waitpid(pid_, &status, WNOHANG) == pid_) {
+            pid_ = -1;
+            throw std::runtime_error("locus-server exited during start-up:\n" + log);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    throw std::runtime_error("locus-server did not start listening within 20 s:\n" + slurp(log_path_));
+}
+
+int ServerProcess::stop(int signal_number) {
+    if (pid_ <= 0) return -1;
+    kill(pid_, signal_number);
+    const int status = wait_status(pid_);
+    pid_ = -1;
+    return status;
+}
+
+void ServerProcess::kill9() { stop(SIGKILL); }
+
+std::string ServerProcess::log() const { return slurp(log_path_); }
+
+httplib::Headers ServerProcess::headers() const {
+    httplib::Headers h;
+    if (!api_key_.empty()) h.emplace("Authorization", "Bearer " + api_key_);
+    return h;
+}
+
+Response ServerProcess::get(const std::string& path) const {
+    httplib::Client c("127.0.0.1", port_);
+    return to_response(c.Get(path.c_str(), headers()));
+}
+
+Response ServerProcess::post(const std::string& path, const nlohmann::json& body) const {
+    return post_raw(path, body.dump());
+}
+
+Response ServerProcess::post_raw(const std::string& path, const std::string& body,
+                                 const std::string& content_type) const {
+    httplib::Client c("127.0.0.1", port_);
+    return to_response(c.Post(path.c_str(), headers(), body, content_type.c_str()));
+}
+
+Response ServerProcess::patch(const std::string& path, const nlohmann::json& body) const {
+    httplib::Client c("127.0.0.1", port_);
+    return to_response(c.Patch(path.c_str(), headers(), body.dump(), "application/json"));
+}
+
+Response ServerProcess::del(const std::string& path) const {
+    httplib::Client c("127.0.0.1", port_);
+    return to_response(c.Delete(path.c_str(), headers()));
+}
+
+CommandResult run_command(const std::vector<std::string>& argv, const std::vector<std::string>& env) {
+    const std::string dir = make_temp_dir();
+    const std::string out_path = dir + "/out", err_path = dir + "/err";
+    const pid_t pid = fork();
+    if (pid == 0) {
+        FILE* out = std::fopen(out_path.c_str(), "w");
+        FILE* err = std::fopen(err_path.c_str(), "w");
+        if (out) dup2(fileno(out), 1);
+        if (err) dup2(fileno(err), 2);
+        for (const auto& kv : env) putenv(const_cast<char*>(kv.c_str()));
+        std::vector<char*> cargs;
+        for (const auto& a : argv) cargs.push_back(const_cast<char*>(a.c_str()));
+        cargs.push_back(nullptr);
+        execv(cargs[0], cargs.data());
+        _exit(127);
+    }
+    CommandResult r;
+    r.status = wait_status(pid);
+    r.out = slurp(out_path);
+    r.err = slurp(err_path);
+    std::string cmd = "rm -rf '" + dir + "'";
+    [[maybe_unused]] int rc = std::system(cmd.c_str());
+    return r;
+}
+
+}  // namespace locus::testing

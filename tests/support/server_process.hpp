@@ -1,0 +1,62 @@
+#pragma once
+// Starts the real locus-server binary on 127.0.0.1 with an OS-chosen port and a temp SQLite
+// file, and talks HTTP to it. The db survives stop()/start() so restarts can be tested.
+#include <httplib.h>
+#include <sys/types.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace locus::testing {
+
+struct Response {
+    int status = 0;  // 0 = no answer (connection failed)
+    nlohmann::json body;
+    std::string raw;
+};
+
+class ServerProcess {
+public:
+    explicit ServerProcess(std::vector<std::string> extra_args = {});
+    ~ServerProcess();
+    ServerProcess(const ServerProcess&) = delete;
+    ServerProcess& operator=(const ServerProcess&) = delete;
+
+    void start();
+    int stop(int signal_number = 15);  // returns the exit status (or 128+signal)
+    void kill9();
+
+    int port() const { return port_; }
+    std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
+    const std::string& db_path() const { return db_path_; }
+    const std::string& dir() const { return dir_; }
+    std::string log() const;  // everything the server printed so far
+    void set_api_key(std::string key) { api_key_ = std::move(key); }
+
+    Response get(const std::string& path) const;
+    Response post(const std::string& path, const nlohmann::json& body) const;
+    Response post_raw(const std::string& path, const std::string& body,
+                      const std::string& content_type = "application/json") const;
+    Response patch(const std::string& path, const nlohmann::json& body) const;
+    Response del(const std::string& path) const;
+
+private:
+    httplib::Headers headers() const;
+    std::vector<std::string> extra_args_;
+    std::string dir_, db_path_, log_path_, api_key_;
+    pid_t pid_ = -1;
+    int port_ = 0;
+};
+
+// Runs the locus CLI, returning exit status and captured stdout (stderr goes to a file).
+struct CommandResult {
+    int status = -1;
+    std::string out;
+    std::string err;
+};
+CommandResult run_command(const std::vector<std::string>& argv, const std::vector<std::string>& env = {});
+
+std::string make_temp_dir();
+
+}  // namespace locus::testing
