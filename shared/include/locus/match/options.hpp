@@ -1,0 +1,34 @@
+#pragma once
+// Per-query knobs of the matchers (the "options" object of the localize API).
+#include <optional>
+
+#include "locus/geometry.hpp"
+#include "locus/match/algorithm.hpp"
+
+namespace locus::match {
+
+// Dynamic subarea (seed 000 §1.4.1): only RPs within `radius` metres of `at` are candidates.
+struct Near {
+    Point at;
+    double radius = 0.0;
+};
+
+struct Options {
+    // knn/wknn: neighbours averaged; bayes with estimate=mean: top RPs in the posterior mean.
+    int k = 3;
+    // bsb/nn/bsbnn/bayes(map): keep every RP whose score is within tolerance·|best| of the
+    // best and answer their centroid (seed selectBestWithTolerance). 0 = the plain best.
+    double tolerance = 0.0;
+    // nn/bsbnn: penalty per AP the RP stores beyond the size of the online scan, in dB.
+    double gamma = 5.0;
+    std::optional<Near> near;
+    Representation representation = Representation::positive;
+    Distance distance = Distance::euclidean;
+    // bayes: the stored standard deviation is raised to at least this (dB).
+    double sigma_floor = 2.0;
+    BayesEstimate estimate = BayesEstimate::mean;
+    // How many ranked candidates a Result lists.
+    int candidates = 10;
+};
+
+}  // namespace locus::match
