@@ -1,0 +1,83 @@
+#include "locus/match/index.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace locus::match {
+
+namespace {
+std::string ap_key(std::string_view type, std::string_view bssid) {
+    std::string key;
+    key.reserve(type.size() + 1 + bssid.size());
+    key.append(type).push_back('\n');
+    key.append(bssid);
+    return key;
+}
+}  // namespace
+
+double Index::represent(double rss, int representation) const {
+    const double m = params_.missing_rss;
+    const double pos = rss > m ? rss - m : 0.0;
+    switch (representation) {
+        case 0:
+            return pos;
+        case 1:
+            // Torres-Sospedra's exp(pos/α)/exp(-m/α), shifted by its value at pos = 0 so that
+            // "not heard" is exactly 0 like in the other forms; differences are unchanged.
+            return (std::exp(pos / params_.exponential_alpha) - 1.0) / std::exp(-m / params_.exponential_alpha);
+        default:
+            return std::pow(pos / -m, params_.powed_beta);
+    }
+}
+
+Index Index::build(const std::vector<IndexedRp>& rps, const IndexParams& params) {
+    Index idx;
+    idx.params_ = params;
+    idx.rps_.reserve(rps.size());
+    idx.rep_sum_.assign(rps.size() * 3, 0.0);
+    idx.rep_sq_sum_.assign(rps.size() * 3, 0.0);
+    idx.log_miss_sum_.assign(rps.size(), 0.0);
+    const double lo = params.min_detection, hi = 1.0 - params.min_detection;
+    for (std::size_t i = 0; i < rps.size(); ++i) {
+        const auto& in = rps[i];
+        RpInfo info{in.rp.id, in.rp.at, in.floor_id, in.building_id, 0};
+        for (const auto& m : in.rp.measurements) {
+            if (m.stats.count <= 0 || !std::isfinite(m.stats.mean)) continue;
+            const std::string bssid = normalise_bssid(m.bssid);
+            auto [it, inserted] = idx.ap_ids_.try_emplace(ap_key(m.type, bssid), static_cast<std::uint32_t>(idx.postings_.size()));
+            if (inserted) idx.postings_.emplace_back();
+            auto& list = idx.postings_[it->second];
+            // Two measurements of one AP at one RP would be a store bug; keep the first.
+            if (!list.empty() && list.back().rp == i) continue;
+            // An RP with an unknown scan count cannot give a detection rate: treat its APs
+            // as always heard (the most the data says).
+            const double rate = in.rp.scans > 0 ? static_cast<double>(m.stats.count) / static_cast<double>(in.rp.scans) : 1.0;
+            const double p = std::clamp(rate, lo, hi);
+            Posting post;
+            post.rp = static_cast<std::uint32_t>(i);
+            post.mean = m.stats.mean;
+            post.variance = std::max(0.0, m.stats.variance);
+            post.log_variance = post.variance > 0 ? std::log(post.variance) : -std::numeric_limits<double>::infinity();
+            post.log_detect = std::log(p);
+            post.log_miss = std::log1p(-p);
+            for (int r = 0; r < 3; ++r) {
+                post.rep[r] = idx.represent(post.mean, r);
+                idx.rep_sum_[i * 3 + r] += post.rep[r];
+                idx.rep_sq_sum_[i * 3 + r] += post.rep[r] * post.rep[r];
+            }
+            idx.log_miss_sum_[i] += post.log_miss;
+            list.push_back(post);
+            ++info.ap_count;
+        }
+        idx.rps_.push_back(info);
+    }
+    return idx;
+}
+
+long Index::ap_of(std::string_view type, std::string_view bssid) const {
+    auto it = ap_ids_.find(ap_key(type, bssid));
+    return it == ap_ids_.end() ? -1 : static_cast<long>(it->second);
+}
+
+}  // namespace locus::match

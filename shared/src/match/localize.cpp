@@ -1,0 +1,263 @@
+#include "locus/match/localize.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+namespace locus::match {
+
+namespace {
+
+// Per-query accumulators indexed by RP position. Thread-local so concurrent queries on
+// one Index never share them and a query allocates nothing once warmed up; only the RPs a
+// query touched are reset afterwards.
+struct Scratch {
+    std::vector<int> shared;    // APs shared with the query; -1 = excluded by `near`
+    std::vector<double> acc;    // algorithm-specific sum over the shared APs
+    std::vector<std::uint32_t> touched;
+
+    void prepare(std::size_t n) {
+        if (shared.size() < n) {
+            shared.resize(n, 0);
+            acc.resize(n, 0.0);
+        }
+    }
+    void clear() {
+        for (auto i : touched) {
+            shared[i] = 0;
+            acc[i] = 0.0;
+        }
+        touched.clear();
+    }
+};
+
+thread_local Scratch t_scratch;
+
+// Lower key1, then lower key2, then lower RP position ranks first.
+struct Scored {
+    std::uint32_t rp;
+    double key1;
+    double key2;
+    double score;  // what the caller sees
+    int shared;
+};
+
+bool better(const Scored& a, const Scored& b) {
+    if (a.key1 != b.key1) return a.key1 < b.key1;
+    if (a.key2 != b.key2) return a.key2 < b.key2;
+    return a.rp < b.rp;
+}
+
+constexpr double kLog2Pi = 1.8378770664093453;  // log(2π)
+
+struct Known {
+    std::uint32_t ap;
+    double rss;
+    double rep;      // rss in the requested representation
+    double penalty;  // bayes: log-likelihood of this AP at an RP that does not store it
+};
+
+bool within_tolerance(double value, double best, double tolerance) {
+    return std::abs(value - best) <= tolerance * std::abs(best);
+}
+
+}  // namespace
+
+std::optional<Result> localize(const Index& index, const Query& query, Algorithm algorithm, const Options& options) {
+    const int rep = static_cast<int>(options.representation);
+    const IndexParams& params = index.params();
+    const double sigma2_floor = options.sigma_floor * options.sigma_floor;
+    const double log_sigma2_floor = std::log(sigma2_floor);
+    const double n_online = static_cast<double>(query.aps.size());
+
+    // Query-side totals over every online AP, known to the index or not (an AP the index
+    // has never seen is heard online only and still counts against every RP).
+    double q_sum = 0.0, q_sq_sum = 0.0, q_penalty = 0.0;
+    std::vector<Known> known;
+    known.reserve(query.aps.size());
+    for (const auto& ap : query.aps) {
+        const double r = index.represent(ap.rss, rep);
+        const double d = ap.rss - params.missing_rss;
+        // An AP the RP does not store: as if it were stored with the missing value, the
+        // floored variance and the minimum detection rate.
+        const double penalty = std::log(params.min_detection) - 0.5 * (kLog2Pi + log_sigma2_floor) - d * d / (2.0 * sigma2_floor);
+        q_sum += r;
+        q_sq_sum += r * r;
+        q_penalty += penalty;
+        const long id = index.ap_of(ap.type, ap.bssid);
+        if (id >= 0) known.push_back(Known{static_cast<std::uint32_t>(id), ap.rss, r, penalty});
+    }
+
+    Scratch& s = t_scratch;
+    s.prepare(index.size());
+    s.clear();
+    const bool euclid = options.distance == Distance::euclidean;
+    for (const auto& k : known) {
+        for (const Posting& p : index.postings(k.ap)) {
+            int& sh = s.shared[p.rp];
+            if (sh == 0) {
+                s.touched.push_back(p.rp);
+                if (options.near && distance(index.rp(p.rp).at, options.near->at) > options.near->radius) sh = -1;
+            }
+            if (sh < 0) continue;
+            ++sh;
+            double& acc = s.acc[p.rp];
+            switch (algorithm) {
+                case Algorithm::bsb:
+                    break;
+                case Algorithm::nn:
+                case Algorithm::bsbnn: {
+                    const double d = p.mean - k.rss;
+                    acc += d * d;
+                    break;
+                }
+                case Algorithm::knn:
+                case Algorithm::wknn: {
+                    const double a = p.rep[rep], b = k.rep;
+                    // Correction from "each side heard alone" to "both heard" for this AP.
+                    acc += euclid ? a * b : std::abs(a - b) - a - b;
+                    break;
+                }
+                case Algorithm::bayes: {
+                    const bool floored = p.variance < sigma2_floor;
+                    const double var = floored ? sigma2_floor : p.variance;
+                    const double log_var = floored ? log_sigma2_floor : p.log_variance;
+                    const double d = k.rss - p.mean;
+                    const double log_gauss = -0.5 * (kLog2Pi + log_var) - d * d / (2.0 * var);
+                    acc += p.log_detect + log_gauss - p.log_miss - k.penalty;
+                    break;
+                }
+            }
+        }
+    }
+
+    std::vector<Scored> scored;
+    scored.reserve(s.touched.size());
+    for (auto i : s.touched) {
+        const int sh = s.shared[i];
+        if (sh <= 0) continue;
+        const double acc = s.acc[i];
+        Scored sc{i, 0.0, 0.0, 0.0, sh};
+        switch (algorithm) {
+            case Algorithm::bsb:
+                sc.key1 = -sh;
+                sc.score = sh;
+                break;
+            case Algorithm::nn:
+            case Algorithm::bsbnn: {
+                const double extra = std::max(0.0, static_cast<double>(index.rp(i).ap_count) - n_online);
+                const double nn = std::sqrt(acc) + options.gamma * extra;
+                sc.key1 = algorithm == Algorithm::nn ? nn : -sh;
+                sc.key2 = algorithm == Algorithm::nn ? 0.0 : nn;
+                sc.score = nn;
+                break;
+            }
+            case Algorithm::knn:
+            case Algorithm::wknn: {
+                double d = 0.0;
+                if (euclid) {
+                    d = std::sqrt(std::max(0.0, index.rep_sq_sum(i, rep) + q_sq_sum - 2.0 * acc));
+                } else {
+                    const double manhattan = std::max(0.0, index.rep_sum(i, rep) + q_sum + acc);
+                    if (options.distance == Distance::manhattan) {
+                        d = manhattan;
+                    } else {
+                        const double total = index.rep_sum(i, rep) + q_sum;
+                        d = total > 0.0 ? manhattan / total : 1.0;
+                    }
+                }
+                sc.key1 = d;
+                sc.score = d;
+                break;
+            }
+            case Algorithm::bayes: {
+                const double ll = q_penalty + index.log_miss_sum(i) + acc;
+                sc.key1 = -ll;
+                sc.score = ll;
+                break;
+            }
+        }
+        scored.push_back(sc);
+    }
+    s.clear();
+    if (scored.empty()) return std::nullopt;
+
+    const int k = std::max(1, options.k);
+    const bool top_k = algorithm == Algorithm::knn || algorithm == Algorithm::wknn ||
+                       (algorithm == Algorithm::bayes && options.estimate == BayesEstimate::mean);
+    const std::size_t n_listed = std::min(scored.size(), static_cast<std::size_t>(std::max({options.candidates, k, 1})));
+    std::partial_sort(scored.begin(), scored.begin() + static_cast<long>(n_listed), scored.end(), better);
+    const Scored best = scored.front();
+
+    // The set the answer is built from, best first, with a weight each.
+    std::vector<std::pair<const Scored*, double>> chosen;
+    if (top_k) {
+        const std::size_t n = std::min(scored.size(), static_cast<std::size_t>(k));
+        for (std::size_t j = 0; j < n; ++j) {
+            const Scored& c = scored[j];
+            double w = 1.0;
+            if (algorithm == Algorithm::wknn) w = 1.0 / std::max(c.key1, 1e-9);
+            if (algorithm == Algorithm::bayes) w = std::exp(best.key1 - c.key1);
+            chosen.emplace_back(&c, w);
+        }
+    } else {
+        // Every RP tied with (or, with a tolerance, close to) the best, in rank order: the
+        // listed prefix is sorted; anything beyond it is sorted here.
+        std::vector<const Scored*> set;
+        for (const auto& c : scored) {
+            const bool in = algorithm == Algorithm::bsbnn
+                                ? c.key1 == best.key1 && within_tolerance(c.key2, best.key2, options.tolerance)
+                                : within_tolerance(c.key1, best.key1, options.tolerance);
+            if (in) set.push_back(&c);
+        }
+        std::sort(set.begin(), set.end(), [](const Scored* a, const Scored* b) { return better(*a, *b); });
+        for (const Scored* c : set) chosen.emplace_back(c, 1.0);
+    }
+
+    // Building and floor: the (building, floor) carrying the most weight in the chosen set;
+    // on equal weight, the one holding the better-ranked RP. Only that floor's RPs make the
+    // position, so a fix never averages points on different floors.
+    struct Group {
+        long long building, floor;
+        double weight;
+    };
+    std::vector<Group> groups;
+    for (const auto& [c, w] : chosen) {
+        const RpInfo& info = index.rp(c->rp);
+        auto it = std::find_if(groups.begin(), groups.end(),
+                               [&](const Group& g) { return g.building == info.building_id && g.floor == info.floor_id; });
+        if (it == groups.end()) groups.push_back(Group{info.building_id, info.floor_id, w});
+        else it->weight += w;
+    }
+    const Group* win = &groups.front();
+    for (const auto& g : groups)
+        if (g.weight > win->weight) win = &g;
+
+    Result result;
+    result.algorithm = std::string(to_string(algorithm));
+    result.building_id = win->building;
+    result.floor_id = win->floor;
+    result.score = best.score;
+    result.matched_aps = best.shared;
+    double wsum = 0.0, x = 0.0, y = 0.0;
+    for (const auto& [c, w] : chosen) {
+        const RpInfo& info = index.rp(c->rp);
+        if (info.building_id != win->building || info.floor_id != win->floor) continue;
+        result.rp_ids.push_back(info.id);
+        wsum += w;
+        x += w * info.at.x;
+        y += w * info.at.y;
+    }
+    result.at = Point{x / wsum, y / wsum};
+
+    const std::size_t n_candidates = std::min(n_listed, static_cast<std::size_t>(std::max(0, options.candidates)));
+    for (std::size_t j = 0; j < n_candidates; ++j) {
+        const Scored& c = scored[j];
+        const RpInfo& info = index.rp(c.rp);
+        result.candidates.push_back(Candidate{info.id, info.at, c.score, info.floor_id, info.building_id, c.shared});
+    }
+    return result;
+}
+
+}  // namespace locus::match

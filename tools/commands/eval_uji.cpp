@@ -1,0 +1,231 @@
+// `locus eval uji`: the localize pipeline in-process on UJIIndoorLoc, one JSON object of
+// accuracy and speed per matcher (SPEC §7, issue 3).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "command_registry.hpp"
+#include "locus/match/localize.hpp"
+#include "uji_csv.hpp"
+
+namespace {
+
+using namespace locus;
+namespace uji = locus::tools::uji;
+
+struct Args {
+    std::string train, test;
+    std::optional<int> holdout_user, holdout_phone;
+    std::string algorithm = "all";
+    std::optional<int> k;
+    std::optional<double> tolerance, gamma, sigma_floor, missing_rss, min_detection, alpha, beta;
+    std::string representation, distance, estimate;
+    bool json = false;
+};
+
+long long floor_label(int building, int floor) { return building * 100LL + floor; }
+
+// Linear interpolation between order statistics (the common "type 7" definition).
+double percentile(const std::vector<double>& sorted, double p) {
+    if (sorted.empty()) return std::nan("");
+    const double pos = p * static_cast<double>(sorted.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(pos));
+    const auto hi = std::min(lo + 1, sorted.size() - 1);
+    return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
+struct Truth {
+    Point at;
+    int building, floor;
+};
+
+nlohmann::json evaluate(const match::Index& index, const std::vector<match::Query>& queries,
+                        const std::vector<Truth>& truth, match::Algorithm algorithm, const match::Options& options,
+                        std::size_t& unanswered) {
+    std::vector<std::optional<match::Result>> results(queries.size());
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < queries.size(); ++i) results[i] = match::localize(index, queries[i], algorithm, options);
+    const auto t1 = std::chrono::steady_clock::now();
+
+    std::size_t building_hits = 0, floor_hits = 0;
+    std::vector<double> errors;
+    errors.reserve(queries.size());
+    unanswered = 0;
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+        // No common AP: no position. It counts as a building and floor miss and has no error.
+        if (!results[i]) {
+            ++unanswered;
+            continue;
+        }
+        const auto& r = *results[i];
+        const bool building_ok = r.building_id == truth[i].building;
+        building_hits += building_ok;
+        floor_hits += building_ok && r.floor_id == floor_label(truth[i].building, truth[i].floor);
+        errors.push_back(distance(r.at, truth[i].at));
+    }
+    std::sort(errors.begin(), errors.end());
+    double sum = 0.0;
+    for (double e : errors) sum += e;
+    const double n = static_cast<double>(queries.size());
+    const double us = std::chrono::duration<double, std::micro>(t1 - t0).count();
+    return nlohmann::json{
+        {"algorithm", std::string(match::to_string(algorithm))},
+        {"queries", queries.size()},
+        {"building_hit_rate", static_cast<double>(building_hits) / n},
+        {"floor_hit_rate", static_cast<double>(floor_hits) / n},
+        {"mean_error_m", errors.empty() ? std::nan("") : sum / static_cast<double>(errors.size())},
+        {"median_error_m", percentile(errors, 0.5)},
+        {"p75_error_m", percentile(errors, 0.75)},
+        {"p95_error_m", percentile(errors, 0.95)},
+        {"us_per_query", us / n},
+    };
+}
+
+void run(const Args& a) {
+    using tools::CommandError;
+    const int split_modes = !a.test.empty() + a.holdout_user.has_value() + a.holdout_phone.has_value();
+    if (split_modes != 1) throw CommandError("give exactly one of --test, --holdout-user, --holdout-phone");
+
+    std::vector<match::Algorithm> algorithms;
+    if (a.algorithm == "all") {
+        auto all = match::all_algorithms();
+        algorithms.assign(all.begin(), all.end());
+    } else if (auto alg = match::parse_algorithm(a.algorithm)) {
+        algorithms.push_back(*alg);
+    } else {
+        throw CommandError("unknown algorithm '" + a.algorithm + "' (bsb, nn, bsbnn, knn, wknn, bayes or all)");
+    }
+
+    match::Options options;
+    if (a.k) options.k = *a.k;
+    if (a.tolerance) options.tolerance = *a.tolerance;
+    if (a.gamma) options.gamma = *a.gamma;
+    if (a.sigma_floor) options.sigma_floor = *a.sigma_floor;
+    if (!a.representation.empty()) {
+        auto r = match::parse_representation(a.representation);
+        if (!r) throw CommandError("unknown representation '" + a.representation + "' (positive, exponential, powed)");
+        options.representation = *r;
+    }
+    if (!a.distance.empty()) {
+        auto d = match::parse_distance(a.distance);
+        if (!d) throw CommandError("unknown distance '" + a.distance + "' (euclidean, manhattan, sorensen)");
+        options.distance = *d;
+    }
+    if (!a.estimate.empty()) {
+        auto e = match::parse_bayes_estimate(a.estimate);
+        if (!e) throw CommandError("unknown estimate '" + a.estimate + "' (map, mean)");
+        options.estimate = *e;
+    }
+    match::IndexParams params;
+    if (a.missing_rss) params.missing_rss = *a.missing_rss;
+    if (a.min_detection) params.min_detection = *a.min_detection;
+    if (a.alpha) params.exponential_alpha = *a.alpha;
+    if (a.beta) params.powed_beta = *a.beta;
+
+    const uji::Data train = uji::read_file(a.train);
+    uji::Data test_file;
+    if (!a.test.empty()) {
+        test_file = uji::read_file(a.test);
+        if (test_file.waps != train.waps) throw CommandError("--test has different WAP columns from --train");
+    }
+    const uji::Data& test = a.test.empty() ? train : test_file;
+
+    std::vector<std::size_t> train_rows, test_rows;
+    for (std::size_t i = 0; i < train.rows.size(); ++i) {
+        const auto& row = train.rows[i];
+        const bool held = (a.holdout_user && row.user_id == *a.holdout_user) ||
+                          (a.holdout_phone && row.phone_id == *a.holdout_phone);
+        (held ? test_rows : train_rows).push_back(i);
+    }
+    if (!a.test.empty()) {
+        test_rows.clear();
+        for (std::size_t i = 0; i < test.rows.size(); ++i) test_rows.push_back(i);
+    }
+    if (train_rows.empty()) throw CommandError("no training rows left");
+
+    std::vector<match::IndexedRp> rps;
+    for (const auto& g : uji::group_reference_points(train, train_rows)) {
+        match::IndexedRp rp;
+        rp.rp.id = static_cast<long long>(rps.size()) + 1;
+        rp.rp.at = Point{g.longitude, g.latitude};
+        rp.rp.scans = static_cast<std::int64_t>(g.rows.size());
+        rp.rp.measurements = g.measurements;
+        rp.floor_id = floor_label(g.building, g.floor);
+        rp.building_id = g.building;
+        rps.push_back(std::move(rp));
+    }
+    const match::Index index = match::Index::build(rps, params);
+
+    // A scan with no valid reading is not a query (the API rejects it with 422).
+    std::vector<match::Query> queries;
+    std::vector<Truth> truth;
+    std::size_t empty = 0;
+    for (auto i : test_rows) {
+        const auto& row = test.rows[i];
+        if (row.heard.empty()) {
+            ++empty;
+            continue;
+        }
+        queries.push_back(match::Query::from_scans({uji::scan_of(test, row)}));
+        truth.push_back(Truth{Point{row.longitude, row.latitude}, row.building, row.floor});
+    }
+    if (queries.empty()) throw CommandError("no test rows with a detected WAP");
+    std::cerr << "eval uji: " << index.size() << " RPs, " << index.ap_count() << " APs, " << queries.size()
+              << " queries (" << empty << " rows without any detected WAP skipped)\n";
+
+    nlohmann::json out = nlohmann::json::array();
+    for (auto alg : algorithms) {
+        std::size_t unanswered = 0;
+        auto o = evaluate(index, queries, truth, alg, options, unanswered);
+        if (unanswered > 0)
+            std::cerr << "eval uji: " << match::to_string(alg) << ": " << unanswered
+                      << " queries shared no AP with any RP (counted as misses, no error)\n";
+        out.push_back(std::move(o));
+    }
+    if (a.json) {
+        std::cout << (a.algorithm == "all" ? out : out.front()).dump() << "\n";
+        return;
+    }
+    std::printf("%-6s %7s %9s %9s %8s %8s %8s %8s %9s\n", "algo", "queries", "building", "floor", "mean_m",
+                "median_m", "p75_m", "p95_m", "us/query");
+    for (const auto& o : out)
+        std::printf("%-6s %7d %8.2f%% %8.2f%% %8.2f %8.2f %8.2f %8.2f %9.1f\n",
+                    o["algorithm"].get<std::string>().c_str(), o["queries"].get<int>(),
+                    100.0 * o["building_hit_rate"].get<double>(), 100.0 * o["floor_hit_rate"].get<double>(),
+                    o["mean_error_m"].get<double>(), o["median_error_m"].get<double>(), o["p75_error_m"].get<double>(),
+                    o["p95_error_m"].get<double>(), o["us_per_query"].get<double>());
+}
+
+}  // namespace
+
+LOCUS_COMMAND("eval uji", [](CLI::App& app) {
+    auto& eval = locus::tools::group(app, "eval", "Measure the matchers on real data sets");
+    auto* cmd = eval.add_subcommand("uji", "Localize UJIIndoorLoc scans in-process and report accuracy and speed");
+    auto a = std::make_shared<Args>();
+    cmd->add_option("--train", a->train, "UJIIndoorLoc training CSV (the radio map)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--test", a->test, "CSV of online scans (e.g. the validation file)")->check(CLI::ExistingFile);
+    cmd->add_option("--holdout-user", a->holdout_user, "query with this USERID's training rows, map the rest");
+    cmd->add_option("--holdout-phone", a->holdout_phone, "query with this PHONEID's training rows, map the rest");
+    cmd->add_option("--algorithm", a->algorithm, "bsb, nn, bsbnn, knn, wknn, bayes or all")->capture_default_str();
+    cmd->add_option("--k", a->k, "neighbours for knn/wknn, posterior size for bayes");
+    cmd->add_option("--tolerance", a->tolerance, "keep RPs within tolerance*|best| of the best score");
+    cmd->add_option("--gamma", a->gamma, "NN penalty per extra stored AP (dB)");
+    cmd->add_option("--representation", a->representation, "knn/wknn RSS form: positive, exponential, powed");
+    cmd->add_option("--distance", a->distance, "knn/wknn distance: euclidean, manhattan, sorensen");
+    cmd->add_option("--sigma-floor", a->sigma_floor, "bayes: minimum standard deviation (dB)");
+    cmd->add_option("--estimate", a->estimate, "bayes: map or mean");
+    cmd->add_option("--missing-rss", a->missing_rss, "value of an AP heard on one side only (dBm)");
+    cmd->add_option("--min-detection", a->min_detection, "clamp of detection rates count/scans");
+    cmd->add_option("--alpha", a->alpha, "exponential representation α");
+    cmd->add_option("--beta", a->beta, "powed representation β");
+    cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all)");
+    cmd->callback([a] { run(*a); });
+});
