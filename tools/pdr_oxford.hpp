@@ -1,0 +1,61 @@
+#pragma once
+// The Oxford step-counter optimisation set (Brajdic & Harle, CC BY 4.0) for `locus pdr
+// eval-oxford` and `tune-oxford`: loading, counting steps and leave-one-user-out tuning.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "locus/pdr/step_detector.hpp"
+#include "pdr_logs.hpp"
+
+namespace locus::tools {
+
+struct OxfordTrace {
+    std::string name;
+    std::string user;
+    std::string phone;
+    std::string placement;  // canonical spelling (the data set writes ArmBand/Armband, Backpocket/BackPocket)
+    long true_steps = 0;
+    std::vector<AccelSample> samples;
+};
+
+// `dir` is the optimisation folder (holding stats.csv and data/) or its parent.
+std::vector<OxfordTrace> load_oxford(const std::string& dir);
+
+long count_steps(const std::vector<AccelSample>& samples, const pdr::StepDetectorConfig& config);
+
+struct TraceResult {
+    const OxfordTrace* trace;
+    long detected;
+    double abs_error_pct;
+};
+
+struct EvalSummary {
+    std::vector<TraceResult> traces;
+    double mean_abs_error_pct = 0.0;
+    std::map<std::string, double> placement_mean_pct;
+    double worst_placement_pct = 0.0;
+};
+
+EvalSummary evaluate(const std::vector<const OxfordTrace*>& traces, const pdr::StepDetectorConfig& config);
+EvalSummary summarise(std::vector<TraceResult> results);
+
+// The tuning objective: mean error over traces plus the worst placement's mean, so that a
+// placement with few traces cannot be sacrificed to the many in-hand ones.
+double objective(const EvalSummary& s);
+
+std::vector<pdr::StepDetectorConfig> tuning_grid();
+
+struct CvResult {
+    EvalSummary held_out;                            // each trace scored with the config tuned without its user
+    std::map<std::string, pdr::StepDetectorConfig> chosen;  // per held-out user
+    pdr::StepDetectorConfig all_traces_best;
+    EvalSummary all_traces_fit;
+};
+
+// Scores every grid config on every trace once (threads workers), then picks per fold.
+CvResult tune_leave_one_user_out(const std::vector<OxfordTrace>& traces, const std::vector<pdr::StepDetectorConfig>& grid,
+                                 unsigned threads, const std::function<void(std::size_t, std::size_t)>& progress);
+
+}  // namespace locus::tools
