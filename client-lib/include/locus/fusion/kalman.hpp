@@ -1,0 +1,47 @@
+#pragma once
+// Position Kalman filter (SPEC §6 "beyond the seeds", seed 004): state (x, y), the PDR step
+// displacement is the control input, a WiFi fix is a direct measurement of the state.
+//   predict: x ← x + u,            P ← P + Q(u)
+//   update:  K = P (P + R)⁻¹,      x ← x + K (z − x),   P ← (I − K) P
+// Q grows with the distance walked (heading and length errors scale with it); R comes from
+// the matcher's candidate spread (fix_covariance).
+#include <Eigen/Dense>
+#include <span>
+
+#include "locus/geometry.hpp"
+
+namespace locus::fusion {
+
+struct KalmanConfig {
+    double initial_sigma_m = 1.0;   // σ of the start position
+    double step_sigma_floor_m = 0.05;   // per-step position noise even for a tiny step
+    double step_sigma_per_m = 0.25;     // plus this much per metre walked
+    // A fix whose Mahalanobis distance² exceeds this is rejected as an outlier (χ², 2 dof:
+    // 13.8 ≈ 0.1 %). ≤ 0 disables the gate.
+    double gate_chi2 = 0.0;
+};
+
+class KalmanFilter {
+public:
+    explicit KalmanFilter(Point start, const KalmanConfig& config = {});
+
+    void predict(Point displacement);
+    // Returns false when the gate rejected the fix (state unchanged).
+    bool update(Point fix, const Eigen::Matrix2d& r);
+
+    Point position() const { return {x_.x(), x_.y()}; }
+    const Eigen::Matrix2d& covariance() const { return p_; }
+
+private:
+    KalmanConfig config_;
+    Eigen::Vector2d x_;
+    Eigen::Matrix2d p_;
+};
+
+// Covariance of a fix from the positions of the matcher's top candidates, weighted (weights
+// need not sum to 1; empty weights = equal). The spread says how ambiguous the radio match
+// was; each axis variance is raised to at least floor_m² so a single candidate (zero spread)
+// is not taken as exact.
+Eigen::Matrix2d fix_covariance(std::span<const Point> candidates, std::span<const double> weights, double floor_m);
+
+}  // namespace locus::fusion

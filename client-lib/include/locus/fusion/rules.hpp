@@ -1,0 +1,43 @@
+#pragma once
+// The five fusion rules of SPEC §6 (seed 000 §2.3.6): one WiFi fix meets the PDR position.
+// Degenerate cases are defined here once and documented in docs/fusion.md.
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "locus/geometry.hpp"
+
+namespace locus::fusion {
+
+enum class Rule { only_wifi, midpoint, midpoint_threshold, proportional, proportional2 };
+
+std::optional<Rule> parse_rule(std::string_view name);
+std::string_view to_string(Rule r);
+std::span<const Rule> all_rules();
+
+struct RuleParams {
+    double lambda_m = 4.0;  // midpoint_threshold: mean PDR error (seed measured 3.8–4.4 m)
+    int n_max = 10;         // proportional: APs that give a good fix
+    int gamma = 2;          // proportional: exponent, a natural number ≥ 1
+};
+
+struct FusionInput {
+    Point pdr;                       // PDR position now (continued from the last fused one)
+    Point wifi;                      // the fix just received
+    std::optional<Point> prev;       // previous fused position; none before the first fix
+    int aps = 0;                     // N: APs in the online scan
+    std::optional<Point> prev_wifi;  // the previous WiFi fix (proportional2's refinement)
+};
+
+// Throws std::invalid_argument on params outside their domain (n_max < 1, gamma < 1,
+// lambda < 0, aps < 0).
+Point fuse(Rule rule, const FusionInput& in, const RuleParams& params = {});
+
+// The weights themselves, exposed so tests and docs can check them by hand.
+// proportional: α, the weight of the PDR position. Both distances zero → 0.
+double proportional_alpha(double d_pdr, double d_wifi, int aps, const RuleParams& params);
+// proportional2: r, the weight of the WiFi fix, = d_pdr / (d_pdr + d_wifi) (seed eq. 1.18
+// with 1/d cleared). Both distances zero → 0 (the points coincide anyway).
+double proportional2_r(double d_pdr, double d_wifi);
+
+}  // namespace locus::fusion
