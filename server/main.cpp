@@ -1,1 +1,83 @@
-int main() { return 0; }
+// locus-server: flags, wiring and signals. Everything else lives in store/, http/ and localize/.
+#include <CLI/CLI.hpp>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <pthread.h>
+#include <thread>
+
+#include "http/app.hpp"
+#include "localize/service.hpp"
+#include "store/migrations.hpp"
+#include "store/repository.hpp"
+
+namespace {
+void log_event(const nlohmann::json& event) {
+    const std::string line = event.dump() + "\n";
+    std::fwrite(line.data(), 1, line.size(), stderr);
+    std::fflush(stderr);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App cli{"locus-server: the Locus radio-map and localization service"};
+    std::string db_path = "locus.db", host = "127.0.0.1", api_key;
+    int port = 8080;
+    bool demo = false, quiet = false;
+    std::size_t max_body = 8u * 1024u * 1024u;
+    int threads = 8;
+    cli.add_option("--db", db_path, "SQLite database file (created if missing)")->capture_default_str();
+    cli.add_option("--host", host, "address to listen on")->capture_default_str();
+    cli.add_option("--port", port, "port to listen on (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
+    cli.add_option("--api-key", api_key, "require 'Authorization: Bearer KEY' for writes")->envname("LOCUS_API_KEY");
+    cli.add_flag("--demo", demo, "create the demo map when the database holds no map");
+    cli.add_option("--max-body-bytes", max_body, "largest request body accepted")->capture_default_str()->check(CLI::PositiveNumber);
+    cli.add_option("--threads", threads, "HTTP worker threads")->capture_default_str()->check(CLI::Range(1, 256));
+    cli.add_flag("--quiet", quiet, "no access log");
+    CLI11_PARSE(cli, argc, argv);
+
+    // Signals are taken by one thread with sigwait, so shutdown runs as ordinary code.
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    std::signal(SIGPIPE, SIG_IGN);
+
+    try {
+        locus::store::Repository repo(db_path);
+        if (demo && !repo.has_maps()) {
+            const auto map = repo.import_map_bundle(nlohmann::json::parse(locus::server::demo_map_json()));
+            log_event({{"event", "demo_map_created"}, {"map_id", map.at("id")}});
+        }
+        locus::localize::Service localizer(repo);
+        locus::http::App app(repo, {api_key, max_body, !quiet});
+        localizer.install(app);
+        auto& server = app.server();
+        server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+
+        const int bound = port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
+        if (bound < 0) {
+            log_event({{"event", "error"}, {"message", "cannot listen on " + host + ":" + std::to_string(port)}});
+            return 1;
+        }
+        std::thread signal_waiter([&server, signals] {
+            int sig = 0;
+            sigwait(&signals, &sig);
+            log_event({{"event", "shutdown"}, {"signal", sig}});
+            server.stop();
+        });
+        log_event({{"event", "listening"}, {"host", host}, {"port", bound}, {"db", db_path}, {"auth", !api_key.empty()}});
+        const bool ok = server.listen_after_bind();
+        if (!ok && server.is_running()) log_event({{"event", "error"}, {"message", "listen failed"}});
+        // Wake the signal thread if listen ended for another reason.
+        pthread_kill(signal_waiter.native_handle(), SIGTERM);
+        signal_waiter.join();
+        log_event({{"event", "stopped"}});
+    } catch (const std::exception& e) {
+        log_event({{"event", "error"}, {"message", e.what()}});
+        return 1;
+    }
+    return 0;
+}

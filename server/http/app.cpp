@@ -1,0 +1,267 @@
+#include "http/app.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+
+#include "http/api_error.hpp"
+#include "http/validation.hpp"
+#include "store/migrations.hpp"
+
+namespace locus::http {
+
+using nlohmann::json;
+
+namespace {
+
+thread_local std::chrono::steady_clock::time_point request_start = std::chrono::steady_clock::now();
+
+bool is_read(const httplib::Request& req) {
+    if (req.method == "GET" || req.method == "HEAD" || req.method == "OPTIONS") return true;
+    // Localizing reads the radio map; phones ask without a key.
+    return req.method == "POST" && req.path.size() > 9 && req.path.ends_with("/localize");
+}
+
+bool same_secret(const std::string& a, const std::string& b) {
+    unsigned char diff = a.size() == b.size() ? 0 : 1;
+    for (std::size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i % (b.empty() ? 1 : b.size())]);
+    return diff == 0;
+}
+
+std::string utc_now() {
+    const auto now = std::chrono::system_clock::now();
+    const std::time_t t = std::chrono::system_clock::to_time_t(now);
+    std::tm tm{};
+    gmtime_r(&t, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return buf;
+}
+
+const char* code_for_status(int status) {
+    switch (status) {
+        case 400: return "bad_request";
+        case 401: return "unauthorized";
+        case 404: return "not_found";
+        case 405: return "method_not_allowed";
+        case 413: return "payload_too_large";
+        case 414: return "uri_too_long";
+        case 415: return "unsupported_media_type";
+        default: return status >= 500 ? "internal" : "error";
+    }
+}
+
+std::string parent_path(const store::Kind& k) {
+    return k.parent_column.empty() ? "/v1/" + std::string(k.name)
+                                   : "/v1/" + std::string(k.parent_kind) + R"(/(\d+)/)" + std::string(k.name);
+}
+
+}  // namespace
+
+void write_error(httplib::Response& res, int status, const std::string& code, const std::string& message) {
+    res.status = status;
+    res.set_content(json{{"error", {{"code", code}, {"message", message}}}}.dump(), "application/json");
+}
+
+void App::respond(httplib::Response& res, const std::function<std::pair<int, json>()>& body) {
+    try {
+        auto [status, out] = body();
+        res.status = status;
+        if (status != 204) res.set_content(out.dump(), "application/json");
+    } catch (const ApiError& e) {
+        write_error(res, e.status, e.code, e.what());
+    } catch (const store::NotFound& e) {
+        write_error(res, 404, "not_found", e.what());
+    } catch (const store::Conflict& e) {
+        write_error(res, 409, "conflict", e.what());
+    } catch (const store::SqliteError& e) {
+        // Constraint failures that validation did not catch are still the client's input.
+        if (e.is_constraint()) write_error(res, 409, "conflict", e.what());
+        else write_error(res, 500, "internal", "storage error");
+        std::fprintf(stderr, "{\"event\":\"sqlite_error\",\"message\":%s}\n", json(e.what()).dump().c_str());
+    } catch (const json::exception& e) {
+        write_error(res, 422, "invalid_field", e.what());
+    } catch (const std::exception& e) {
+        write_error(res, 500, "internal", "internal error");
+        std::fprintf(stderr, "{\"event\":\"internal_error\",\"message\":%s}\n", json(e.what()).dump().c_str());
+    }
+}
+
+App::App(store::Repository& repo, AppOptions options) : repo_(repo), options_(std::move(options)) {
+    install_middleware();
+    install_crud();
+    install_radiomap_routes();
+}
+
+void App::notify(const store::Kind& kind, const json& row, bool deleted) {
+    if (listener_) listener_(kind, row, deleted);
+}
+
+void App::install_middleware() {
+    server_.set_payload_max_length(options_.max_body_bytes);
+    server_.set_keep_alive_max_count(100000);
+    server_.set_keep_alive_timeout(10);
+    server_.set_read_timeout(10, 0);
+    server_.set_write_timeout(10, 0);
+
+    server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+        request_start = std::chrono::steady_clock::now();
+        if (options_.api_key.empty() || is_read(req)) return httplib::Server::HandlerResponse::Unhandled;
+        const std::string auth = req.get_header_value("Authorization");
+        const std::string prefix = "Bearer ";
+        if (!auth.starts_with(prefix) || !same_secret(auth.substr(prefix.size()), options_.api_key)) {
+            res.set_header("WWW-Authenticate", "Bearer");
+            write_error(res, 401, "unauthorized", "writes need 'Authorization: Bearer <api key>'");
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        return httplib::Server::HandlerResponse::Unhandled;
+    });
+
+    // httplib answers some failures itself (unknown route, body over the limit) with an empty body.
+    server_.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request& req, httplib::Response& res) {
+        if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+        std::string message = "request failed with status " + std::to_string(res.status);
+        if (res.status == 404) message = "no route for " + req.method + " " + req.path;
+        if (res.status == 413) message = "the request body is larger than the server accepts";
+        write_error(res, res.status, code_for_status(res.status), message);
+        return httplib::Server::HandlerResponse::Handled;
+    }));
+
+    server_.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+        write_error(res, 500, "internal", "internal error");
+    });
+
+    if (options_.access_log) {
+        server_.set_logger([](const httplib::Request& req, const httplib::Response& res) {
+            const auto us = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() -
+                                                                                   request_start)
+                                .count();
+            const std::string line = json{{"ts", utc_now()},
+                                          {"method", req.method},
+                                          {"path", req.path},
+                                          {"status", res.status},
+                                          {"us", us},
+                                          {"remote", req.remote_addr}}
+                                         .dump() +
+                                     "\n";
+            std::fwrite(line.data(), 1, line.size(), stderr);
+        });
+    }
+
+    server_.Get("/health", [](const httplib::Request&, httplib::Response& res) {
+        res.set_content(R"({"status":"ok"})", "application/json");
+    });
+}
+
+void App::install_crud() {
+    for (const auto& k : store::kinds()) {
+        const store::Kind* kp = &k;
+        const std::string collection = parent_path(k);
+        const std::string item = "/v1/" + std::string(k.name) + R"(/(\d+))";
+        const bool nested = !k.parent_column.empty();
+        const std::string parent_singular = nested ? std::string(store::kind(k.parent_kind).singular) : "";
+
+        server_.Post(collection, [this, kp, nested, parent_singular](const httplib::Request& req, httplib::Response& res) {
+            respond(res, [&] {
+                std::optional<std::int64_t> parent;
+                if (nested) parent = parse_id(req.matches[1].str(), parent_singular);
+                const json values = validated_fields(*kp, parse_object(req.body), true);
+                json row = repo_.create(*kp, parent, values);
+                notify(*kp, row, false);
+                res.set_header("Location", "/v1/" + std::string(kp->name) + "/" + std::to_string(row.at("id").get<std::int64_t>()));
+                return std::pair{201, row};
+            });
+        });
+        server_.Get(collection, [this, kp, nested, parent_singular](const httplib::Request& req, httplib::Response& res) {
+            respond(res, [&] {
+                std::optional<std::int64_t> parent;
+                if (nested) parent = parse_id(req.matches[1].str(), parent_singular);
+                auto param = [&](const char* name) -> std::optional<std::string> {
+                    if (!req.has_param(name)) return std::nullopt;
+                    return req.get_param_value(name);
+                };
+                const Page page = parse_page(param("limit"), param("offset"));
+                return std::pair{200, repo_.list(*kp, parent, page.limit, page.offset)};
+            });
+        });
+        server_.Get(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
+            respond(res, [&] {
+                const auto id = parse_id(req.matches[1].str(), kp->singular);
+                // An RP is read with its measurements: that is what a client wants from it.
+                if (kp->name == "rps") return std::pair{200, repo_.rp_with_measurements(id)};
+                return std::pair{200, repo_.get(*kp, id)};
+            });
+        });
+        server_.Patch(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
+            respond(res, [&] {
+                const auto id = parse_id(req.matches[1].str(), kp->singular);
+                const json values = validated_fields(*kp, parse_object(req.body), false);
+                json row = repo_.update(*kp, id, values);
+                notify(*kp, row, false);
+                return std::pair{200, row};
+            });
+        });
+        server_.Delete(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
+            respond(res, [&] {
+                const auto id = parse_id(req.matches[1].str(), kp->singular);
+                const json before = repo_.get(*kp, id);
+                repo_.remove(*kp, id);
+                notify(*kp, before, true);
+                return std::pair{204, json()};
+            });
+        });
+    }
+}
+
+void App::install_radiomap_routes() {
+    server_.Post(R"(/v1/rps/(\d+)/scans)", [this](const httplib::Request& req, httplib::Response& res) {
+        respond(res, [&] {
+            const auto rp_id = parse_id(req.matches[1].str(), "rp");
+            const json body = parse_object(req.body);
+            for (const auto& [key, value] : body.items())
+                if (key != "upload_id" && key != "scans" && key != "measurements")
+                    throw invalid_field("unknown field '" + key + "'");
+            const bool has_scans = body.contains("scans"), has_measurements = body.contains("measurements");
+            if (has_scans == has_measurements)
+                throw invalid_field("send exactly one of 'scans' (raw readings) or 'measurements' (aggregates)");
+            store::ScanUpload upload;
+            upload.upload_id = optional_string(body, "upload_id", "", 200);
+            if (has_scans) {
+                const auto scans = parse_scans(body.at("scans"), "scans");
+                upload.measurements = aggregate_scans(scans);
+                upload.scans = static_cast<std::int64_t>(scans.size());
+            } else {
+                // Aggregates of one (type, bssid) sent twice combine like two uploads.
+                auto parsed = parse_measurements(body.at("measurements"), "measurements");
+                for (auto& m : parsed) {
+                    auto same = std::find_if(upload.measurements.begin(), upload.measurements.end(),
+                                             [&](const Measurement& o) { return o.type == m.type && o.bssid == m.bssid; });
+                    if (same == upload.measurements.end()) upload.measurements.push_back(std::move(m));
+                    else same->stats.merge(m.stats);
+                }
+                // Aggregates carry no scan count; the best lower bound is the most-seen AP's count.
+                for (const auto& m : upload.measurements) upload.scans = std::max(upload.scans, m.stats.count);
+            }
+            auto result = repo_.merge_scans(rp_id, upload);
+            if (result.applied) notify(store::kind("rps"), result.rp, false);
+            return std::pair{200, json{{"applied", result.applied}, {"rp", result.rp}}};
+        });
+    });
+
+    server_.Get(R"(/v1/radiomaps/(\d+)/export)", [this](const httplib::Request& req, httplib::Response& res) {
+        respond(res, [&] { return std::pair{200, repo_.export_radiomap(parse_id(req.matches[1].str(), "radiomap"))}; });
+    });
+
+    server_.Post(R"(/v1/floors/(\d+)/radiomaps/import)", [this](const httplib::Request& req, httplib::Response& res) {
+        respond(res, [&] {
+            const auto floor_id = parse_id(req.matches[1].str(), "floor");
+            const json doc = parse_object(req.body);
+            validate_radiomap_document(doc);
+            json row = repo_.import_radiomap(floor_id, doc);
+            notify(store::kind("radiomaps"), row, false);
+            return std::pair{201, row};
+        });
+    });
+}
+
+}  // namespace locus::http

@@ -1,0 +1,49 @@
+#pragma once
+// The HTTP layer: routes, authentication, request limits, error bodies and the access log.
+// Handlers parse and validate, call the repository (or the localizer), and serialise.
+#include <httplib.h>
+
+#include <cstddef>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "store/kinds.hpp"
+#include "store/repository.hpp"
+
+namespace locus::http {
+
+struct AppOptions {
+    std::string api_key;                            // empty: writes need no key
+    std::size_t max_body_bytes = 8u * 1024u * 1024u;
+    bool access_log = true;
+};
+
+// Told after every committed write, so in-memory indexes can follow (kind, the row as it was
+// written or, for a delete, as it was before, and whether it was deleted).
+using WriteListener = std::function<void(const store::Kind& kind, const nlohmann::json& row, bool deleted)>;
+
+class App {
+public:
+    App(store::Repository& repo, AppOptions options);
+    httplib::Server& server() { return server_; }
+    void on_write(WriteListener listener) { listener_ = std::move(listener); }
+
+    // Runs a handler body, turning every failure into the JSON error shape.
+    static void respond(httplib::Response& res, const std::function<std::pair<int, nlohmann::json>()>& body);
+
+private:
+    void install_middleware();
+    void install_crud();
+    void install_radiomap_routes();
+    void notify(const store::Kind& kind, const nlohmann::json& row, bool deleted);
+
+    store::Repository& repo_;
+    AppOptions options_;
+    httplib::Server server_;
+    WriteListener listener_;
+};
+
+void write_error(httplib::Response& res, int status, const std::string& code, const std::string& message);
+
+}  // namespace locus::http

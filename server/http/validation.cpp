@@ -1,0 +1,275 @@
+#include "http/validation.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <set>
+
+#include "http/api_error.hpp"
+
+namespace locus::http {
+
+using nlohmann::json;
+
+namespace {
+
+std::string type_name(store::FieldType t) {
+    switch (t) {
+        case store::FieldType::Text: return "a string";
+        case store::FieldType::Real: return "a number";
+        case store::FieldType::Integer: return "an integer";
+    }
+    return "a value";
+}
+
+std::string at(const std::string& where, std::string_view field) {
+    return where.empty() ? std::string(field) : where + "." + std::string(field);
+}
+
+// A JSON number that is integral (2 or 2.0) and fits in int64.
+std::optional<std::int64_t> as_integer(const json& v) {
+    if (v.is_number_integer()) return v.get<std::int64_t>();
+    if (v.is_number_float()) {
+        const double d = v.get<double>();
+        if (std::isfinite(d) && std::floor(d) == d && std::fabs(d) < 9.0e18) return static_cast<std::int64_t>(d);
+    }
+    return std::nullopt;
+}
+
+json check_field(const store::Field& f, const json& v, const std::string& where) {
+    const std::string name = at(where, f.name);
+    switch (f.type) {
+        case store::FieldType::Text: {
+            if (!v.is_string()) throw invalid_field("'" + name + "' must be " + type_name(f.type));
+            const auto& s = v.get_ref<const std::string&>();
+            if (f.required && s.empty()) throw invalid_field("'" + name + "' must not be empty");
+            if (s.size() > f.max_length)
+                throw invalid_field("'" + name + "' is longer than " + std::to_string(f.max_length) + " characters");
+            return v;
+        }
+        case store::FieldType::Real:
+        case store::FieldType::Integer: {
+            if (!v.is_number() || v.is_boolean()) throw invalid_field("'" + name + "' must be " + type_name(f.type));
+            const double d = v.get<double>();
+            if (!std::isfinite(d)) throw invalid_field("'" + name + "' must be finite");
+            if (f.type == store::FieldType::Integer && !as_integer(v))
+                throw invalid_field("'" + name + "' must be " + type_name(f.type));
+            if (f.positive && !(d > 0.0)) throw invalid_field("'" + name + "' must be greater than 0");
+            if ((f.min && d < *f.min) || (f.max && d > *f.max))
+                throw invalid_field("'" + name + "' is out of range [" + (f.min ? std::to_string(*f.min) : "-inf") +
+                                    ", " + (f.max ? std::to_string(*f.max) : "inf") + "]");
+            if (f.type == store::FieldType::Integer) return *as_integer(v);
+            return d;
+        }
+    }
+    return v;
+}
+
+json check_rects(const json& v, bool create) {
+    if (!v.is_array()) throw invalid_field("'rects' must be an array of {xmin, ymin, xmax, ymax}");
+    if (create && v.empty()) throw invalid_field("'rects' must hold at least one rectangle");
+    if (v.size() > 1000) throw invalid_field("'rects' holds more than 1000 rectangles");
+    json out = json::array();
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const std::string where = "rects[" + std::to_string(i) + "]";
+        if (!v[i].is_object()) throw invalid_field("'" + where + "' must be an object");
+        const double xmin = finite_number(v[i], "xmin", where), ymin = finite_number(v[i], "ymin", where);
+        const double xmax = finite_number(v[i], "xmax", where), ymax = finite_number(v[i], "ymax", where);
+        if (xmin > xmax || ymin > ymax) throw invalid_field("'" + where + "' needs xmin <= xmax and ymin <= ymax");
+        out.push_back({{"xmin", xmin}, {"ymin", ymin}, {"xmax", xmax}, {"ymax", ymax}});
+    }
+    return out;
+}
+
+}  // namespace
+
+json parse_object(const std::string& body) {
+    json j = json::parse(body, nullptr, false);
+    if (j.is_discarded()) throw ApiError(400, "invalid_json", "the request body is not valid JSON");
+    if (!j.is_object()) throw ApiError(400, "invalid_json", "the request body must be a JSON object");
+    return j;
+}
+
+json validated_fields(const store::Kind& kind, const json& body, bool create) {
+    json out = json::object();
+    std::set<std::string, std::less<>> known{"id"};
+    if (!kind.parent_column.empty()) known.emplace(kind.parent_column);
+    for (const auto& f : kind.fields) {
+        known.emplace(f.name);
+        if (!f.writable) continue;  // shown in answers, so clients may echo it back
+        const auto it = body.find(f.name);
+        if (it == body.end() || (it->is_null() && !f.required && !create)) {
+            if (create && f.required) throw invalid_field("missing field '" + std::string(f.name) + "'");
+            continue;
+        }
+        out[std::string(f.name)] = check_field(f, *it, "");
+    }
+    if (kind.has_rects) {
+        known.emplace("rects");
+        if (body.contains("rects")) out["rects"] = check_rects(body.at("rects"), create);
+        else if (create) throw invalid_field("missing field 'rects'");
+    }
+    for (const auto& [key, value] : body.items())
+        if (!known.count(key)) throw invalid_field("unknown field '" + key + "' for a " + std::string(kind.singular));
+    return out;
+}
+
+std::int64_t parse_id(std::string_view text, std::string_view what) {
+    std::int64_t id = 0;
+    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), id);
+    if (ec != std::errc() || ptr != text.data() + text.size() || id <= 0)
+        throw ApiError(404, "not_found", std::string(what) + " " + std::string(text) + " not found");
+    return id;
+}
+
+Page parse_page(const std::optional<std::string>& limit, const std::optional<std::string>& offset) {
+    auto parse = [](const std::string& s, const char* name, std::int64_t lo, std::int64_t hi) {
+        std::int64_t v = 0;
+        const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (ec != std::errc() || ptr != s.data() + s.size() || v < lo || v > hi)
+            throw ApiError(400, "invalid_query",
+                           std::string("'") + name + "' must be an integer in [" + std::to_string(lo) + ", " +
+                               std::to_string(hi) + "]");
+        return v;
+    };
+    Page p;
+    if (limit) p.limit = parse(*limit, "limit", 1, kMaxPageLimit);
+    if (offset) p.offset = parse(*offset, "offset", 0, std::numeric_limits<std::int64_t>::max() / 2);
+    return p;
+}
+
+double finite_number(const json& obj, std::string_view field, const std::string& where, std::optional<double> min,
+                     std::optional<double> max) {
+    const auto it = obj.find(field);
+    const std::string name = at(where, field);
+    if (it == obj.end()) throw invalid_field("missing field '" + name + "'");
+    if (!it->is_number()) throw invalid_field("'" + name + "' must be a number");
+    const double d = it->get<double>();
+    if (!std::isfinite(d)) throw invalid_field("'" + name + "' must be finite");
+    if ((min && d < *min) || (max && d > *max))
+        throw ApiError(422, "out_of_range",
+                       "'" + name + "' = " + std::to_string(d) + " is outside [" + (min ? std::to_string(*min) : "-inf") +
+                           ", " + (max ? std::to_string(*max) : "inf") + "]");
+    return d;
+}
+
+std::optional<std::string> optional_string(const json& obj, std::string_view field, const std::string& where,
+                                           std::size_t max_length) {
+    const auto it = obj.find(field);
+    if (it == obj.end() || it->is_null()) return std::nullopt;
+    const std::string name = at(where, field);
+    if (!it->is_string()) throw invalid_field("'" + name + "' must be a string");
+    const auto& s = it->get_ref<const std::string&>();
+    if (s.empty() || s.size() > max_length)
+        throw invalid_field("'" + name + "' must be 1 to " + std::to_string(max_length) + " characters");
+    return s;
+}
+
+namespace {
+std::string parse_type(const json& j, const std::string& where) {
+    const auto type = optional_string(j, "type", where, 16).value_or("wifi");
+    if (type != "wifi" && type != "ble") throw invalid_field("'" + at(where, "type") + "' must be \"wifi\" or \"ble\"");
+    return type;
+}
+
+std::string parse_bssid(const json& j, const std::string& where) {
+    const auto raw = optional_string(j, "bssid", where, 64);
+    if (!raw) throw invalid_field("missing field '" + at(where, "bssid") + "'");
+    std::string b = normalise_bssid(*raw);
+    if (b.empty()) throw invalid_field("'" + at(where, "bssid") + "' must not be blank");
+    for (char c : b)
+        if (static_cast<unsigned char>(c) < 0x20) throw invalid_field("'" + at(where, "bssid") + "' holds control characters");
+    return b;
+}
+
+void only_fields(const json& j, std::initializer_list<std::string_view> allowed, const std::string& where) {
+    for (const auto& [key, value] : j.items()) {
+        bool ok = false;
+        for (auto a : allowed) ok = ok || key == a;
+        if (!ok) throw invalid_field("unknown field '" + at(where, key) + "'");
+    }
+}
+}  // namespace
+
+Reading parse_reading(const json& j, const std::string& where) {
+    if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {type, bssid, rss}");
+    only_fields(j, {"type", "bssid", "rss"}, where);
+    Reading r;
+    r.type = parse_type(j, where);
+    r.bssid = parse_bssid(j, where);
+    r.rss = finite_number(j, "rss", where, kMinRss, kMaxRss);
+    return r;
+}
+
+std::vector<Scan> parse_scans(const json& j, const std::string& where) {
+    if (!j.is_array() || j.empty()) throw invalid_field("'" + where + "' must be a non-empty array of scans");
+    std::vector<Scan> scans;
+    scans.reserve(j.size());
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const std::string w = where + "[" + std::to_string(i) + "]";
+        if (!j[i].is_array()) throw invalid_field("'" + w + "' must be an array of readings");
+        Scan scan;
+        scan.reserve(j[i].size());
+        for (std::size_t k = 0; k < j[i].size(); ++k) scan.push_back(parse_reading(j[i][k], w + "[" + std::to_string(k) + "]"));
+        scans.push_back(std::move(scan));
+    }
+    return scans;
+}
+
+Measurement parse_measurement(const json& j, const std::string& where) {
+    if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {type, bssid, mean, variance, count}");
+    only_fields(j, {"type", "bssid", "mean", "variance", "count"}, where);
+    Measurement m;
+    m.type = parse_type(j, where);
+    m.bssid = parse_bssid(j, where);
+    m.stats.mean = finite_number(j, "mean", where, kMinRss, kMaxRss);
+    // The variance of values confined to [-120, 0] cannot exceed 60².
+    m.stats.variance = finite_number(j, "variance", where, 0.0, 3600.0);
+    const auto it = j.find("count");
+    if (it == j.end()) throw invalid_field("missing field '" + at(where, "count") + "'");
+    const auto count = as_integer(*it);
+    if (!count || it->is_boolean()) throw invalid_field("'" + at(where, "count") + "' must be an integer");
+    if (*count < 1 || *count > 1'000'000'000)
+        throw ApiError(422, "out_of_range", "'" + at(where, "count") + "' must be between 1 and 1e9");
+    m.stats.count = *count;
+    return m;
+}
+
+std::vector<Measurement> parse_measurements(const json& j, const std::string& where) {
+    if (!j.is_array()) throw invalid_field("'" + where + "' must be an array of measurements");
+    std::vector<Measurement> out;
+    out.reserve(j.size());
+    for (std::size_t i = 0; i < j.size(); ++i) out.push_back(parse_measurement(j[i], where + "[" + std::to_string(i) + "]"));
+    return out;
+}
+
+void validate_radiomap_document(const json& doc) {
+    if (doc.contains("format") && doc.at("format") != "locus-radiomap/1")
+        throw invalid_field("'format' must be \"locus-radiomap/1\"");
+    json meta = json::object();
+    for (const char* key : {"name", "description"})
+        if (doc.contains(key)) meta[key] = doc.at(key);
+    validated_fields(store::kind("radiomaps"), meta, true);
+    if (!doc.contains("rps") || !doc.at("rps").is_array()) throw invalid_field("'rps' must be an array");
+    const auto& rps = doc.at("rps");
+    for (std::size_t i = 0; i < rps.size(); ++i) {
+        const std::string where = "rps[" + std::to_string(i) + "]";
+        const auto& rp = rps[i];
+        if (!rp.is_object()) throw invalid_field("'" + where + "' must be an object");
+        only_fields(rp, {"name", "x", "y", "scans", "measurements"}, where);
+        json fields = json::object();
+        for (const char* key : {"name", "x", "y"})
+            if (rp.contains(key)) fields[key] = rp.at(key);
+        try {
+            validated_fields(store::kind("rps"), fields, true);
+        } catch (const ApiError& e) {
+            throw ApiError(e.status, e.code, where + ": " + e.what());
+        }
+        if (rp.contains("scans")) {
+            const auto s = as_integer(rp.at("scans"));
+            if (!s || *s < 0) throw invalid_field("'" + where + ".scans' must be a non-negative integer");
+        }
+        if (rp.contains("measurements")) parse_measurements(rp.at("measurements"), where + ".measurements");
+    }
+}
+
+}  // namespace locus::http

@@ -1,0 +1,49 @@
+#pragma once
+// Request-body validation: everything a handler hands to the store or the matchers has
+// passed through here, so the layers below can assume well-formed, finite, in-range input.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "locus/radio_map.hpp"
+#include "store/kinds.hpp"
+
+namespace locus::http {
+
+// Parses a request body that must be a JSON object (400 invalid_json otherwise).
+nlohmann::json parse_object(const std::string& body);
+
+// Checks a create (all required fields present) or a patch (any subset) against the kind's
+// fields; unknown fields are refused so that a typo never silently drops data. Returns the
+// accepted values (with "rects" for rooms).
+nlohmann::json validated_fields(const store::Kind& kind, const nlohmann::json& body, bool create);
+
+// Path ids: a positive 64-bit integer, else 404 (no such resource can exist).
+std::int64_t parse_id(std::string_view text, std::string_view what);
+
+struct Page {
+    std::int64_t limit = 100;
+    std::int64_t offset = 0;
+};
+inline constexpr std::int64_t kMaxPageLimit = 1000;
+Page parse_page(const std::optional<std::string>& limit, const std::optional<std::string>& offset);
+
+// Scan and measurement bodies. `where` names the place in the body for error messages.
+Reading parse_reading(const nlohmann::json& j, const std::string& where);
+std::vector<Scan> parse_scans(const nlohmann::json& j, const std::string& where);
+Measurement parse_measurement(const nlohmann::json& j, const std::string& where);
+std::vector<Measurement> parse_measurements(const nlohmann::json& j, const std::string& where);
+
+// A number field that must be finite (and within [min, max] when given).
+double finite_number(const nlohmann::json& obj, std::string_view field, const std::string& where,
+                     std::optional<double> min = std::nullopt, std::optional<double> max = std::nullopt);
+std::optional<std::string> optional_string(const nlohmann::json& obj, std::string_view field,
+                                           const std::string& where, std::size_t max_length = 256);
+
+// The radio-map exchange document accepted by import (and produced by export).
+void validate_radiomap_document(const nlohmann::json& doc);
+
+}  // namespace locus::http

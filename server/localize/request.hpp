@@ -1,0 +1,27 @@
+#pragma once
+// The localize request body and answer: {"algorithm", "scans" | "measurements", "options"}.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "locus/match/algorithm.hpp"
+#include "locus/match/options.hpp"
+#include "locus/match/query.hpp"
+#include "localize/service.hpp"
+
+namespace locus::localize {
+
+// The matcher used when a request names none: the most accurate on UJIIndoorLoc held-out users.
+inline constexpr match::Algorithm kDefaultAlgorithm = match::Algorithm::wknn;
+
+struct LocalizeRequest {
+    match::Algorithm algorithm = kDefaultAlgorithm;
+    match::Query query;
+    match::Options options;
+};
+
+LocalizeRequest parse_localize_request(const std::string& body);
+
+// 422 no_match when no RP shares an AP with the scan.
+nlohmann::json answer(const Snapshot& snapshot, const LocalizeRequest& request);
+
+}  // namespace locus::localize

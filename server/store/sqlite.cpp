@@ -1,0 +1,126 @@
+#include "store/sqlite.hpp"
+
+#include <utility>
+
+namespace locus::store {
+
+Db::Db(const std::string& path) {
+    const int rc = sqlite3_open_v2(path.c_str(), &db_,
+                                   SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+    if (rc != SQLITE_OK) {
+        const std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
+        sqlite3_close(db_);
+        db_ = nullptr;
+        throw SqliteError(rc, "cannot open database '" + path + "': " + msg);
+    }
+    sqlite3_extended_result_codes(db_, 1);
+    sqlite3_busy_timeout(db_, 5000);
+    // WAL + synchronous=NORMAL survives a process kill; FULL would also survive power loss
+    // at a large cost per commit, which a radio-map store does not need.
+    exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
+}
+
+Db::~Db() {
+    if (db_) sqlite3_close_v2(db_);
+}
+
+void Db::fail(int rc, std::string_view context) const {
+    throw SqliteError(sqlite3_extended_errcode(db_), std::string(context) + ": " + sqlite3_errmsg(db_) +
+                                                        " (" + std::to_string(rc) + ")");
+}
+
+void Db::exec(std::string_view sql) {
+    char* err = nullptr;
+    const std::string s(sql);
+    const int rc = sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err);
+    if (rc != SQLITE_OK) {
+        const std::string msg = err ? err : "unknown error";
+        sqlite3_free(err);
+        throw SqliteError(sqlite3_extended_errcode(db_), msg);
+    }
+}
+
+std::int64_t Db::last_insert_id() const { return sqlite3_last_insert_rowid(db_); }
+int Db::changes() const { return sqlite3_changes(db_); }
+
+Stmt::Stmt(Db& db, std::string_view sql) : db_(db.handle()) {
+    const int rc = sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr);
+    if (rc != SQLITE_OK) db.fail(rc, "prepare");
+}
+
+Stmt::~Stmt() {
+    if (stmt_) sqlite3_finalize(stmt_);
+}
+
+Stmt::Stmt(Stmt&& other) noexcept : db_(other.db_), stmt_(std::exchange(other.stmt_, nullptr)) {}
+
+namespace {
+void check_bind(sqlite3* db, int rc) {
+    if (rc != SQLITE_OK) throw SqliteError(rc, std::string("bind: ") + sqlite3_errmsg(db));
+}
+}  // namespace
+
+Stmt& Stmt::bind_int64(int i, std::int64_t v) {
+    check_bind(db_, sqlite3_bind_int64(stmt_, i, v));
+    return *this;
+}
+Stmt& Stmt::bind(int i, double v) {
+    check_bind(db_, sqlite3_bind_double(stmt_, i, v));
+    return *this;
+}
+Stmt& Stmt::bind(int i, std::string_view v) {
+    check_bind(db_, sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT));
+    return *this;
+}
+Stmt& Stmt::bind_null(int i) {
+    check_bind(db_, sqlite3_bind_null(stmt_, i));
+    return *this;
+}
+
+bool Stmt::step() {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    throw SqliteError(sqlite3_extended_errcode(db_), std::string("step: ") + sqlite3_errmsg(db_));
+}
+
+void Stmt::run() {
+    while (step()) {
+    }
+}
+
+void Stmt::reset() {
+    sqlite3_reset(stmt_);
+    sqlite3_clear_bindings(stmt_);
+}
+
+std::int64_t Stmt::int64(int col) const { return sqlite3_column_int64(stmt_, col); }
+double Stmt::real(int col) const { return sqlite3_column_double(stmt_, col); }
+std::string Stmt::text(int col) const {
+    const auto* p = sqlite3_column_text(stmt_, col);
+    return p ? std::string(reinterpret_cast<const char*>(p), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
+             : std::string();
+}
+bool Stmt::is_null(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }
+int Stmt::column_count() const { return sqlite3_column_count(stmt_); }
+int Stmt::column_type(int col) const { return sqlite3_column_type(stmt_, col); }
+std::string Stmt::column_name(int col) const { return sqlite3_column_name(stmt_, col); }
+
+Transaction::Transaction(Db& db) : db_(db) { db_.exec("BEGIN IMMEDIATE"); }
+
+Transaction::~Transaction() {
+    if (!done_) {
+        try {
+            db_.exec("ROLLBACK");
+        } catch (...) {
+            // Nothing sensible to do: SQLite rolls back on its own when the statement failed.
+        }
+    }
+}
+
+void Transaction::commit() {
+    db_.exec("COMMIT");
+    done_ = true;
+}
+
+}  // namespace locus::store
