@@ -34,7 +34,12 @@ json config_json(const pdr::StepDetectorConfig& c) {
             {"min_peak_to_valley_s", c.min_peak_to_valley_s},
             {"max_peak_to_valley_s", c.max_peak_to_valley_s},
             {"min_step_interval_s", c.min_step_interval_s},
-            {"max_gap_s", c.max_gap_s}};
+            {"max_gap_s", c.max_gap_s},
+            {"bout_steps", c.bout_steps},
+            {"bout_regularity", c.bout_regularity},
+            {"cadence_min_ratio", c.cadence_min_ratio},
+            {"cadence_max_ratio", c.cadence_max_ratio},
+            {"max_step_interval_s", c.max_step_interval_s}};
 }
 
 // Detector options shared by the commands, so a candidate setting can be tried without a rebuild.
@@ -53,6 +58,14 @@ struct DetectorOptions {
             ->capture_default_str();
         cmd->add_option("--max-peak-to-valley", config.max_peak_to_valley_s, "s")->capture_default_str();
         cmd->add_option("--min-step-interval", config.min_step_interval_s, "s")->capture_default_str();
+        cmd->add_option("--bout-steps", config.bout_steps, "regular candidates that start a walking bout (≤ 1: off)")
+            ->capture_default_str();
+        cmd->add_option("--bout-regularity", config.bout_regularity, "max/min interval ratio within a starting bout")
+            ->capture_default_str();
+        cmd->add_option("--cadence-min-ratio", config.cadence_min_ratio, "drop candidates sooner than this × cadence")
+            ->capture_default_str();
+        cmd->add_option("--cadence-max-ratio", config.cadence_max_ratio, "a longer interval ends the bout")
+            ->capture_default_str();
     }
     pdr::StepDetectorConfig get() const {
         auto c = config;
@@ -115,6 +128,7 @@ void install_steps(CLI::App& pdr) {
             json step_times = json::array();
             for (const auto& s : samples)
                 if (auto e = d.push(s.t_s, s.ax, s.ay, s.az)) step_times.push_back(e->t_s);
+            while (auto e = d.poll()) step_times.push_back(e->t_s);
             json j{{"steps", d.steps()},
                    {"duration_s", samples.size() < 2 ? 0.0 : samples.back().t_s - samples.front().t_s}};
             if (*times) j["step_times_s"] = step_times;
@@ -251,6 +265,7 @@ void install_track(CLI::App& pdr) {
                     case ImuSensor::step: record(p.push_platform_step(s.t_s)); break;
                 }
             }
+            while (auto tp = p.poll()) record(*tp);
             const double deg = 180.0 / std::numbers::pi;
             if (a->format == "csv") {
                 std::cout << "t,x,y,heading_deg,step_length_m,magnetic_disturbance,room,pois\n";

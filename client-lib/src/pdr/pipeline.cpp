@@ -20,6 +20,11 @@ std::optional<TrackPoint> Pipeline::push_accel(double t_s, Vec3 a) {
     return std::nullopt;
 }
 
+std::optional<TrackPoint> Pipeline::poll() {
+    if (auto e = steps_.poll()) return step(*e);
+    return std::nullopt;
+}
+
 void Pipeline::push_gyro(double t_s, Vec3 w) { heading_.push_gyro(t_s, w); }
 void Pipeline::push_mag(double t_s, Vec3 m) { heading_.push_mag(t_s, m); }
 

@@ -24,6 +24,8 @@ public:
 
     // Returns the new track point when the sample completed a step.
     std::optional<TrackPoint> push_accel(double t_s, Vec3 a);
+    // Steps confirmed but not yet returned (a bout confirms several at once); call at the end.
+    std::optional<TrackPoint> poll();
     void push_gyro(double t_s, Vec3 w);
     void push_mag(double t_s, Vec3 m);
     // Platform step events instead of accelerometer-detected ones.

@@ -7,7 +7,12 @@
 // the acceleration along gravity minus |g| (or |a| − |g|) → box-averaged onto a fixed internal
 // grid (so behaviour does not depend on the input rate, and high-rate noise is not aliased) →
 // moving average → peak/valley detector with hysteresis (seed 001's local-extremum search),
-// an adaptive amplitude threshold and timing gates.
+// an adaptive amplitude threshold and timing gates → cadence gate: a walking bout is confirmed
+// only after a few regularly spaced candidates (then all of them are reported, with their own
+// times), and within a bout a candidate far too soon after the last step is dropped. This is
+// what keeps a purse swinging after the user stops, or a double bump within one slow step, from
+// counting. Confirmed steps are therefore reported with a delay of up to bout_steps steps at
+// the start of a bout, and immediately afterwards.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -42,6 +47,13 @@ struct StepDetectorConfig {
     double max_peak_to_valley_s;
     double min_step_interval_s;   // at most one step per this interval
     double max_gap_s;             // a longer hole in the timestamps restarts the filters
+    // Cadence gate (bout_steps ≤ 1 turns it off: every candidate is a step).
+    // Regularity is judged on strides (t_i − t_{i−2}), see step_detector.cpp.
+    int bout_steps;               // regular candidates needed to start a walking bout
+    double bout_regularity;       // max/min stride ratio allowed among them
+    double cadence_min_ratio;     // within a bout, drop a candidate whose stride < this × cadence
+    double cadence_max_ratio;     // a longer stride ends the bout
+    double max_step_interval_s;   // and so does a pause longer than this
 
     StepDetectorConfig();
 };
@@ -50,8 +62,12 @@ class StepDetector {
 public:
     explicit StepDetector(const StepDetectorConfig& config = StepDetectorConfig());
 
-    // Accelerometer sample. Samples whose time does not move forward are ignored.
+    // Accelerometer sample. Samples whose time does not move forward are ignored. Returns one
+    // confirmed step, oldest first; when a bout is confirmed several steps are due at once and
+    // come out on the following calls (or through poll()).
     std::optional<StepEvent> push(double t_s, double ax, double ay, double az);
+    // Next confirmed step not yet returned, without a new sample (e.g. at the end of a log).
+    std::optional<StepEvent> poll();
 
     // A platform step event (Android TYPE_STEP_DETECTOR, iOS CMPedometer) used instead of the
     // accelerometer: counted as a step, with the amplitude of the last detected step (or 0) so a
@@ -59,12 +75,16 @@ public:
     StepEvent push_platform_step(double t_s);
 
     void reset();
+    // Confirmed steps so far, including those not yet returned by push()/poll().
     std::uint64_t steps() const { return steps_; }
     const StepDetectorConfig& config() const { return config_; }
 
 private:
-    void on_grid_value(double t, double v, std::optional<StepEvent>& out);
-    void detect(double t, double y, std::optional<StepEvent>& out);
+    void on_grid_value(double t, double v);
+    void detect(double t, double y);
+    void candidate(const StepEvent& e);
+    void confirm(const StepEvent& e);
+    double cadence() const;
 
     StepDetectorConfig config_;
     std::uint64_t steps_ = 0;
@@ -93,8 +113,23 @@ private:
     double ext_t_ = 0.0;
     double peak_ = 0.0;
     double peak_t_ = 0.0;
-    double last_step_t_ = -1e300;
+    double last_candidate_t_ = -1e300;
     double last_amplitude_ = 0.0;
+
+    // Cadence gate. Fixed-capacity rings: no allocation per sample or per step.
+    static constexpr std::size_t kMaxBout = 16;
+    static constexpr std::size_t kCadenceHistory = 5;
+    bool walking_ = false;
+    StepEvent bout_[kMaxBout];
+    std::size_t bout_n_ = 0;
+    double last_step_t_ = -1e300;
+    double prev_step_t_ = -1e300;
+    double intervals_[kCadenceHistory] = {};
+    std::size_t intervals_n_ = 0;
+    std::size_t intervals_pos_ = 0;
+    StepEvent due_[2 * kMaxBout];
+    std::size_t due_head_ = 0;
+    std::size_t due_n_ = 0;
 };
 
 }  // namespace locus::pdr
