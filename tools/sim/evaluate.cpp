@@ -1,0 +1,185 @@
+#include "sim/evaluate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "locus/pdr/heading_convention.hpp"
+
+namespace locus::sim {
+
+std::vector<PdrStep> run_pdr(const Walk& walk, pdr::PipelineConfig config) {
+    config.start = walk.start;
+    config.start_heading_rad = walk.start_heading_rad;
+    config.heading.north_offset_deg = walk.north_offset_deg;
+    pdr::Pipeline pipeline(config);
+    std::vector<PdrStep> steps;
+    for (const ImuSample& s : walk.imu) {
+        pipeline.push_gyro(s.t_s, s.gyro);
+        pipeline.push_mag(s.t_s, s.mag);
+        if (auto p = pipeline.push_accel(s.t_s, s.acc)) steps.push_back({p->t_s, p->step_length_m, p->heading_rad});
+    }
+    return steps;
+}
+
+match::Index build_index(const Walk& walk) {
+    std::vector<match::IndexedRp> rps;
+    long long id = 1;
+    for (const SurveyPoint& sp : walk.survey) {
+        match::IndexedRp r;
+        r.rp.id = id++;
+        r.rp.name = sp.name;
+        r.rp.at = sp.at;
+        r.rp.scans = static_cast<std::int64_t>(sp.scans.size());
+        r.rp.measurements = aggregate_scans(sp.scans);
+        rps.push_back(std::move(r));
+    }
+    return match::Index::build(rps);
+}
+
+Fix make_fix(double t_s, int aps, const match::Result& result, int k, double sigma_floor_m) {
+    std::vector<Point> spread;
+    for (const match::Candidate& c : result.candidates) {
+        if (static_cast<int>(spread.size()) >= std::max(1, k)) break;
+        spread.push_back(c.at);
+    }
+    if (spread.empty()) spread.push_back(result.at);
+    return {t_s, result.at, aps, fusion::fix_covariance(spread, {}, sigma_floor_m)};
+}
+
+std::vector<Fix> run_matcher(const Walk& walk, const match::Index& index, const EvalConfig& config) {
+    std::vector<Fix> fixes;
+    for (const WifiScan& scan : walk.scans) {
+        const match::Query q = match::Query::from_scans({scan.readings});
+        if (q.aps.empty()) continue;
+        const auto result = match::localize(index, q, config.algorithm, config.match_options);
+        if (!result) continue;
+        fixes.push_back(make_fix(scan.t_s, static_cast<int>(q.aps.size()), *result, config.match_options.k,
+                                 config.fix_sigma_floor_m));
+    }
+    return fixes;
+}
+
+namespace {
+
+// Walks steps and fixes in time order (a step and a fix at the same instant: step first).
+template <typename OnStep, typename OnFix>
+void replay_events(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, OnStep on_step, OnFix on_fix) {
+    std::size_t i = 0, j = 0;
+    while (i < steps.size() || j < fixes.size()) {
+        if (j >= fixes.size() || (i < steps.size() && steps[i].t_s <= fixes[j].t_s))
+            on_step(steps[i++]);
+        else
+            on_fix(fixes[j++]);
+    }
+}
+
+Track rule_track(fusion::Rule rule, const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
+                 const fusion::RuleParams& params) {
+    Track track{{0.0, start}};
+    Point pos = start;   // the PDR track, continued from each fused position
+    Point prev = start;  // the previous fused position (the known start before any fix)
+    std::optional<Point> prev_wifi;
+    replay_events(
+        steps, fixes,
+        [&](const PdrStep& s) {
+            pos = pdr::step(pos, s.length_m, s.heading_rad);
+            track.push_back({s.t_s, pos});
+        },
+        [&](const Fix& f) {
+            fusion::FusionInput in{pos, f.at, prev, f.aps, prev_wifi};
+            pos = fusion::fuse(rule, in, params);
+            prev = pos;
+            prev_wifi = f.at;
+            track.push_back({f.t_s, pos});
+        });
+    return track;
+}
+
+}  // namespace
+
+std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
+                                    const std::optional<fusion::Walkable>& map, const EvalConfig& config) {
+    std::vector<NamedTrack> out;
+
+    Track pdr_track{{0.0, start}};
+    Point pos = start;
+    for (const PdrStep& s : steps) {
+        pos = pdr::step(pos, s.length_m, s.heading_rad);
+        pdr_track.push_back({s.t_s, pos});
+    }
+    out.push_back({"pdr", std::move(pdr_track)});
+
+    Track wifi_track;
+    for (const Fix& f : fixes) wifi_track.push_back({f.t_s, f.at});
+    out.push_back({"wifi", std::move(wifi_track)});
+
+    for (fusion::Rule r : fusion::all_rules())
+        out.push_back({std::string(fusion::to_string(r)), rule_track(r, steps, fixes, start, config.rules)});
+
+    {
+        fusion::KalmanFilter kf(start, config.kalman);
+        Track track{{0.0, start}};
+        replay_events(
+            steps, fixes,
+            [&](const PdrStep& s) {
+                const Point d = pdr::step({0.0, 0.0}, s.length_m, s.heading_rad);
+                kf.predict(d);
+                track.push_back({s.t_s, kf.position()});
+            },
+            [&](const Fix& f) {
+                kf.update(f.at, f.cov);
+                track.push_back({f.t_s, kf.position()});
+            });
+        out.push_back({"kalman", std::move(track)});
+    }
+
+    if (map) {
+        fusion::ParticleFilter pf(*map, start, config.particle);
+        Track track{{0.0, start}};
+        replay_events(
+            steps, fixes,
+            [&](const PdrStep& s) {
+                pf.predict(s.length_m, s.heading_rad);
+                track.push_back({s.t_s, pf.position()});
+            },
+            [&](const Fix& f) {
+                pf.update(f.at, f.cov);
+                track.push_back({f.t_s, pf.position()});
+            });
+        out.push_back({"particle", std::move(track)});
+    }
+    return out;
+}
+
+Score score(const NamedTrack& nt, const Walk& walk) {
+    Score sc;
+    sc.method = nt.method;
+    std::vector<double> errors;
+    for (const TrackPoint& p : nt.track)
+        if (auto truth = walk.truth_at(p.t_s)) errors.push_back(distance(p.at, *truth));
+    sc.points = errors.size();
+    if (errors.empty()) return sc;
+    double sum = 0.0;
+    for (double e : errors) sum += e;
+    sc.mean_error_m = sum / static_cast<double>(errors.size());
+    sc.final_error_m = errors.back();
+    std::vector<double> sorted = errors;
+    std::sort(sorted.begin(), sorted.end());
+    // Nearest-rank percentile.
+    const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(sorted.size())));
+    sc.p95_error_m = sorted[std::max<std::size_t>(rank, 1) - 1];
+    return sc;
+}
+
+std::vector<Score> evaluate(const Walk& walk, const EvalConfig& config) {
+    if (!walk.has_truth()) throw std::invalid_argument("the walk has no ground truth to evaluate against");
+    const std::vector<PdrStep> steps = run_pdr(walk);
+    const match::Index index = build_index(walk);
+    const std::vector<Fix> fixes = run_matcher(walk, index, config);
+    std::vector<Score> scores;
+    for (const NamedTrack& t : run_methods(steps, fixes, walk.start, walk.map, config)) scores.push_back(score(t, walk));
+    return scores;
+}
+
+}  // namespace locus::sim

@@ -1,0 +1,74 @@
+#pragma once
+// The simulator's two test floors, after seed 000 §4.3.2 (DISI, University of Bologna): a
+// 222.8 m² ground floor walked for ~26 m, and a 452.4 m² basement walked for 52 m whose
+// magnetic field is bent by the iron structure and wrecked near the technical room. The
+// real plans are not in the seed; these layouts keep the areas, walk lengths and the
+// anomaly, and put the RPs on the path as the seed did. The environment (APs, shadowing,
+// magnetic field) is fixed per scenario; the walk seed changes the person, the phone and
+// every noise draw.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "locus/fusion/walkable.hpp"
+#include "locus/geometry.hpp"
+
+namespace locus::sim {
+
+struct AccessPoint {
+    std::string bssid;
+    Point at;
+    double rss_1m_dbm = -40.0;  // received power at 1 m
+};
+
+// A local magnetic source (hardware in a technical room): adds a field of this strength
+// pointing away from the source horizontally and down, fading as a Gaussian of the radius.
+struct MagneticSource {
+    Point at;
+    double strength_ut = 0.0;
+    double radius_m = 1.0;
+};
+
+struct Scenario {
+    std::string name;
+    std::string description;
+    fusion::Walkable map;
+    std::vector<Point> path;  // the walk, a polyline through doors
+    std::vector<Point> rps;   // reference points, on the path
+    std::vector<AccessPoint> aps;
+
+    // Radio (log-distance path loss with walls and static shadowing).
+    double path_loss_exponent = 2.5;
+    double wall_loss_db = 4.0;
+    double shadowing_sigma_db = 4.0;    // static, spatially smooth, per AP
+    double shadowing_scale_m = 4.0;     // correlation length of the shadowing
+    double noise_sigma_db = 3.0;        // per reading
+    double sensitivity_dbm = -92.0;     // weaker readings are not reported
+    double miss_probability = 0.1;      // an audible AP is still missing from a scan
+
+    // Magnetic field: Earth's field (µT, floor frame: x, y = local north, z up), bent by a
+    // smooth random rotation of amplitude structure_deflection_rad (iron in the structure),
+    // plus local sources.
+    double earth_horizontal_ut = 23.0;
+    double earth_vertical_ut = -41.0;
+    double structure_deflection_rad = 0.0;
+    double structure_scale_m = 6.0;
+    double structure_norm_ripple = 0.0;  // relative |B| ripple of the structure field
+    std::vector<MagneticSource> sources;
+    double north_offset_deg = 0.0;
+
+    std::uint64_t environment_seed = 0;
+
+    double area_m2() const;
+    double path_length_m() const;
+};
+
+const Scenario& scenario(const std::string& name);  // throws std::invalid_argument
+std::span<const std::string> scenario_names();
+
+// RPs every `spacing` metres along a polyline, both ends included.
+std::vector<Point> points_along(const std::vector<Point>& path, double spacing_m);
+Point point_at_arc(const std::vector<Point>& path, double s);
+
+}  // namespace locus::sim

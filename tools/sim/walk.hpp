@@ -1,0 +1,54 @@
+#pragma once
+// A walk: what a phone records (IMU at a fixed rate, WiFi scans) plus, when known, the
+// ground truth at every sample, and the survey scans taken at the RPs to build the radio
+// map. Written and read by walk_io as JSON lines (docs/fusion.md describes the format), so
+// `locus replay` can run a simulated or recorded walk against a real server.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "locus/fusion/walkable.hpp"
+#include "locus/pdr/vec3.hpp"
+#include "locus/radio_map.hpp"
+
+namespace locus::sim {
+
+struct ImuSample {
+    double t_s = 0.0;
+    pdr::Vec3 acc;   // m/s², gravity included, device frame (Android axes)
+    pdr::Vec3 gyro;  // rad/s
+    pdr::Vec3 mag;   // µT
+    std::optional<Point> truth;
+};
+
+struct WifiScan {
+    double t_s = 0.0;
+    Scan readings;
+    std::optional<Point> truth;
+};
+
+struct SurveyPoint {
+    std::string name;
+    Point at;
+    std::vector<Scan> scans;
+};
+
+struct Walk {
+    std::string scenario;   // empty for a recorded walk
+    std::uint64_t seed = 0;
+    double rate_hz = 50.0;
+    Point start;
+    double start_heading_rad = 0.0;
+    double north_offset_deg = 0.0;
+    std::optional<fusion::Walkable> map;  // rooms and doors, when known
+    std::vector<SurveyPoint> survey;
+    std::vector<ImuSample> imu;
+    std::vector<WifiScan> scans;
+
+    bool has_truth() const;
+    // Truth at time t, linearly interpolated between the IMU samples that carry it.
+    std::optional<Point> truth_at(double t_s) const;
+};
+
+}  // namespace locus::sim
