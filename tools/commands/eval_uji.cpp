@@ -26,9 +26,10 @@ struct Args {
     std::optional<int> holdout_user, holdout_phone;
     std::string algorithm = "all";
     std::optional<int> k;
-    std::optional<double> tolerance, gamma, sigma_floor, missing_rss, min_detection, alpha, beta;
+    std::optional<double> offset_sigma, temperature, tolerance, gamma, sigma_floor, missing_rss, min_detection, alpha, beta;
     std::string representation, distance, estimate;
     bool json = false;
+    std::optional<bool> expected;
 };
 
 long long floor_label(int building, int floor) { return building * 100LL + floor; }
@@ -108,6 +109,8 @@ void run(const Args& a) {
     if (a.k) options.k = *a.k;
     if (a.tolerance) options.tolerance = *a.tolerance;
     if (a.gamma) options.gamma = *a.gamma;
+    if (a.offset_sigma) options.offset_sigma = *a.offset_sigma;
+    if (a.temperature) options.temperature = *a.temperature;
     if (a.sigma_floor) options.sigma_floor = *a.sigma_floor;
     if (!a.representation.empty()) {
         auto r = match::parse_representation(a.representation);
@@ -129,6 +132,7 @@ void run(const Args& a) {
     if (a.min_detection) params.min_detection = *a.min_detection;
     if (a.alpha) params.exponential_alpha = *a.alpha;
     if (a.beta) params.powed_beta = *a.beta;
+    if (a.expected) params.expected_representation = *a.expected;
 
     const uji::Data train = uji::read_file(a.train);
     uji::Data test_file;
@@ -221,11 +225,14 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--representation", a->representation, "knn/wknn RSS form: positive, exponential, powed");
     cmd->add_option("--distance", a->distance, "knn/wknn distance: euclidean, manhattan, sorensen");
     cmd->add_option("--sigma-floor", a->sigma_floor, "bayes: minimum standard deviation (dB)");
+    cmd->add_option("--temperature", a->temperature, "bayes: posterior tempering T");
+    cmd->add_option("--offset-sigma", a->offset_sigma, "bayes: prior sd of the phone's RSS offset (dB), 0 = off");
     cmd->add_option("--estimate", a->estimate, "bayes: map or mean");
     cmd->add_option("--missing-rss", a->missing_rss, "value of an AP heard on one side only (dBm)");
     cmd->add_option("--min-detection", a->min_detection, "clamp of detection rates count/scans");
     cmd->add_option("--alpha", a->alpha, "exponential representation α");
     cmd->add_option("--beta", a->beta, "powed representation β");
+    cmd->add_option("--expected", a->expected, "knn/wknn: RP fingerprint = detection rate x rep(mean) (1) or rep(mean) (0)");
     cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all)");
     cmd->callback([a] { run(*a); });
 });

@@ -62,7 +62,7 @@ Index Index::build(const std::vector<IndexedRp>& rps, const IndexParams& params)
             post.log_detect = std::log(p);
             post.log_miss = std::log1p(-p);
             for (int r = 0; r < 3; ++r) {
-                post.rep[r] = idx.represent(post.mean, r);
+                post.rep[r] = (params.expected_representation ? std::min(rate, 1.0) : 1.0) * idx.represent(post.mean, r);
                 idx.rep_sum_[i * 3 + r] += post.rep[r];
                 idx.rep_sq_sum_[i * 3 + r] += post.rep[r] * post.rep[r];
             }

@@ -15,18 +15,23 @@ namespace {
 struct Scratch {
     std::vector<int> shared;    // APs shared with the query; -1 = excluded by `near`
     std::vector<double> acc;    // algorithm-specific sum over the shared APs
+    std::vector<double> acc_wd, acc_w;  // bayes device offset: Σ d/σ², Σ 1/σ²
     std::vector<std::uint32_t> touched;
 
     void prepare(std::size_t n) {
         if (shared.size() < n) {
             shared.resize(n, 0);
             acc.resize(n, 0.0);
+            acc_wd.resize(n, 0.0);
+            acc_w.resize(n, 0.0);
         }
     }
     void clear() {
         for (auto i : touched) {
             shared[i] = 0;
             acc[i] = 0.0;
+            acc_wd[i] = 0.0;
+            acc_w[i] = 0.0;
         }
         touched.clear();
     }
@@ -126,6 +131,8 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
                     const double d = k.rss - p.mean;
                     const double log_gauss = -0.5 * (kLog2Pi + log_var) - d * d / (2.0 * var);
                     acc += p.log_detect + log_gauss - p.log_miss - k.penalty;
+                    s.acc_wd[p.rp] += d / var;
+                    s.acc_w[p.rp] += 1.0 / var;
                     break;
                 }
             }
@@ -172,7 +179,14 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
                 break;
             }
             case Algorithm::bayes: {
-                const double ll = q_penalty + index.log_miss_sum(i) + acc;
+                double ll = q_penalty + index.log_miss_sum(i) + acc;
+                // Phones disagree on RSS by a near-constant offset δ: the best δ for this RP
+                // under a N(0, offset_sigma²) prior, in closed form, and the Gaussian terms'
+                // gain from using it.
+                if (options.offset_sigma > 0.0) {
+                    const double wd = s.acc_wd[i];
+                    ll += 0.5 * wd * wd / (s.acc_w[i] + 1.0 / (options.offset_sigma * options.offset_sigma));
+                }
                 sc.key1 = -ll;
                 sc.score = ll;
                 break;
@@ -190,25 +204,60 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
     std::partial_sort(scored.begin(), scored.begin() + static_cast<long>(n_listed), scored.end(), better);
     const Scored best = scored.front();
 
+    struct Group {
+        long long building, floor;
+        double weight;
+    };
+    std::vector<Group> groups;
+    auto add_to_group = [&](std::uint32_t rp, double w) {
+        const RpInfo& info = index.rp(rp);
+        auto it = std::find_if(groups.begin(), groups.end(),
+                               [&](const Group& g) { return g.building == info.building_id && g.floor == info.floor_id; });
+        if (it == groups.end()) groups.push_back(Group{info.building_id, info.floor_id, w});
+        else it->weight += w;
+    };
+    const double temperature = std::max(options.temperature, 1e-9);
+    auto posterior = [&](const Scored& c) { return std::exp((best.key1 - c.key1) / temperature); };
+
+    // Bayes picks the floor first, by posterior mass over every candidate RP, then builds
+    // the position from that floor's RPs only.
+    std::vector<Scored> on_floor;
+    const std::vector<Scored>* pool = &scored;
+    if (algorithm == Algorithm::bayes) {
+        for (const auto& c : scored) add_to_group(c.rp, posterior(c));
+        const Group* g = &groups.front();
+        for (const auto& h : groups)
+            if (h.weight > g->weight) g = &h;
+        for (const auto& c : scored) {
+            const RpInfo& info = index.rp(c.rp);
+            if (info.building_id == g->building && info.floor_id == g->floor) on_floor.push_back(c);
+        }
+        const std::size_t n = std::min(on_floor.size(), n_listed);
+        std::partial_sort(on_floor.begin(), on_floor.begin() + static_cast<long>(n), on_floor.end(), better);
+        pool = &on_floor;
+        groups.clear();
+    }
+
     // The set the answer is built from, best first, with a weight each.
     std::vector<std::pair<const Scored*, double>> chosen;
+    const Scored& pool_best = pool->front();
     if (top_k) {
-        const std::size_t n = std::min(scored.size(), static_cast<std::size_t>(k));
+        const std::size_t n = std::min(pool->size(), static_cast<std::size_t>(k));
         for (std::size_t j = 0; j < n; ++j) {
-            const Scored& c = scored[j];
+            const Scored& c = (*pool)[j];
             double w = 1.0;
             if (algorithm == Algorithm::wknn) w = 1.0 / std::max(c.key1, 1e-9);
-            if (algorithm == Algorithm::bayes) w = std::exp(best.key1 - c.key1);
+            if (algorithm == Algorithm::bayes) w = posterior(c);
             chosen.emplace_back(&c, w);
         }
     } else {
         // Every RP tied with (or, with a tolerance, close to) the best, in rank order: the
         // listed prefix is sorted; anything beyond it is sorted here.
         std::vector<const Scored*> set;
-        for (const auto& c : scored) {
+        for (const auto& c : *pool) {
             const bool in = algorithm == Algorithm::bsbnn
-                                ? c.key1 == best.key1 && within_tolerance(c.key2, best.key2, options.tolerance)
-                                : within_tolerance(c.key1, best.key1, options.tolerance);
+                                ? c.key1 == pool_best.key1 && within_tolerance(c.key2, pool_best.key2, options.tolerance)
+                                : within_tolerance(c.key1, pool_best.key1, options.tolerance);
             if (in) set.push_back(&c);
         }
         std::sort(set.begin(), set.end(), [](const Scored* a, const Scored* b) { return better(*a, *b); });
@@ -218,18 +267,7 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
     // Building and floor: the (building, floor) carrying the most weight in the chosen set;
     // on equal weight, the one holding the better-ranked RP. Only that floor's RPs make the
     // position, so a fix never averages points on different floors.
-    struct Group {
-        long long building, floor;
-        double weight;
-    };
-    std::vector<Group> groups;
-    for (const auto& [c, w] : chosen) {
-        const RpInfo& info = index.rp(c->rp);
-        auto it = std::find_if(groups.begin(), groups.end(),
-                               [&](const Group& g) { return g.building == info.building_id && g.floor == info.floor_id; });
-        if (it == groups.end()) groups.push_back(Group{info.building_id, info.floor_id, w});
-        else it->weight += w;
-    }
+    for (const auto& [c, w] : chosen) add_to_group(c->rp, w);
     const Group* win = &groups.front();
     for (const auto& g : groups)
         if (g.weight > win->weight) win = &g;

@@ -33,6 +33,9 @@ struct IndexParams {
     // Detection rates count/scans are clamped into [min_detection, 1 - min_detection] so a
     // single contrary observation never makes a likelihood zero.
     double min_detection = 0.02;
+    // knn/wknn compare the RP's expected representation, detection rate × rep(mean), i.e.
+    // the average fingerprint with "not heard" scans counted as 0, instead of rep(mean).
+    bool expected_representation = true;
 };
 
 struct RpInfo {

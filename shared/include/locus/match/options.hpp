@@ -27,6 +27,12 @@ struct Options {
     // bayes: the stored standard deviation is raised to at least this (dB).
     double sigma_floor = 2.0;
     BayesEstimate estimate = BayesEstimate::mean;
+    // bayes: posterior ∝ exp(log-likelihood / temperature). Summing per-AP log-likelihoods
+    // as if APs were independent makes the posterior far too sharp; T > 1 tempers it.
+    double temperature = 1.0;
+    // bayes: prior standard deviation (dB) of a per-query RSS offset between the phone and
+    // the survey device, estimated per RP; 0 turns the estimate off.
+    double offset_sigma = 0.0;
     // How many ranked candidates a Result lists.
     int candidates = 10;
 };

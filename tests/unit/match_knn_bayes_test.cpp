@@ -1,0 +1,249 @@
+// knn, wknn and bayes, and building/floor detection, on maps small enough to work by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "locus/match/localize.hpp"
+
+using namespace locus;
+using namespace locus::match;
+
+namespace {
+
+Measurement m(const std::string& bssid, double mean, double variance = 1.0, std::int64_t count = 10) {
+    return Measurement{"wifi", bssid, RssStats{mean, variance, count}};
+}
+
+IndexedRp rp(long long id, Point at, std::vector<Measurement> ms, long long floor = 1, long long building = 1) {
+    IndexedRp r;
+    r.rp.id = id;
+    r.rp.at = at;
+    r.rp.scans = 10;
+    r.rp.measurements = std::move(ms);
+    r.floor_id = floor;
+    r.building_id = building;
+    return r;
+}
+
+Query query(std::vector<std::pair<std::string, double>> aps) {
+    std::vector<Reading> r;
+    for (auto& [b, rss] : aps) r.push_back(Reading{"wifi", b, rss});
+    return Query::from_means(r);
+}
+
+// Positive representation with the missing value -100: rep = RSS + 100.
+//   RP1 (0,0):  a 50, b 40, c 30    query: a 48, b 38
+//   RP2 (10,0): a 45, b 35
+//   RP3 (0,10): a 60, d 20
+// Euclidean² over the union (absent = 0): 908, 18, 1988.  Manhattan: 34, 6, 70.
+// Sørensen = Manhattan / (Σ RP + Σ query = 86): 34/206, 6/166, 70/166.
+Index three_rps() {
+    return Index::build({rp(1, {0, 0}, {m("a", -50), m("b", -60), m("c", -70)}),
+                         rp(2, {10, 0}, {m("a", -55), m("b", -65)}),
+                         rp(3, {0, 10}, {m("a", -40), m("d", -80)})});
+}
+const Query kQuery = query({{"a", -52}, {"b", -62}});
+
+Options knn_options(int k, Distance d = Distance::euclidean) {
+    Options o;
+    o.k = k;
+    o.distance = d;
+    o.representation = Representation::positive;
+    return o;
+}
+
+}  // namespace
+
+TEST(Knn, DistancesOverTheUnionOfAps) {
+    const auto r = localize(three_rps(), kQuery, Algorithm::knn, knn_options(1));
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->candidates.size(), 3u);
+    EXPECT_EQ(r->candidates[0].rp_id, 2);
+    EXPECT_NEAR(r->candidates[0].score, std::sqrt(18.0), 1e-9);
+    EXPECT_EQ(r->candidates[1].rp_id, 1);
+    EXPECT_NEAR(r->candidates[1].score, std::sqrt(908.0), 1e-9);
+    EXPECT_NEAR(r->candidates[2].score, std::sqrt(1988.0), 1e-9);
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{2}));
+
+    const auto man = localize(three_rps(), kQuery, Algorithm::knn, knn_options(1, Distance::manhattan));
+    EXPECT_NEAR(man->candidates[0].score, 6.0, 1e-9);
+    EXPECT_NEAR(man->candidates[1].score, 34.0, 1e-9);
+    EXPECT_NEAR(man->candidates[2].score, 70.0, 1e-9);
+
+    const auto sor = localize(three_rps(), kQuery, Algorithm::knn, knn_options(1, Distance::sorensen));
+    EXPECT_NEAR(sor->candidates[0].score, 6.0 / 166.0, 1e-12);
+    EXPECT_NEAR(sor->candidates[1].score, 34.0 / 206.0, 1e-12);
+    EXPECT_NEAR(sor->candidates[2].score, 70.0 / 166.0, 1e-12);
+}
+
+TEST(Knn, AnApHeardOnlyOnlineCountsAgainstEveryRp) {
+    // x at -70 (rep 30) is unknown to the map: every Euclidean² grows by 900.
+    const auto r = localize(three_rps(), query({{"a", -52}, {"b", -62}, {"x", -70}}), Algorithm::knn, knn_options(1));
+    EXPECT_NEAR(r->candidates[0].score, std::sqrt(918.0), 1e-9);
+    EXPECT_NEAR(r->candidates[1].score, std::sqrt(1808.0), 1e-9);
+}
+
+TEST(Knn, PlainCentroidOfTheKNearest) {
+    const auto r = localize(three_rps(), kQuery, Algorithm::knn, knn_options(2));
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{2, 1}));
+    EXPECT_DOUBLE_EQ(r->at.x, 5.0);
+    EXPECT_DOUBLE_EQ(r->at.y, 0.0);
+    const auto all = localize(three_rps(), kQuery, Algorithm::knn, knn_options(10));  // k beyond the map: all
+    EXPECT_NEAR(all->at.x, 10.0 / 3.0, 1e-12);
+}
+
+TEST(Wknn, InverseDistanceWeights) {
+    const auto r = localize(three_rps(), kQuery, Algorithm::wknn, knn_options(2));
+    const double w2 = 1.0 / std::sqrt(18.0), w1 = 1.0 / std::sqrt(908.0);
+    EXPECT_NEAR(r->at.x, 10.0 * w2 / (w1 + w2), 1e-9);
+    EXPECT_NEAR(r->at.y, 0.0, 1e-12);
+    EXPECT_EQ(r->algorithm, "wknn");
+}
+
+TEST(Knn, EqualDistancesRankByIndexOrder) {
+    const Index idx = Index::build({rp(7, {0, 0}, {m("a", -50)}), rp(5, {4, 0}, {m("a", -50)}), rp(6, {8, 0}, {m("a", -50)})});
+    const auto r = localize(idx, query({{"a", -50}}), Algorithm::knn, knn_options(2));
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{7, 5}));
+    EXPECT_DOUBLE_EQ(r->at.x, 2.0);
+    // bsb/nn report the whole tie, not an arbitrary k.
+    EXPECT_EQ(localize(idx, query({{"a", -50}}), Algorithm::nn)->rp_ids, (std::vector<long long>{7, 5, 6}));
+}
+
+TEST(Representation, FormsMapMissingToZero) {
+    const Index idx = three_rps();
+    EXPECT_DOUBLE_EQ(idx.represent(-100, 0), 0.0);
+    EXPECT_DOUBLE_EQ(idx.represent(-110, 0), 0.0);
+    EXPECT_DOUBLE_EQ(idx.represent(-60, 0), 40.0);
+    EXPECT_DOUBLE_EQ(idx.represent(-100, 1), 0.0);
+    EXPECT_NEAR(idx.represent(-60, 1), (std::exp(40.0 / 24.0) - 1.0) / std::exp(100.0 / 24.0), 1e-12);
+    EXPECT_DOUBLE_EQ(idx.represent(-100, 2), 0.0);
+    EXPECT_NEAR(idx.represent(-50, 2), std::pow(0.5, std::numbers::e), 1e-12);
+}
+
+TEST(Knn, ExpectedRepresentationScalesByDetectionRate) {
+    // "a" heard in 5 of 10 scans at -60: its expected positive rep is 0.5 · 40 = 20.
+    const Index idx = Index::build({rp(1, {0, 0}, {m("a", -60, 1.0, 5)})});
+    const auto r = localize(idx, query({{"a", -80}}), Algorithm::knn, knn_options(1));
+    EXPECT_NEAR(r->score, 0.0, 1e-12);  // query rep 20 = 20
+    IndexParams raw;
+    raw.expected_representation = false;
+    const auto r2 = localize(Index::build({rp(1, {0, 0}, {m("a", -60, 1.0, 5)})}, raw), query({{"a", -80}}), Algorithm::knn,
+                             knn_options(1));
+    EXPECT_NEAR(r2->score, 20.0, 1e-12);
+}
+
+// Bayes on two RPs (σ floor 1 dB so the stored variances are used as they are):
+//   A (0,0):  a mean -50 var 4, heard 10/10 (rate clamped to 0.98)
+//   B (10,0): a mean -60 var 4, heard 5/10;  b mean -70 var 9, heard 10/10 (0.98)
+// Query a -52: ll_A = ln .98 − ½ln(2π·4) − 4/8,  ll_B = ln .5 − ½ln(2π·4) − 64/8 + ln(1 − .98).
+namespace {
+Index two_rps() {
+    return Index::build({rp(1, {0, 0}, {m("a", -50, 4.0, 10)}), rp(2, {10, 0}, {m("a", -60, 4.0, 5), m("b", -70, 9.0, 10)})});
+}
+double ll_a(double var = 4.0) { return std::log(0.98) - 0.5 * std::log(2 * std::numbers::pi * var) - 4.0 / (2 * var); }
+double ll_b(double var = 4.0) {
+    return std::log(0.5) - 0.5 * std::log(2 * std::numbers::pi * var) - 64.0 / (2 * var) + std::log(0.02);
+}
+Options bayes(double sigma_floor, BayesEstimate e, int k = 2) {
+    Options o;
+    o.sigma_floor = sigma_floor;
+    o.estimate = e;
+    o.k = k;
+    o.temperature = 1.0;
+    o.offset_sigma = 0.0;
+    return o;
+}
+}  // namespace
+
+TEST(Bayes, GaussianLogLikelihoodWithDetectionRates) {
+    const auto r = localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, bayes(1.0, BayesEstimate::map));
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{1}));
+    EXPECT_NEAR(r->score, ll_a(), 1e-9);
+    ASSERT_EQ(r->candidates.size(), 2u);
+    EXPECT_NEAR(r->candidates[1].score, ll_b(), 1e-9);
+    EXPECT_DOUBLE_EQ(r->at.x, 0.0);
+}
+
+TEST(Bayes, PosteriorMeanWeighsByLikelihood) {
+    const auto r = localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, bayes(1.0, BayesEstimate::mean));
+    const double wb = std::exp(ll_b() - ll_a());
+    EXPECT_NEAR(r->at.x, 10.0 * wb / (1.0 + wb), 1e-12);
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{1, 2}));
+    // Tempering flattens the posterior: T = 4 gives exp((ll_B − ll_A)/4).
+    Options t = bayes(1.0, BayesEstimate::mean);
+    t.temperature = 4.0;
+    const double wt = std::exp((ll_b() - ll_a()) / 4.0);
+    EXPECT_NEAR(localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, t)->at.x, 10.0 * wt / (1.0 + wt), 1e-12);
+}
+
+TEST(Bayes, VarianceFloor) {
+    // σ floor 3 dB: both "a" variances become 9.
+    const auto r = localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, bayes(3.0, BayesEstimate::map));
+    EXPECT_NEAR(r->score, ll_a(9.0), 1e-9);
+    EXPECT_NEAR(r->candidates[1].score, ll_b(9.0), 1e-9);
+}
+
+TEST(Bayes, ApHeardOnlyOnlineIsPenalisedAsIfStoredAtTheMissingValue) {
+    // x at -70 is unknown: + ln(min_detection) + ln N(-70; -100, σf²) for every RP.
+    const double pen = std::log(0.02) - 0.5 * std::log(2 * std::numbers::pi) - 900.0 / 2.0;
+    const auto r = localize(two_rps(), query({{"a", -52}, {"x", -70}}), Algorithm::bayes, bayes(1.0, BayesEstimate::map));
+    EXPECT_NEAR(r->score, ll_a() + pen, 1e-9);
+}
+
+TEST(Bayes, DeviceOffsetEstimate) {
+    // For A: d = -2 dB, σ² = 4 → Σd/σ² = -0.5, Σ1/σ² = 0.25; prior σδ = 2 → gain ½·0.25/(0.25+0.25).
+    Options o = bayes(1.0, BayesEstimate::map);
+    o.offset_sigma = 2.0;
+    const auto r = localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, o);
+    EXPECT_NEAR(r->score, ll_a() + 0.25, 1e-9);
+}
+
+// A whole map: building 1 floor 10 holds RP1 (0,0) and RP2 (4,0); floor 20 holds RP3 (2,0).
+namespace {
+Index whole_map() {
+    return Index::build({rp(1, {0, 0}, {m("a", -50), m("b", -60)}, 10, 1), rp(2, {4, 0}, {m("a", -50), m("c", -60)}, 10, 1),
+                         rp(3, {2, 0}, {m("a", -50), m("d", -60)}, 20, 1), rp(4, {2, 0}, {m("e", -50)}, 30, 2)});
+}
+}  // namespace
+
+TEST(FloorDetection, MajorityOfATiedSetAndOnlyItsRpsInTheCentroid) {
+    const auto r = localize(whole_map(), query({{"a", -50}}), Algorithm::bsb);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->floor_id, 10);
+    EXPECT_EQ(r->building_id, 1);
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{1, 2}));
+    EXPECT_DOUBLE_EQ(r->at.x, 2.0);
+    EXPECT_EQ(r->candidates.size(), 3u);  // RP3 is tied too, listed as a candidate
+}
+
+TEST(FloorDetection, KnnVotesAndTiesGoToTheBetterRankedFloor) {
+    // d: RP3 matches a and d exactly; RP1 and RP2 each differ in two APs.
+    const auto r = localize(whole_map(), query({{"a", -50}, {"d", -60}}), Algorithm::knn, knn_options(3));
+    EXPECT_EQ(r->floor_id, 10);  // two of three neighbours
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{1, 2}));
+    const auto r2 = localize(whole_map(), query({{"a", -50}, {"d", -60}}), Algorithm::knn, knn_options(2));
+    EXPECT_EQ(r2->floor_id, 20);  // one each: the nearest neighbour's floor
+    EXPECT_EQ(r2->rp_ids, (std::vector<long long>{3}));
+}
+
+TEST(FloorDetection, BuildingFollowsTheMatch) {
+    const auto r = localize(whole_map(), query({{"e", -52}}), Algorithm::bayes);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->building_id, 2);
+    EXPECT_EQ(r->floor_id, 30);
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{4}));
+}
+
+TEST(FloorDetection, BayesPicksTheFloorByPosteriorMass) {
+    // RP3 alone is the MAP, but floor 10's two RPs together carry more posterior mass.
+    const Index idx = Index::build({rp(1, {0, 0}, {m("a", -51, 4.0)}, 10), rp(2, {4, 0}, {m("a", -51, 4.0)}, 10),
+                                    rp(3, {2, 0}, {m("a", -50, 4.0)}, 20)});
+    Options o = bayes(1.0, BayesEstimate::map);
+    const auto r = localize(idx, query({{"a", -50}}), Algorithm::bayes, o);
+    // Per RP: ll = ln .98 − ½ln(8π) − d²/8, so floor 10 holds 2·e^(−1/8) > 1.
+    EXPECT_EQ(r->floor_id, 10);
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{1, 2}));  // tied MAP within the floor
+    EXPECT_EQ(r->candidates.front().rp_id, 3);
+}
