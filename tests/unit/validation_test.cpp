@@ -1,0 +1,91 @@
+#include <gtest/gtest.h>
+
+#include "http/api_error.hpp"
+#include "http/validation.hpp"
+#include "store/kinds.hpp"
+
+using locus::http::ApiError;
+using nlohmann::json;
+namespace http = locus::http;
+
+namespace {
+std::string code_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const ApiError& e) {
+        return std::to_string(e.status) + " " + e.code;
+    }
+    return "ok";
+}
+const locus::store::Kind& floors() { return locus::store::kind("floors"); }
+}  // namespace
+
+TEST(Validation, ParseObjectRefusesAnythingButAnObject) {
+    EXPECT_EQ(code_of([] { http::parse_object("{\"a\":1}"); }), "ok");
+    EXPECT_EQ(code_of([] { http::parse_object("[]"); }), "400 invalid_json");
+    EXPECT_EQ(code_of([] { http::parse_object("{"); }), "400 invalid_json");
+    EXPECT_EQ(code_of([] { http::parse_object("1e999"); }), "400 invalid_json");
+}
+
+TEST(Validation, CreateNeedsRequiredFieldsPatchDoesNot) {
+    const json full = {{"name", "F"}, {"level", 2}, {"width", 10.5}, {"height", 3}};
+    const auto v = http::validated_fields(floors(), full, true);
+    EXPECT_EQ(v.at("level").get<long long>(), 2);
+    EXPECT_DOUBLE_EQ(v.at("height").get<double>(), 3.0);
+    EXPECT_FALSE(v.contains("north_offset_deg"));
+    EXPECT_EQ(code_of([] { http::validated_fields(floors(), {{"name", "F"}}, true); }), "422 invalid_field");
+    EXPECT_EQ(code_of([] { http::validated_fields(floors(), {{"name", "F"}}, false); }), "ok");
+}
+
+TEST(Validation, IntegersMayBeWrittenAsIntegralFloats) {
+    const auto v = http::validated_fields(floors(), {{"level", 2.0}}, false);
+    EXPECT_TRUE(v.at("level").is_number_integer());
+    EXPECT_EQ(code_of([] { http::validated_fields(floors(), {{"level", 2.5}}, false); }), "422 invalid_field");
+}
+
+TEST(Validation, ReadOnlyAndIdFieldsAreIgnoredUnknownOnesRefused) {
+    const auto& rps = locus::store::kind("rps");
+    const auto v = http::validated_fields(rps, {{"id", 3}, {"radiomap_id", 9}, {"scans", 100}, {"name", "a"}}, false);
+    EXPECT_EQ(v, json({{"name", "a"}}));
+    EXPECT_EQ(code_of([&] { http::validated_fields(rps, {{"nmae", "a"}}, false); }), "422 invalid_field");
+}
+
+TEST(Validation, ReadingsAreNormalisedAndRangeChecked) {
+    const auto r = http::parse_reading({{"bssid", " AA-BB-CC-DD-EE-FF "}, {"rss", -61}}, "r");
+    EXPECT_EQ(r.bssid, "aa:bb:cc:dd:ee:ff");
+    EXPECT_EQ(r.type, "wifi");
+    EXPECT_DOUBLE_EQ(r.rss, -61.0);
+    EXPECT_EQ(code_of([] { http::parse_reading({{"bssid", "a"}, {"rss", 100}}, "r"); }), "422 out_of_range");
+    EXPECT_EQ(code_of([] { http::parse_reading({{"bssid", "a"}, {"rss", -120.01}}, "r"); }), "422 out_of_range");
+    EXPECT_EQ(code_of([] { http::parse_reading({{"bssid", "   "}, {"rss", -50}}, "r"); }), "422 invalid_field");
+    EXPECT_EQ(code_of([] { http::parse_reading({{"bssid", "a"}, {"rss", nullptr}}, "r"); }), "422 invalid_field");
+}
+
+TEST(Validation, MeasurementsNeedSaneStatistics) {
+    const auto m = http::parse_measurement({{"bssid", "x"}, {"mean", -50}, {"variance", 0}, {"count", 1}}, "m");
+    EXPECT_EQ(m.stats.count, 1);
+    EXPECT_EQ(code_of([] { http::parse_measurement({{"bssid", "x"}, {"mean", -50}, {"variance", -1}, {"count", 1}}, "m"); }),
+              "422 out_of_range");
+    EXPECT_EQ(code_of([] { http::parse_measurement({{"bssid", "x"}, {"mean", -50}, {"variance", 1}, {"count", 0}}, "m"); }),
+              "422 out_of_range");
+    EXPECT_EQ(code_of([] { http::parse_measurement({{"bssid", "x"}, {"mean", -50}, {"variance", 1}, {"count", 1.5}}, "m"); }),
+              "422 invalid_field");
+}
+
+TEST(Validation, IdsAndPages) {
+    EXPECT_EQ(http::parse_id("42", "map"), 42);
+    EXPECT_EQ(code_of([] { http::parse_id("0", "map"); }), "404 not_found");
+    EXPECT_EQ(code_of([] { http::parse_id("99999999999999999999", "map"); }), "404 not_found");
+    EXPECT_EQ(http::parse_page(std::string("5"), std::string("10")).offset, 10);
+    EXPECT_EQ(http::parse_page(std::nullopt, std::nullopt).limit, 100);
+    EXPECT_EQ(code_of([] { http::parse_page(std::string("1001"), std::nullopt); }), "400 invalid_query");
+}
+
+TEST(Validation, ErrorMessagesNameThePlaceInTheBody) {
+    try {
+        http::parse_scans(json::array({json::array({{{"bssid", "a"}, {"rss", -50}}, {{"bssid", "b"}, {"rss", 5}}})}), "scans");
+        FAIL() << "an out-of-range reading must be refused";
+    } catch (const ApiError& e) {
+        EXPECT_NE(std::string(e.what()).find("scans[0][1].rss"), std::string::npos) << e.what();
+    }
+}
