@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -35,6 +36,26 @@ std::string canonical_placement(const std::string& p) {
     return p;
 }
 
+// stepcounter.csv: timestamp_ns,foot1,foot2; a step is a 0→1 transition of either foot.
+long debounced_foot_switch_steps(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) return 0;
+    std::string line;
+    long n = 0;
+    int p1 = -1, p2 = -1;
+    double last = -1e300;
+    while (std::getline(in, line)) {
+        long long ns = 0;
+        int f1 = 0, f2 = 0;
+        if (std::sscanf(line.c_str(), "%lld,%d,%d", &ns, &f1, &f2) != 3) continue;
+        const double t = static_cast<double>(ns) * 1e-9;
+        const bool rise = (p1 == 0 && f1 == 1) || (p2 == 0 && f2 == 1);
+        if (rise && t - last >= 0.35) ++n, last = t;
+        p1 = f1, p2 = f2;
+    }
+    return n;
+}
+
 }  // namespace
 
 std::vector<OxfordTrace> load_oxford(const std::string& dir_in) {
@@ -58,6 +79,7 @@ std::vector<OxfordTrace> load_oxford(const std::string& dir_in) {
         t.placement = canonical_placement(f[3]);
         t.true_steps = std::stol(f[6]);
         t.samples = read_accel_log((dir / "data" / t.name / "accelerometer.csv").string());
+        t.debounced_steps = debounced_foot_switch_steps((dir / "data" / t.name / "stepcounter.csv").string());
         out.push_back(std::move(t));
     }
     if (out.empty()) throw std::runtime_error("no traces listed in " + (dir / "stats.csv").string());
@@ -98,27 +120,32 @@ EvalSummary evaluate(const std::vector<const OxfordTrace*>& traces, const pdr::S
     return summarise(std::move(r));
 }
 
-double objective(const EvalSummary& s) { return s.mean_abs_error_pct + s.worst_placement_pct; }
+double objective(const EvalSummary& s) { return s.mean_abs_error_pct; }
 
+// The grid of the final search (docs/pdr.md). Its ranges were widened once, after a first
+// search put the best bout length and threshold floor on the edge of a narrower grid.
 std::vector<pdr::StepDetectorConfig> tuning_grid() {
     std::vector<pdr::StepDetectorConfig> grid;
     for (auto signal : {pdr::StepSignal::vertical, pdr::StepSignal::magnitude})
-        for (double smooth : {0.08, 0.12, 0.16, 0.2, 0.25})
-            for (double tmin : {0.3, 0.6, 1.0})
-                for (double factor : {0.3, 0.45, 0.6, 0.8, 1.0})
-                    for (double hyst : {0.25, 0.5, 0.75})
-                        for (double pv : {0.4, 0.6})
-                            for (double gap : {0.25, 0.3, 0.35}) {
-                                pdr::StepDetectorConfig c;
-                                c.signal = signal;
-                                c.smoothing_s = smooth;
-                                c.min_threshold = tmin;
-                                c.threshold_factor = factor;
-                                c.hysteresis = hyst;
-                                c.max_peak_to_valley_s = pv;
-                                c.min_step_interval_s = gap;
-                                grid.push_back(c);
-                            }
+        for (double smooth : {0.06, 0.08, 0.1, 0.12})
+            for (double tmin : {0.3, 0.4, 0.6})
+                for (double factor : {0.2, 0.3, 0.4})
+                    for (double hyst : {0.25, 0.5})
+                        for (int bout : {1, 4, 6, 8, 10, 12})
+                            for (double cmin : {0.5, 0.6, 0.7})
+                                for (double cmax : {1.3, 1.5, 1.7}) {
+                                    if (bout == 1 && (cmin != 0.6 || cmax != 1.3)) continue;  // unused when off
+                                    pdr::StepDetectorConfig c;
+                                    c.signal = signal;
+                                    c.smoothing_s = smooth;
+                                    c.min_threshold = tmin;
+                                    c.threshold_factor = factor;
+                                    c.hysteresis = hyst;
+                                    c.bout_steps = bout;
+                                    c.cadence_min_ratio = cmin;
+                                    c.cadence_max_ratio = cmax;
+                                    grid.push_back(c);
+                                }
     return grid;
 }
 

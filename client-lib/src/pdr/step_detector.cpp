@@ -5,27 +5,24 @@
 
 namespace locus::pdr {
 
-// Defaults: chosen by `locus pdr tune-oxford` (grid search, leave-one-user-out) on the 48 Oxford
-// optimisation traces; docs/pdr.md has the figures. Values that the search did not move keep
-// the SPEC §5 figure they started from.
 StepDetectorConfig::StepDetectorConfig()
-    : signal(StepSignal::vertical),
-      grid_hz(100.0),              // covers the step band (≤ 3 Hz) with room; 50 Hz input is interpolated
-      smoothing_s(0.16),           // seed 001: 8 samples at 50 Hz
-      gravity_tau_s(1.0),
-      min_threshold(0.5),
-      threshold_factor(0.6),
-      rms_tau_s(2.0),
-      hysteresis(0.5),
+    : signal(kDefaultSignal),
+      grid_hz(kDefaultGridHz),
+      smoothing_s(kDefaultSmoothingS),
+      gravity_tau_s(kDefaultGravityTauS),
+      min_threshold(kDefaultMinThreshold),
+      threshold_factor(kDefaultThresholdFactor),
+      rms_tau_s(kDefaultRmsTauS),
+      hysteresis(kDefaultHysteresis),
       min_peak_to_valley_s(0.05),
-      max_peak_to_valley_s(0.6),
-      min_step_interval_s(0.25),   // SPEC §5: at most one step per 250 ms
-      max_gap_s(0.5),
-      bout_steps(4),
-      bout_regularity(1.5),
-      cadence_min_ratio(0.7),
-      cadence_max_ratio(1.4),
-      max_step_interval_s(2.0) {}
+      max_peak_to_valley_s(kDefaultMaxPeakToValleyS),
+      min_step_interval_s(kDefaultMinStepIntervalS),
+      max_gap_s(kDefaultMaxGapS),
+      bout_steps(kDefaultBoutSteps),
+      bout_regularity(kDefaultBoutRegularity),
+      cadence_min_ratio(kDefaultCadenceMinRatio),
+      cadence_max_ratio(kDefaultCadenceMaxRatio),
+      max_step_interval_s(kDefaultMaxStepIntervalS) {}
 
 StepDetector::StepDetector(const StepDetectorConfig& config) : config_(config) {
     config_.bout_steps = std::clamp(config_.bout_steps, 0, static_cast<int>(kMaxBout));

@@ -1,6 +1,10 @@
 #pragma once
 // The whole PDR chain behind one streaming interface: accelerometer → StepDetector, all three
 // sensors → HeadingEstimator, each step → Tracker. What an app (or the simulator) feeds.
+// The step detector confirms the first steps of a walking bout a few seconds late; each step is
+// placed with the heading (and disturbance flag) recorded at its own time, kept every 0.1 s for
+// the last 12.8 s, so a turn made while a bout was being confirmed bends the track correctly.
+#include <cstddef>
 #include <optional>
 
 #include "locus/pdr/heading_estimator.hpp"
@@ -39,6 +43,18 @@ public:
 
 private:
     TrackPoint step(const StepEvent& e);
+    void record_heading(double t_s);
+
+    struct HeadingAt {
+        double t_s;
+        double heading;
+        bool disturbed;
+    };
+    static constexpr std::size_t kHistory = 128;
+    static constexpr double kHistoryPeriod = 0.1;
+    HeadingAt history_[kHistory];
+    std::size_t history_head_ = 0;  // index of the oldest entry
+    std::size_t history_n_ = 0;
 
     double start_heading_;
     StepDetector steps_;
