@@ -1,0 +1,250 @@
+#include "locus/api/client.hpp"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <random>
+#include <thread>
+
+namespace locus::api {
+
+using nlohmann::json;
+
+struct Client::Connection {
+    explicit Connection(const std::string& base_url) : http(base_url) {}
+    httplib::Client http;
+};
+
+namespace {
+
+std::string collection(const std::string& parent_kind, std::int64_t parent_id, const std::string& kind) {
+    return "/v1/" + parent_kind + "/" + std::to_string(parent_id) + "/" + kind;
+}
+
+// The server's error body is {"error": {"code", "message"}}; anything else is reported raw.
+ApiError error_from(int status, const std::string& body) {
+    const json j = json::parse(body, nullptr, false);
+    if (j.is_object() && j.contains("error") && j.at("error").is_object()) {
+        const json& e = j.at("error");
+        return ApiError(status, e.value("code", "error"), e.value("message", body));
+    }
+    return ApiError(status, status == 429 ? "too_many_requests" : "http_" + std::to_string(status),
+                    body.empty() ? "HTTP " + std::to_string(status) : body.substr(0, 500));
+}
+
+template <typename T, typename From>
+std::vector<T> convert(const std::vector<json>& rows, From from) {
+    std::vector<T> out;
+    out.reserve(rows.size());
+    for (const auto& r : rows) out.push_back(from(r));
+    return out;
+}
+
+template <typename Info>
+std::optional<Info> by_name(const std::vector<Info>& items, const std::string& name) {
+    for (const auto& i : items)
+        if (i.name == name) return i;
+    return std::nullopt;
+}
+
+// Find, else create; a 409 means someone created it meanwhile, so look again.
+template <typename Info, typename List, typename Create>
+Info find_or_create(const std::string& name, List list, Create create) {
+    if (auto found = by_name(list(), name)) return *found;
+    try {
+        return create();
+    } catch (const ApiError& e) {
+        if (e.status() != 409) throw;
+        if (auto found = by_name(list(), name)) return *found;
+        throw;
+    }
+}
+
+}  // namespace
+
+Client::Client(ClientOptions options) : options_(std::move(options)), conn_(std::make_unique<Connection>(options_.base_url)) {
+    auto& h = conn_->http;
+    if (!h.is_valid()) throw NetworkError("invalid server URL '" + options_.base_url + "'");
+    h.set_keep_alive(true);
+    // Headers and body go out in separate writes: with Nagle on, the body waits for the
+    // server's delayed ACK (~40 ms per request on Linux loopback).
+    h.set_tcp_nodelay(true);
+    h.set_connection_timeout(options_.connect_timeout);
+    h.set_read_timeout(options_.read_timeout);
+    h.set_write_timeout(options_.read_timeout);
+    httplib::Headers headers;
+    if (!options_.api_key.empty()) headers.emplace("Authorization", "Bearer " + options_.api_key);
+    h.set_default_headers(headers);
+}
+
+Client::~Client() = default;
+Client::Client(Client&&) noexcept = default;
+Client& Client::operator=(Client&&) noexcept = default;
+
+json Client::send(const char* method, const std::string& path, const std::string* body) {
+    const std::string verb = method;
+    thread_local std::mt19937 rng{std::random_device{}()};
+    std::uniform_real_distribution<double> jitter(0.5, 1.0);
+    for (int attempt = 1;; ++attempt) {
+        httplib::Result r = [&] {
+            auto& h = conn_->http;
+            if (verb == "GET") return h.Get(path);
+            if (verb == "POST") return h.Post(path, *body, "application/json");
+            if (verb == "PATCH") return h.Patch(path, *body, "application/json");
+            return h.Delete(path);
+        }();
+        const int status = r ? r->status : 0;
+        if (status >= 200 && status < 300) {
+            if (status == 204 || r->body.empty()) return json();
+            json j = json::parse(r->body, nullptr, false);
+            if (j.is_discarded()) throw ApiError(status, "invalid_json", "the server answered " + verb + " " + path + " with non-JSON");
+            return j;
+        }
+        if (!is_retryable(status) || attempt >= options_.retry.max_attempts) {
+            if (!r) throw NetworkError(verb + " " + options_.base_url + path + ": " + httplib::to_string(r.error()) +
+                                       " (after " + std::to_string(attempt) + " attempts)");
+            throw error_from(status, r->body);
+        }
+        // A Retry-After in seconds from a 429/503 is honoured when it asks for longer.
+        auto delay = backoff_delay(options_.retry, attempt, jitter(rng));
+        if (r && r->has_header("Retry-After")) {
+            const std::string ra = r->get_header_value("Retry-After");
+            if (!ra.empty() && ra.find_first_not_of("0123456789") == std::string::npos && ra.size() < 4)
+                delay = std::max(delay, std::chrono::milliseconds(std::stoi(ra) * 1000));
+        }
+        ++retries_;
+        std::this_thread::sleep_for(delay);
+    }
+}
+
+json Client::get(const std::string& path) { return send("GET", path, nullptr); }
+json Client::post(const std::string& path, const json& body) {
+    const std::string text = body.dump();
+    return send("POST", path, &text);
+}
+json Client::patch(const std::string& path, const json& body) {
+    const std::string text = body.dump();
+    return send("PATCH", path, &text);
+}
+void Client::del(const std::string& path) { send("DELETE", path, nullptr); }
+
+bool Client::healthy() {
+    auto r = conn_->http.Get("/health");
+    return r && r->status == 200;
+}
+
+std::vector<json> Client::list_all(const std::string& collection_path, int page_size) {
+    std::vector<json> out;
+    const char sep = collection_path.find('?') == std::string::npos ? '?' : '&';
+    for (std::int64_t offset = 0;;) {
+        const json page = get(collection_path + sep + "limit=" + std::to_string(page_size) + "&offset=" + std::to_string(offset));
+        const json& items = page.at("items");
+        for (const auto& i : items) out.push_back(i);
+        offset += static_cast<std::int64_t>(items.size());
+        if (items.empty() || offset >= page.value("total", std::int64_t{0})) break;
+    }
+    return out;
+}
+
+MapInfo Client::create_map(const std::string& name, const std::string& description) {
+    return map_from_json(post("/v1/maps", {{"name", name}, {"description", description}}));
+}
+std::vector<MapInfo> Client::maps() { return convert<MapInfo>(list_all("/v1/maps"), map_from_json); }
+
+BuildingInfo Client::create_building(std::int64_t map_id, const std::string& name, const std::string& description) {
+    return building_from_json(post(collection("maps", map_id, "buildings"), {{"name", name}, {"description", description}}));
+}
+std::vector<BuildingInfo> Client::buildings(std::int64_t map_id) {
+    return convert<BuildingInfo>(list_all(collection("maps", map_id, "buildings")), building_from_json);
+}
+
+FloorInfo Client::create_floor(const FloorInfo& f) {
+    return floor_from_json(post(collection("buildings", f.building_id, "floors"),
+                                {{"name", f.name},
+                                 {"level", f.level},
+                                 {"width", f.width},
+                                 {"height", f.height},
+                                 {"north_offset_deg", f.north_offset_deg}}));
+}
+std::vector<FloorInfo> Client::floors(std::int64_t building_id) {
+    return convert<FloorInfo>(list_all(collection("buildings", building_id, "floors")), floor_from_json);
+}
+FloorInfo Client::floor(std::int64_t floor_id) { return floor_from_json(get("/v1/floors/" + std::to_string(floor_id))); }
+
+RoomInfo Client::create_room(const RoomInfo& room) {
+    json rects = json::array();
+    for (const auto& r : room.rects) rects.push_back({{"xmin", r.xmin}, {"ymin", r.ymin}, {"xmax", r.xmax}, {"ymax", r.ymax}});
+    return room_from_json(post(collection("floors", room.floor_id, "rooms"), {{"name", room.name}, {"rects", rects}}));
+}
+std::vector<RoomInfo> Client::rooms(std::int64_t floor_id) {
+    return convert<RoomInfo>(list_all(collection("floors", floor_id, "rooms")), room_from_json);
+}
+
+PoiInfo Client::create_poi(const PoiInfo& poi) {
+    return poi_from_json(post(collection("floors", poi.floor_id, "pois"),
+                              {{"name", poi.name}, {"kind", poi.kind}, {"x", poi.x}, {"y", poi.y}}));
+}
+std::vector<PoiInfo> Client::pois(std::int64_t floor_id) {
+    return convert<PoiInfo>(list_all(collection("floors", floor_id, "pois")), poi_from_json);
+}
+
+RadioMapInfo Client::create_radiomap(std::int64_t floor_id, const std::string& name, const std::string& description) {
+    return radiomap_from_json(post(collection("floors", floor_id, "radiomaps"), {{"name", name}, {"description", description}}));
+}
+std::vector<RadioMapInfo> Client::radiomaps(std::int64_t floor_id) {
+    return convert<RadioMapInfo>(list_all(collection("floors", floor_id, "radiomaps")), radiomap_from_json);
+}
+RadioMapInfo Client::radiomap(std::int64_t radiomap_id) {
+    return radiomap_from_json(get("/v1/radiomaps/" + std::to_string(radiomap_id)));
+}
+
+RpInfo Client::create_rp(std::int64_t radiomap_id, const std::string& name, double x, double y) {
+    return rp_from_json(post(collection("radiomaps", radiomap_id, "rps"), {{"name", name}, {"x", x}, {"y", y}}));
+}
+std::vector<RpInfo> Client::rps(std::int64_t radiomap_id) {
+    return convert<RpInfo>(list_all(collection("radiomaps", radiomap_id, "rps")), rp_from_json);
+}
+RpInfo Client::rp(std::int64_t rp_id) { return rp_from_json(get("/v1/rps/" + std::to_string(rp_id))); }
+
+MapInfo Client::ensure_map(const std::string& name, const std::string& description) {
+    return find_or_create<MapInfo>(name, [&] { return maps(); }, [&] { return create_map(name, description); });
+}
+BuildingInfo Client::ensure_building(std::int64_t map_id, const std::string& name, const std::string& description) {
+    return find_or_create<BuildingInfo>(name, [&] { return buildings(map_id); },
+                                        [&] { return create_building(map_id, name, description); });
+}
+FloorInfo Client::ensure_floor(const FloorInfo& f) {
+    return find_or_create<FloorInfo>(f.name, [&] { return floors(f.building_id); }, [&] { return create_floor(f); });
+}
+RadioMapInfo Client::ensure_radiomap(std::int64_t floor_id, const std::string& name, const std::string& description) {
+    return find_or_create<RadioMapInfo>(name, [&] { return radiomaps(floor_id); },
+                                        [&] { return create_radiomap(floor_id, name, description); });
+}
+RpInfo Client::ensure_rp(std::int64_t radiomap_id, const std::string& name, double x, double y) {
+    return find_or_create<RpInfo>(name, [&] { return rps(radiomap_id); }, [&] { return create_rp(radiomap_id, name, x, y); });
+}
+
+UploadResult Client::upload(std::int64_t rp_id, const ScanUpload& u) {
+    ScanUpload body = u;
+    if (!body.upload_id) {
+        thread_local std::mt19937_64 rng{std::random_device{}()};
+        body.upload_id = "client-" + std::to_string(rng()) + "-" + std::to_string(++upload_counter_);
+    }
+    const json answer = post("/v1/rps/" + std::to_string(rp_id) + "/scans", to_json(body));
+    return {answer.value("applied", false), rp_from_json(answer.at("rp"))};
+}
+
+json Client::export_radiomap(std::int64_t radiomap_id) { return get("/v1/radiomaps/" + std::to_string(radiomap_id) + "/export"); }
+
+RadioMapInfo Client::import_radiomap(std::int64_t floor_id, const json& document) {
+    return radiomap_from_json(post("/v1/floors/" + std::to_string(floor_id) + "/radiomaps/import", document));
+}
+
+LocalizeResult Client::localize_radiomap(std::int64_t radiomap_id, const LocalizeRequest& request) {
+    return localize_result_from_json(post("/v1/radiomaps/" + std::to_string(radiomap_id) + "/localize", to_json(request)));
+}
+LocalizeResult Client::localize_map(std::int64_t map_id, const LocalizeRequest& request) {
+    return localize_result_from_json(post("/v1/maps/" + std::to_string(map_id) + "/localize", to_json(request)));
+}
+
+}  // namespace locus::api

@@ -1,0 +1,188 @@
+// `locus bench localize`: HTTP throughput and latency of a running server on loopback, for
+// POST /v1/radiomaps/{id}/localize replaying real scans and, as the yardstick, GET /health.
+// C threads each keep one connection alive and send N/C requests back to back; bounded by
+// --requests and --max-seconds. Prints one JSON object.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <set>
+#include <thread>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "command_registry.hpp"
+#include "survey_connect.hpp"
+#include "survey_format.hpp"
+#include "uji_csv.hpp"
+
+namespace {
+
+using namespace locus;
+using namespace locus::tools;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+struct Args {
+    ServerArgs server;
+    std::int64_t radiomap = 0;
+    int concurrency = 4;
+    int requests = 20000;
+    double max_seconds = 60.0;
+    std::string scans_file;
+    std::string algorithm = "wknn";
+    int warmup = 200;
+};
+
+double percentile(std::vector<double>& v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const double pos = p * static_cast<double>(v.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(pos));
+    const auto hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+std::string scans_body(const std::vector<Scan>& scans, const std::string& algorithm) {
+    json s = json::array();
+    for (const auto& scan : scans) {
+        json readings = json::array();
+        for (const auto& r : scan) {
+            json reading = {{"bssid", r.bssid}, {"rss", r.rss}};
+            if (r.type != "wifi") reading["type"] = r.type;
+            readings.push_back(std::move(reading));
+        }
+        s.push_back(std::move(readings));
+    }
+    return json{{"algorithm", algorithm}, {"scans", s}}.dump();
+}
+
+// Real scans to replay: a UJIIndoorLoc CSV (one query per row), a survey file (one per scan),
+// or, with no file, each RP of the radio map queried with its own stored means. Scans that
+// share no AP with the radio map (another building's rows) would only measure the 422 path,
+// so they are left out.
+std::vector<std::string> load_bodies(const Args& a, httplib::Client& http) {
+    auto r = http.Get("/v1/radiomaps/" + std::to_string(a.radiomap) + "/export");
+    if (!r) throw CommandError("no answer from " + a.server.server);
+    if (r->status != 200) throw CommandError("cannot export radio map " + std::to_string(a.radiomap) + ": " + r->body.substr(0, 300));
+    const json doc = json::parse(r->body);
+    std::set<std::string> known;
+    std::vector<Scan> scans;
+    for (const auto& rp : doc.at("rps")) {
+        Scan s;
+        for (const auto& m : rp.at("measurements")) {
+            s.push_back({m.value("type", "wifi"), m.at("bssid").get<std::string>(), m.at("mean").get<double>()});
+            known.insert(s.back().bssid);
+        }
+        if (a.scans_file.empty()) scans.push_back(std::move(s));
+    }
+    if (!a.scans_file.empty()) {
+        const std::string text = read_file(a.scans_file);
+        if (text.rfind("WAP", 0) == 0) {
+            const auto data = uji::parse(text);
+            for (const auto& row : data.rows) scans.push_back(uji::scan_of(data, row));
+        } else {
+            const auto file = survey::parse(text, survey::format_of(a.scans_file));
+            for (const auto& rp : file.rps) scans.insert(scans.end(), rp.scans.begin(), rp.scans.end());
+        }
+    }
+    std::vector<std::string> bodies;
+    for (const auto& s : scans)
+        if (std::any_of(s.begin(), s.end(), [&](const Reading& rd) { return known.count(rd.bssid) > 0; }))
+            bodies.push_back(scans_body({s}, a.algorithm));
+    if (bodies.empty()) throw CommandError("no scan shares an access point with radio map " + std::to_string(a.radiomap));
+    return bodies;
+}
+
+bool loopback(const std::string& url) {
+    for (const char* host : {"http://127.0.0.1:", "http://localhost:", "http://[::1]:"})
+        if (url.rfind(host, 0) == 0) return true;
+    return false;
+}
+
+json run_phase(const Args& a, const std::string& path, const std::vector<std::string>* bodies) {
+    std::atomic<int> next{0};
+    std::atomic<int> errors{0};
+    std::vector<std::vector<double>> latencies(static_cast<std::size_t>(a.concurrency));
+    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.max_seconds));
+    const auto t0 = Clock::now();
+    std::vector<std::thread> threads;
+    for (int t = 0; t < a.concurrency; ++t) {
+        threads.emplace_back([&, t] {
+            httplib::Client http(a.server.client_options().base_url);
+            http.set_keep_alive(true);
+            http.set_tcp_nodelay(true);
+            http.set_read_timeout(10, 0);
+            auto& lat = latencies[static_cast<std::size_t>(t)];
+            lat.reserve(static_cast<std::size_t>(a.requests / a.concurrency + 1));
+            for (;;) {
+                const int i = next++;
+                if (i >= a.requests || Clock::now() > deadline) break;
+                const auto s = Clock::now();
+                httplib::Result r = bodies ? http.Post(path, (*bodies)[static_cast<std::size_t>(i) % bodies->size()], "application/json")
+                                           : http.Get(path);
+                lat.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
+                if (!r || r->status != 200) ++errors;
+            }
+        });
+    }
+    for (auto& th : threads) th.join();
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    std::vector<double> all;
+    for (auto& l : latencies) all.insert(all.end(), l.begin(), l.end());
+    const auto n = all.size();
+    return {{"requests", n},
+            {"errors", errors.load()},
+            {"seconds", seconds},
+            {"req_per_s", seconds > 0 ? static_cast<double>(n) / seconds : 0.0},
+            {"p50_ms", percentile(all, 0.50)},
+            {"p99_ms", percentile(all, 0.99)}};
+}
+
+void run(Args a) {
+    a.server.server = a.server.client_options().base_url;
+    if (!loopback(a.server.server)) throw CommandError("bench localize only targets a loopback server (http://127.0.0.1:PORT)");
+    httplib::Client http(a.server.server);
+    const auto bodies = load_bodies(a, http);
+    const std::string path = "/v1/radiomaps/" + std::to_string(a.radiomap) + "/localize";
+    {
+        auto r = http.Post(path, bodies.front(), "application/json");
+        if (!r) throw CommandError("no answer from " + a.server.server);
+        if (r->status != 200) throw CommandError("localize answered " + std::to_string(r->status) + ": " + r->body.substr(0, 300));
+    }
+    Args warm = a;
+    warm.requests = std::min(a.warmup, a.requests);
+    run_phase(warm, path, &bodies);
+    const json localize = run_phase(a, path, &bodies);
+    const json health = run_phase(a, "/health", nullptr);
+    const double ratio = health.at("req_per_s").get<double>() > 0
+                             ? localize.at("req_per_s").get<double>() / health.at("req_per_s").get<double>()
+                             : 0.0;
+    std::cout << json{{"localize", localize},
+                      {"health", health},
+                      {"localize_over_health", ratio},
+                      {"concurrency", a.concurrency},
+                      {"distinct_scans", bodies.size()},
+                      {"algorithm", a.algorithm}}
+                     .dump()
+              << "\n";
+}
+
+}  // namespace
+
+LOCUS_COMMAND("bench-localize", [](CLI::App& app) {
+    auto& bench = locus::tools::group(app, "bench", "Measure a running server");
+    auto* cmd = bench.add_subcommand("localize", "Localize and /health throughput and latency on loopback keep-alive connections");
+    auto args = std::make_shared<Args>();
+    args->server.add_to(*cmd);
+    cmd->add_option("--radiomap", args->radiomap, "radio map to localize against")->required();
+    cmd->add_option("--concurrency", args->concurrency, "parallel keep-alive connections")->capture_default_str()->check(CLI::Range(1, 256));
+    cmd->add_option("--requests", args->requests, "requests per phase")->capture_default_str()->check(CLI::Range(1, 1'000'000));
+    cmd->add_option("--max-seconds", args->max_seconds, "time limit per phase")->capture_default_str()->check(CLI::Range(0.1, 600.0));
+    cmd->add_option("--scans", args->scans_file, "scans to replay: UJIIndoorLoc CSV or a survey file (default: the RPs' own means)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--algorithm", args->algorithm, "bsb, nn, bsbnn, knn, wknn, bayes")->capture_default_str();
+    cmd->callback([args] { run(*args); });
+});
