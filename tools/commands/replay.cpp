@@ -1,0 +1,156 @@
+// `locus replay`: a recorded or simulated walk through the real PDR, fixes from a running
+// server, one fusion rule (or every method), and the track's error against the truth.
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "command_registry.hpp"
+#include "locus/api/client.hpp"
+#include "sim/evaluate.hpp"
+#include "sim/walk_io.hpp"
+
+namespace {
+
+using namespace locus;
+using nlohmann::json;
+
+struct Args {
+    std::string server = "http://127.0.0.1:8080";
+    std::string api_key;
+    std::int64_t radiomap = 0;
+    std::string rule = "proportional";
+    std::string algorithm = "wknn";
+    int k = 3;
+    std::string file;
+    std::string format = "json";
+    bool upload_survey = false;
+};
+
+// The server's answer as the matcher result that sim::make_fix expects.
+match::Result result_from(const api::LocalizeResult& r) {
+    match::Result out;
+    out.at = {r.x, r.y};
+    out.floor_id = r.floor_id;
+    out.building_id = r.building_id;
+    out.score = r.score;
+    out.matched_aps = r.matched_aps;
+    for (const auto& c : r.raw.value("candidates", json::array()))
+        out.candidates.push_back({c.at("rp_id").get<long long>(), {c.at("x").get<double>(), c.at("y").get<double>()},
+                                  c.at("score").get<double>(), c.value("floor_id", 0LL), c.value("building_id", 0LL),
+                                  c.value("matched_aps", 0)});
+    return out;
+}
+
+// Survey scans in the walk become RPs on the server, each file's scans once (upload ids).
+void upload_survey(api::Client& client, const sim::Walk& walk, std::int64_t radiomap) {
+    for (const auto& sp : walk.survey) {
+        const auto rp = client.ensure_rp(radiomap, sp.name, sp.at.x, sp.at.y);
+        api::ScanUpload up;
+        up.upload_id = "walk-" + walk.scenario + "-" + std::to_string(walk.seed) + "-" + sp.name;
+        up.scans = sp.scans;
+        client.upload(rp.id, up);
+    }
+}
+
+json track_json(const sim::NamedTrack& t, const sim::Walk& walk) {
+    json points = json::array();
+    for (const auto& p : t.track) {
+        json o = {{"t", p.t_s}, {"x", p.at.x}, {"y", p.at.y}};
+        if (const auto truth = walk.truth_at(p.t_s)) o["error_m"] = distance(p.at, *truth);
+        points.push_back(o);
+    }
+    json out = {{"method", t.method}, {"points", points}};
+    if (walk.has_truth()) {
+        const auto s = sim::score(t, walk);
+        out["mean_error_m"] = s.mean_error_m;
+        out["final_error_m"] = s.final_error_m;
+        out["p95_error_m"] = s.p95_error_m;
+    }
+    return out;
+}
+
+void run(const Args& a) {
+    if (a.format != "json" && a.format != "csv") throw tools::CommandError("--format must be json or csv");
+    const auto algorithm = match::parse_algorithm(a.algorithm);
+    if (!algorithm) throw tools::CommandError("unknown --algorithm '" + a.algorithm + "'");
+    const bool all = a.rule == "all";
+    const std::vector<std::string> methods = {"pdr", "wifi", "only_wifi", "midpoint", "midpoint_threshold",
+                                              "proportional", "proportional2", "kalman", "particle"};
+    if (!all && std::find(methods.begin(), methods.end(), a.rule) == methods.end())
+        throw tools::CommandError("unknown --rule '" + a.rule + "' (only_wifi, midpoint, midpoint_threshold, "
+                                  "proportional, proportional2, kalman, particle, pdr, wifi or all)");
+
+    const sim::Walk walk = sim::load_walk(a.file);
+    api::ClientOptions opts;
+    opts.base_url = a.server;
+    opts.api_key = a.api_key;
+    api::Client client(opts);
+    if (a.upload_survey) upload_survey(client, walk, a.radiomap);
+
+    sim::EvalConfig cfg;
+    cfg.algorithm = *algorithm;
+    cfg.match_options.k = a.k;
+    cfg.particle.seed = walk.seed;  // as `locus sim --evaluate`, so both runs are comparable
+    const auto steps = sim::run_pdr(walk);
+    std::vector<sim::Fix> fixes;
+    int no_match = 0;
+    for (const auto& scan : walk.scans) {
+        if (scan.readings.empty()) continue;
+        api::LocalizeRequest req;
+        req.algorithm = a.algorithm;
+        req.scans = {scan.readings};
+        req.options = {{"k", a.k}};
+        try {
+            const auto r = client.localize_radiomap(a.radiomap, req);
+            fixes.push_back(sim::make_fix(scan.t_s, static_cast<int>(scan.readings.size()), result_from(r), a.k,
+                                          cfg.fix_sigma_floor_m));
+        } catch (const api::ApiError& e) {
+            if (e.code() != "no_match") throw;
+            ++no_match;  // a scan that matches nothing gives no fix; PDR carries on
+        }
+    }
+    const auto tracks = sim::run_methods(steps, fixes, walk.start, walk.map, cfg);
+
+    json out = {{"file", a.file}, {"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"steps", steps.size()},
+                {"fixes", fixes.size()}, {"no_match", no_match}, {"tracks", json::array()}};
+    for (const auto& t : tracks) {
+        if (!all && t.method != a.rule) continue;
+        if (a.format == "csv") {
+            std::cout << "method,t,x,y" << (walk.has_truth() ? ",error_m" : "") << "\n";
+            for (const auto& p : t.track) {
+                std::cout << t.method << "," << p.t_s << "," << p.at.x << "," << p.at.y;
+                if (const auto truth = walk.truth_at(p.t_s)) std::cout << "," << distance(p.at, *truth);
+                std::cout << "\n";
+            }
+        } else {
+            out["tracks"].push_back(track_json(t, walk));
+        }
+    }
+    if (a.format == "json") std::cout << out.dump() << "\n";
+    else if (walk.has_truth())
+        for (const auto& t : tracks)
+            if (all || t.method == a.rule) {
+                const auto s = sim::score(t, walk);
+                std::cerr << t.method << ": mean " << s.mean_error_m << " m, final " << s.final_error_m << " m\n";
+            }
+}
+
+LOCUS_COMMAND("replay", [](CLI::App& app) {
+    auto args = std::make_shared<Args>();
+    auto* cmd = app.add_subcommand("replay", "Run a walk file through PDR, fixes from a server, and fusion");
+    cmd->add_option("--server", args->server, "server base URL")->capture_default_str();
+    cmd->add_option("--api-key", args->api_key, "API key (for --upload-survey)")->envname("LOCUS_API_KEY");
+    cmd->add_option("--radiomap", args->radiomap, "radio map to localize against")->required()->check(CLI::PositiveNumber);
+    cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, pdr, wifi, or all")->capture_default_str();
+    cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
+    cmd->add_option("--k", args->k, "k for knn/wknn/bayes")->capture_default_str()->check(CLI::Range(1, 100));
+    cmd->add_option("--format", args->format, "json (tracks with errors) or csv")->capture_default_str();
+    cmd->add_flag("--upload-survey", args->upload_survey,
+                  "first create the walk's survey RPs on the radio map and upload their scans (idempotent)");
+    cmd->add_option("FILE", args->file, "walk file (locus sim --out, or a recording)")->required()->check(CLI::ExistingFile);
+    cmd->callback([args] { run(*args); });
+});
+
+}  // namespace
