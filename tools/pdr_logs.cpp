@@ -142,9 +142,14 @@ FloorPlan read_floor_plan(const std::string& path, int building, int floor, doub
             Room room;
             room.id = r.value("id", ++id);
             room.name = r.value("name", "");
-            for (const auto& q : r.at("rects"))
-                room.rects.push_back({q.at("xmin").get<double>(), q.at("ymin").get<double>(), q.at("xmax").get<double>(),
-                                      q.at("ymax").get<double>()});
+            for (const auto& q : r.at("rects")) {
+                if (q.is_array())  // [xmin, ymin, xmax, ymax], as the simulator writes floors
+                    room.rects.push_back({q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(),
+                                          q.at(3).get<double>()});
+                else
+                    room.rects.push_back({q.at("xmin").get<double>(), q.at("ymin").get<double>(),
+                                          q.at("xmax").get<double>(), q.at("ymax").get<double>()});
+            }
             plan.rooms.push_back(std::move(room));
         }
         id = 0;

@@ -31,7 +31,8 @@ struct ImuSample {
 std::vector<ImuSample> read_imu_log(const std::string& path);
 
 // A floor in the schema/demo_map.json shape: either a floor object itself or a whole map, in
-// which case buildings[building].floors[floor] is used. north_offset_deg is returned apart.
+// which case buildings[building].floors[floor] is used. Rectangles may be objects
+// {xmin, ymin, xmax, ymax} or arrays [xmin, ymin, xmax, ymax]. north_offset_deg is returned apart.
 FloorPlan read_floor_plan(const std::string& path, int building, int floor, double& north_offset_deg);
 
 }  // namespace locus::tools

@@ -212,6 +212,7 @@ void install_track(CLI::App& pdr) {
         std::string file, floor_file, format = "csv", step_model = "weinberg", sex = "male";
         double x = 0.0, y = 0.0, heading_deg = 0.0, height = 1.75, k = pdr::kWeinbergK, constant = pdr::kConstantStepLength;
         std::optional<double> north_offset_deg;
+        double field_ut = 0.0;
         int building = 0, floor = 0;
         DetectorOptions det;
     };
@@ -225,6 +226,8 @@ void install_track(CLI::App& pdr) {
     cmd->add_option("--building", a->building, "building index in a map file")->capture_default_str();
     cmd->add_option("--floor", a->floor, "floor index in a map file")->capture_default_str();
     cmd->add_option("--north-offset-deg", a->north_offset_deg, "overrides the floor's north_offset_deg");
+    cmd->add_option("--field-ut", a->field_ut, "local magnetic field norm, µT (0: learn it from the first 2 s)")
+        ->capture_default_str();
     cmd->add_option("--step-length", a->step_model, "weinberg, ssl or constant")
         ->check(CLI::IsMember({"weinberg", "ssl", "constant"}))
         ->capture_default_str();
@@ -244,6 +247,7 @@ void install_track(CLI::App& pdr) {
             pdr::PipelineConfig pc;
             pc.steps = a->det.get();
             pc.heading.north_offset_deg = north;
+            pc.heading.expected_field_ut = a->field_ut;
             pc.start = {a->x, a->y};
             pc.start_heading_rad = a->heading_deg * std::numbers::pi / 180.0;
             pc.step_length.kind = a->step_model == "weinberg" ? pdr::StepLengthKind::weinberg
