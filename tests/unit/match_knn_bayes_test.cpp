@@ -111,7 +111,11 @@ TEST(Knn, EqualDistancesRankByIndexOrder) {
 }
 
 TEST(Representation, FormsMapMissingToZero) {
-    const Index idx = three_rps();
+    IndexParams params;
+    params.missing_rss = -100.0;
+    params.exponential_alpha = 24.0;
+    params.powed_beta = std::numbers::e;
+    const Index idx = Index::build({}, params);
     EXPECT_DOUBLE_EQ(idx.represent(-100, 0), 0.0);
     EXPECT_DOUBLE_EQ(idx.represent(-110, 0), 0.0);
     EXPECT_DOUBLE_EQ(idx.represent(-60, 0), 40.0);
@@ -138,8 +142,15 @@ TEST(Knn, ExpectedRepresentationScalesByDetectionRate) {
 //   B (10,0): a mean -60 var 4, heard 5/10;  b mean -70 var 9, heard 10/10 (0.98)
 // Query a -52: ll_A = ln .98 − ½ln(2π·4) − 4/8,  ll_B = ln .5 − ½ln(2π·4) − 64/8 + ln(1 − .98).
 namespace {
+IndexParams bayes_params() {
+    IndexParams p;
+    p.min_detection = 0.02;
+    p.missing_rss = -100.0;
+    return p;
+}
 Index two_rps() {
-    return Index::build({rp(1, {0, 0}, {m("a", -50, 4.0, 10)}), rp(2, {10, 0}, {m("a", -60, 4.0, 5), m("b", -70, 9.0, 10)})});
+    return Index::build({rp(1, {0, 0}, {m("a", -50, 4.0, 10)}), rp(2, {10, 0}, {m("a", -60, 4.0, 5), m("b", -70, 9.0, 10)})},
+                        bayes_params());
 }
 double ll_a(double var = 4.0) { return std::log(0.98) - 0.5 * std::log(2 * std::numbers::pi * var) - 4.0 / (2 * var); }
 double ll_b(double var = 4.0) {
@@ -239,7 +250,8 @@ TEST(FloorDetection, BuildingFollowsTheMatch) {
 TEST(FloorDetection, BayesPicksTheFloorByPosteriorMass) {
     // RP3 alone is the MAP, but floor 10's two RPs together carry more posterior mass.
     const Index idx = Index::build({rp(1, {0, 0}, {m("a", -51, 4.0)}, 10), rp(2, {4, 0}, {m("a", -51, 4.0)}, 10),
-                                    rp(3, {2, 0}, {m("a", -50, 4.0)}, 20)});
+                                    rp(3, {2, 0}, {m("a", -50, 4.0)}, 20)},
+                                   bayes_params());
     Options o = bayes(1.0, BayesEstimate::map);
     const auto r = localize(idx, query({{"a", -50}}), Algorithm::bayes, o);
     // Per RP: ll = ln .98 − ½ln(8π) − d²/8, so floor 10 holds 2·e^(−1/8) > 1.

@@ -7,6 +7,13 @@
 namespace locus::match {
 
 namespace {
+struct Posting {
+    std::uint32_t rp;
+    double mean;
+    double rep[3];
+    LikelihoodTerms likelihood;
+};
+
 std::string ap_key(std::string_view type, std::string_view bssid) {
     std::string key;
     key.reserve(type.size() + 1 + bssid.size());
@@ -38,6 +45,7 @@ Index Index::build(const std::vector<IndexedRp>& rps, const IndexParams& params)
     idx.rep_sum_.assign(rps.size() * 3, 0.0);
     idx.rep_sq_sum_.assign(rps.size() * 3, 0.0);
     idx.log_miss_sum_.assign(rps.size(), 0.0);
+    std::vector<std::vector<Posting>> lists;
     const double lo = params.min_detection, hi = 1.0 - params.min_detection;
     for (std::size_t i = 0; i < rps.size(); ++i) {
         const auto& in = rps[i];
@@ -45,34 +53,54 @@ Index Index::build(const std::vector<IndexedRp>& rps, const IndexParams& params)
         for (const auto& m : in.rp.measurements) {
             if (m.stats.count <= 0 || !std::isfinite(m.stats.mean)) continue;
             const std::string bssid = normalise_bssid(m.bssid);
-            auto [it, inserted] = idx.ap_ids_.try_emplace(ap_key(m.type, bssid), static_cast<std::uint32_t>(idx.postings_.size()));
-            if (inserted) idx.postings_.emplace_back();
-            auto& list = idx.postings_[it->second];
+            auto [it, inserted] = idx.ap_ids_.try_emplace(ap_key(m.type, bssid), static_cast<std::uint32_t>(lists.size()));
+            if (inserted) lists.emplace_back();
+            auto& list = lists[it->second];
             // Two measurements of one AP at one RP would be a store bug; keep the first.
             if (!list.empty() && list.back().rp == i) continue;
             // An RP with an unknown scan count cannot give a detection rate: treat its APs
             // as always heard (the most the data says).
             const double rate = in.rp.scans > 0 ? static_cast<double>(m.stats.count) / static_cast<double>(in.rp.scans) : 1.0;
             const double p = std::clamp(rate, lo, hi);
-            Posting post;
+            Posting post{};
             post.rp = static_cast<std::uint32_t>(i);
             post.mean = m.stats.mean;
-            post.variance = std::max(0.0, m.stats.variance);
-            post.log_variance = post.variance > 0 ? std::log(post.variance) : -std::numeric_limits<double>::infinity();
-            post.log_detect = std::log(p);
-            post.log_miss = std::log1p(-p);
+            auto& lik = post.likelihood;
+            lik.variance = std::max(0.0, m.stats.variance);
+            lik.log_variance = lik.variance > 0 ? std::log(lik.variance) : -std::numeric_limits<double>::infinity();
+            lik.log_detect = std::log(p);
+            lik.log_miss = std::log1p(-p);
             for (int r = 0; r < 3; ++r) {
                 post.rep[r] = (params.expected_representation ? std::min(rate, 1.0) : 1.0) * idx.represent(post.mean, r);
                 idx.rep_sum_[i * 3 + r] += post.rep[r];
                 idx.rep_sq_sum_[i * 3 + r] += post.rep[r] * post.rep[r];
             }
-            idx.log_miss_sum_[i] += post.log_miss;
+            idx.log_miss_sum_[i] += lik.log_miss;
             list.push_back(post);
             ++info.ap_count;
         }
         idx.rps_.push_back(info);
     }
+    for (const auto& list : lists) {
+        for (const auto& post : list) {
+            idx.post_rp_.push_back(post.rp);
+            idx.post_mean_.push_back(post.mean);
+            for (int r = 0; r < 3; ++r) idx.post_rep_[r].push_back(post.rep[r]);
+            idx.post_likelihood_.push_back(post.likelihood);
+        }
+        idx.offsets_.push_back(idx.post_rp_.size());
+    }
     return idx;
+}
+
+PostingList Index::postings(std::size_t ap) const {
+    const std::size_t b = offsets_[ap], n = offsets_[ap + 1] - b;
+    PostingList l;
+    l.rp = std::span(post_rp_).subspan(b, n);
+    l.mean = std::span(post_mean_).subspan(b, n);
+    for (int r = 0; r < 3; ++r) l.rep[r] = std::span(post_rep_[r]).subspan(b, n);
+    l.likelihood = std::span(post_likelihood_).subspan(b, n);
+    return l;
 }
 
 long Index::ap_of(std::string_view type, std::string_view bssid) const {

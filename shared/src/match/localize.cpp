@@ -9,36 +9,6 @@ namespace locus::match {
 
 namespace {
 
-// Per-query accumulators indexed by RP position. Thread-local so concurrent queries on
-// one Index never share them and a query allocates nothing once warmed up; only the RPs a
-// query touched are reset afterwards.
-struct Scratch {
-    std::vector<int> shared;    // APs shared with the query; -1 = excluded by `near`
-    std::vector<double> acc;    // algorithm-specific sum over the shared APs
-    std::vector<double> acc_wd, acc_w;  // bayes device offset: Σ d/σ², Σ 1/σ²
-    std::vector<std::uint32_t> touched;
-
-    void prepare(std::size_t n) {
-        if (shared.size() < n) {
-            shared.resize(n, 0);
-            acc.resize(n, 0.0);
-            acc_wd.resize(n, 0.0);
-            acc_w.resize(n, 0.0);
-        }
-    }
-    void clear() {
-        for (auto i : touched) {
-            shared[i] = 0;
-            acc[i] = 0.0;
-            acc_wd[i] = 0.0;
-            acc_w[i] = 0.0;
-        }
-        touched.clear();
-    }
-};
-
-thread_local Scratch t_scratch;
-
 // Lower key1, then lower key2, then lower RP position ranks first.
 struct Scored {
     std::uint32_t rp;
@@ -67,6 +37,38 @@ bool within_tolerance(double value, double best, double tolerance) {
     return std::abs(value - best) <= tolerance * std::abs(best);
 }
 
+// Per-query accumulators indexed by RP position. Thread-local so concurrent queries on
+// one Index never share them and a query allocates nothing once warmed up; only the RPs a
+// query touched are reset afterwards.
+struct Scratch {
+    std::vector<int> shared;    // APs shared with the query; -1 = excluded by `near`
+    std::vector<double> acc;    // algorithm-specific sum over the shared APs
+    std::vector<double> acc_wd, acc_w;  // bayes device offset: Σ d/σ², Σ 1/σ²
+    std::vector<std::uint32_t> touched;
+    std::vector<Known> known;
+    std::vector<Scored> scored;
+
+    void prepare(std::size_t n) {
+        if (shared.size() < n) {
+            shared.resize(n, 0);
+            acc.resize(n, 0.0);
+            acc_wd.resize(n, 0.0);
+            acc_w.resize(n, 0.0);
+        }
+    }
+    void clear() {
+        for (auto i : touched) {
+            shared[i] = 0;
+            acc[i] = 0.0;
+            acc_wd[i] = 0.0;
+            acc_w[i] = 0.0;
+        }
+        touched.clear();
+    }
+};
+
+thread_local Scratch t_scratch;
+
 }  // namespace
 
 std::optional<Result> localize(const Index& index, const Query& query, Algorithm algorithm, const Options& options) {
@@ -79,8 +81,9 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
     // Query-side totals over every online AP, known to the index or not (an AP the index
     // has never seen is heard online only and still counts against every RP).
     double q_sum = 0.0, q_sq_sum = 0.0, q_penalty = 0.0;
-    std::vector<Known> known;
-    known.reserve(query.aps.size());
+    Scratch& s = t_scratch;
+    std::vector<Known>& known = s.known;
+    known.clear();
     for (const auto& ap : query.aps) {
         const double r = index.represent(ap.rss, rep);
         const double d = ap.rss - params.missing_rss;
@@ -94,53 +97,63 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
         if (id >= 0) known.push_back(Known{static_cast<std::uint32_t>(id), ap.rss, r, penalty});
     }
 
-    Scratch& s = t_scratch;
     s.prepare(index.size());
     s.clear();
     const bool euclid = options.distance == Distance::euclidean;
-    for (const auto& k : known) {
-        for (const Posting& p : index.postings(k.ap)) {
-            int& sh = s.shared[p.rp];
-            if (sh == 0) {
-                s.touched.push_back(p.rp);
-                if (options.near && distance(index.rp(p.rp).at, options.near->at) > options.near->radius) sh = -1;
-            }
-            if (sh < 0) continue;
-            ++sh;
-            double& acc = s.acc[p.rp];
-            switch (algorithm) {
-                case Algorithm::bsb:
-                    break;
-                case Algorithm::nn:
-                case Algorithm::bsbnn: {
-                    const double d = p.mean - k.rss;
-                    acc += d * d;
-                    break;
+    // One pass over the posting lists of the query's APs; `f` adds one shared AP's term.
+    // A template per algorithm keeps the inner loop free of dispatch.
+    auto walk = [&](auto&& f) {
+        for (const auto& k : known) {
+            const PostingList list = index.postings(k.ap);
+            for (std::size_t j = 0; j < list.size(); ++j) {
+                const std::uint32_t rp = list.rp[j];
+                int& sh = s.shared[rp];
+                if (sh == 0) {
+                    s.touched.push_back(rp);
+                    if (options.near && distance(index.rp(rp).at, options.near->at) > options.near->radius) sh = -1;
                 }
-                case Algorithm::knn:
-                case Algorithm::wknn: {
-                    const double a = p.rep[rep], b = k.rep;
-                    // Correction from "each side heard alone" to "both heard" for this AP.
-                    acc += euclid ? a * b : std::abs(a - b) - a - b;
-                    break;
-                }
-                case Algorithm::bayes: {
-                    const bool floored = p.variance < sigma2_floor;
-                    const double var = floored ? sigma2_floor : p.variance;
-                    const double log_var = floored ? log_sigma2_floor : p.log_variance;
-                    const double d = k.rss - p.mean;
-                    const double log_gauss = -0.5 * (kLog2Pi + log_var) - d * d / (2.0 * var);
-                    acc += p.log_detect + log_gauss - p.log_miss - k.penalty;
-                    s.acc_wd[p.rp] += d / var;
-                    s.acc_w[p.rp] += 1.0 / var;
-                    break;
-                }
+                if (sh < 0) continue;
+                ++sh;
+                f(k, list, j, rp);
             }
         }
+    };
+    switch (algorithm) {
+        case Algorithm::bsb:
+            walk([](const Known&, const PostingList&, std::size_t, std::uint32_t) {});
+            break;
+        case Algorithm::nn:
+        case Algorithm::bsbnn:
+            walk([&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {
+                const double d = list.mean[j] - k.rss;
+                s.acc[rp] += d * d;
+            });
+            break;
+        case Algorithm::knn:
+        case Algorithm::wknn:
+            walk([&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {
+                const double a = list.rep[rep][j], b = k.rep;
+                // Correction from "each side heard alone" to "both heard" for this AP.
+                s.acc[rp] += euclid ? a * b : std::abs(a - b) - a - b;
+            });
+            break;
+        case Algorithm::bayes:
+            walk([&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {
+                const LikelihoodTerms& t = list.likelihood[j];
+                const bool floored = t.variance < sigma2_floor;
+                const double var = floored ? sigma2_floor : t.variance;
+                const double log_var = floored ? log_sigma2_floor : t.log_variance;
+                const double d = k.rss - list.mean[j];
+                const double log_gauss = -0.5 * (kLog2Pi + log_var) - d * d / (2.0 * var);
+                s.acc[rp] += t.log_detect + log_gauss - t.log_miss - k.penalty;
+                s.acc_wd[rp] += d / var;
+                s.acc_w[rp] += 1.0 / var;
+            });
+            break;
     }
 
-    std::vector<Scored> scored;
-    scored.reserve(s.touched.size());
+    std::vector<Scored>& scored = s.scored;
+    scored.clear();
     for (auto i : s.touched) {
         const int sh = s.shared[i];
         if (sh <= 0) continue;

@@ -4,7 +4,6 @@
 // shares an AP with. Built once from the stored RPs; on a write the owner builds a new
 // one and swaps it in (building 933 UJIIndoorLoc RPs takes a few milliseconds).
 #include <cstdint>
-#include <numbers>
 #include <span>
 #include <string>
 #include <string_view>
@@ -29,10 +28,12 @@ struct IndexParams {
     // below it counts as not heard by knn/wknn.
     double missing_rss = -100.0;
     double exponential_alpha = 24.0;          // exponential representation: exp(pos/α)
-    double powed_beta = std::numbers::e;      // powed representation: (pos/|missing|)^β
+    // powed representation: (pos/|missing|)^β. Torres-Sospedra use e; β = 2 did slightly
+    // better on held-out UJIIndoorLoc users (docs/matchers.md).
+    double powed_beta = 2.0;
     // Detection rates count/scans are clamped into [min_detection, 1 - min_detection] so a
     // single contrary observation never makes a likelihood zero.
-    double min_detection = 0.02;
+    double min_detection = 0.05;  // tuned on held-out UJIIndoorLoc users
     // knn/wknn compare the RP's expected representation, detection rate × rep(mean), i.e.
     // the average fingerprint with "not heard" scans counted as 0, instead of rep(mean).
     bool expected_representation = true;
@@ -46,15 +47,23 @@ struct RpInfo {
     std::uint32_t ap_count = 0;
 };
 
-// One (AP, RP) measurement inside an AP's posting list.
-struct Posting {
-    std::uint32_t rp = 0;        // position of the RP in the index, not its id
-    double mean = 0.0;           // dBm
-    double variance = 0.0;       // dBm², as stored
-    double log_variance = 0.0;   // log(variance), or -inf when it is 0
-    double log_detect = 0.0;     // log of the clamped detection rate
-    double log_miss = 0.0;       // log(1 - clamped detection rate)
-    double rep[3] = {0, 0, 0};   // mean in each Representation, indexed by its enum value
+// Gaussian-model terms of one (AP, RP) pair, read by bayes only.
+struct LikelihoodTerms {
+    double variance = 0.0;      // dBm², as stored
+    double log_variance = 0.0;  // log(variance), or -inf when it is 0
+    double log_detect = 0.0;    // log of the clamped detection rate
+    double log_miss = 0.0;      // log(1 - clamped detection rate)
+};
+
+// One AP's posting list: parallel arrays with one entry per RP storing the AP, in RP order.
+// Split by field so bsb/nn stream only RP positions and means (a query over UJIIndoorLoc
+// walks ~3,000 postings).
+struct PostingList {
+    std::span<const std::uint32_t> rp;  // position of the RP in the index, not its id
+    std::span<const double> mean;       // dBm
+    std::span<const double> rep[3];     // mean in each Representation, by its enum value
+    std::span<const LikelihoodTerms> likelihood;
+    std::size_t size() const { return rp.size(); }
 };
 
 class Index {
@@ -63,13 +72,13 @@ public:
 
     std::size_t size() const { return rps_.size(); }
     bool empty() const { return rps_.empty(); }
-    std::size_t ap_count() const { return postings_.size(); }
+    std::size_t ap_count() const { return offsets_.size() - 1; }
     const IndexParams& params() const { return params_; }
     const RpInfo& rp(std::size_t i) const { return rps_[i]; }
 
     // Position of an AP in the index, or -1 if no RP stores it. `bssid` must be normalised.
     long ap_of(std::string_view type, std::string_view bssid) const;
-    std::span<const Posting> postings(std::size_t ap) const { return postings_[ap]; }
+    PostingList postings(std::size_t ap) const;
 
     // Per RP, over all its stored APs, for fast distances with missing-AP handling:
     // Σ rep and Σ rep² per Representation, and Σ log(1 - detection).
@@ -84,7 +93,11 @@ private:
     IndexParams params_;
     std::vector<RpInfo> rps_;
     std::unordered_map<std::string, std::uint32_t> ap_ids_;  // key: type + '\n' + bssid
-    std::vector<std::vector<Posting>> postings_;
+    std::vector<std::size_t> offsets_{0};  // AP j's postings are [offsets_[j], offsets_[j+1])
+    std::vector<std::uint32_t> post_rp_;
+    std::vector<double> post_mean_;
+    std::vector<double> post_rep_[3];
+    std::vector<LikelihoodTerms> post_likelihood_;
     std::vector<double> rep_sum_, rep_sq_sum_, log_miss_sum_;
 };
 

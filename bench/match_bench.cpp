@@ -1,0 +1,91 @@
+// µs per localize() query for each matcher over the full UJIIndoorLoc map (933 RPs, 520
+// WAPs), one thread, plus the cost of building the index. Run by hand:
+//   build/bin/match_bench --benchmark_min_time=1s
+#include <benchmark/benchmark.h>
+
+#include <fstream>
+#include <memory>
+
+#include "locus/match/localize.hpp"
+// The reader belongs to the CLI sources, which are not a library; compile it in here.
+#include "../tools/uji_csv.cpp"
+
+namespace {
+
+using namespace locus;
+namespace uji = locus::tools::uji;
+
+struct Fixture {
+    std::vector<match::IndexedRp> rps;
+    match::Index index;
+    std::vector<match::Query> queries;
+};
+
+const Fixture* fixture() {
+    static const std::unique_ptr<Fixture> f = []() -> std::unique_ptr<Fixture> {
+        const std::string path = std::string(LOCUS_DATA_DIR) + "/ujiindoorloc/trainingData.csv";
+        if (!std::ifstream(path)) return nullptr;
+        auto out = std::make_unique<Fixture>();
+        const uji::Data data = uji::read_file(path);
+        for (const auto& g : uji::group_reference_points(data)) {
+            match::IndexedRp rp;
+            rp.rp.id = static_cast<long long>(out->rps.size()) + 1;
+            rp.rp.at = Point{g.longitude, g.latitude};
+            rp.rp.scans = static_cast<std::int64_t>(g.rows.size());
+            rp.rp.measurements = g.measurements;
+            rp.floor_id = g.building * 100 + g.floor;
+            rp.building_id = g.building;
+            out->rps.push_back(std::move(rp));
+        }
+        out->index = match::Index::build(out->rps);
+        // Every 10th row as an online scan: ~2,000 real queries spread over the 3 buildings.
+        for (std::size_t i = 0; i < data.rows.size(); i += 10)
+            if (!data.rows[i].heard.empty())
+                out->queries.push_back(match::Query::from_scans({uji::scan_of(data, data.rows[i])}));
+        return out;
+    }();
+    return f.get();
+}
+
+void localize_bench(benchmark::State& state, match::Algorithm algorithm) {
+    const Fixture* f = fixture();
+    if (!f) {
+        state.SkipWithError("UJIIndoorLoc not found under LOCUS_DATA_DIR/ujiindoorloc");
+        return;
+    }
+    const match::Options options;  // the defaults the server uses
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = match::localize(f->index, f->queries[i], algorithm, options);
+        benchmark::DoNotOptimize(r);
+        if (++i == f->queries.size()) i = 0;
+    }
+    state.counters["us_per_query"] =
+        benchmark::Counter(static_cast<double>(state.iterations()) * 1e-6,
+                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["rps"] = static_cast<double>(f->index.size());
+}
+
+void build_bench(benchmark::State& state) {
+    const Fixture* f = fixture();
+    if (!f) {
+        state.SkipWithError("UJIIndoorLoc not found under LOCUS_DATA_DIR/ujiindoorloc");
+        return;
+    }
+    for (auto _ : state) {
+        auto idx = match::Index::build(f->rps);
+        benchmark::DoNotOptimize(idx);
+    }
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(localize_bench, bsb, match::Algorithm::bsb);
+BENCHMARK_CAPTURE(localize_bench, nn, match::Algorithm::nn);
+BENCHMARK_CAPTURE(localize_bench, bsbnn, match::Algorithm::bsbnn);
+BENCHMARK_CAPTURE(localize_bench, knn, match::Algorithm::knn);
+BENCHMARK_CAPTURE(localize_bench, wknn, match::Algorithm::wknn);
+BENCHMARK_CAPTURE(localize_bench, bayes, match::Algorithm::bayes);
+BENCHMARK(build_bench)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
