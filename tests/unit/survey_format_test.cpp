@@ -1,0 +1,129 @@
+// The survey upload formats (tools/survey_format.hpp): both read the same walk into the same
+// RPs and scans, and every kind of malformed line is reported with its number and left out.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "survey_format.hpp"
+
+using namespace locus;
+using namespace locus::tools::survey;
+
+namespace {
+
+std::string fixture(const std::string& name) {
+    std::ifstream in(std::string(LOCUS_TEST_FIXTURES) + "/survey/" + name);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+const SurveyRp* find(const SurveyFile& f, const std::string& name) {
+    for (const auto& rp : f.rps)
+        if (rp.name == name) return &rp;
+    return nullptr;
+}
+
+// The walk in tests/fixtures/survey: A (3 scans), B (2 scans), an unnamed point at (3, 4).
+void expect_walk(const SurveyFile& f) {
+    ASSERT_EQ(f.rps.size(), 3u);
+    EXPECT_EQ(f.scans, 6u);
+    EXPECT_EQ(f.readings, 9u);
+    const SurveyRp* a = find(f, "A");
+    ASSERT_NE(a, nullptr);
+    ASSERT_TRUE(a->at.has_value());
+    EXPECT_DOUBLE_EQ(a->at->x, 1.0);
+    ASSERT_EQ(a->scans.size(), 3u);
+    ASSERT_EQ(a->scans[0].size(), 2u);
+    EXPECT_EQ(a->scans[0][0].bssid, "aa:bb:cc:00:00:01");  // upper case normalised
+    EXPECT_EQ(a->scans[0][1].bssid, "aa:bb:cc:00:00:02");  // '-' separated normalised
+    EXPECT_DOUBLE_EQ(a->scans[2][1].rss, -72.0);
+    const SurveyRp* b = find(f, "B");
+    ASSERT_NE(b, nullptr);
+    EXPECT_EQ(b->scans.size(), 2u);
+    const SurveyRp* p = find(f, "x3.00_y4.00");
+    ASSERT_NE(p, nullptr);
+    ASSERT_EQ(p->scans.size(), 1u);
+    EXPECT_EQ(p->scans[0][0].type, "ble");
+    EXPECT_EQ(p->scans[0][0].bssid, "beacon-1");
+}
+
+}  // namespace
+
+TEST(SurveyFormat, JsonLinesWalk) {
+    const auto f = parse(fixture("walk.jsonl"), Format::JsonLines);
+    EXPECT_TRUE(f.errors.empty()) << f.errors.front().line << ": " << f.errors.front().message;
+    expect_walk(f);
+}
+
+TEST(SurveyFormat, CsvWalkReadsLikeJsonLines) {
+    const auto f = parse(fixture("walk.csv"), Format::Csv);
+    EXPECT_TRUE(f.errors.empty()) << f.errors.front().line << ": " << f.errors.front().message;
+    expect_walk(f);
+}
+
+TEST(SurveyFormat, MalformedJsonLinesAreReportedAndLeftOut) {
+    const auto f = parse(fixture("walk_malformed.jsonl"), Format::JsonLines);
+    ASSERT_EQ(f.errors.size(), 3u);
+    EXPECT_EQ(f.errors[0].line, 3u);  // rss +100 (the UJI "not heard" code)
+    EXPECT_NE(f.errors[0].message.find("rss"), std::string::npos);
+    EXPECT_EQ(f.errors[1].line, 5u);  // truncated JSON
+    EXPECT_EQ(f.errors[2].line, 7u);  // B moved
+    EXPECT_NE(f.errors[2].message.find("other coordinates"), std::string::npos);
+    // Line 3 carried one good reading: it must not reach A half-parsed.
+    expect_walk(f);
+}
+
+TEST(SurveyFormat, FormatFromFileName) {
+    EXPECT_EQ(format_of("a/b/walk.csv"), Format::Csv);
+    EXPECT_EQ(format_of("walk.jsonl"), Format::JsonLines);
+    EXPECT_EQ(format_of("walk"), Format::JsonLines);
+}
+
+TEST(SurveyFormat, JsonLineErrors) {
+    const std::string text =
+        "[1,2]\n"                                                                 // 1 not an object
+        "{\"rp\":\"A\",\"readings\":[]}\n"                                        // 2 empty readings
+        "{\"x\":1,\"readings\":[{\"bssid\":\"a\",\"rss\":-50}]}\n"                 // 3 x without y
+        "{\"rp\":\"A\",\"readings\":[{\"bssid\":\"a\",\"rss\":-50,\"snr\":3}]}\n"  // 4 unknown field
+        "{\"rp\":\"A\",\"readings\":[{\"bssid\":\"a\",\"rss\":-50},{\"bssid\":\"A\",\"rss\":-51}]}\n"  // 5 twice
+        "{\"rp\":\"A\",\"readings\":[{\"type\":\"lte\",\"bssid\":\"a\",\"rss\":-50}]}\n"               // 6 type
+        "{\"rp\":\"A\",\"readings\":[{\"bssid\":\"a\",\"rss\":-121}]}\n"                              // 7 range
+        "{\"readings\":[{\"bssid\":\"a\",\"rss\":-50}]}\n"                                             // 8 no place
+        "{\"rp\":\"A\",\"readings\":[{\"bssid\":\"a\",\"rss\":-50}]}\n";                               // 9 good
+    const auto f = parse(text, Format::JsonLines);
+    ASSERT_EQ(f.errors.size(), 8u);
+    for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(f.errors[i].line, i + 1);
+    ASSERT_EQ(f.rps.size(), 1u);
+    EXPECT_FALSE(f.rps[0].at.has_value());
+    EXPECT_EQ(f.scans, 1u);
+}
+
+TEST(SurveyFormat, CsvErrorsAndColumnOrder) {
+    const std::string text =
+        "bssid,rss,t,rp\n"
+        "a,-50,1,A\n"
+        "b,-60,1,A\n"
+        "a,-52,1,A\n"  // 4: a twice in the scan at t=1
+        "a,x,2,A\n"    // 5: rss not a number
+        "a,-50,2\n"    // 6: a cell short
+        "a,-54,2,A\n";
+    const auto f = parse(text, Format::Csv);
+    ASSERT_EQ(f.errors.size(), 3u);
+    EXPECT_EQ(f.errors[0].line, 4u);
+    EXPECT_EQ(f.errors[1].line, 5u);
+    EXPECT_EQ(f.errors[2].line, 6u);
+    ASSERT_EQ(f.rps.size(), 1u);
+    ASSERT_EQ(f.rps[0].scans.size(), 2u);
+    EXPECT_EQ(f.rps[0].scans[0].size(), 2u);
+    EXPECT_EQ(f.rps[0].scans[1].size(), 1u);
+    EXPECT_DOUBLE_EQ(f.rps[0].scans[1][0].rss, -54.0);
+}
+
+TEST(SurveyFormat, CsvWithoutUsableHeaderReadsNothing) {
+    const auto f = parse("rp,rss\nA,-50\n", Format::Csv);
+    ASSERT_FALSE(f.errors.empty());
+    EXPECT_EQ(f.errors[0].line, 1u);
+    EXPECT_TRUE(f.rps.empty());
+}
