@@ -1,5 +1,6 @@
 // `locus pdr ...`: step counting on accelerometer logs, the Oxford evaluation and tuning, and
 // dead-reckoned tracks from full IMU logs (formats in docs/pdr.md).
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -157,11 +158,26 @@ void install_eval(CLI::App& pdr) {
     auto opts = std::make_shared<DetectorOptions>();
     auto text = std::make_shared<bool>(false);
     cmd->add_option("DIR", *dir, "oxford-step-counter/optimisation folder")->required();
+    auto rate = std::make_shared<double>(0.0);
     cmd->add_flag("--text", *text, "a table instead of JSON");
+    cmd->add_option("--rate", *rate, "decimate every trace to about this rate first (Hz; 0 = as recorded)");
     opts->add(cmd);
     cmd->callback([=] {
         guarded([&] {
-            const auto traces = load_oxford(*dir);
+            auto traces = load_oxford(*dir);
+            if (*rate > 0.0)
+                for (auto& t : traces) {
+                    // Keep the first sample at or after each tick of the target rate: what a phone
+                    // delivering a slower sensor stream would have given, timestamps still irregular.
+                    std::vector<AccelSample> kept;
+                    double next = -1e300;
+                    for (const auto& s : t.samples)
+                        if (s.t_s >= next) {
+                            kept.push_back(s);
+                            next = std::max(next + 1.0 / *rate, s.t_s + 0.5 / *rate);
+                        }
+                    t.samples = std::move(kept);
+                }
             std::vector<const OxfordTrace*> ptrs;
             for (const auto& t : traces) ptrs.push_back(&t);
             const auto config = opts->get();
@@ -171,6 +187,7 @@ void install_eval(CLI::App& pdr) {
             } else {
                 auto j = summary_json(s, true);
                 j["config"] = config_json(config);
+                if (*rate > 0.0) j["decimated_to_hz"] = *rate;
                 std::cout << j.dump(1) << "\n";
             }
             return 0;
