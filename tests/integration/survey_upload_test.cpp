@@ -1,0 +1,215 @@
+// `locus survey upload/plan` and `locus export` against the real server: golden exports for
+// both file formats, re-uploads that change nothing, an interrupted upload resumed, malformed
+// lines skipped or (--strict) the whole file refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "server_process.hpp"
+
+using locus::testing::run_command;
+using locus::testing::ServerProcess;
+using nlohmann::json;
+
+namespace {
+
+const std::string kCli = LOCUS_CLI_BIN;
+std::string fixture(const std::string& name) { return std::string(LOCUS_TEST_FIXTURES) + "/survey/" + name; }
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// Header first, then the lines sorted: RP creation order depends on the upload threads.
+std::string sorted_lines(const std::string& text) {
+    std::vector<std::string> lines;
+    std::stringstream ss(text);
+    for (std::string l; std::getline(ss, l);) lines.push_back(l);
+    if (lines.size() > 1) std::sort(lines.begin() + 1, lines.end());
+    std::string out;
+    for (const auto& l : lines) out += l + "\n";
+    return out;
+}
+
+class SurveyUpload : public ::testing::Test {
+protected:
+    ServerProcess server{{"--quiet"}};
+    std::int64_t floor = 0;
+
+    void SetUp() override {
+        const auto map = server.post("/v1/maps", {{"name", "HQ"}});
+        ASSERT_EQ(map.status, 201) << map.raw;
+        const auto b = server.post("/v1/maps/" + std::to_string(map.body["id"].get<int>()) + "/buildings", {{"name", "Main"}});
+        ASSERT_EQ(b.status, 201) << b.raw;
+        const auto f = server.post("/v1/buildings/" + std::to_string(b.body["id"].get<int>()) + "/floors",
+                                   {{"name", "Ground"}, {"level", 0}, {"width", 10.0}, {"height", 6.0}});
+        ASSERT_EQ(f.status, 201) << f.raw;
+        floor = f.body["id"].get<std::int64_t>();
+    }
+
+    std::string radiomap(const std::string& name) {
+        const auto r = server.post("/v1/floors/" + std::to_string(floor) + "/radiomaps", {{"name", name}});
+        EXPECT_EQ(r.status, 201) << r.raw;
+        return std::to_string(r.body.value("id", 0));
+    }
+
+    locus::testing::CommandResult upload(const std::string& rm, std::vector<std::string> extra) {
+        std::vector<std::string> argv{kCli, "survey", "upload", "--server", server.url(), "--radiomap", rm, "--no-progress"};
+        argv.insert(argv.end(), extra.begin(), extra.end());
+        return run_command(argv);
+    }
+
+    std::string export_csv(const std::string& rm) {
+        const auto r = run_command({kCli, "export", "--server", server.url(), "--radiomap", rm, "--format", "csv"});
+        EXPECT_EQ(r.status, 0) << r.err;
+        return sorted_lines(r.out);
+    }
+};
+
+TEST_F(SurveyUpload, JsonLinesMatchesGoldenExport) {
+    const auto rm = radiomap("jsonl");
+    const auto r = upload(rm, {fixture("walk.jsonl")});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json s = json::parse(r.out);
+    EXPECT_EQ(s["rps"], 3);
+    EXPECT_EQ(s["created"], 3);
+    EXPECT_EQ(s["applied"], 3);
+    EXPECT_EQ(s["scans"], 6);
+    EXPECT_EQ(s["readings"], 9);
+    EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
+}
+
+TEST_F(SurveyUpload, CsvMatchesTheSameGoldenExport) {
+    const auto rm = radiomap("csv");
+    const auto r = upload(rm, {fixture("walk.csv")});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
+}
+
+TEST_F(SurveyUpload, SameFileTwiceDoesNotDoubleCount) {
+    const auto rm = radiomap("twice");
+    ASSERT_EQ(upload(rm, {fixture("walk.jsonl")}).status, 0);
+    const auto again = upload(rm, {fixture("walk.jsonl")});
+    ASSERT_EQ(again.status, 0) << again.err;
+    const json s = json::parse(again.out);
+    EXPECT_EQ(s["created"], 0);
+    EXPECT_EQ(s["applied"], 0);
+    EXPECT_EQ(s["already_uploaded"], 3);
+    EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
+    // The same scans as CSV are another file: the server merges them (twice the samples).
+    ASSERT_EQ(upload(rm, {fixture("walk.csv")}).status, 0);
+    const auto rps = server.get("/v1/radiomaps/" + rm + "/export").body["rps"];
+    std::int64_t scans = 0;
+    for (const auto& rp : rps) scans += rp["scans"].get<std::int64_t>();
+    EXPECT_EQ(scans, 12);
+}
+
+TEST_F(SurveyUpload, InterruptedUploadResumesToTheCleanResult) {
+    const auto rm = radiomap("resumed");
+    const auto cut = upload(rm, {"--concurrency", "1", "--stop-after", "1", fixture("walk.jsonl")});
+    EXPECT_EQ(cut.status, 3) << cut.err;
+    EXPECT_EQ(json::parse(cut.out)["applied"], 1);
+    EXPECT_EQ(server.get("/v1/radiomaps/" + rm + "/rps").body["total"], 1);
+    const auto rest = upload(rm, {fixture("walk.jsonl")});
+    ASSERT_EQ(rest.status, 0) << rest.err;
+    const json s = json::parse(rest.out);
+    EXPECT_EQ(s["applied"], 2);
+    EXPECT_EQ(s["already_uploaded"], 1);
+    EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
+}
+
+TEST_F(SurveyUpload, UploadSurvivesAServerRestartMidway) {
+    // The server dies after the first RPs; the re-run against the restarted server completes.
+    const auto rm = radiomap("killed");
+    ASSERT_EQ(upload(rm, {"--concurrency", "1", "--stop-after", "2", fixture("walk.jsonl")}).status, 3);
+    server.kill9();
+    const auto down = upload(rm, {"--retries", "2", fixture("walk.jsonl")});
+    EXPECT_NE(down.status, 0);
+    server.start();
+    const auto rest = run_command({kCli, "survey", "upload", "--server", server.url(), "--radiomap", rm, "--no-progress",
+                                   fixture("walk.jsonl")});
+    ASSERT_EQ(rest.status, 0) << rest.err;
+    EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
+}
+
+TEST_F(SurveyUpload, MalformedLinesAreSkippedWithTheirLineNumbers) {
+    const auto rm = radiomap("lenient");
+    const auto r = upload(rm, {fixture("walk_malformed.jsonl")});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("walk_malformed.jsonl:3:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("walk_malformed.jsonl:5:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("walk_malformed.jsonl:7:"), std::string::npos) << r.err;
+    EXPECT_EQ(json::parse(r.out)["malformed_lines"], 3);
+    EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
+}
+
+TEST_F(SurveyUpload, StrictRefusesTheWholeFile) {
+    const auto rm = radiomap("strict");
+    const auto r = upload(rm, {"--strict", fixture("walk_malformed.jsonl"), fixture("walk.csv")});
+    EXPECT_EQ(r.status, 2) << r.err;
+    const json s = json::parse(r.out);
+    EXPECT_EQ(s["refused_files"], 1);
+    EXPECT_TRUE(s["files"][0]["refused"].get<bool>());
+    // Only walk.csv went in.
+    EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
+}
+
+TEST_F(SurveyUpload, ExportJsonReimportsToTheSameRadioMap) {
+    const auto rm = radiomap("source");
+    ASSERT_EQ(upload(rm, {fixture("walk.jsonl")}).status, 0);
+    const auto r = run_command({kCli, "export", "--server", server.url(), "--radiomap", rm, "--format", "json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    json doc = json::parse(r.out);
+    EXPECT_EQ(doc["format"], "locus-radiomap/1");
+    doc["name"] = "copy";
+    doc.erase("floor_id");
+    const auto imported = server.post("/v1/floors/" + std::to_string(floor) + "/radiomaps/import", doc);
+    ASSERT_EQ(imported.status, 201) << imported.raw;
+    EXPECT_EQ(export_csv(std::to_string(imported.body["id"].get<int>())), sorted_lines(slurp(fixture("walk_export.csv"))));
+}
+
+TEST_F(SurveyUpload, PlanSkipsPointsOutsideRoomsAndCreatesOnce) {
+    ASSERT_EQ(server.post("/v1/floors/" + std::to_string(floor) + "/rooms",
+                          {{"name", "left"}, {"rects", {{{"xmin", 0}, {"ymin", 0}, {"xmax", 6}, {"ymax", 6}}}}})
+                  .status,
+              201);
+    const auto rm = radiomap("grid");
+    std::vector<std::string> argv{kCli, "survey", "plan", "--server", server.url(), "--floor", std::to_string(floor),
+                                  "--cell", "2", "--radiomap", rm, "--create"};
+    const auto r = run_command(argv);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json p = json::parse(r.out);
+    EXPECT_EQ(p["required_points"], 15);  // ceil(10 · 6 / 2²)
+    EXPECT_EQ(p["proposed"], 9);
+    EXPECT_EQ(p["outside_rooms"], 6);
+    EXPECT_EQ(p["created"], 9);
+    const auto again = run_command(argv);
+    ASSERT_EQ(again.status, 0) << again.err;
+    EXPECT_EQ(json::parse(again.out)["created"], 0);
+    EXPECT_EQ(server.get("/v1/radiomaps/" + rm + "/rps").body["total"], 9);
+}
+
+TEST_F(SurveyUpload, ApiKeyFromTheEnvironment) {
+    ServerProcess secured{{"--quiet", "--api-key", "s3cret"}};
+    secured.set_api_key("s3cret");
+    const auto map = secured.post("/v1/maps", {{"name", "K"}});
+    const auto b = secured.post("/v1/maps/" + std::to_string(map.body["id"].get<int>()) + "/buildings", {{"name", "B"}});
+    const auto f = secured.post("/v1/buildings/" + std::to_string(b.body["id"].get<int>()) + "/floors",
+                                {{"name", "F"}, {"level", 0}, {"width", 10.0}, {"height", 6.0}});
+    const auto rm = secured.post("/v1/floors/" + std::to_string(f.body["id"].get<int>()) + "/radiomaps", {{"name", "R"}});
+    ASSERT_EQ(rm.status, 201) << rm.raw;
+    const std::vector<std::string> argv{kCli, "survey", "upload", "--server", secured.url(), "--radiomap",
+                                        std::to_string(rm.body["id"].get<int>()), "--no-progress", fixture("walk.jsonl")};
+    const auto denied = run_command(argv);
+    EXPECT_NE(denied.status, 0);
+    EXPECT_NE(denied.err.find("Bearer"), std::string::npos) << denied.err;
+    const auto ok = run_command(argv, {"LOCUS_API_KEY=s3cret"});
+    EXPECT_EQ(ok.status, 0) << ok.err;
+}
+
+}  // namespace
