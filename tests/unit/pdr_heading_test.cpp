@@ -51,14 +51,21 @@ TEST(Compass, HandComputedFlatCases) {
     EXPECT_NEAR(*a, -kPi / 2, 1e-12);
 }
 
-TEST(Compass, FlatTiltedAndUpsideDown) {
-    for (double psi : {0.0, 30.0, 90.0, 179.0, -135.0, -60.0}) {
-        for (double pitch : {0.0, 25.0, -40.0, 60.0}) {
-            for (double roll : {0.0, 20.0, -35.0, 180.0}) {
-                const Mat r = pose(deg(psi), deg(pitch), deg(roll));
-                const auto a = compass_azimuth(gravity_reading(r), field_reading(r));
-                ASSERT_TRUE(a);
-                EXPECT_LT(angle_diff(*a, deg(psi)), 1e-9) << psi << " " << pitch << " " << roll;
+TEST(Compass, FlatTiltedAndUpsideDownInSeveralFields) {
+    // Equator (horizontal field), Europe (dip 63°), near the pole (dip 80°), southern
+    // hemisphere (field pointing up), and a weak 25 µT field.
+    const Vec3 fields[] = {{0, 35, 0}, kField, {0, 50 * std::cos(deg(80)), -50 * std::sin(deg(80))},
+                           {0, 30 * std::cos(deg(50)), 30 * std::sin(deg(50))}, {0, 12, -21.9}};
+    for (const Vec3& f : fields) {
+        for (double psi : {0.0, 30.0, 90.0, 179.0, -135.0, -60.0}) {
+            for (double pitch : {0.0, 25.0, -40.0, 60.0}) {
+                for (double roll : {0.0, 20.0, -35.0, 180.0}) {
+                    const Mat r = pose(deg(psi), deg(pitch), deg(roll));
+                    const auto a = compass_azimuth(gravity_reading(r), to_device(r, f));
+                    ASSERT_TRUE(a);
+                    EXPECT_LT(angle_diff(*a, deg(psi)), 1e-9)
+                        << psi << " " << pitch << " " << roll << " field " << f.y << "," << f.z;
+                }
             }
         }
     }

@@ -151,3 +151,19 @@ TEST(Pipeline, DelayedBoutStepsUseTheHeadingAtTheirTime) {
     EXPECT_NEAR(p.tracker().position().y, 2 * 0.7, 0.15);
     EXPECT_NEAR(p.tracker().position().x, 18 * 0.7, 0.15);
 }
+
+TEST(Pipeline, PlatformStepsUseTheCurrentHeading) {
+    PipelineConfig pc;
+    pc.start = {1, 1};
+    pc.start_heading_rad = kPi / 2;  // no compass yet: the start heading is used
+    pc.step_length.kind = StepLengthKind::constant;
+    pc.step_length.constant_m = 0.5;
+    Pipeline p(pc);
+    auto tp = p.push_platform_step(0.5);
+    EXPECT_NEAR(tp.position.x, 1.5, 1e-12);
+    EXPECT_NEAR(tp.position.y, 1.0, 1e-12);
+    tp = p.push_platform_step(1.0);
+    EXPECT_NEAR(tp.position.x, 2.0, 1e-12);
+    EXPECT_EQ(p.tracker().steps(), 2u);
+    EXPECT_EQ(p.step_detector().steps(), 2u);
+}
