@@ -259,3 +259,15 @@ TEST(FloorDetection, BayesPicksTheFloorByPosteriorMass) {
     EXPECT_EQ(r->rp_ids, (std::vector<long long>{1, 2}));  // tied MAP within the floor
     EXPECT_EQ(r->candidates.front().rp_id, 3);
 }
+
+TEST(Bayes, ZeroVarianceAndZeroFloorStayFinite) {
+    // One sample per AP gives variance 0; a zero floor must not divide by it.
+    const Index idx = Index::build({rp(1, {0, 0}, {m("a", -50, 0.0, 1)}), rp(2, {6, 0}, {m("a", -60, 0.0, 1)})});
+    Options o;
+    o.sigma_floor = 0.0;
+    const auto r = localize(idx, query({{"a", -51}}), Algorithm::bayes, o);
+    ASSERT_TRUE(r);
+    EXPECT_TRUE(std::isfinite(r->score));
+    EXPECT_TRUE(std::isfinite(r->at.x));
+    EXPECT_EQ(r->rp_ids.front(), 1);
+}

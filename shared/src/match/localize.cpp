@@ -74,7 +74,9 @@ thread_local Scratch t_scratch;
 std::optional<Result> localize(const Index& index, const Query& query, Algorithm algorithm, const Options& options) {
     const int rep = static_cast<int>(options.representation);
     const IndexParams& params = index.params();
-    const double sigma2_floor = options.sigma_floor * options.sigma_floor;
+    // A zero floor would divide by the zero variance of an AP sampled once.
+    const double sigma_floor = std::max(options.sigma_floor, 0.1);
+    const double sigma2_floor = sigma_floor * sigma_floor;
     const double log_sigma2_floor = std::log(sigma2_floor);
     const double n_online = static_cast<double>(query.aps.size());
 

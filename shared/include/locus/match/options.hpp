@@ -28,6 +28,7 @@ struct Options {
     Distance distance = Distance::sorensen;
     // bayes: the stored standard deviation is raised to at least this (dB). A few scans per
     // RP underestimate the spread another phone sees; 8 dB did best on held-out users.
+    // Values below 0.1 dB are treated as 0.1.
     double sigma_floor = 8.0;
     BayesEstimate estimate = BayesEstimate::mean;
     // bayes: posterior ∝ exp(log-likelihood / temperature). Summing per-AP log-likelihoods
