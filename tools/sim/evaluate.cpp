@@ -12,12 +12,13 @@ std::vector<PdrStep> run_pdr(const Walk& walk, pdr::PipelineConfig config) {
     config.start = walk.start;
     config.start_heading_rad = walk.start_heading_rad;
     config.heading.north_offset_deg = walk.north_offset_deg;
+    if (walk.earth_field_ut) config.heading.expected_field_ut = *walk.earth_field_ut;
     pdr::Pipeline pipeline(config);
     std::vector<PdrStep> steps;
     for (const ImuSample& s : walk.imu) {
         pipeline.push_gyro(s.t_s, s.gyro);
         pipeline.push_mag(s.t_s, s.mag);
-        if (auto p = pipeline.push_accel(s.t_s, s.acc)) steps.push_back({p->t_s, p->step_length_m, p->heading_rad});
+        if (auto p = pipeline.push_accel(s.t_s, s.acc)) steps.push_back({p->t_s, p->step_length_m, p->heading_rad, p->magnetic_disturbance});
     }
     return steps;
 }
@@ -140,7 +141,7 @@ std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std
         replay_events(
             steps, fixes,
             [&](const PdrStep& s) {
-                pf.predict(s.length_m, s.heading_rad);
+                pf.predict(s.length_m, s.heading_rad, s.magnetic_disturbance);
                 track.push_back({s.t_s, pf.position()});
             },
             [&](const Fix& f) {

@@ -21,6 +21,7 @@ struct PdrStep {
     double t_s = 0.0;
     double length_m = 0.0;
     double heading_rad = 0.0;
+    bool magnetic_disturbance = false;  // the PDR's own flag: its heading ran on the gyro alone
 };
 
 struct Fix {

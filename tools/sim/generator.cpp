@@ -8,7 +8,6 @@
 #include <random>
 
 #include "locus/pdr/heading_convention.hpp"
-#include "locus/pdr/step_length.hpp"
 #include "sim/environment.hpp"
 
 namespace locus::sim {
@@ -85,26 +84,30 @@ Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
     walk.start = sc.path.front();
     walk.north_offset_deg = sc.north_offset_deg;
     walk.map = sc.map;
+    walk.earth_field_ut = std::hypot(sc.earth_horizontal_ut, sc.earth_vertical_ut);
     const HeadingProfile heading(sc.path);
     walk.start_heading_rad = heading.at(0.0);
 
     // The person and the phone of this walk.
-    const double mean_length = cfg.step_length_m * (1.0 + cfg.step_length_person_sigma * n01(rng));
-    const double frequency = cfg.step_frequency_hz * (1.0 + 0.04 * n01(rng));
-    const double k_person = pdr::kWeinbergK * (1.0 + cfg.weinberg_k_sigma * n01(rng));
+    // Person draws are truncated at ±2σ: a 3σ gait would be a shuffle or a stomp.
+    auto draw2 = [&] { return std::clamp(n01(rng), -2.0, 2.0); };
+    const double mean_length = cfg.step_length_m * (1.0 + cfg.step_length_person_sigma * draw2());
+    const double frequency = cfg.step_frequency_hz * (1.0 + 0.04 * draw2());
+    const double bounce = cfg.bounce_p2p * std::exp(cfg.bounce_log_sigma * draw2());
     const Eigen::Vector3d acc_bias = cfg.acc_bias_sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
     const Eigen::Vector3d gyro_bias = cfg.gyro_bias_sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
     const double device_offset = cfg.device_offset_sigma_db * n01(rng);
+    const double misalignment = cfg.misalignment_sigma_rad * n01(rng);
 
-    // Steps: each a full cycle of vertical bounce whose peak-to-peak, through Weinberg's
-    // relation with this person's K, matches the step's true length.
+    // Steps: each a full cycle of vertical bounce; a longer step bounces more, with the
+    // fourth power of Weinberg's relation.
     const double total = sc.path_length_m();
     std::vector<PlannedStep> steps;
     double t = cfg.stand_before_s, s = 0.0;
     while (s < total - 1e-9) {
         const double length = std::min(total - s, mean_length * (1.0 + cfg.step_length_sigma * n01(rng)));
         const double duration = (1.0 / frequency) * (1.0 + 0.03 * n01(rng));
-        const double amplitude = 0.5 * std::pow(length / k_person, 4.0);
+        const double amplitude = 0.5 * bounce * std::pow(length / mean_length, 4.0);
         steps.push_back({t, duration, s, length, amplitude});
         t += duration;
         s += length;
@@ -134,7 +137,7 @@ Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
             pitch[k] = 0.1;  // held tilted ~6° towards the user
         }
         arc[k] = sk;
-        yaw[k] = heading.at(sk);
+        yaw[k] = heading.at(sk) + misalignment;
     }
 
     walk.imu.reserve(n);
@@ -154,8 +157,9 @@ Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
         const Eigen::Matrix3d ry = Eigen::AngleAxisd(roll[k], Eigen::Vector3d::UnitY()).toRotationMatrix();
         const Eigen::Matrix3d r_wd = rz * rx * ry;
 
-        const Eigen::Vector3d forward(std::sin(yaw[k]), std::cos(yaw[k]), 0.0);
-        const Eigen::Vector3d right(std::cos(yaw[k]), -std::sin(yaw[k]), 0.0);
+        const double walking = yaw[k] - misalignment;
+        const Eigen::Vector3d forward(std::sin(walking), std::cos(walking), 0.0);
+        const Eigen::Vector3d right(std::cos(walking), -std::sin(walking), 0.0);
         const Eigen::Vector3d specific_force = fwd[k] * forward + lat[k] * right + Eigen::Vector3d(0, 0, kG + vert[k]);
         const Eigen::Vector3d omega = ry.transpose() * rx.transpose() * Eigen::Vector3d(0, 0, -yaw_rate) +
                                       ry.transpose() * Eigen::Vector3d(pitch_rate, 0, 0) +

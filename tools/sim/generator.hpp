@@ -19,9 +19,13 @@ struct SimConfig {
     double step_length_person_sigma = 0.05;  // spread of the person's mean step length
     double step_length_sigma = 0.04;         // relative step-to-step spread
     double step_frequency_hz = 1.8;
-    // Weinberg constant of this person relative to the PDR default (their bounce per metre
-    // of step): relative spread, so the PDR's step length is off by a few % per person.
-    double weinberg_k_sigma = 0.06;
+    // Vertical bounce of this person's steps (peak-to-peak, m/s², phone in hand): log-normal
+    // around this, independent of their step length, so the PDR's Weinberg length is off by
+    // a few % per person, as an uncalibrated K is.
+    double bounce_p2p = 3.6;
+    double bounce_log_sigma = 0.2;
+    // The phone is never held exactly along the walking direction: a per-walk yaw offset.
+    double misalignment_sigma_rad = 0.12;  // ≈ 7°
     // Sensors.
     double acc_noise = 0.08;        // m/s² per sample
     double acc_bias_sigma = 0.05;   // m/s² per axis, per walk

@@ -42,8 +42,9 @@ Scenario make_ground() {
     s.aps = {{bssid(0, 1), {1.0, 9.5}, -38.0},  {bssid(0, 2), {11.0, 9.0}, -40.0}, {bssid(0, 3), {3.5, 1.0}, -41.0},
              {bssid(0, 4), {13.0, 5.8}, -39.0}, {bssid(0, 5), {17.5, 1.5}, -42.0}, {bssid(0, 6), {26.5, 3.0}, -40.0},
              {bssid(0, 7), {26.0, 5.5}, -38.0}, {bssid(0, 8), {9.0, 2.0}, -43.0}};
-    s.structure_deflection_rad = 4.0 * std::numbers::pi / 180.0;
-    s.structure_norm_ripple = 0.02;
+    // Reinforced concrete, radiators, desks: the compass is bent by ~10° here and there.
+    s.structure_deflection_rad = 10.0 * std::numbers::pi / 180.0;
+    s.structure_norm_ripple = 0.03;
     s.environment_seed = 1001;
     s.rps = points_along(s.path, 2.0);
     return s;

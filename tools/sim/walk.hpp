@@ -41,6 +41,9 @@ struct Walk {
     Point start;
     double start_heading_rad = 0.0;
     double north_offset_deg = 0.0;
+    // |B| of the undisturbed geomagnetic field here (a world magnetic model gives it from
+    // the building's location), so the PDR can tell a disturbed field from the first second.
+    std::optional<double> earth_field_ut;
     std::optional<fusion::Walkable> map;  // rooms and doors, when known
     std::vector<SurveyPoint> survey;
     std::vector<ImuSample> imu;

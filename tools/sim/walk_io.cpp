@@ -71,6 +71,7 @@ void write_walk(std::ostream& out, const Walk& walk) {
                    {"start_heading_rad", walk.start_heading_rad},
                    {"north_offset_deg", walk.north_offset_deg}};
     if (walk.map) header["floor"] = floor_json(*walk.map);
+    if (walk.earth_field_ut) header["earth_field_ut"] = *walk.earth_field_ut;
     out << header.dump() << '\n';
     for (const SurveyPoint& sp : walk.survey) {
         json scans = json::array();
@@ -115,6 +116,7 @@ Walk read_walk(std::istream& in) {
                 walk.start_heading_rad = o.value("start_heading_rad", 0.0);
                 walk.north_offset_deg = o.value("north_offset_deg", 0.0);
                 if (o.contains("floor")) walk.map = floor_of(o.at("floor"));
+                if (o.contains("earth_field_ut")) walk.earth_field_ut = o.at("earth_field_ut").get<double>();
                 header = true;
             } else if (!header) {
                 throw std::runtime_error("the first line must be the header");
