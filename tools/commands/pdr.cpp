@@ -62,6 +62,7 @@ struct DetectorOptions {
             ->capture_default_str();
         cmd->add_option("--hysteresis", config.hysteresis, "fraction of the threshold to confirm an extremum")
             ->capture_default_str();
+        cmd->add_option("--min-peak-to-valley", config.min_peak_to_valley_s, "s")->capture_default_str();
         cmd->add_option("--max-peak-to-valley", config.max_peak_to_valley_s, "s")->capture_default_str();
         cmd->add_option("--min-step-interval", config.min_step_interval_s, "s")->capture_default_str();
         cmd->add_option("--bout-steps", config.bout_steps, "regular candidates that start a walking bout (≤ 1: off)")

@@ -16,9 +16,9 @@ double HeadingEstimator::offset_rad() const {
     return config_.north_offset_deg * std::numbers::pi / 180.0 + calibration_rad_;
 }
 
-void HeadingEstimator::push_accel(double t_s, Vec3 a) {
+void HeadingEstimator::push_accel(double, Vec3 a) {  // time unused: the low-pass is per sample (seed 000)
     gravity_lp_.push(a);
-    if (mag_lp_.ready()) update_compass(t_s);
+    if (mag_lp_.ready()) update_compass();
 }
 
 void HeadingEstimator::push_mag(double t_s, Vec3 m) {
@@ -35,11 +35,10 @@ void HeadingEstimator::push_mag(double t_s, Vec3 m) {
     }
     field_bad_ = field_norm_ > 0.0 && std::abs(n - field_norm_) > config_.field_tolerance * field_norm_;
     disturbed_ = field_bad_ || disagree_;
-    if (gravity_lp_.ready()) update_compass(t_s);
+    if (gravity_lp_.ready()) update_compass();
 }
 
-void HeadingEstimator::update_compass(double t_s) {
-    (void)t_s;
+void HeadingEstimator::update_compass() {
     const auto az = compass_azimuth(gravity_lp_.value(), mag_lp_.value());
     if (!az) return;
     compass_ = *az;

@@ -14,7 +14,7 @@ StepDetectorConfig::StepDetectorConfig()
       threshold_factor(kDefaultThresholdFactor),
       rms_tau_s(kDefaultRmsTauS),
       hysteresis(kDefaultHysteresis),
-      min_peak_to_valley_s(0.05),
+      min_peak_to_valley_s(kDefaultMinPeakToValleyS),
       max_peak_to_valley_s(kDefaultMaxPeakToValleyS),
       min_step_interval_s(kDefaultMinStepIntervalS),
       max_gap_s(kDefaultMaxGapS),

@@ -19,7 +19,8 @@ struct HeadingConfig {
     // Disturbance: |B| more than this fraction away from the local norm...
     double field_tolerance = 0.15;
     // ...or the compass turned by more than this many radians more/less than the gyro over
-    // the last disagreement_window_s.
+    // the last disagreement_window_s (consecutive windows; the flag clears after a window in
+    // which they agree, so the compass swinging back after a disturbance is not trusted either).
     double disagreement_rad = 0.35;     // 20°
     double disagreement_window_s = 1.0;
     // Local field norm in µT; 0 = learn it from the first learn_s seconds of magnetometer data.
@@ -50,7 +51,7 @@ public:
     void set_heading(double floor_heading_rad);
 
 private:
-    void update_compass(double t_s);
+    void update_compass();
     double offset_rad() const;
 
     HeadingConfig config_;
