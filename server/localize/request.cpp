@@ -43,7 +43,8 @@ match::Options parse_options(const json& body) {
     const json& j = body.at("options");
     if (!j.is_object()) throw invalid_field("'options' must be an object");
     static const std::initializer_list<const char*> known = {"k", "tolerance", "gamma", "near", "representation",
-                                                              "distance", "sigma_floor", "estimate", "candidates"};
+                                                              "distance", "sigma_floor", "estimate", "candidates",
+                                                              "temperature", "offset_sigma"};
     for (const auto& [key, value] : j.items()) {
         bool ok = false;
         for (const char* k : known) ok = ok || key == k;
@@ -54,6 +55,8 @@ match::Options parse_options(const json& body) {
     o.tolerance = bounded_number(j, "tolerance", 0.0, 10.0, o.tolerance);
     o.gamma = bounded_number(j, "gamma", 0.0, 1000.0, o.gamma);
     o.sigma_floor = bounded_number(j, "sigma_floor", 0.1, 60.0, o.sigma_floor);
+    o.temperature = bounded_number(j, "temperature", 0.01, 1000.0, o.temperature);
+    o.offset_sigma = bounded_number(j, "offset_sigma", 0.0, 60.0, o.offset_sigma);
     o.representation = parse_enum(j, "representation", match::parse_representation, o.representation);
     o.distance = parse_enum(j, "distance", match::parse_distance, o.distance);
     o.estimate = parse_enum(j, "estimate", match::parse_bayes_estimate, o.estimate);

@@ -10,8 +10,9 @@
 
 namespace locus::localize {
 
-// The matcher used when a request names none: the most accurate on UJIIndoorLoc held-out users.
-inline constexpr match::Algorithm kDefaultAlgorithm = match::Algorithm::wknn;
+// The matcher used when a request names none: the most accurate on UJIIndoorLoc held-out
+// users (docs/matchers.md).
+inline constexpr match::Algorithm kDefaultAlgorithm = match::Algorithm::bayes;
 
 struct LocalizeRequest {
     match::Algorithm algorithm = kDefaultAlgorithm;
