@@ -125,7 +125,7 @@ std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std
             steps, fixes,
             [&](const PdrStep& s) {
                 const Point d = pdr::step({0.0, 0.0}, s.length_m, s.heading_rad);
-                kf.predict(d);
+                kf.predict(d, s.magnetic_disturbance);
                 track.push_back({s.t_s, kf.position()});
             },
             [&](const Fix& f) {

@@ -53,7 +53,7 @@ struct Score {
 struct EvalConfig {
     match::Algorithm algorithm = match::Algorithm::wknn;
     match::Options match_options;
-    double fix_sigma_floor_m = 1.5;  // floor of the fix σ per axis (Kalman R, particle likelihood)
+    double fix_sigma_floor_m = 1.0;  // floor of the fix σ per axis (Kalman R, particle likelihood)
     fusion::RuleParams rules;
     fusion::KalmanConfig kalman;
     fusion::ParticleConfig particle;

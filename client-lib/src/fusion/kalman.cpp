@@ -9,10 +9,12 @@ namespace locus::fusion {
 KalmanFilter::KalmanFilter(Point start, const KalmanConfig& config)
     : config_(config), x_(start.x, start.y), p_(Eigen::Matrix2d::Identity() * config.initial_sigma_m * config.initial_sigma_m) {}
 
-void KalmanFilter::predict(Point displacement) {
+void KalmanFilter::predict(Point displacement, bool magnetic_disturbance) {
     x_ += Eigen::Vector2d(displacement.x, displacement.y);
     const double length = std::hypot(displacement.x, displacement.y);
-    const double sigma = config_.step_sigma_floor_m + config_.step_sigma_per_m * length;
+    const double per_m = magnetic_disturbance ? std::max(config_.step_sigma_per_m, config_.disturbed_sigma_per_m)
+                                              : config_.step_sigma_per_m;
+    const double sigma = config_.step_sigma_floor_m + per_m * length;
     p_ += Eigen::Matrix2d::Identity() * sigma * sigma;
 }
 
