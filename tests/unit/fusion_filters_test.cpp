@@ -119,6 +119,8 @@ TEST(Kalman, ConvergesFromAWrongStartOnAStraightCorridor) {
     // fixes every 5 steps with 1.5 m noise. The start error must be forgotten.
     KalmanConfig c;
     c.initial_sigma_m = 5.0;
+    c.step_sigma_floor_m = 0.05;  // Q as honest as the PDR here
+    c.step_sigma_per_m = 0.05;
     KalmanFilter kf({6.0, 1.0}, c);
     std::mt19937_64 rng(13);
     std::normal_distribution<double> fix_noise(0.0, 1.5), step_noise(0.0, 0.05);
