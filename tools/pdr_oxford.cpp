@@ -56,6 +56,25 @@ long debounced_foot_switch_steps(const std::string& path) {
     return n;
 }
 
+long alternating_foot_switch_steps(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) return 0;
+    std::string line;
+    long n = 0;
+    int p1 = -1, p2 = -1, last_foot = 0;
+    while (std::getline(in, line)) {
+        long long ns = 0;
+        int f1 = 0, f2 = 0;
+        if (std::sscanf(line.c_str(), "%lld,%d,%d", &ns, &f1, &f2) != 3) continue;
+        for (int foot : {1, 2}) {
+            const bool rise = foot == 1 ? (p1 == 0 && f1 == 1) : (p2 == 0 && f2 == 1);
+            if (rise && foot != last_foot) ++n, last_foot = foot;
+        }
+        p1 = f1, p2 = f2;
+    }
+    return n;
+}
+
 }  // namespace
 
 std::vector<OxfordTrace> load_oxford(const std::string& dir_in) {
@@ -80,6 +99,7 @@ std::vector<OxfordTrace> load_oxford(const std::string& dir_in) {
         t.true_steps = std::stol(f[6]);
         t.samples = read_accel_log((dir / "data" / t.name / "accelerometer.csv").string());
         t.debounced_steps = debounced_foot_switch_steps((dir / "data" / t.name / "stepcounter.csv").string());
+        t.alternating_steps = alternating_foot_switch_steps((dir / "data" / t.name / "stepcounter.csv").string());
         out.push_back(std::move(t));
     }
     if (out.empty()) throw std::runtime_error("no traces listed in " + (dir / "stats.csv").string());

@@ -21,6 +21,11 @@ struct OxfordTrace {
     // counted one: some traces (the arm ones especially) have switch bounces 0.2–0.3 s apart
     // that no walking cadence explains. Reported beside the official error, never tuned on.
     long debounced_steps = 0;
+    // Foot-switch rises counted only when the foot differs from the previous rise's: one foot
+    // cannot land twice without the other landing in between, so a same-foot repeat is a bounce.
+    // Parameter-free cross-check of the debounced figure (they agree within 1 step on both
+    // swinging-arm traces); reported, never tuned on.
+    long alternating_steps = 0;
     std::vector<AccelSample> samples;
 };
 
