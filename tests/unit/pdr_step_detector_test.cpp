@@ -178,3 +178,66 @@ TEST(StepDetector, PlatformStepsCount) {
     EXPECT_DOUBLE_EQ(e2.t_s, 1.5);
     EXPECT_DOUBLE_EQ(e1.amplitude(), 0.0);  // no accelerometer step seen yet
 }
+
+namespace {
+
+// Phone in a hand swinging like a pendulum from the shoulder: arm angle φ = φ0 sin(ωt) at the
+// stride frequency (half the step rate), plus the body's bounce at the step rate and a
+// stride-rate vertical sway that makes alternate bumps unequal. The accelerometer reads the hand's
+// specific force (kinematic acceleration plus g upwards) in a device frame that turns with the
+// arm. Returns the detector's count for `strides` strides (2 steps each).
+std::uint64_t swinging_arm(double rate_hz, int strides, double sway, const StepDetectorConfig& c = {}) {
+    StepDetector d(c);
+    const double L = 0.65, phi0 = 0.6, f_stride = 0.925, bounce = 1.0;
+    const double w = 2.0 * kPi * f_stride;
+    const double start = 1.5, end_walk = start + strides / f_stride, end = end_walk + 1.5;
+    for (double t = 0.0; t < end; t += 1.0 / rate_hz) {
+        double phi = 0.0, fx = 0.0, fz = kG;  // world: x forward, z up
+        if (t > start && t < end_walk) {
+            const double u = w * (t - start);
+            phi = phi0 * std::sin(u);
+            const double dphi = phi0 * w * std::cos(u), ddphi = -phi0 * w * w * std::sin(u);
+            // Hand at L·(sin φ, −cos φ) from the shoulder.
+            fx = L * (ddphi * std::cos(phi) - dphi * dphi * std::sin(phi));
+            fz += L * (ddphi * std::sin(phi) + dphi * dphi * std::cos(phi));
+            fz += bounce * std::cos(2.0 * u) + sway * std::sin(u);
+        }
+        // Device y along the arm towards the shoulder, x forward across it.
+        const double ax = fx * std::cos(phi) + fz * std::sin(phi);
+        const double ay = -fx * std::sin(phi) + fz * std::cos(phi);
+        d.push(t, ax, ay, 0.0);
+    }
+    while (d.poll()) {
+    }
+    return d.steps();
+}
+
+}  // namespace
+
+// The pendulum's centripetal term L·φ'² peaks twice per swing, so |a| varies at the step rate
+// even though the arm swings at the stride rate: the peak detector must count steps, not strides
+// (a stride-rate count would be ~50 here). ±2 allows for the abrupt start and end of the swing.
+TEST(StepDetector, SwingingArmCountsStepsNotStrides) {
+    for (double rate : {50.0, 100.0, 400.0}) {
+        for (double sway : {0.0, 1.5}) {
+            const auto n = swinging_arm(rate, 50, sway);
+            EXPECT_NEAR(static_cast<double>(n), 100.0, 2.0) << rate << " Hz, sway " << sway;
+        }
+    }
+}
+
+// The gravity-aligned vertical signal: the low-passed gravity averages the arm's turning away,
+// so the projection also varies at the step rate.
+TEST(StepDetector, SwingingArmVerticalSignalAlsoCountsSteps) {
+    StepDetectorConfig c;
+    c.signal = StepSignal::vertical;
+    EXPECT_NEAR(static_cast<double>(swinging_arm(100.0, 50, 1.5, c)), 100.0, 2.0);
+}
+
+// Control: the same signal with steps forbidden closer than 0.6 s (between the 0.54 s step and
+// the 1.08 s stride) counts one per stride, so the test above does tell steps from strides.
+TEST(StepDetector, SwingingArmAtStrideRateWhenStepsAreForbidden) {
+    StepDetectorConfig c;
+    c.min_step_interval_s = 0.6;
+    EXPECT_NEAR(static_cast<double>(swinging_arm(100.0, 50, 1.5, c)), 50.0, 2.0);
+}
