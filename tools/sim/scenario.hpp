@@ -43,7 +43,7 @@ struct Scenario {
     double wall_loss_db = 4.0;
     double shadowing_sigma_db = 4.0;    // static, spatially smooth, per AP
     double shadowing_scale_m = 4.0;     // correlation length of the shadowing
-    double noise_sigma_db = 3.0;        // per reading
+    double noise_sigma_db = 5.0;        // per reading
     double sensitivity_dbm = -92.0;     // weaker readings are not reported
     double miss_probability = 0.1;      // an audible AP is still missing from a scan
 
