@@ -161,6 +161,7 @@ Options bayes(double sigma_floor, BayesEstimate e, int k = 2) {
     o.sigma_floor = sigma_floor;
     o.estimate = e;
     o.k = k;
+    o.bayes_k = 0;  // k above
     o.temperature = 1.0;
     o.offset_sigma = 0.0;
     return o;
@@ -253,6 +254,7 @@ TEST(FloorDetection, BayesPicksTheFloorByPosteriorMass) {
                                     rp(3, {2, 0}, {m("a", -50, 4.0)}, 20)},
                                    bayes_params());
     Options o = bayes(1.0, BayesEstimate::map);
+    o.floor_knn = 0;
     const auto r = localize(idx, query({{"a", -50}}), Algorithm::bayes, o);
     // Per RP: ll = ln .98 − ½ln(8π) − d²/8, so floor 10 holds 2·e^(−1/8) > 1.
     EXPECT_EQ(r->floor_id, 10);
@@ -270,4 +272,69 @@ TEST(Bayes, ZeroVarianceAndZeroFloorStayFinite) {
     EXPECT_TRUE(std::isfinite(r->score));
     EXPECT_TRUE(std::isfinite(r->at.x));
     EXPECT_EQ(r->rp_ids.front(), 1);
+}
+
+TEST(Bayes, BayesKSizesThePosteriorMeanApartFromK) {
+    Options o = bayes(1.0, BayesEstimate::mean, 2);
+    o.bayes_k = 1;  // wins over k = 2
+    const auto r = localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, o);
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{1}));
+    EXPECT_DOUBLE_EQ(r->at.x, 0.0);
+    o.bayes_k = 0;  // falls back to k
+    EXPECT_EQ(localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, o)->rp_ids, (std::vector<long long>{1, 2}));
+}
+
+// Floor 10 holds RP1 (0,0), a at -50; floor 20 holds RP2 (10,0) and RP3 (20,0), a at -54.
+// Query a -50 (variance 4, σ floor 1, T = 1): ll2 = ll3 = ll1 − 16/8, so the posterior shares
+// are floor 10: 1/(1 + 2e⁻²) = 0.787, floor 20: 0.213. Manhattan over positive reps: RP1 at
+// 0, RP2 and RP3 at 4, so the 3 nearest give floor 10 one third and floor 20 two thirds.
+namespace {
+Index split_floors() {
+    return Index::build({rp(1, {0, 0}, {m("a", -50, 4.0)}, 10), rp(2, {10, 0}, {m("a", -54, 4.0)}, 20),
+                         rp(3, {20, 0}, {m("a", -54, 4.0)}, 20)},
+                        bayes_params());
+}
+Options floor_vote(int floor_knn, double weight) {
+    Options o = bayes(1.0, BayesEstimate::mean, 3);
+    o.representation = Representation::positive;
+    o.distance = Distance::manhattan;
+    o.floor_knn = floor_knn;
+    o.floor_knn_weight = weight;
+    return o;
+}
+}  // namespace
+
+TEST(FloorDetection, BayesFloorVoteMixesPosteriorAndKnnShares) {
+    const Query q = query({{"a", -50}});
+    const double p10 = 1.0 / (1.0 + 2.0 * std::exp(-2.0));
+    // Floor 20 wins once (1 − w)(p10 − p20) < w/3, i.e. w > 0.633.
+    const double w_star = (2 * p10 - 1) / (2 * p10 - 1 + 1.0 / 3.0);
+    ASSERT_GT(w_star, 0.6);
+    ASSERT_LT(w_star, 0.65);
+    const auto posterior_only = localize(split_floors(), q, Algorithm::bayes, floor_vote(0, 0.7));
+    EXPECT_EQ(posterior_only->floor_id, 10);
+    EXPECT_EQ(posterior_only->rp_ids, (std::vector<long long>{1}));
+    EXPECT_EQ(localize(split_floors(), q, Algorithm::bayes, floor_vote(3, 0.6))->floor_id, 10);
+    const auto knn_heavy = localize(split_floors(), q, Algorithm::bayes, floor_vote(3, 0.7));
+    EXPECT_EQ(knn_heavy->floor_id, 20);
+    // The position comes from floor 20's RPs only, with equal posterior weights.
+    EXPECT_EQ(knn_heavy->rp_ids, (std::vector<long long>{2, 3}));
+    EXPECT_DOUBLE_EQ(knn_heavy->at.x, 15.0);
+    EXPECT_EQ(knn_heavy->candidates.front().rp_id, 1);  // still the best candidate
+    // The single nearest RP is on floor 10: its whole knn share goes there.
+    EXPECT_EQ(localize(split_floors(), q, Algorithm::bayes, floor_vote(1, 0.9))->floor_id, 10);
+}
+
+TEST(FloorDetection, FloorTemperatureFlattensOnlyTheFloorVote) {
+    // Floor 20's mass 2e^(−2/Tf) passes floor 10's 1 when Tf > 2/ln 2 = 2.885.
+    const Query q = query({{"a", -50}});
+    Options o = floor_vote(0, 0.0);
+    o.floor_temperature = 2.5;
+    EXPECT_EQ(localize(split_floors(), q, Algorithm::bayes, o)->floor_id, 10);
+    o.floor_temperature = 3.0;
+    const auto r = localize(split_floors(), q, Algorithm::bayes, o);
+    EXPECT_EQ(r->floor_id, 20);
+    EXPECT_DOUBLE_EQ(r->at.x, 15.0);
+    o.floor_temperature = 0.0;  // = temperature 1
+    EXPECT_EQ(localize(split_floors(), q, Algorithm::bayes, o)->floor_id, 10);
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,7 +26,9 @@ struct Args {
     std::string train, test;
     std::optional<int> holdout_user, holdout_phone;
     std::string algorithm = "all";
-    std::optional<int> k;
+    std::optional<int> k, bayes_k, floor_knn;
+    std::optional<double> floor_temperature, floor_knn_weight;
+    bool oracle = false;
     std::optional<double> offset_sigma, temperature, tolerance, gamma, sigma_floor, missing_rss, min_detection, alpha, beta;
     std::string representation, distance, estimate;
     bool json = false;
@@ -90,6 +93,41 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
     };
 }
 
+// What no matcher answering an RP of the right floor can beat: the nearest RP of the map on
+// the query's true building and floor. Held-out users who surveyed areas nobody else did
+// are far from every remaining RP.
+nlohmann::json oracle(const match::Index& index, const std::vector<Truth>& truth) {
+    std::vector<double> errors;
+    std::size_t no_floor = 0;
+    for (const auto& t : truth) {
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < index.size(); ++i) {
+            const auto& rp = index.rp(i);
+            if (rp.building_id == t.building && rp.floor_id == floor_label(t.building, t.floor))
+                best = std::min(best, distance(rp.at, t.at));
+        }
+        if (std::isfinite(best)) errors.push_back(best);
+        else ++no_floor;
+    }
+    std::sort(errors.begin(), errors.end());
+    double sum = 0.0;
+    for (double e : errors) sum += e;
+    const double n = static_cast<double>(truth.size());
+    const double hits = static_cast<double>(errors.size()) / n;
+    return nlohmann::json{
+        {"algorithm", "oracle"},
+        {"queries", truth.size()},
+        {"building_hit_rate", hits},
+        {"floor_hit_rate", hits},
+        {"mean_error_m", errors.empty() ? std::nan("") : sum / static_cast<double>(errors.size())},
+        {"median_error_m", percentile(errors, 0.5)},
+        {"p75_error_m", percentile(errors, 0.75)},
+        {"p95_error_m", percentile(errors, 0.95)},
+        {"us_per_query", 0.0},
+        {"floor_without_rps", no_floor},
+    };
+}
+
 void run(const Args& a) {
     using tools::CommandError;
     const int split_modes = !a.test.empty() + a.holdout_user.has_value() + a.holdout_phone.has_value();
@@ -107,11 +145,15 @@ void run(const Args& a) {
 
     match::Options options;
     if (a.k) options.k = *a.k;
+    if (a.bayes_k) options.bayes_k = *a.bayes_k;
     if (a.tolerance) options.tolerance = *a.tolerance;
     if (a.gamma) options.gamma = *a.gamma;
     if (a.offset_sigma) options.offset_sigma = *a.offset_sigma;
     if (a.temperature) options.temperature = *a.temperature;
     if (a.sigma_floor) options.sigma_floor = *a.sigma_floor;
+    if (a.floor_temperature) options.floor_temperature = *a.floor_temperature;
+    if (a.floor_knn) options.floor_knn = *a.floor_knn;
+    if (a.floor_knn_weight) options.floor_knn_weight = *a.floor_knn_weight;
     if (!a.representation.empty()) {
         auto r = match::parse_representation(a.representation);
         if (!r) throw CommandError("unknown representation '" + a.representation + "' (positive, exponential, powed)");
@@ -186,6 +228,7 @@ void run(const Args& a) {
               << " queries (" << empty << " rows without any detected WAP skipped)\n";
 
     nlohmann::json out = nlohmann::json::array();
+    if (a.oracle) out.push_back(oracle(index, truth));
     for (auto alg : algorithms) {
         std::size_t unanswered = 0;
         auto o = evaluate(index, queries, truth, alg, options, unanswered);
@@ -195,7 +238,7 @@ void run(const Args& a) {
         out.push_back(std::move(o));
     }
     if (a.json) {
-        std::cout << (a.algorithm == "all" ? out : out.front()).dump() << "\n";
+        std::cout << (out.size() > 1 ? out : out.front()).dump() << "\n";
         return;
     }
     std::printf("%-6s %7s %9s %9s %8s %8s %8s %8s %9s\n", "algo", "queries", "building", "floor", "mean_m",
@@ -219,7 +262,8 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--holdout-user", a->holdout_user, "query with this USERID's training rows, map the rest");
     cmd->add_option("--holdout-phone", a->holdout_phone, "query with this PHONEID's training rows, map the rest");
     cmd->add_option("--algorithm", a->algorithm, "bsb, nn, bsbnn, knn, wknn, bayes or all")->capture_default_str();
-    cmd->add_option("--k", a->k, "neighbours for knn/wknn, posterior size for bayes");
+    cmd->add_option("--k", a->k, "neighbours for knn/wknn (and bayes when --bayes-k is 0)");
+    cmd->add_option("--bayes-k", a->bayes_k, "bayes: RPs in the posterior mean (0 = --k)");
     cmd->add_option("--tolerance", a->tolerance, "keep RPs within tolerance*|best| of the best score");
     cmd->add_option("--gamma", a->gamma, "NN penalty per extra stored AP (dB)");
     cmd->add_option("--representation", a->representation, "knn/wknn RSS form: positive, exponential, powed");
@@ -233,6 +277,11 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--alpha", a->alpha, "exponential representation α");
     cmd->add_option("--beta", a->beta, "powed representation β");
     cmd->add_option("--expected", a->expected, "knn/wknn: RP fingerprint = detection rate x rep(mean) (1) or rep(mean) (0)");
+    cmd->add_option("--floor-temperature", a->floor_temperature, "bayes: temperature of the floor vote (0 = --temperature)");
+    cmd->add_option("--floor-knn", a->floor_knn, "bayes: nearest RPs by knn distance that also vote for the floor (0 = off)");
+    cmd->add_option("--floor-knn-weight", a->floor_knn_weight, "bayes: share of the knn vote in the floor decision");
+    cmd->add_flag("--oracle", a->oracle,
+                  "also report 'oracle': the nearest remaining RP on the true floor, a bound set by coverage");
     cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all)");
     cmd->callback([a] { run(*a); });
 });

@@ -16,6 +16,7 @@ struct Scored {
     double key2;
     double score;  // what the caller sees
     int shared;
+    double aux = 0.0;  // bayes with floor_knn: the RP's knn distance to the query
 };
 
 bool better(const Scored& a, const Scored& b) {
@@ -44,6 +45,7 @@ struct Scratch {
     std::vector<int> shared;    // APs shared with the query; -1 = excluded by `near`
     std::vector<double> acc;    // algorithm-specific sum over the shared APs
     std::vector<double> acc_wd, acc_w;  // bayes device offset: Σ d/σ², Σ 1/σ²
+    std::vector<double> acc_knn;        // bayes floor vote: the knn sum next to the likelihood
     std::vector<std::uint32_t> touched;
     std::vector<Known> known;
     std::vector<Scored> scored;
@@ -54,6 +56,7 @@ struct Scratch {
             acc.resize(n, 0.0);
             acc_wd.resize(n, 0.0);
             acc_w.resize(n, 0.0);
+            acc_knn.resize(n, 0.0);
         }
     }
     void clear() {
@@ -62,6 +65,7 @@ struct Scratch {
             acc[i] = 0.0;
             acc_wd[i] = 0.0;
             acc_w[i] = 0.0;
+            acc_knn[i] = 0.0;
         }
         touched.clear();
     }
@@ -102,6 +106,18 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
     s.prepare(index.size());
     s.clear();
     const bool euclid = options.distance == Distance::euclidean;
+    // The knn term of one shared AP: the correction from "each side heard alone" to "both
+    // heard" for this AP.
+    auto knn_term = [euclid](double a, double b) { return euclid ? a * b : std::abs(a - b) - a - b; };
+    // Distance over the union of APs from the shared-AP sum `acc` and the precomputed totals.
+    auto knn_distance = [&](std::uint32_t i, double acc) {
+        if (euclid) return std::sqrt(std::max(0.0, index.rep_sq_sum(i, rep) + q_sq_sum - 2.0 * acc));
+        const double manhattan = std::max(0.0, index.rep_sum(i, rep) + q_sum + acc);
+        if (options.distance == Distance::manhattan) return manhattan;
+        const double total = index.rep_sum(i, rep) + q_sum;
+        return total > 0.0 ? manhattan / total : 1.0;
+    };
+    const bool floor_knn = algorithm == Algorithm::bayes && options.floor_knn > 0;
     // One pass over the posting lists of the query's APs; `f` adds one shared AP's term.
     // A template per algorithm keeps the inner loop free of dispatch.
     auto walk = [&](auto&& f) {
@@ -134,13 +150,11 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
         case Algorithm::knn:
         case Algorithm::wknn:
             walk([&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {
-                const double a = list.rep[rep][j], b = k.rep;
-                // Correction from "each side heard alone" to "both heard" for this AP.
-                s.acc[rp] += euclid ? a * b : std::abs(a - b) - a - b;
+                s.acc[rp] += knn_term(list.rep[rep][j], k.rep);
             });
             break;
-        case Algorithm::bayes:
-            walk([&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {
+        case Algorithm::bayes: {
+            auto gauss = [&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {
                 const LikelihoodTerms& t = list.likelihood[j];
                 const bool floored = t.variance < sigma2_floor;
                 const double var = floored ? sigma2_floor : t.variance;
@@ -150,8 +164,17 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
                 s.acc[rp] += t.log_detect + log_gauss - t.log_miss - k.penalty;
                 s.acc_wd[rp] += d / var;
                 s.acc_w[rp] += 1.0 / var;
-            });
+            };
+            if (floor_knn) {
+                walk([&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {
+                    gauss(k, list, j, rp);
+                    s.acc_knn[rp] += knn_term(list.rep[rep][j], k.rep);
+                });
+            } else {
+                walk(gauss);
+            }
             break;
+        }
     }
 
     std::vector<Scored>& scored = s.scored;
@@ -177,18 +200,7 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
             }
             case Algorithm::knn:
             case Algorithm::wknn: {
-                double d = 0.0;
-                if (euclid) {
-                    d = std::sqrt(std::max(0.0, index.rep_sq_sum(i, rep) + q_sq_sum - 2.0 * acc));
-                } else {
-                    const double manhattan = std::max(0.0, index.rep_sum(i, rep) + q_sum + acc);
-                    if (options.distance == Distance::manhattan) {
-                        d = manhattan;
-                    } else {
-                        const double total = index.rep_sum(i, rep) + q_sum;
-                        d = total > 0.0 ? manhattan / total : 1.0;
-                    }
-                }
+                const double d = knn_distance(i, acc);
                 sc.key1 = d;
                 sc.score = d;
                 break;
@@ -204,6 +216,7 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
                 }
                 sc.key1 = -ll;
                 sc.score = ll;
+                if (floor_knn) sc.aux = knn_distance(i, s.acc_knn[i]);
                 break;
             }
         }
@@ -212,7 +225,7 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
     s.clear();
     if (scored.empty()) return std::nullopt;
 
-    const int k = std::max(1, options.k);
+    const int k = std::max(1, algorithm == Algorithm::bayes && options.bayes_k > 0 ? options.bayes_k : options.k);
     const bool top_k = algorithm == Algorithm::knn || algorithm == Algorithm::wknn ||
                        (algorithm == Algorithm::bayes && options.estimate == BayesEstimate::mean);
     const std::size_t n_listed = std::min(scored.size(), static_cast<std::size_t>(std::max({options.candidates, k, 1})));
@@ -234,12 +247,26 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
     const double temperature = std::max(options.temperature, 1e-9);
     auto posterior = [&](const Scored& c) { return std::exp((best.key1 - c.key1) / temperature); };
 
-    // Bayes picks the floor first, by posterior mass over every candidate RP, then builds
-    // the position from that floor's RPs only.
+    // Bayes picks the floor first, by posterior mass over every candidate RP (and, with
+    // floor_knn, the knn vote of the nearest RPs), then builds the position from that
+    // floor's RPs only.
     std::vector<Scored> on_floor;
     const std::vector<Scored>* pool = &scored;
     if (algorithm == Algorithm::bayes) {
-        for (const auto& c : scored) add_to_group(c.rp, posterior(c));
+        const double floor_t = options.floor_temperature > 0.0 ? options.floor_temperature : temperature;
+        const double knn_w = floor_knn ? std::clamp(options.floor_knn_weight, 0.0, 1.0) : 0.0;
+        double mass = 0.0;
+        for (const auto& c : scored) mass += std::exp((best.key1 - c.key1) / floor_t);
+        for (const auto& c : scored) add_to_group(c.rp, (1.0 - knn_w) * std::exp((best.key1 - c.key1) / floor_t) / mass);
+        if (floor_knn) {
+            std::vector<Scored>& near_rps = on_floor;  // reused as scratch, cleared below
+            near_rps.assign(scored.begin(), scored.end());
+            const std::size_t n = std::min(near_rps.size(), static_cast<std::size_t>(options.floor_knn));
+            auto closer = [](const Scored& a, const Scored& b) { return a.aux != b.aux ? a.aux < b.aux : a.rp < b.rp; };
+            std::partial_sort(near_rps.begin(), near_rps.begin() + static_cast<long>(n), near_rps.end(), closer);
+            for (std::size_t j = 0; j < n; ++j) add_to_group(near_rps[j].rp, knn_w / static_cast<double>(n));
+            on_floor.clear();
+        }
         const Group* g = &groups.front();
         for (const auto& h : groups)
             if (h.weight > g->weight) g = &h;
