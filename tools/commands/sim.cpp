@@ -68,10 +68,10 @@ void run(const Args& a) {
     }
     if (!a.evaluate) return;
     if (a.json) {
-        nlohmann::json arr = nlohmann::json::array();
+        nlohmann::ordered_json arr = nlohmann::ordered_json::array();
         for (const std::string& m : order) {
             const sim::Score& s = sums[m];
-            nlohmann::json o = {{"scenario", sc.name},
+            nlohmann::ordered_json o = {{"scenario", sc.name},
                                 {"method", s.method},
                                 {"mean_error_m", s.mean_error_m},
                                 {"final_error_m", s.final_error_m},
