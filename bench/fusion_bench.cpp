@@ -1,0 +1,66 @@
+// Cost of one fusion step on a phone-class CPU: a rule, a Kalman predict+update, and a
+// particle-filter step and fix on the basement-sized plan (run by hand, never by ctest).
+#include <benchmark/benchmark.h>
+
+#include <numbers>
+
+#include "locus/fusion/kalman.hpp"
+#include "locus/fusion/particle_filter.hpp"
+#include "locus/fusion/rules.hpp"
+
+using namespace locus;
+using namespace locus::fusion;
+
+namespace {
+
+Walkable corridor_and_rooms() {
+    Walkable w;
+    w.plan.rooms.push_back({1, "corridor", {{0.0, 6.0, 36.0, 8.5}}});
+    for (int i = 0; i < 4; ++i) {
+        const double x0 = 9.0 * i;
+        w.plan.rooms.push_back({2 + i, "room", {{x0, 0.0, x0 + 9.0, 6.0}}});
+        w.doors.push_back({{x0 + 4.0, 6.0}, {x0 + 5.0, 6.0}});
+    }
+    return w;
+}
+
+void BM_Rule(benchmark::State& state) {
+    FusionInput in{{3.0, 0.0}, {0.0, 4.0}, Point{0.0, 0.0}, 5, std::nullopt};
+    for (auto _ : state) benchmark::DoNotOptimize(fuse(Rule::proportional, in));
+}
+BENCHMARK(BM_Rule);
+
+void BM_KalmanStepAndFix(benchmark::State& state) {
+    KalmanFilter kf({1.0, 7.0});
+    for (auto _ : state) {
+        kf.predict({0.7, 0.0});
+        kf.update({kf.position().x + 0.5, 7.0}, Eigen::Matrix2d::Identity());
+    }
+    benchmark::DoNotOptimize(kf.position());
+}
+BENCHMARK(BM_KalmanStepAndFix);
+
+void BM_ParticleStep(benchmark::State& state) {
+    ParticleConfig c;
+    c.particles = static_cast<int>(state.range(0));
+    ParticleFilter pf(corridor_and_rooms(), {1.0, 7.25}, c);
+    double heading = std::numbers::pi / 2.0;
+    for (auto _ : state) {
+        pf.predict(0.7, heading);
+        if (pf.position().x > 34.0 || pf.position().x < 2.0) heading = -heading;
+    }
+    benchmark::DoNotOptimize(pf.position());
+}
+BENCHMARK(BM_ParticleStep)->Arg(250)->Arg(1000)->Arg(4000);
+
+void BM_ParticleFix(benchmark::State& state) {
+    ParticleConfig c;
+    c.particles = static_cast<int>(state.range(0));
+    ParticleFilter pf(corridor_and_rooms(), {10.0, 7.25}, c);
+    for (auto _ : state) pf.update({10.5, 7.0}, Eigen::Matrix2d::Identity() * 2.0);
+    benchmark::DoNotOptimize(pf.position());
+}
+BENCHMARK(BM_ParticleFix)->Arg(1000);
+
+}  // namespace
+BENCHMARK_MAIN();
