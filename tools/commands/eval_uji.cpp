@@ -29,6 +29,7 @@ struct Args {
     std::optional<int> k, bayes_k, floor_knn;
     std::optional<double> floor_temperature, floor_knn_weight;
     bool oracle = false;
+    std::optional<double> covered_within;
     std::optional<double> offset_sigma, temperature, tolerance, gamma, sigma_floor, missing_rss, min_detection, alpha, beta;
     std::string representation, distance, estimate;
     bool json = false;
@@ -96,16 +97,22 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
 // What no matcher answering an RP of the right floor can beat: the nearest RP of the map on
 // the query's true building and floor. Held-out users who surveyed areas nobody else did
 // are far from every remaining RP.
+// Infinite when the true floor has no RP at all.
+double nearest_on_true_floor(const match::Index& index, const Truth& t) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < index.size(); ++i) {
+        const auto& rp = index.rp(i);
+        if (rp.building_id == t.building && rp.floor_id == floor_label(t.building, t.floor))
+            best = std::min(best, distance(rp.at, t.at));
+    }
+    return best;
+}
+
 nlohmann::json oracle(const match::Index& index, const std::vector<Truth>& truth) {
     std::vector<double> errors;
     std::size_t no_floor = 0;
     for (const auto& t : truth) {
-        double best = std::numeric_limits<double>::infinity();
-        for (std::size_t i = 0; i < index.size(); ++i) {
-            const auto& rp = index.rp(i);
-            if (rp.building_id == t.building && rp.floor_id == floor_label(t.building, t.floor))
-                best = std::min(best, distance(rp.at, t.at));
-        }
+        const double best = nearest_on_true_floor(index, t);
         if (std::isfinite(best)) errors.push_back(best);
         else ++no_floor;
     }
@@ -223,7 +230,23 @@ void run(const Args& a) {
         queries.push_back(match::Query::from_scans({uji::scan_of(test, row)}));
         truth.push_back(Truth{Point{row.longitude, row.latitude}, row.building, row.floor});
     }
-    if (queries.empty()) throw CommandError("no test rows with a detected WAP");
+    if (a.covered_within) {
+        // Only the queries the map covers: separates matching errors from coverage gaps.
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < queries.size(); ++i) {
+            if (nearest_on_true_floor(index, truth[i]) > *a.covered_within) continue;
+            if (kept != i) {  // a self-move would empty the query
+                queries[kept] = std::move(queries[i]);
+                truth[kept] = truth[i];
+            }
+            ++kept;
+        }
+        std::cerr << "eval uji: " << kept << " of " << queries.size() << " queries within " << *a.covered_within
+                  << " m of an RP on their floor\n";
+        queries.resize(kept);
+        truth.resize(kept);
+    }
+    if (queries.empty()) throw CommandError(a.covered_within ? "no query left within --covered-within" : "no test rows with a detected WAP");
     std::cerr << "eval uji: " << index.size() << " RPs, " << index.ap_count() << " APs, " << queries.size()
               << " queries (" << empty << " rows without any detected WAP skipped)\n";
 
@@ -282,6 +305,8 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--floor-knn-weight", a->floor_knn_weight, "bayes: share of the knn vote in the floor decision");
     cmd->add_flag("--oracle", a->oracle,
                   "also report 'oracle': the nearest remaining RP on the true floor, a bound set by coverage");
+    cmd->add_option("--covered-within", a->covered_within,
+                    "only queries within this many metres of a remaining RP on their true floor");
     cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all)");
     cmd->callback([a] { run(*a); });
 });
