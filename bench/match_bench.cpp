@@ -47,13 +47,15 @@ const Fixture* fixture() {
     return f.get();
 }
 
-void localize_bench(benchmark::State& state, match::Algorithm algorithm) {
+// floor_knn > 0: bayes with the opt-in knn floor vote (Options::floor_knn).
+void localize_bench(benchmark::State& state, match::Algorithm algorithm, int floor_knn = 0) {
     const Fixture* f = fixture();
     if (!f) {
         state.SkipWithError("UJIIndoorLoc not found under LOCUS_DATA_DIR/ujiindoorloc");
         return;
     }
-    const match::Options options;  // the defaults the server uses
+    match::Options options;  // the defaults the server uses
+    if (floor_knn > 0) options.floor_knn = floor_knn;
     std::size_t i = 0;
     for (auto _ : state) {
         auto r = match::localize(f->index, f->queries[i], algorithm, options);
@@ -83,6 +85,7 @@ BENCHMARK_CAPTURE(localize_bench, bsbnn, match::Algorithm::bsbnn)->Unit(benchmar
 BENCHMARK_CAPTURE(localize_bench, knn, match::Algorithm::knn)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(localize_bench, wknn, match::Algorithm::wknn)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(localize_bench, bayes, match::Algorithm::bayes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(localize_bench, bayes_floor_knn5, match::Algorithm::bayes, 5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(build_bench)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
