@@ -64,10 +64,16 @@ void write_error(httplib::Response& res, int status, const std::string& code, co
 }
 
 void App::respond(httplib::Response& res, const std::function<std::pair<int, json>()>& body) {
-    try {
+    guarded(res, [&] {
         auto [status, out] = body();
         res.status = status;
         if (status != 204) res.set_content(out.dump(), "application/json");
+    });
+}
+
+void App::guarded(httplib::Response& res, const std::function<void()>& body) {
+    try {
+        body();
     } catch (const ApiError& e) {
         write_error(res, e.status, e.code, e.what());
     } catch (const store::NotFound& e) {

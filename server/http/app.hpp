@@ -31,6 +31,8 @@ public:
 
     // Runs a handler body, turning every failure into the JSON error shape.
     static void respond(httplib::Response& res, const std::function<std::pair<int, nlohmann::json>()>& body);
+    // The same guard for a handler that writes its own answer into `res`.
+    static void guarded(httplib::Response& res, const std::function<void()>& body);
 
 private:
     void install_middleware();

@@ -1,5 +1,6 @@
 #include "http/validation.hpp"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <set>
@@ -145,11 +146,29 @@ double finite_number(const json& obj, std::string_view field, const std::string&
     if (!it->is_number()) throw invalid_field("'" + name + "' must be a number");
     const double d = it->get<double>();
     if (!std::isfinite(d)) throw invalid_field("'" + name + "' must be finite");
-    if ((min && d < *min) || (max && d > *max))
-        throw ApiError(422, "out_of_range",
-                       "'" + name + "' = " + std::to_string(d) + " is outside [" + (min ? std::to_string(*min) : "-inf") +
-                           ", " + (max ? std::to_string(*max) : "inf") + "]");
+    if ((min && d < *min) || (max && d > *max)) throw out_of_range(name, d, min, max);
     return d;
+}
+
+ApiError out_of_range(const std::string& name, double value, std::optional<double> min, std::optional<double> max) {
+    return ApiError(422, "out_of_range",
+                    "'" + name + "' = " + std::to_string(value) + " is outside [" + (min ? std::to_string(*min) : "-inf") +
+                        ", " + (max ? std::to_string(*max) : "inf") + "]");
+}
+
+const char* type_problem(std::string_view type) {
+    return type == "wifi" || type == "ble" ? nullptr : "must be \"wifi\" or \"ble\"";
+}
+
+const char* bssid_problem(std::string_view raw) {
+    if (raw.empty() || raw.size() > 64) return "must be 1 to 64 characters";
+    // As normalise_bssid will see it: surrounding white space goes, control characters inside stay.
+    while (!raw.empty() && std::isspace(static_cast<unsigned char>(raw.front()))) raw.remove_prefix(1);
+    while (!raw.empty() && std::isspace(static_cast<unsigned char>(raw.back()))) raw.remove_suffix(1);
+    if (raw.empty()) return "must not be blank";
+    for (char c : raw)
+        if (static_cast<unsigned char>(c) < 0x20) return "holds control characters";
+    return nullptr;
 }
 
 std::optional<std::string> optional_string(const json& obj, std::string_view field, const std::string& where,
@@ -167,18 +186,17 @@ std::optional<std::string> optional_string(const json& obj, std::string_view fie
 namespace {
 std::string parse_type(const json& j, const std::string& where) {
     const auto type = optional_string(j, "type", where, 16).value_or("wifi");
-    if (type != "wifi" && type != "ble") throw invalid_field("'" + at(where, "type") + "' must be \"wifi\" or \"ble\"");
+    if (const char* problem = type_problem(type)) throw invalid_field("'" + at(where, "type") + "' " + problem);
     return type;
 }
 
 std::string parse_bssid(const json& j, const std::string& where) {
-    const auto raw = optional_string(j, "bssid", where, 64);
-    if (!raw) throw invalid_field("missing field '" + at(where, "bssid") + "'");
-    std::string b = normalise_bssid(*raw);
-    if (b.empty()) throw invalid_field("'" + at(where, "bssid") + "' must not be blank");
-    for (char c : b)
-        if (static_cast<unsigned char>(c) < 0x20) throw invalid_field("'" + at(where, "bssid") + "' holds control characters");
-    return b;
+    const auto it = j.find("bssid");
+    if (it == j.end() || it->is_null()) throw invalid_field("missing field '" + at(where, "bssid") + "'");
+    if (!it->is_string()) throw invalid_field("'" + at(where, "bssid") + "' must be a string");
+    const auto& raw = it->get_ref<const std::string&>();
+    if (const char* problem = bssid_problem(raw)) throw invalid_field("'" + at(where, "bssid") + "' " + problem);
+    return normalise_bssid(raw);
 }
 
 void only_fields(const json& j, std::initializer_list<std::string_view> allowed, const std::string& where) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "locus/radio_map.hpp"
+#include "http/api_error.hpp"
 #include "store/kinds.hpp"
 
 namespace locus::http {
@@ -42,6 +43,14 @@ double finite_number(const nlohmann::json& obj, std::string_view field, const st
                      std::optional<double> min = std::nullopt, std::optional<double> max = std::nullopt);
 std::optional<std::string> optional_string(const nlohmann::json& obj, std::string_view field,
                                            const std::string& where, std::size_t max_length = 256);
+
+// Problems with one reading's values, shared by the JSON-tree validators here and the
+// streaming localize parser: nullptr when fine, else what is wrong ("must be ..."), for the
+// caller to word with the field's place (so the happy path builds no strings).
+const char* type_problem(std::string_view type);
+const char* bssid_problem(std::string_view raw);  // the raw value, before normalise_bssid
+// 422 out_of_range naming the field, its value and the bounds.
+ApiError out_of_range(const std::string& name, double value, std::optional<double> min, std::optional<double> max);
 
 // The radio-map exchange document accepted by import (and produced by export).
 void validate_radiomap_document(const nlohmann::json& doc);

@@ -1,5 +1,10 @@
 #include "localize/request.hpp"
 
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <vector>
+
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
 #include "locus/match/localize.hpp"
@@ -37,10 +42,8 @@ double bounded_number(const json& options, const char* field, double lo, double 
     return http::finite_number(options, field, "options", lo, hi);
 }
 
-match::Options parse_options(const json& body) {
+match::Options parse_options(const json& j) {
     match::Options o;
-    if (!body.contains("options")) return o;
-    const json& j = body.at("options");
     if (!j.is_object()) throw invalid_field("'options' must be an object");
     static const std::initializer_list<const char*> known = {"k", "tolerance", "gamma", "near", "representation",
                                                               "distance", "sigma_floor", "estimate", "candidates",
@@ -73,77 +76,339 @@ match::Options parse_options(const json& body) {
     return o;
 }
 
-std::vector<Reading> parse_means(const json& arr) {
-    if (!arr.is_array() || arr.empty()) throw invalid_field("'measurements' must be a non-empty array of {bssid, rss}");
-    std::vector<Reading> out;
-    for (std::size_t i = 0; i < arr.size(); ++i) {
-        const std::string where = "measurements[" + std::to_string(i) + "]";
-        json m = arr[i];
-        // A live scan's per-AP mean may be sent as "rss" or, like a stored measurement, "mean".
-        if (m.is_object() && m.contains("mean") && !m.contains("rss")) {
-            m["rss"] = m.at("mean");
-            m.erase("mean");
+// The localize body is parsed in one streaming pass (nlohmann's SAX interface) straight into
+// readings: a JSON tree of a 20-AP scan costs ~100 allocations and dominated the request.
+// Semantic errors are remembered and thrown only once the whole body has parsed, so a body
+// that is also malformed JSON is reported as such, exactly like the tree-based endpoints.
+class RequestParser final : public nlohmann::json_sax<json> {
+public:
+    std::optional<std::string> algorithm;
+    std::vector<Scan> scans;
+    std::vector<Reading> means;
+    bool has_scans = false, has_means = false;
+    json options;  // the small "options" object, as a tree
+    bool has_options = false;
+
+    LocalizeRequest finish(const std::string& body) {
+        if (!json::sax_parse(body, this) || syntax_error_) throw ApiError(400, "invalid_json", "the request body is not valid JSON");
+        if (error_) throw *error_;
+        LocalizeRequest r;
+        if (algorithm) {
+            const auto a = match::parse_algorithm(*algorithm);
+            if (!a) throw invalid_field("unknown algorithm \"" + *algorithm + "\" (bsb, nn, bsbnn, knn, wknn, bayes)");
+            r.algorithm = *a;
         }
-        out.push_back(http::parse_reading(m, where));
+        if (has_scans == has_means) throw invalid_field("send exactly one of 'scans' or 'measurements'");
+        r.query = has_scans ? match::Query::from_scans(scans) : match::Query::from_means(means);
+        if (r.query.aps.empty()) throw invalid_field("the scan holds no reading");
+        if (has_options) r.options = parse_options(options);
+        return r;
     }
-    return out;
-}
+
+    bool null() override { return value(Value{}); }
+    bool boolean(bool b) override {
+        if (in_options()) return tree_value(json(b));
+        return value(Value::of(Value::other));
+    }
+    bool number_integer(number_integer_t v) override { return number(static_cast<double>(v), json(v)); }
+    bool number_unsigned(number_unsigned_t v) override { return number(static_cast<double>(v), json(v)); }
+    bool number_float(number_float_t v, const string_t&) override { return number(v, json(v)); }
+    bool string(string_t& v) override {
+        if (in_options()) return tree_value(json(std::move(v)));
+        return value(Value::of_text(std::move(v)));
+    }
+    bool binary(binary_t&) override { return value(Value::of(Value::other)); }
+
+    bool start_object(std::size_t) override {
+        ++depth_;
+        if (depth_ == 1) return true;
+        if (in_options()) return tree_open(json::object());
+        if (top_ == Top::scans && depth_ == 4) return start_reading();
+        if (top_ == Top::means && depth_ == 3) return start_reading();
+        return misplaced();
+    }
+    bool end_object() override {
+        --depth_;
+        if (depth_ == 0) return true;
+        if (in_options() || (top_ == Top::options && depth_ == 1)) return tree_close();
+        if (reading_open_) return end_reading();
+        return true;
+    }
+    bool start_array(std::size_t) override {
+        ++depth_;
+        if (in_options()) return tree_open(json::array());
+        if (depth_ == 1) return not_an_object();
+        if (depth_ == 2 && (top_ == Top::scans || top_ == Top::means)) return true;
+        if (depth_ == 3 && top_ == Top::scans) {
+            scans.emplace_back();
+            return true;
+        }
+        return misplaced();
+    }
+    bool end_array() override {
+        --depth_;
+        if (in_options() || (top_ == Top::options && depth_ == 1)) return tree_close();
+        if (depth_ == 1 && top_ == Top::scans && scans.empty())
+            fail(invalid_field("'scans' must be a non-empty array of scans"));
+        if (depth_ == 1 && top_ == Top::means && means.empty())
+            fail(invalid_field("'measurements' must be a non-empty array of {bssid, rss}"));
+        return true;
+    }
+    bool key(string_t& k) override {
+        if (depth_ == 1) {
+            top_ = k == "algorithm" ? Top::algorithm : k == "scans" ? Top::scans : k == "measurements" ? Top::means
+                 : k == "options" ? Top::options : Top::unknown;
+            has_scans = has_scans || top_ == Top::scans;
+            has_means = has_means || top_ == Top::means;
+            has_options = has_options || top_ == Top::options;
+            if (top_ == Top::unknown) fail(invalid_field("unknown field '" + k + "'"));
+            return true;
+        }
+        if (in_options()) {
+            pending_key_ = std::move(k);
+            return true;
+        }
+        field_ = std::move(k);
+        return true;
+    }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+        syntax_error_ = true;
+        return false;
+    }
+
+private:
+    enum class Top { none, algorithm, scans, means, options, unknown };
+    struct Value {
+        enum Kind { null, is_number, is_text, other } kind = null;
+        std::string text;
+        double number = 0.0;
+        static Value of(Kind k) {
+            Value v;
+            v.kind = k;
+            return v;
+        }
+        static Value of_text(std::string s) {
+            Value v = of(is_text);
+            v.text = std::move(s);
+            return v;
+        }
+        static Value of_number(double d) {
+            Value v = of(is_number);
+            v.number = d;
+            return v;
+        }
+    };
+    struct Pending {
+        std::optional<std::string> type, bssid;
+        std::optional<double> rss;
+    };
+
+    bool in_options() const { return top_ == Top::options && depth_ >= 2; }
+
+    bool number(double v, json tree) {
+        if (in_options()) return tree_value(std::move(tree));
+        return value(Value::of_number(v));
+    }
+
+    bool not_an_object() {
+        if (!error_) error_ = ApiError(400, "invalid_json", "the request body must be a JSON object");
+        return true;
+    }
+
+    // A scalar anywhere outside "options".
+    bool value(Value v) {
+        if (depth_ == 0) return not_an_object();
+        if (in_options() || (top_ == Top::options && depth_ == 1)) {
+            if (depth_ == 1) fail(invalid_field("'options' must be an object"));
+            return tree_value(v.kind == Value::null ? json() : json("?"));
+        }
+        if (depth_ == 1 && top_ == Top::algorithm) {
+            if (v.kind != Value::is_text || v.text.empty() || v.text.size() > 32)
+                fail(invalid_field("'algorithm' must be 1 to 32 characters"));
+            else algorithm = std::move(v.text);
+            return true;
+        }
+        if (!reading_open_) return misplaced();
+        const bool mean_key = top_ == Top::means && field_ == "mean";
+        if (v.kind == Value::null && (field_ == "type" || field_ == "bssid")) return true;  // as if absent
+        if (field_ == "type") {
+            if (v.kind != Value::is_text) fail(invalid_field("'" + where() + ".type' must be a string"));
+            else pending_.type = std::move(v.text);
+        } else if (field_ == "bssid") {
+            if (v.kind != Value::is_text) fail(invalid_field("'" + where() + ".bssid' must be a string"));
+            else pending_.bssid = std::move(v.text);
+        } else if (field_ == "rss" || mean_key) {
+            if (v.kind != Value::is_number) fail(invalid_field("'" + where() + "." + field_ + "' must be a number"));
+            else pending_.rss = v.number;
+        } else {
+            fail(invalid_field("unknown field '" + where() + "." + field_ + "'"));
+        }
+        return true;
+    }
+
+    bool start_reading() {
+        reading_open_ = true;
+        pending_ = {};
+        return true;
+    }
+
+    bool end_reading() {
+        reading_open_ = false;
+        Reading r;
+        if (pending_.type) {
+            if (const char* problem = http::type_problem(*pending_.type)) fail(invalid_field("'" + where() + ".type' " + problem));
+            r.type = std::move(*pending_.type);
+        }
+        if (!pending_.bssid) return fail(invalid_field("missing field '" + where() + ".bssid'"));
+        if (const char* problem = http::bssid_problem(*pending_.bssid)) return fail(invalid_field("'" + where() + ".bssid' " + problem));
+        r.bssid = normalise_bssid(*pending_.bssid);
+        if (!pending_.rss) return fail(invalid_field("missing field '" + where() + ".rss'"));
+        if (!std::isfinite(*pending_.rss)) return fail(invalid_field("'" + where() + ".rss' must be finite"));
+        if (!valid_rss(*pending_.rss)) return fail(http::out_of_range(where() + ".rss", *pending_.rss, kMinRss, kMaxRss));
+        r.rss = *pending_.rss;
+        if (top_ == Top::scans) scans.back().push_back(std::move(r));
+        else means.push_back(std::move(r));
+        return true;
+    }
+
+    // Where the current reading sits in the body, for error messages only.
+    std::string where() const {
+        if (top_ == Top::scans)
+            return "scans[" + std::to_string(scans.size() - 1) + "][" + std::to_string(scans.back().size()) + "]";
+        return "measurements[" + std::to_string(means.size()) + "]";
+    }
+
+    bool misplaced() {
+        if (top_ == Top::scans) fail(invalid_field("'scans' must be an array of scans, each an array of {type, bssid, rss}"));
+        else if (top_ == Top::means) fail(invalid_field("'measurements' must be an array of {bssid, rss}"));
+        else if (top_ == Top::algorithm) fail(invalid_field("'algorithm' must be a string"));
+        else if (top_ == Top::options) fail(invalid_field("'options' must be an object"));
+        return true;
+    }
+
+    bool fail(ApiError e) {
+        if (!error_) error_ = std::move(e);
+        return true;  // keep parsing: a syntax error later in the body wins
+    }
+
+    // A small tree for "options", built the way nlohmann's own DOM parser does.
+    bool tree_open(json container) {
+        if (stack_.empty()) {
+            options = std::move(container);
+            stack_.push_back(&options);
+            return true;
+        }
+        stack_.push_back(tree_insert(std::move(container)));
+        return true;
+    }
+    bool tree_close() {
+        if (!stack_.empty()) stack_.pop_back();
+        return true;
+    }
+    bool tree_value(json v) {
+        if (stack_.empty()) return true;  // a scalar "options": already reported
+        tree_insert(std::move(v));
+        return true;
+    }
+    json* tree_insert(json v) {
+        json& parent = *stack_.back();
+        if (parent.is_array()) {
+            parent.push_back(std::move(v));
+            return &parent.back();
+        }
+        return &(parent[pending_key_] = std::move(v));
+    }
+
+    int depth_ = 0;
+    Top top_ = Top::none;
+    std::string field_, pending_key_;
+    bool reading_open_ = false;
+    Pending pending_;
+    std::vector<json*> stack_;
+    std::optional<ApiError> error_;
+    bool syntax_error_ = false;
+};
 
 }  // namespace
 
-LocalizeRequest parse_localize_request(const std::string& body_text) {
-    const json body = http::parse_object(body_text);
-    for (const auto& [key, value] : body.items())
-        if (key != "algorithm" && key != "scans" && key != "measurements" && key != "options")
-            throw invalid_field("unknown field '" + key + "'");
-    LocalizeRequest r;
-    if (const auto name = http::optional_string(body, "algorithm", "", 32)) {
-        const auto a = match::parse_algorithm(*name);
-        if (!a) throw invalid_field("unknown algorithm \"" + *name + "\" (bsb, nn, bsbnn, knn, wknn, bayes)");
-        r.algorithm = *a;
-    }
-    const bool has_scans = body.contains("scans"), has_means = body.contains("measurements");
-    if (has_scans == has_means) throw invalid_field("send exactly one of 'scans' or 'measurements'");
-    r.query = has_scans ? match::Query::from_scans(http::parse_scans(body.at("scans"), "scans"))
-                        : match::Query::from_means(parse_means(body.at("measurements")));
-    if (r.query.aps.empty()) throw invalid_field("the scan holds no reading");
-    r.options = parse_options(body);
-    return r;
+LocalizeRequest parse_localize_request(const std::string& body) {
+    RequestParser parser;
+    return parser.finish(body);
 }
 
-json answer(const Snapshot& snapshot, const LocalizeRequest& request) {
+namespace {
+// The answer is written directly: it is the other half of every localize request, and a
+// JSON tree of ten candidates costs more than the match itself.
+class Writer {
+public:
+    std::string out;
+    Writer& raw(std::string_view s) {
+        out.append(s);
+        return *this;
+    }
+    Writer& key(std::string_view k) {
+        if (!out.empty() && out.back() != '{' && out.back() != '[') out.push_back(',');
+        out.push_back('"');
+        out.append(k);
+        out.append("\":");
+        return *this;
+    }
+    Writer& number(double v) {
+        if (!std::isfinite(v)) return raw("null");  // as nlohmann writes it
+        char buf[32];
+        const auto r = std::to_chars(buf, buf + sizeof buf, v);
+        out.append(buf, r.ptr);
+        return *this;
+    }
+    Writer& integer(long long v) {
+        char buf[24];
+        const auto r = std::to_chars(buf, buf + sizeof buf, v);
+        out.append(buf, r.ptr);
+        return *this;
+    }
+    Writer& text(const std::string& s) { return raw(json(s).dump()); }
+};
+}  // namespace
+
+std::string answer(const Snapshot& snapshot, const LocalizeRequest& request) {
     const auto result = match::localize(snapshot.index, request.query, request.algorithm, request.options);
     if (!result)
         throw ApiError(422, "no_match",
                        "no reference point shares an access point with the scan" +
                            std::string(request.options.near ? " within the 'near' subarea" : ""));
-    json room = nullptr;
-    if (auto it = snapshot.rooms_by_floor.find(result->floor_id); it != snapshot.rooms_by_floor.end()) {
+    const Room* room = nullptr;
+    if (auto it = snapshot.rooms_by_floor.find(result->floor_id); it != snapshot.rooms_by_floor.end())
         for (const auto& r : it->second)
             if (r.contains(result->at)) {
-                room = {{"id", r.id}, {"name", r.name}};
+                room = &r;
                 break;
             }
+    Writer w;
+    w.out.reserve(256 + 160 * result->candidates.size());
+    w.raw("{");
+    w.key("x").number(result->at.x).key("y").number(result->at.y);
+    w.key("floor_id").integer(result->floor_id).key("building_id").integer(result->building_id);
+    w.key("room");
+    if (room) w.raw("{").key("id").integer(room->id).key("name").text(room->name).raw("}");
+    else w.raw("null");
+    w.key("rps").raw("[");
+    for (std::size_t i = 0; i < result->rp_ids.size(); ++i) {
+        if (i) w.raw(",");
+        w.integer(result->rp_ids[i]);
     }
-    json candidates = json::array();
-    for (const auto& c : result->candidates)
-        candidates.push_back({{"rp_id", c.rp_id},
-                              {"x", c.at.x},
-                              {"y", c.at.y},
-                              {"score", c.score},
-                              {"floor_id", c.floor_id},
-                              {"building_id", c.building_id},
-                              {"matched_aps", c.matched_aps}});
-    return {{"x", result->at.x},
-            {"y", result->at.y},
-            {"floor_id", result->floor_id},
-            {"building_id", result->building_id},
-            {"room", room},
-            {"rps", result->rp_ids},
-            {"score", result->score},
-            {"matched_aps", result->matched_aps},
-            {"algorithm", result->algorithm},
-            {"candidates", candidates}};
+    w.raw("]");
+    w.key("score").number(result->score).key("matched_aps").integer(result->matched_aps);
+    w.key("algorithm").text(result->algorithm);
+    w.key("candidates").raw("[");
+    for (std::size_t i = 0; i < result->candidates.size(); ++i) {
+        const auto& c = result->candidates[i];
+        if (i) w.raw(",");
+        w.raw("{").key("rp_id").integer(c.rp_id).key("x").number(c.at.x).key("y").number(c.at.y);
+        w.key("score").number(c.score).key("floor_id").integer(c.floor_id).key("building_id").integer(c.building_id);
+        w.key("matched_aps").integer(c.matched_aps).raw("}");
+    }
+    w.raw("]}");
+    return std::move(w.out);
 }
 
 }  // namespace locus::localize

@@ -22,7 +22,7 @@ struct LocalizeRequest {
 
 LocalizeRequest parse_localize_request(const std::string& body);
 
-// 422 no_match when no RP shares an AP with the scan.
-nlohmann::json answer(const Snapshot& snapshot, const LocalizeRequest& request);
+// The answer's JSON text. 422 no_match when no RP shares an AP with the scan.
+std::string answer(const Snapshot& snapshot, const LocalizeRequest& request);
 
 }  // namespace locus::localize

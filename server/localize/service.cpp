@@ -148,19 +148,17 @@ void Service::install(http::App& app) {
     app.on_write([this](const store::Kind& kind, const json& row, bool deleted) { on_write(kind.name, row, deleted); });
     auto& server = app.server();
     server.Post(R"(/v1/radiomaps/(\d+)/localize)", [this](const httplib::Request& req, httplib::Response& res) {
-        http::App::respond(res, [&] {
+        http::App::guarded(res, [&] {
             const auto id = http::parse_id(req.matches[1].str(), "radiomap");
             const auto request = parse_localize_request(req.body);
-            const auto snap = radiomap(id);
-            return std::pair{200, answer(*snap, request)};
+            res.set_content(answer(*radiomap(id), request), "application/json");
         });
     });
     server.Post(R"(/v1/maps/(\d+)/localize)", [this](const httplib::Request& req, httplib::Response& res) {
-        http::App::respond(res, [&] {
+        http::App::guarded(res, [&] {
             const auto id = http::parse_id(req.matches[1].str(), "map");
             const auto request = parse_localize_request(req.body);
-            const auto snap = map(id);
-            return std::pair{200, answer(*snap, request)};
+            res.set_content(answer(*map(id), request), "application/json");
         });
     });
 }

@@ -14,7 +14,9 @@ std::string normalise_bssid(std::string_view raw) {
     while (!raw.empty() && std::isspace(static_cast<unsigned char>(raw.front()))) raw.remove_prefix(1);
     while (!raw.empty() && std::isspace(static_cast<unsigned char>(raw.back()))) raw.remove_suffix(1);
     std::string out(raw);
-    for (auto& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    // ASCII only and without the locale: this runs for every reading of every request.
+    for (auto& c : out)
+        if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
     // A MAC written aa-bb-cc-dd-ee-ff is the same AP as aa:bb:cc:dd:ee:ff.
     const bool mac_with_dashes = out.size() == 17 &&
         std::all_of(out.begin(), out.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) || c == '-'; }) &&
