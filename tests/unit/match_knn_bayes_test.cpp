@@ -255,6 +255,7 @@ TEST(FloorDetection, BayesPicksTheFloorByPosteriorMass) {
                                    bayes_params());
     Options o = bayes(1.0, BayesEstimate::map);
     o.floor_knn = 0;
+    o.floor_aps = 0;
     const auto r = localize(idx, query({{"a", -50}}), Algorithm::bayes, o);
     // Per RP: ll = ln .98 − ½ln(8π) − d²/8, so floor 10 holds 2·e^(−1/8) > 1.
     EXPECT_EQ(r->floor_id, 10);
@@ -300,6 +301,7 @@ Options floor_vote(int floor_knn, double weight) {
     o.distance = Distance::manhattan;
     o.floor_knn = floor_knn;
     o.floor_knn_weight = weight;
+    o.floor_aps = 0;
     return o;
 }
 }  // namespace
@@ -337,4 +339,47 @@ TEST(FloorDetection, FloorTemperatureFlattensOnlyTheFloorVote) {
     EXPECT_DOUBLE_EQ(r->at.x, 15.0);
     o.floor_temperature = 0.0;  // = temperature 1
     EXPECT_EQ(localize(split_floors(), q, Algorithm::bayes, o)->floor_id, 10);
+}
+
+// split_floors() plus RP4 (30,0) on floor 20 hearing a at -30: a is strongest there, so a's
+// home floor is 20, but with ll4 = ll1 − 20²/8 RP4 carries no posterior weight. The shares
+// stay floor 10: p10 = 1/(1 + 2e⁻² + e⁻⁵⁰) = 0.787, floor 20: 1 − p10. With the AP vote of
+// weight w, floor 20 wins once (1 − w)(2·p10 − 1) < w, i.e. w > 0.365.
+namespace {
+Index split_floors_with_loud_rp() {
+    return Index::build({rp(1, {0, 0}, {m("a", -50, 4.0)}, 10), rp(2, {10, 0}, {m("a", -54, 4.0)}, 20),
+                         rp(3, {20, 0}, {m("a", -54, 4.0)}, 20), rp(4, {30, 0}, {m("a", -30, 4.0)}, 20)},
+                        bayes_params());
+}
+Options ap_vote(double weight) {
+    Options o = floor_vote(0, 0.0);
+    o.floor_aps = 1;
+    o.floor_ap_weight = weight;
+    return o;
+}
+}  // namespace
+
+TEST(Index, StrongestRpOfAnAp) {
+    const Index idx = split_floors_with_loud_rp();
+    EXPECT_EQ(idx.strongest_rp(static_cast<std::size_t>(idx.ap_of("wifi", "a"))), 3u);  // RP4, position 3
+    EXPECT_EQ(split_floors().strongest_rp(0), 0u);  // RP1 at -50 beats -54; ties keep the first
+}
+
+TEST(FloorDetection, StrongestApsVoteForTheirHomeFloor) {
+    const Query q = query({{"a", -50}});
+    const double p10 = 1.0 / (1.0 + 2.0 * std::exp(-2.0) + std::exp(-50.0));
+    const double w_star = (2 * p10 - 1) / (2 * p10);
+    ASSERT_GT(w_star, 0.3);
+    ASSERT_LT(w_star, 0.4);
+    EXPECT_EQ(localize(split_floors_with_loud_rp(), q, Algorithm::bayes, ap_vote(0.0))->floor_id, 10);
+    EXPECT_EQ(localize(split_floors_with_loud_rp(), q, Algorithm::bayes, ap_vote(0.3))->floor_id, 10);
+    const auto r = localize(split_floors_with_loud_rp(), q, Algorithm::bayes, ap_vote(0.4));
+    EXPECT_EQ(r->floor_id, 20);
+    EXPECT_EQ(r->rp_ids, (std::vector<long long>{2, 3, 4}));
+    EXPECT_NEAR(r->at.x, 15.0, 1e-9);  // RP4's weight e⁻⁴⁸ of the others'
+    // A home RP outside `near` does not vote, so the floor vote never picks a floor without
+    // candidates.
+    Options o = ap_vote(0.4);
+    o.near = Near{{0, 0}, 25.0};
+    EXPECT_EQ(localize(split_floors_with_loud_rp(), q, Algorithm::bayes, o)->floor_id, 10);
 }

@@ -26,8 +26,8 @@ struct Args {
     std::string train, test;
     std::optional<int> holdout_user, holdout_phone;
     std::string algorithm = "all";
-    std::optional<int> k, bayes_k, floor_knn;
-    std::optional<double> floor_temperature, floor_knn_weight;
+    std::optional<int> k, bayes_k, floor_knn, floor_aps;
+    std::optional<double> floor_temperature, floor_knn_weight, floor_ap_weight;
     bool oracle = false;
     std::optional<double> covered_within;
     std::optional<double> offset_sigma, temperature, tolerance, gamma, sigma_floor, missing_rss, min_detection, alpha, beta;
@@ -161,6 +161,8 @@ void run(const Args& a) {
     if (a.floor_temperature) options.floor_temperature = *a.floor_temperature;
     if (a.floor_knn) options.floor_knn = *a.floor_knn;
     if (a.floor_knn_weight) options.floor_knn_weight = *a.floor_knn_weight;
+    if (a.floor_aps) options.floor_aps = *a.floor_aps;
+    if (a.floor_ap_weight) options.floor_ap_weight = *a.floor_ap_weight;
     if (!a.representation.empty()) {
         auto r = match::parse_representation(a.representation);
         if (!r) throw CommandError("unknown representation '" + a.representation + "' (positive, exponential, powed)");
@@ -303,6 +305,8 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--floor-temperature", a->floor_temperature, "bayes: temperature of the floor vote (0 = --temperature)");
     cmd->add_option("--floor-knn", a->floor_knn, "bayes: nearest RPs by knn distance that also vote for the floor (0 = off)");
     cmd->add_option("--floor-knn-weight", a->floor_knn_weight, "bayes: share of the knn vote in the floor decision");
+    cmd->add_option("--floor-aps", a->floor_aps, "bayes: strongest query APs voting for their home floor (0 = off)");
+    cmd->add_option("--floor-ap-weight", a->floor_ap_weight, "bayes: share of the AP vote in the floor decision");
     cmd->add_flag("--oracle", a->oracle,
                   "also report 'oracle': the nearest remaining RP on the true floor, a bound set by coverage");
     cmd->add_option("--covered-within", a->covered_within,

@@ -82,6 +82,9 @@ Index Index::build(const std::vector<IndexedRp>& rps, const IndexParams& params)
         idx.rps_.push_back(info);
     }
     for (const auto& list : lists) {
+        const auto strongest = std::max_element(list.begin(), list.end(),
+                                                [](const Posting& a, const Posting& b) { return a.mean < b.mean; });
+        idx.strongest_rp_.push_back(strongest->rp);
         for (const auto& post : list) {
             idx.post_rp_.push_back(post.rp);
             idx.post_mean_.push_back(post.mean);

@@ -255,9 +255,23 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
     if (algorithm == Algorithm::bayes) {
         const double floor_t = options.floor_temperature > 0.0 ? options.floor_temperature : temperature;
         const double knn_w = floor_knn ? std::clamp(options.floor_knn_weight, 0.0, 1.0) : 0.0;
+        const double ap_w = options.floor_aps > 0 ? std::clamp(options.floor_ap_weight, 0.0, 1.0 - knn_w) : 0.0;
         double mass = 0.0;
         for (const auto& c : scored) mass += std::exp((best.key1 - c.key1) / floor_t);
-        for (const auto& c : scored) add_to_group(c.rp, (1.0 - knn_w) * std::exp((best.key1 - c.key1) / floor_t) / mass);
+        for (const auto& c : scored) add_to_group(c.rp, (1.0 - knn_w - ap_w) * std::exp((best.key1 - c.key1) / floor_t) / mass);
+        if (ap_w > 0.0) {
+            // The strongest APs first; an AP whose home RP lies outside `near` does not vote,
+            // so the winning floor always has candidates.
+            std::vector<Known>& loudest = known;  // not read after this point
+            const std::size_t n = std::min(loudest.size(), static_cast<std::size_t>(options.floor_aps));
+            std::partial_sort(loudest.begin(), loudest.begin() + static_cast<long>(n), loudest.end(),
+                              [](const Known& a, const Known& b) { return a.rss != b.rss ? a.rss > b.rss : a.ap < b.ap; });
+            for (std::size_t j = 0; j < n; ++j) {
+                const std::uint32_t home = index.strongest_rp(loudest[j].ap);
+                if (options.near && distance(index.rp(home).at, options.near->at) > options.near->radius) continue;
+                add_to_group(home, ap_w / static_cast<double>(n));
+            }
+        }
         if (floor_knn) {
             std::vector<Scored>& near_rps = on_floor;  // reused as scratch, cleared below
             near_rps.assign(scored.begin(), scored.end());

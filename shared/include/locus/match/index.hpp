@@ -79,6 +79,9 @@ public:
     // Position of an AP in the index, or -1 if no RP stores it. `bssid` must be normalised.
     long ap_of(std::string_view type, std::string_view bssid) const;
     PostingList postings(std::size_t ap) const;
+    // Position of the RP storing the AP with the strongest mean (the first such RP on a tie):
+    // where the AP most likely is, floor included.
+    std::uint32_t strongest_rp(std::size_t ap) const { return strongest_rp_[ap]; }
 
     // Per RP, over all its stored APs, for fast distances with missing-AP handling:
     // Σ rep and Σ rep² per Representation, and Σ log(1 - detection).
@@ -99,6 +102,7 @@ private:
     std::vector<double> post_rep_[3];
     std::vector<LikelihoodTerms> post_likelihood_;
     std::vector<double> rep_sum_, rep_sq_sum_, log_miss_sum_;
+    std::vector<std::uint32_t> strongest_rp_;
 };
 
 }  // namespace locus::match

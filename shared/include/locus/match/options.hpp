@@ -50,6 +50,13 @@ struct Options {
     // ones and on phone 14 (docs/matchers.md).
     int floor_knn = 0;
     double floor_knn_weight = 0.7;
+    // bayes: the floor vote also counts the query's `floor_aps` strongest known APs, each
+    // voting for the floor of the RP where it is strongest (Index::strongest_rp), with a
+    // total share of floor_ap_weight. Access points sit on a floor, so this needs no
+    // coverage near the query. 0 = off. 5 and 0.5 did best on the tuning users of
+    // UJIIndoorLoc (docs/matchers.md).
+    int floor_aps = 5;
+    double floor_ap_weight = 0.5;
     // How many ranked candidates a Result lists.
     int candidates = 10;
 };
