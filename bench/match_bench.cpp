@@ -8,7 +8,7 @@
 
 #include "locus/match/localize.hpp"
 // The reader belongs to the CLI sources, which are not a library; compile it in here.
-#include "../tools/uji_csv.cpp"
+#include "uji_csv.hpp"
 
 namespace {
 

@@ -5,7 +5,9 @@
 #include <string>
 
 // The reader lives with the CLI sources, which are not a library; compile it in here.
-#include "../../tools/uji_csv.cpp"
+#include <fstream>
+
+#include "uji_csv.hpp"
 
 namespace uji = locus::tools::uji;
 
