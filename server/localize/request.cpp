@@ -47,7 +47,9 @@ match::Options parse_options(const json& j) {
     if (!j.is_object()) throw invalid_field("'options' must be an object");
     static const std::initializer_list<const char*> known = {"k", "tolerance", "gamma", "near", "representation",
                                                               "distance", "sigma_floor", "estimate", "candidates",
-                                                              "temperature", "offset_sigma"};
+                                                              "temperature", "offset_sigma", "bayes_k",
+                                                              "floor_temperature", "floor_knn", "floor_knn_weight",
+                                                              "floor_aps", "floor_ap_weight"};
     for (const auto& [key, value] : j.items()) {
         bool ok = false;
         for (const char* k : known) ok = ok || key == k;
@@ -60,6 +62,12 @@ match::Options parse_options(const json& j) {
     o.sigma_floor = bounded_number(j, "sigma_floor", 0.1, 60.0, o.sigma_floor);
     o.temperature = bounded_number(j, "temperature", 0.01, 1000.0, o.temperature);
     o.offset_sigma = bounded_number(j, "offset_sigma", 0.0, 60.0, o.offset_sigma);
+    o.bayes_k = bounded_int(j, "bayes_k", 0, 1000, o.bayes_k);
+    o.floor_temperature = bounded_number(j, "floor_temperature", 0.0, 1000.0, o.floor_temperature);
+    o.floor_knn = bounded_int(j, "floor_knn", 0, 100, o.floor_knn);
+    o.floor_knn_weight = bounded_number(j, "floor_knn_weight", 0.0, 1.0, o.floor_knn_weight);
+    o.floor_aps = bounded_int(j, "floor_aps", 0, 100, o.floor_aps);
+    o.floor_ap_weight = bounded_number(j, "floor_ap_weight", 0.0, 1.0, o.floor_ap_weight);
     o.representation = parse_enum(j, "representation", match::parse_representation, o.representation);
     o.distance = parse_enum(j, "distance", match::parse_distance, o.distance);
     o.estimate = parse_enum(j, "estimate", match::parse_bayes_estimate, o.estimate);

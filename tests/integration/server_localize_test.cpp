@@ -145,6 +145,19 @@ TEST_F(Localize, MeasurementsAreAcceptedAsMeans) {
     EXPECT_DOUBLE_EQ(r.body.at("x").get<double>(), 10.0);
 }
 
+TEST_F(Localize, EveryOptionIsAccepted) {
+    json body = scan(-70, -40);
+    body["algorithm"] = "bayes";
+    body["options"] = {{"k", 2}, {"tolerance", 0.1}, {"gamma", 3}, {"representation", "positive"}, {"distance", "manhattan"},
+                       {"sigma_floor", 4}, {"estimate", "map"}, {"temperature", 2}, {"offset_sigma", 0}, {"bayes_k", 2},
+                       {"floor_temperature", 1}, {"floor_knn", 2}, {"floor_knn_weight", 0.5}, {"floor_aps", 0},
+                       {"floor_ap_weight", 0.2}, {"candidates", 2}, {"near", {{"x", 18}, {"y", 5}, {"radius", 50}}}};
+    const auto r = s.post(path, body);
+    ASSERT_EQ(r.status, 200) << r.raw;
+    EXPECT_EQ(r.body.at("candidates").size(), 2u);
+    EXPECT_DOUBLE_EQ(r.body.at("x").get<double>(), 18.0);  // MAP estimate: the single best RP
+}
+
 TEST_F(Localize, BadRequestsAreRefused) {
     auto expect = [&](const json& body, int status, const std::string& code) {
         const auto r = s.post(path, body);
@@ -160,6 +173,13 @@ TEST_F(Localize, BadRequestsAreRefused) {
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"distance", "chebyshev"}}}}, 422, "invalid_field");
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"near", {{"x", 1}, {"y", 1}, {"radius", -2}}}}}}, 422, "out_of_range");
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"speed", 3}}}}, 422, "invalid_field");
+    expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"floor_ap_weight", 2}}}}, 422, "out_of_range");
+    expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"bayes_k", -1}}}}, 422, "out_of_range");
+    expect({{"scans", scan(-50, -50)["scans"]}, {"options", 7}}, 422, "invalid_field");
+    expect({{"scans", scan(-50, -50)["scans"]}, {"algorithm", 7}}, 422, "invalid_field");
+    expect({{"scans", {{{"bssid", "aa"}}}}}, 422, "invalid_field");
+    expect({{"scans", json::array({json::object()})}}, 422, "invalid_field");
+    expect({{"measurements", {{{"bssid", "aa"}, {"rss", -50}, {"variance", 1}}}}}, 422, "invalid_field");
     const auto raw = s.post_raw(path, "{\"scans\": [[{\"bssid\": \"aa\", \"rss\": NaN}]]}");
     EXPECT_EQ(raw.status, 400);
 }
