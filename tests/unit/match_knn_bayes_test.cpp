@@ -5,26 +5,13 @@
 #include <numbers>
 
 #include "locus/match/localize.hpp"
+#include "match_fixture.hpp"
 
 using namespace locus;
 using namespace locus::match;
+using namespace locus::match::testing;
 
 namespace {
-
-Measurement m(const std::string& bssid, double mean, double variance = 1.0, std::int64_t count = 10) {
-    return Measurement{"wifi", bssid, RssStats{mean, variance, count}};
-}
-
-IndexedRp rp(long long id, Point at, std::vector<Measurement> ms, long long floor = 1, long long building = 1) {
-    IndexedRp r;
-    r.rp.id = id;
-    r.rp.at = at;
-    r.rp.scans = 10;
-    r.rp.measurements = std::move(ms);
-    r.floor_id = floor;
-    r.building_id = building;
-    return r;
-}
 
 Query query(std::vector<std::pair<std::string, double>> aps) {
     std::vector<Reading> r;

@@ -9,24 +9,13 @@
 #include <cmath>
 
 #include "locus/match/localize.hpp"
+#include "match_fixture.hpp"
 
 using namespace locus;
 using namespace locus::match;
+using namespace locus::match::testing;
 
 namespace {
-
-Measurement m(const std::string& bssid, double mean) { return Measurement{"wifi", bssid, RssStats{mean, 1.0, 10}}; }
-
-IndexedRp rp(long long id, Point at, std::vector<Measurement> ms, long long floor = 1, long long building = 1) {
-    IndexedRp r;
-    r.rp.id = id;
-    r.rp.at = at;
-    r.rp.scans = 10;
-    r.rp.measurements = std::move(ms);
-    r.floor_id = floor;
-    r.building_id = building;
-    return r;
-}
 
 Index three_rps() {
     return Index::build({rp(1, {0, 0}, {m("a", -50), m("b", -60), m("c", -70)}),
