@@ -227,9 +227,7 @@ void App::install_radiomap_routes() {
         respond(res, [&] {
             const auto rp_id = parse_id(req.matches[1].str(), "rp");
             const json body = parse_object(req.body);
-            for (const auto& [key, value] : body.items())
-                if (key != "upload_id" && key != "scans" && key != "measurements")
-                    throw invalid_field("unknown field '" + key + "'");
+            only_fields(body, {"upload_id", "scans", "measurements"}, "");
             const bool has_scans = body.contains("scans"), has_measurements = body.contains("measurements");
             if (has_scans == has_measurements)
                 throw invalid_field("send exactly one of 'scans' (raw readings) or 'measurements' (aggregates)");

@@ -199,6 +199,8 @@ std::string parse_bssid(const json& j, const std::string& where) {
     return normalise_bssid(raw);
 }
 
+}  // namespace
+
 void only_fields(const json& j, std::initializer_list<std::string_view> allowed, const std::string& where) {
     for (const auto& [key, value] : j.items()) {
         bool ok = false;
@@ -206,7 +208,6 @@ void only_fields(const json& j, std::initializer_list<std::string_view> allowed,
         if (!ok) throw invalid_field("unknown field '" + at(where, key) + "'");
     }
 }
-}  // namespace
 
 Reading parse_reading(const json& j, const std::string& where) {
     if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {type, bssid, rss}");

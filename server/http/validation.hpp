@@ -2,6 +2,7 @@
 // Request-body validation: everything a handler hands to the store or the matchers has
 // passed through here, so the layers below can assume well-formed, finite, in-range input.
 #include <cstdint>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -31,6 +32,9 @@ struct Page {
 };
 inline constexpr std::int64_t kMaxPageLimit = 1000;
 Page parse_page(const std::optional<std::string>& limit, const std::optional<std::string>& offset);
+
+// Refuses any key of object `j` not in `allowed` (422 "unknown field 'where.key'").
+void only_fields(const nlohmann::json& j, std::initializer_list<std::string_view> allowed, const std::string& where);
 
 // Scan and measurement bodies. `where` names the place in the body for error messages.
 Reading parse_reading(const nlohmann::json& j, const std::string& where);

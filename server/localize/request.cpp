@@ -45,16 +45,10 @@ double bounded_number(const json& options, const char* field, double lo, double 
 match::Options parse_options(const json& j) {
     match::Options o;
     if (!j.is_object()) throw invalid_field("'options' must be an object");
-    static const std::initializer_list<const char*> known = {"k", "tolerance", "gamma", "near", "representation",
-                                                              "distance", "sigma_floor", "estimate", "candidates",
-                                                              "temperature", "offset_sigma", "bayes_k",
-                                                              "floor_temperature", "floor_knn", "floor_knn_weight",
-                                                              "floor_aps", "floor_ap_weight"};
-    for (const auto& [key, value] : j.items()) {
-        bool ok = false;
-        for (const char* k : known) ok = ok || key == k;
-        if (!ok) throw invalid_field("unknown option '" + key + "'");
-    }
+    http::only_fields(j, {"k", "tolerance", "gamma", "near", "representation", "distance", "sigma_floor", "estimate",
+                          "candidates", "temperature", "offset_sigma", "bayes_k", "floor_temperature", "floor_knn",
+                          "floor_knn_weight", "floor_aps", "floor_ap_weight"},
+                      "options");
     o.k = bounded_int(j, "k", 1, 100, o.k);
     o.candidates = bounded_int(j, "candidates", 1, 100, o.candidates);
     o.tolerance = bounded_number(j, "tolerance", 0.0, 10.0, o.tolerance);

@@ -1,6 +1,8 @@
 #include "localize/service.hpp"
 
 #include <chrono>
+#include <string>
+#include <tuple>
 
 #include "http/api_error.hpp"
 #include "http/app.hpp"
@@ -30,16 +32,11 @@ Service::~Service() {
     worker_.join();
 }
 
-std::shared_ptr<const Snapshot> Service::radiomap(std::int64_t id) { return lookup(Scope::radiomap, id); }
-std::shared_ptr<const Snapshot> Service::map(std::int64_t id) { return lookup(Scope::map, id); }
-
 std::shared_ptr<const Snapshot> Service::lookup(Scope scope, std::int64_t id) {
     {
         std::lock_guard lock(mu_);
-        auto& table = scope == Scope::radiomap ? radiomaps_ : maps_;
-        auto& dirty = scope == Scope::radiomap ? dirty_radiomaps_ : dirty_maps_;
-        if (!dirty.count(id)) {
-            if (auto it = table.find(id); it != table.end()) return it->second;
+        if (!dirty(scope).count(id)) {
+            if (auto it = table(scope).find(id); it != table(scope).end()) return it->second;
         }
     }
     return rebuild(scope, id);
@@ -50,7 +47,7 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
     {
         // Cleared before reading, so a write that commits during the read marks it again.
         std::lock_guard lock(mu_);
-        (scope == Scope::radiomap ? dirty_radiomaps_ : dirty_maps_).erase(id);
+        dirty(scope).erase(id);
     }
     std::vector<store::StoredRp> stored;
     try {
@@ -63,7 +60,7 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
         }
     } catch (const store::NotFound&) {
         std::lock_guard lock(mu_);
-        (scope == Scope::radiomap ? radiomaps_ : maps_).erase(id);
+        table(scope).erase(id);
         throw;
     }
     auto snap = std::make_shared<Snapshot>();
@@ -76,14 +73,14 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
     snap->index = match::Index::build(rps);
     std::shared_ptr<const Snapshot> out = snap;
     std::lock_guard lock(mu_);
-    (scope == Scope::radiomap ? radiomaps_ : maps_)[id] = out;
+    table(scope)[id] = out;
     return out;
 }
 
 void Service::mark_dirty(Scope scope, std::int64_t id) {
     {
         std::lock_guard lock(mu_);
-        (scope == Scope::radiomap ? dirty_radiomaps_ : dirty_maps_).insert(id);
+        dirty(scope).insert(id);
     }
     wake_.notify_one();
 }
@@ -146,21 +143,17 @@ void Service::refresher() {
 
 void Service::install(http::App& app) {
     app.on_write([this](const store::Kind& kind, const json& row, bool deleted) { on_write(kind.name, row, deleted); });
-    auto& server = app.server();
-    server.Post(R"(/v1/radiomaps/(\d+)/localize)", [this](const httplib::Request& req, httplib::Response& res) {
-        http::App::guarded(res, [&] {
-            const auto id = http::parse_id(req.matches[1].str(), "radiomap");
-            const auto request = parse_localize_request(req.body);
-            res.set_content(answer(*radiomap(id), request), "application/json");
-        });
-    });
-    server.Post(R"(/v1/maps/(\d+)/localize)", [this](const httplib::Request& req, httplib::Response& res) {
-        http::App::guarded(res, [&] {
-            const auto id = http::parse_id(req.matches[1].str(), "map");
-            const auto request = parse_localize_request(req.body);
-            res.set_content(answer(*map(id), request), "application/json");
-        });
-    });
+    for (const auto& [collection, what, scope] : {std::tuple{"radiomaps", "radiomap", Scope::radiomap},
+                                                  std::tuple{"maps", "map", Scope::map}}) {
+        app.server().Post("/v1/" + std::string(collection) + R"(/(\d+)/localize)",
+                          [this, what, scope](const httplib::Request& req, httplib::Response& res) {
+                              http::App::guarded(res, [&] {
+                                  const auto id = http::parse_id(req.matches[1].str(), what);
+                                  const auto request = parse_localize_request(req.body);
+                                  res.set_content(answer(*lookup(scope, id), request), "application/json");
+                              });
+                          });
+    }
 }
 
 }  // namespace locus::localize

@@ -40,15 +40,16 @@ public:
     // Adds POST /v1/radiomaps/{id}/localize and POST /v1/maps/{id}/localize, and follows writes.
     void install(http::App& app);
 
-    // Throws store::NotFound for an unknown id.
-    std::shared_ptr<const Snapshot> radiomap(std::int64_t id);
-    std::shared_ptr<const Snapshot> map(std::int64_t id);
 
     // Marks what a write touched as stale (called by the HTTP layer after each commit).
     void on_write(std::string_view kind, const nlohmann::json& row, bool deleted);
 
 private:
     enum class Scope { radiomap, map };
+    using Table = std::unordered_map<std::int64_t, std::shared_ptr<const Snapshot>>;
+    Table& table(Scope scope) { return scope == Scope::radiomap ? radiomaps_ : maps_; }
+    std::unordered_set<std::int64_t>& dirty(Scope scope) { return scope == Scope::radiomap ? dirty_radiomaps_ : dirty_maps_; }
+    // The current snapshot; throws store::NotFound for an unknown id.
     std::shared_ptr<const Snapshot> lookup(Scope scope, std::int64_t id);
     std::shared_ptr<const Snapshot> rebuild(Scope scope, std::int64_t id);
     void mark_dirty(Scope scope, std::int64_t id);
@@ -57,7 +58,7 @@ private:
 
     store::Repository& repo_;
     std::mutex mu_;  // guards the tables below, never held while building
-    std::unordered_map<std::int64_t, std::shared_ptr<const Snapshot>> radiomaps_, maps_;
+    Table radiomaps_, maps_;
     std::unordered_set<std::int64_t> dirty_radiomaps_, dirty_maps_;
     std::condition_variable wake_;
     bool stopping_ = false;
