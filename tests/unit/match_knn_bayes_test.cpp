@@ -151,6 +151,7 @@ Options bayes(double sigma_floor, BayesEstimate e, int k = 2) {
     o.bayes_k = 0;  // k above
     o.temperature = 1.0;
     o.offset_sigma = 0.0;
+    o.outlier_sigmas = 0.0;  // the plain Gaussian; the cap has its own test
     return o;
 }
 }  // namespace
@@ -197,6 +198,31 @@ TEST(Bayes, DeviceOffsetEstimate) {
     o.offset_sigma = 2.0;
     const auto r = localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, o);
     EXPECT_NEAR(r->score, ll_a() + 0.25, 1e-9);
+}
+
+TEST(Bayes, OutlierCapBoundsEachApsResidual) {
+    Options o = bayes(1.0, BayesEstimate::map);
+    o.outlier_sigmas = 3.0;  // no AP costs more than 9/2 in its Gaussian exponent
+    // a at -30: A is 20 dB off (z² = 400/4 = 100), B 30 dB (z² = 225); both count as 9.
+    const double gauss_capped = -0.5 * std::log(2 * std::numbers::pi * 4.0) - 9.0 / 2.0;
+    auto r = localize(two_rps(), query({{"a", -30}}), Algorithm::bayes, o);
+    ASSERT_TRUE(r);
+    EXPECT_NEAR(r->score, std::log(0.98) + gauss_capped, 1e-9);
+    EXPECT_NEAR(r->candidates[1].score, std::log(0.5) + gauss_capped + std::log(0.02), 1e-9);
+    // Uncapped, A would pay 400/8 = 50 instead of 4.5.
+    Options plain = bayes(1.0, BayesEstimate::map);
+    EXPECT_NEAR(localize(two_rps(), query({{"a", -30}}), Algorithm::bayes, plain)->score,
+                std::log(0.98) - 0.5 * std::log(2 * std::numbers::pi * 4.0) - 50.0, 1e-9);
+    // Under the cap nothing changes: a at -52 is 1σ from A.
+    EXPECT_NEAR(localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, o)->score, ll_a(), 1e-9);
+    // An AP the RP does not store is capped alike: x at -70 is 30σ from -100 (σ floor 1).
+    const double pen = std::log(0.02) - 0.5 * std::log(2 * std::numbers::pi) - 9.0 / 2.0;
+    EXPECT_NEAR(localize(two_rps(), query({{"a", -52}, {"x", -70}}), Algorithm::bayes, o)->score, ll_a() + pen, 1e-9);
+    // A capped reading does not feed the offset estimate: σδ = 2 adds 0.25 at -52
+    // (DeviceOffsetEstimate) and nothing at -30.
+    o.offset_sigma = 2.0;
+    EXPECT_NEAR(localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, o)->score, ll_a() + 0.25, 1e-9);
+    EXPECT_NEAR(localize(two_rps(), query({{"a", -30}}), Algorithm::bayes, o)->score, std::log(0.98) + gauss_capped, 1e-9);
 }
 
 // A whole map: building 1 floor 10 holds RP1 (0,0) and RP2 (4,0); floor 20 holds RP3 (2,0).
@@ -255,6 +281,7 @@ TEST(Bayes, ZeroVarianceAndZeroFloorStayFinite) {
     const Index idx = Index::build({rp(1, {0, 0}, {m("a", -50, 0.0, 1)}), rp(2, {6, 0}, {m("a", -60, 0.0, 1)})});
     Options o;
     o.sigma_floor = 0.0;
+    o.outlier_sigmas = 0.0;  // with the cap both residuals (10σ, 90σ) would score alike
     const auto r = localize(idx, query({{"a", -51}}), Algorithm::bayes, o);
     ASSERT_TRUE(r);
     EXPECT_TRUE(std::isfinite(r->score));

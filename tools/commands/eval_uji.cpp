@@ -30,10 +30,12 @@ struct Args {
     std::optional<double> floor_temperature, floor_knn_weight, floor_ap_weight;
     bool oracle = false;
     std::optional<double> covered_within;
+    std::optional<double> outlier_sigmas;
     std::optional<double> offset_sigma, temperature, tolerance, gamma, sigma_floor, missing_rss, min_detection, alpha, beta;
     std::string representation, distance, estimate;
     bool json = false;
     std::optional<bool> expected;
+    std::string per_query;
 };
 
 long long floor_label(int building, int floor) { return building * 100LL + floor; }
@@ -52,9 +54,11 @@ struct Truth {
     int building, floor;
 };
 
+double nearest_on_true_floor(const match::Index& index, const Truth& t);
+
 nlohmann::json evaluate(const match::Index& index, const std::vector<match::Query>& queries,
                         const std::vector<Truth>& truth, match::Algorithm algorithm, const match::Options& options,
-                        std::size_t& unanswered) {
+                        std::size_t& unanswered, std::FILE* per_query) {
     std::vector<std::optional<match::Result>> results(queries.size());
     const auto t0 = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < queries.size(); ++i) results[i] = match::localize(index, queries[i], algorithm, options);
@@ -75,6 +79,11 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
         building_hits += building_ok;
         floor_hits += building_ok && r.floor_id == floor_label(truth[i].building, truth[i].floor);
         errors.push_back(distance(r.at, truth[i].at));
+        if (per_query)
+            std::fprintf(per_query, "%s,%zu,%d,%d,%.3f,%.3f,%lld,%lld,%.3f,%.3f,%.3f,%.3f\n",
+                         std::string(match::to_string(algorithm)).c_str(), i, truth[i].building,
+                         truth[i].floor, truth[i].at.x, truth[i].at.y, r.building_id, r.floor_id % 100, r.at.x, r.at.y,
+                         errors.back(), nearest_on_true_floor(index, truth[i]));
     }
     std::sort(errors.begin(), errors.end());
     double sum = 0.0;
@@ -158,6 +167,7 @@ void run(const Args& a) {
     if (a.offset_sigma) options.offset_sigma = *a.offset_sigma;
     if (a.temperature) options.temperature = *a.temperature;
     if (a.sigma_floor) options.sigma_floor = *a.sigma_floor;
+    if (a.outlier_sigmas) options.outlier_sigmas = *a.outlier_sigmas;
     if (a.floor_temperature) options.floor_temperature = *a.floor_temperature;
     if (a.floor_knn) options.floor_knn = *a.floor_knn;
     if (a.floor_knn_weight) options.floor_knn_weight = *a.floor_knn_weight;
@@ -254,9 +264,16 @@ void run(const Args& a) {
 
     nlohmann::json out = nlohmann::json::array();
     if (a.oracle) out.push_back(oracle(index, truth));
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> per_query(nullptr, std::fclose);
+    if (!a.per_query.empty()) {
+        per_query.reset(std::fopen(a.per_query.c_str(), "w"));
+        if (!per_query) throw CommandError("cannot write " + a.per_query);
+        std::fputs("algorithm,query,building,floor,x,y,est_building,est_floor,est_x,est_y,error_m,oracle_m\n",
+                   per_query.get());
+    }
     for (auto alg : algorithms) {
         std::size_t unanswered = 0;
-        auto o = evaluate(index, queries, truth, alg, options, unanswered);
+        auto o = evaluate(index, queries, truth, alg, options, unanswered, per_query.get());
         if (unanswered > 0)
             std::cerr << "eval uji: " << match::to_string(alg) << ": " << unanswered
                       << " queries shared no AP with any RP (counted as misses, no error)\n";
@@ -294,6 +311,8 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--representation", a->representation, "knn/wknn RSS form: positive, exponential, powed");
     cmd->add_option("--distance", a->distance, "knn/wknn distance: euclidean, manhattan, sorensen");
     cmd->add_option("--sigma-floor", a->sigma_floor, "bayes: minimum standard deviation (dB)");
+    cmd->add_option("--outlier-sigmas", a->outlier_sigmas,
+                    "bayes: cap of each AP's standardised residual, in sigmas (0 = no cap)");
     cmd->add_option("--temperature", a->temperature, "bayes: posterior tempering T");
     cmd->add_option("--offset-sigma", a->offset_sigma, "bayes: prior sd of the phone's RSS offset (dB), 0 = off");
     cmd->add_option("--estimate", a->estimate, "bayes: map or mean");
@@ -311,6 +330,8 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
                   "also report 'oracle': the nearest remaining RP on the true floor, a bound set by coverage");
     cmd->add_option("--covered-within", a->covered_within,
                     "only queries within this many metres of a remaining RP on their true floor");
+    cmd->add_option("--per-query", a->per_query,
+                    "write one CSV line per answered query (truth, estimate, error, oracle distance) to this file");
     cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all)");
     cmd->callback([a] { run(*a); });
 });

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 
 namespace locus::match {
@@ -83,6 +84,10 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
     const double sigma2_floor = sigma_floor * sigma_floor;
     const double log_sigma2_floor = std::log(sigma2_floor);
     const double n_online = static_cast<double>(query.aps.size());
+    // bayes: no AP's squared standardised residual counts beyond κ², so one glitched
+    // reading (phones report 0 dBm for APs heard at -80 elsewhere) cannot outweigh the rest.
+    const double kappa2 = options.outlier_sigmas > 0.0 ? options.outlier_sigmas * options.outlier_sigmas
+                                                       : std::numeric_limits<double>::infinity();
 
     // Query-side totals over every online AP, known to the index or not (an AP the index
     // has never seen is heard online only and still counts against every RP).
@@ -95,7 +100,8 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
         const double d = ap.rss - params.missing_rss;
         // An AP the RP does not store: as if it were stored with the missing value, the
         // floored variance and the minimum detection rate.
-        const double penalty = std::log(params.min_detection) - 0.5 * (kLog2Pi + log_sigma2_floor) - d * d / (2.0 * sigma2_floor);
+        const double z2 = d * d / sigma2_floor;
+        const double penalty = std::log(params.min_detection) - 0.5 * (kLog2Pi + log_sigma2_floor) - 0.5 * std::min(z2, kappa2);
         q_sum += r;
         q_sq_sum += r * r;
         q_penalty += penalty;
@@ -160,10 +166,13 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
                 const double var = floored ? sigma2_floor : t.variance;
                 const double log_var = floored ? log_sigma2_floor : t.log_variance;
                 const double d = k.rss - list.mean[j];
-                const double log_gauss = -0.5 * (kLog2Pi + log_var) - d * d / (2.0 * var);
+                const double z2 = d * d / var;
+                const double log_gauss = -0.5 * (kLog2Pi + log_var) - 0.5 * std::min(z2, kappa2);
                 s.acc[rp] += t.log_detect + log_gauss - t.log_miss - k.penalty;
-                s.acc_wd[rp] += d / var;
-                s.acc_w[rp] += 1.0 / var;
+                // A capped reading says nothing about the phone's offset either.
+                const double inv_var = z2 > kappa2 ? 0.0 : 1.0 / var;
+                s.acc_wd[rp] += d * inv_var;
+                s.acc_w[rp] += inv_var;
             };
             if (floor_knn) {
                 walk([&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {

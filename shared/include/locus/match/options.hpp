@@ -31,9 +31,16 @@ struct Options {
     Representation representation = Representation::powed;
     Distance distance = Distance::sorensen;
     // bayes: the stored standard deviation is raised to at least this (dB). A few scans per
-    // RP underestimate the spread another phone sees; 8 dB did best on held-out users.
-    // Values below 0.1 dB are treated as 0.1.
-    double sigma_floor = 8.0;
+    // RP underestimate the spread another phone sees. 5 dB did best on the tuning users of
+    // UJIIndoorLoc together with outlier_sigmas (8 dB without the cap). Values below 0.1 dB
+    // are treated as 0.1.
+    double sigma_floor = 5.0;
+    // bayes: each AP's squared standardised residual (rss − mean)² / σ² is capped at
+    // outlier_sigmas², for stored APs and for APs the RP does not store alike, and a capped
+    // AP is left out of the device-offset estimate. Some phones report glitched readings
+    // (0 dBm where every RP stores -80), and without a cap one of them decides the answer.
+    // 0 = no cap. 5 did best on the tuning users of UJIIndoorLoc (docs/matchers.md).
+    double outlier_sigmas = 5.0;
     BayesEstimate estimate = BayesEstimate::mean;
     // bayes: posterior ∝ exp(log-likelihood / temperature). Summing per-AP log-likelihoods
     // as if APs were independent makes the posterior far too sharp; T > 1 tempers it.
