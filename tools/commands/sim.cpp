@@ -1,5 +1,6 @@
 // `locus sim`: the seeded walking simulator (issue 5). Writes a walk file (--out) and/or
 // scores every positioning method on it (--evaluate); --runs averages consecutive seeds.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -31,6 +32,9 @@ struct Args {
     int nmax = 10;
     int gamma = 2;
     int particles = 1000;
+    double fix_sigma_floor = sim::EvalConfig{}.fix_sigma_floor_m;
+    double scale_sigma = fusion::ParticleConfig{}.initial_scale_sigma;
+    sim::SimConfig walk;  // defaults of the simulator; the options below override a few
 };
 
 void run(const Args& a) {
@@ -47,15 +51,24 @@ void run(const Args& a) {
     cfg.rules.n_max = a.nmax;
     cfg.rules.gamma = a.gamma;
     cfg.particle.particles = a.particles;
+    cfg.fix_sigma_floor_m = a.fix_sigma_floor;
+    cfg.particle.initial_scale_sigma = a.scale_sigma;
 
     std::vector<std::string> order;
     std::map<std::string, sim::Score> sums;
+    double distance_abs = 0.0, distance_sq = 0.0;  // PDR distance error, relative
     for (int r = 0; r < a.runs; ++r) {
         const std::uint64_t seed = a.seed + static_cast<std::uint64_t>(r);
-        const sim::Walk walk = sim::simulate(sc, seed);
+        const sim::Walk walk = sim::simulate(sc, seed, a.walk);
         if (!a.out.empty()) sim::save_walk(a.out, walk);
         if (!a.evaluate) continue;
         cfg.particle.seed = seed;
+        // The seed reports PDR distance against the walk (57.12 and 44.19 m for 52 m).
+        double walked = 0.0;
+        for (const sim::PdrStep& st : sim::run_pdr(walk)) walked += st.length_m;
+        const double rel = walked / sc.path_length_m() - 1.0;
+        distance_abs += std::abs(rel) / a.runs;
+        distance_sq += rel * rel / a.runs;
         for (const sim::Score& s : sim::evaluate(walk, cfg)) {
             if (!sums.count(s.method)) order.push_back(s.method);
             sim::Score& t = sums[s.method];
@@ -90,6 +103,8 @@ void run(const Args& a) {
         const sim::Score& s = sums[m];
         std::printf("%-20s %10.2f %10.2f %10.2f\n", s.method.c_str(), s.mean_error_m, s.final_error_m, s.p95_error_m);
     }
+    std::printf("pdr distance error: mean |e| %.1f %%, rms %.1f %%\n", 100.0 * distance_abs,
+                100.0 * std::sqrt(distance_sq));
 }
 
 }  // namespace
@@ -109,5 +124,20 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
     cmd->add_option("--nmax", args->nmax, "proportional N_max");
     cmd->add_option("--gamma", args->gamma, "proportional γ");
     cmd->add_option("--particles", args->particles, "Particle count");
+    cmd->add_option("--fix-sigma-floor", args->fix_sigma_floor, "Floor of a fix's σ per axis, m (kalman, particle)")
+        ->capture_default_str();
+    cmd->add_option("--scale-sigma", args->scale_sigma, "Particle filter's prior step-length scale spread")
+        ->capture_default_str();
+    // Simulator knobs, for the calibration sweeps of docs/fusion.md.
+    cmd->add_option("--scan-duration", args->walk.scan_duration_s, "Channel sweep of a scan, s")->capture_default_str();
+    cmd->add_option("--drift-db", args->walk.survey_drift_sigma_db, "Survey-to-walk RSS change, dB")->capture_default_str();
+    cmd->add_option("--device-offset-db", args->walk.device_offset_sigma_db, "Phone vs survey phone RSS offset σ, dB")
+        ->capture_default_str();
+    cmd->add_option("--bounce-sigma", args->walk.bounce_log_sigma, "Person's step bounce spread (log σ)")
+        ->capture_default_str();
+    cmd->add_option("--length-sigma", args->walk.step_length_person_sigma, "Spread of the person's mean step length")
+        ->capture_default_str();
+    cmd->add_option("--misalignment", args->walk.misalignment_sigma_rad, "Phone yaw vs walking direction σ, rad")
+        ->capture_default_str();
     cmd->callback([args] { run(*args); });
 });

@@ -48,6 +48,7 @@ private:
     std::vector<std::pair<double, double>> turns_;
 };
 
+// One scan: AP a heard with mean RSS means[a] (the environment where and when it was heard).
 Scan take_scan(const Environment& env, const std::vector<double>& means, double offset_db, std::mt19937_64& rng) {
     const Scenario& sc = env.scenario();
     std::normal_distribution<double> noise(0.0, sc.noise_sigma_db);
@@ -177,10 +178,30 @@ Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
         walk.imu.push_back(smp);
     }
 
+    // The radio draws of the walk beyond the original model come from their own stream, so
+    // turning them on or off leaves the person, the IMU and every other draw unchanged.
+    std::seed_seq radio_seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                            static_cast<std::uint32_t>(sc.environment_seed), 0x52414449u};
+    std::mt19937_64 radio_rng(radio_seq);
+    std::vector<SmoothField> drift;
+    for (std::size_t a = 0; a < sc.aps.size(); ++a)
+        drift.emplace_back(radio_rng, cfg.survey_drift_sigma_db, cfg.survey_drift_scale_m);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    auto truth_at_time = [&](double tq) {
+        const std::size_t k = std::min(n - 1, static_cast<std::size_t>(std::lround(std::max(0.0, tq) * cfg.rate_hz)));
+        return *walk.imu[k].truth;
+    };
+
     for (double ts = 0.5 * cfg.scan_period_s; ts < t_end; ts += cfg.scan_period_s) {
         const std::size_t k = std::min(n - 1, static_cast<std::size_t>(std::lround(ts * cfg.rate_hz)));
         const Point at = *walk.imu[k].truth;
-        walk.scans.push_back({walk.imu[k].t_s, take_scan(env, means_at(env, at), device_offset, rng), at});
+        std::vector<double> means(sc.aps.size());
+        for (std::size_t a = 0; a < sc.aps.size(); ++a) {
+            const double heard = walk.imu[k].t_s - cfg.scan_duration_s * u01(radio_rng);
+            const Point p = cfg.scan_duration_s > 0.0 ? truth_at_time(heard) : at;
+            means[a] = env.mean_rss(a, p) + drift[a](p);
+        }
+        walk.scans.push_back({walk.imu[k].t_s, take_scan(env, means, device_offset, rng), at});
     }
 
     for (std::size_t i = 0; i < sc.rps.size(); ++i) {
