@@ -88,12 +88,16 @@ TEST(SimWalk, SensorsAreSensible) {
 }
 
 TEST(SimWalk, RealPdrCountsTheStepsAndWalksTheDistance) {
-    const Walk w = simulate(scenario("ground"), 5);
+    // A person of the nominal 0.70 m step: the default spread of people's step lengths
+    // (±15 %, the seed's PDR distance errors) would make the step count unknown here.
+    SimConfig cfg;
+    cfg.step_length_person_sigma = 0.0;
+    const Walk w = simulate(scenario("ground"), 5, cfg);
     const std::vector<PdrStep> steps = run_pdr(w);
     double walked = 0.0;
     for (const PdrStep& s : steps) walked += s.length_m;
     // 26.5 m at ~0.7 m per step is ~38 steps; the person's bounce makes Weinberg off by
-    // a few % (the seed's phones were 10–15 % off).
+    // a few %.
     EXPECT_NEAR(static_cast<double>(steps.size()), 26.5 / 0.7, 5.0);
     EXPECT_NEAR(walked, 26.5, 0.2 * 26.5);
 }
@@ -146,4 +150,32 @@ TEST(SimEvaluate, EveryMethodInTheIssueOrderAndPdrOnlyDriftsInTheBasement) {
     }
     // The disturbed compass sends PDR alone metres off; any fusion with WiFi pulls it back.
     for (std::size_t i = 2; i < s.size(); ++i) EXPECT_LT(s[i].mean_error_m, s[0].mean_error_m) << s[i].method;
+}
+
+namespace {
+bool same_scan(const Scan& a, const Scan& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].bssid != b[i].bssid || a[i].rss != b[i].rss) return false;
+    return true;
+}
+}  // namespace
+
+TEST(SimWalk, SurveyDriftAndScanSweepChangeOnlyTheOnlineScans) {
+    SimConfig still;
+    still.survey_drift_sigma_db = 0.0;
+    still.scan_duration_s = 0.0;
+    const Walk a = simulate(scenario("basement"), 9);
+    const Walk b = simulate(scenario("basement"), 9, still);
+    // The radio map (survey) and the person are the same walk...
+    ASSERT_EQ(a.survey.size(), b.survey.size());
+    for (std::size_t i = 0; i < a.survey.size(); ++i) EXPECT_TRUE(same_scan(a.survey[i].scans[5], b.survey[i].scans[5]));
+    ASSERT_EQ(a.imu.size(), b.imu.size());
+    EXPECT_EQ(a.imu[321].acc.z, b.imu[321].acc.z);
+    EXPECT_EQ(a.imu[321].mag.x, b.imu[321].mag.x);
+    // ...but what the phone hears online is not what the survey heard there.
+    ASSERT_EQ(a.scans.size(), b.scans.size());
+    int differing = 0;
+    for (std::size_t i = 0; i < a.scans.size(); ++i) differing += !same_scan(a.scans[i].readings, b.scans[i].readings);
+    EXPECT_GT(differing, static_cast<int>(a.scans.size()) / 2);
 }
