@@ -107,19 +107,20 @@ public:
         return r;
     }
 
-    bool null() override { return value(Value{}); }
+    bool null() override { return value(Kind::null); }
     bool boolean(bool b) override {
         if (in_options()) return tree_value(json(b));
-        return value(Value::of(Value::other));
+        return value(Kind::other);
     }
     bool number_integer(number_integer_t v) override { return number(static_cast<double>(v), json(v)); }
     bool number_unsigned(number_unsigned_t v) override { return number(static_cast<double>(v), json(v)); }
     bool number_float(number_float_t v, const string_t&) override { return number(v, json(v)); }
     bool string(string_t& v) override {
-        if (in_options()) return tree_value(json(std::move(v)));
-        return value(Value::of_text(std::move(v)));
+        if (in_options()) return tree_value(json(v));
+        text_.assign(v);  // a copy into a reused buffer: moving would take the lexer's
+        return value(Kind::text);
     }
-    bool binary(binary_t&) override { return value(Value::of(Value::other)); }
+    bool binary(binary_t&) override { return value(Kind::other); }
 
     bool start_object(std::size_t) override {
         ++depth_;
@@ -142,7 +143,7 @@ public:
         if (depth_ == 1) return not_an_object();
         if (depth_ == 2 && (top_ == Top::scans || top_ == Top::means)) return true;
         if (depth_ == 3 && top_ == Top::scans) {
-            scans.emplace_back();
+            scans.emplace_back().reserve(64);
             return true;
         }
         return misplaced();
@@ -167,10 +168,12 @@ public:
             return true;
         }
         if (in_options()) {
-            pending_key_ = std::move(k);
+            pending_key_.assign(k);
             return true;
         }
-        field_ = std::move(k);
+        field_ = k == "type" ? Field::type : k == "bssid" ? Field::bssid : k == "rss" ? Field::rss
+               : k == "mean" ? Field::mean : Field::other;
+        if (field_ == Field::other) field_name_.assign(k);
         return true;
     }
     bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
@@ -180,36 +183,21 @@ public:
 
 private:
     enum class Top { none, algorithm, scans, means, options, unknown };
-    struct Value {
-        enum Kind { null, is_number, is_text, other } kind = null;
-        std::string text;
-        double number = 0.0;
-        static Value of(Kind k) {
-            Value v;
-            v.kind = k;
-            return v;
-        }
-        static Value of_text(std::string s) {
-            Value v = of(is_text);
-            v.text = std::move(s);
-            return v;
-        }
-        static Value of_number(double d) {
-            Value v = of(is_number);
-            v.number = d;
-            return v;
-        }
-    };
+    enum class Kind { null, number, text, other };
+    enum class Field { type, bssid, rss, mean, other };
+    // The reading being parsed; its strings are reused from one reading to the next.
     struct Pending {
-        std::optional<std::string> type, bssid;
-        std::optional<double> rss;
+        bool has_type = false, has_bssid = false, has_rss = false;
+        std::string type, bssid;
+        double rss = 0.0;
     };
 
     bool in_options() const { return top_ == Top::options && depth_ >= 2; }
 
     bool number(double v, json tree) {
         if (in_options()) return tree_value(std::move(tree));
-        return value(Value::of_number(v));
+        number_ = v;
+        return value(Kind::number);
     }
 
     bool not_an_object() {
@@ -217,57 +205,67 @@ private:
         return true;
     }
 
-    // A scalar anywhere outside "options".
-    bool value(Value v) {
+    // A scalar anywhere outside "options" (a text's characters are in text_, a number in number_).
+    bool value(Kind kind) {
         if (depth_ == 0) return not_an_object();
         if (in_options() || (top_ == Top::options && depth_ == 1)) {
             if (depth_ == 1) fail(invalid_field("'options' must be an object"));
-            return tree_value(v.kind == Value::null ? json() : json("?"));
+            return tree_value(kind == Kind::null ? json() : json("?"));
         }
         if (depth_ == 1 && top_ == Top::algorithm) {
-            if (v.kind != Value::is_text || v.text.empty() || v.text.size() > 32)
+            if (kind != Kind::text || text_.empty() || text_.size() > 32)
                 fail(invalid_field("'algorithm' must be 1 to 32 characters"));
-            else algorithm = std::move(v.text);
+            else algorithm = text_;
             return true;
         }
         if (!reading_open_) return misplaced();
-        const bool mean_key = top_ == Top::means && field_ == "mean";
-        if (v.kind == Value::null && (field_ == "type" || field_ == "bssid")) return true;  // as if absent
-        if (field_ == "type") {
-            if (v.kind != Value::is_text) fail(invalid_field("'" + where() + ".type' must be a string"));
-            else pending_.type = std::move(v.text);
-        } else if (field_ == "bssid") {
-            if (v.kind != Value::is_text) fail(invalid_field("'" + where() + ".bssid' must be a string"));
-            else pending_.bssid = std::move(v.text);
-        } else if (field_ == "rss" || mean_key) {
-            if (v.kind != Value::is_number) fail(invalid_field("'" + where() + "." + field_ + "' must be a number"));
-            else pending_.rss = v.number;
-        } else {
-            fail(invalid_field("unknown field '" + where() + "." + field_ + "'"));
+        if (kind == Kind::null && (field_ == Field::type || field_ == Field::bssid)) return true;  // as if absent
+        switch (field_) {
+            case Field::type:
+                if (kind != Kind::text) return fail(invalid_field("'" + where() + ".type' must be a string"));
+                pending_.type.assign(text_);
+                pending_.has_type = true;
+                return true;
+            case Field::bssid:
+                if (kind != Kind::text) return fail(invalid_field("'" + where() + ".bssid' must be a string"));
+                pending_.bssid.assign(text_);
+                pending_.has_bssid = true;
+                return true;
+            case Field::mean:
+                if (top_ != Top::means) break;
+                [[fallthrough]];
+            case Field::rss:
+                if (kind != Kind::number)
+                    return fail(invalid_field("'" + where() + "." + (field_ == Field::rss ? "rss" : "mean") + "' must be a number"));
+                pending_.rss = number_;
+                pending_.has_rss = true;
+                return true;
+            case Field::other:
+                break;
         }
-        return true;
+        return fail(invalid_field("unknown field '" + where() + "." + (field_ == Field::mean ? "mean" : field_name_) + "'"));
     }
 
     bool start_reading() {
         reading_open_ = true;
-        pending_ = {};
+        pending_.has_type = pending_.has_bssid = pending_.has_rss = false;
         return true;
     }
 
     bool end_reading() {
         reading_open_ = false;
         Reading r;
-        if (pending_.type) {
-            if (const char* problem = http::type_problem(*pending_.type)) fail(invalid_field("'" + where() + ".type' " + problem));
-            r.type = std::move(*pending_.type);
+        if (pending_.has_type) {
+            if (const char* problem = http::type_problem(pending_.type)) return fail(invalid_field("'" + where() + ".type' " + problem));
+            r.type = pending_.type;
         }
-        if (!pending_.bssid) return fail(invalid_field("missing field '" + where() + ".bssid'"));
-        if (const char* problem = http::bssid_problem(*pending_.bssid)) return fail(invalid_field("'" + where() + ".bssid' " + problem));
-        r.bssid = normalise_bssid(*pending_.bssid);
-        if (!pending_.rss) return fail(invalid_field("missing field '" + where() + ".rss'"));
-        if (!std::isfinite(*pending_.rss)) return fail(invalid_field("'" + where() + ".rss' must be finite"));
-        if (!valid_rss(*pending_.rss)) return fail(http::out_of_range(where() + ".rss", *pending_.rss, kMinRss, kMaxRss));
-        r.rss = *pending_.rss;
+        if (!pending_.has_bssid) return fail(invalid_field("missing field '" + where() + ".bssid'"));
+        if (const char* problem = http::bssid_problem(pending_.bssid)) return fail(invalid_field("'" + where() + ".bssid' " + problem));
+        r.bssid = pending_.bssid;  // normalised with the query (match::Query)
+        if (!pending_.has_rss) return fail(invalid_field("missing field '" + where() + ".rss'"));
+        if (!std::isfinite(pending_.rss)) return fail(invalid_field("'" + where() + ".rss' must be finite"));
+        if (!valid_rss(pending_.rss)) return fail(http::out_of_range(where() + ".rss", pending_.rss, kMinRss, kMaxRss));
+        r.rss = pending_.rss;
         if (top_ == Top::scans) scans.back().push_back(std::move(r));
         else means.push_back(std::move(r));
         return true;
@@ -323,7 +321,9 @@ private:
 
     int depth_ = 0;
     Top top_ = Top::none;
-    std::string field_, pending_key_;
+    Field field_ = Field::other;
+    std::string field_name_, pending_key_, text_;
+    double number_ = 0.0;
     bool reading_open_ = false;
     Pending pending_;
     std::vector<json*> stack_;

@@ -157,6 +157,18 @@ TEST(Query, AveragesScansPerApAndNormalisesBssids) {
     EXPECT_EQ(q.aps[2].type, "ble");        // same id, other radio: another AP
 }
 
+TEST(Query, InterleavedRepeatsKeepFirstSeenOrder) {
+    const Query q = Query::from_means({{"wifi", "b", -60}, {"wifi", "a", -50}, {"wifi", "b", -70}, {"wifi", "c", -90},
+                                       {"wifi", "a", -53}, {"wifi", "B", -80}});
+    ASSERT_EQ(q.aps.size(), 3u);
+    EXPECT_EQ(q.aps[0].bssid, "b");
+    EXPECT_DOUBLE_EQ(q.aps[0].rss, -70.0);  // (-60 - 70 - 80) / 3
+    EXPECT_EQ(q.aps[1].bssid, "a");
+    EXPECT_DOUBLE_EQ(q.aps[1].rss, -51.5);
+    EXPECT_EQ(q.aps[2].bssid, "c");
+    EXPECT_DOUBLE_EQ(q.aps[2].rss, -90.0);
+}
+
 TEST(Names, ParseAndPrintRoundTrip) {
     for (auto a : all_algorithms()) EXPECT_EQ(parse_algorithm(to_string(a)), a);
     EXPECT_EQ(all_algorithms().size(), 6u);

@@ -1,7 +1,8 @@
 // `locus bench localize`: HTTP throughput and latency of a running server on loopback, for
 // POST /v1/radiomaps/{id}/localize replaying real scans and, as the yardstick, GET /health.
 // C threads each keep one connection alive and send N/C requests back to back; bounded by
-// --requests and --max-seconds. Prints one JSON object.
+// --requests and --max-seconds. Requests are built before the clock starts and each goes out
+// in one write (tools/bench_connection.hpp says why). Prints one JSON object.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -13,6 +14,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "bench_connection.hpp"
 #include "command_registry.hpp"
 #include "survey_connect.hpp"
 #include "survey_format.hpp"
@@ -96,13 +98,35 @@ std::vector<std::string> load_bodies(const Args& a, httplib::Client& http) {
     return bodies;
 }
 
-bool loopback(const std::string& url) {
-    for (const char* host : {"http://127.0.0.1:", "http://localhost:", "http://[::1]:"})
-        if (url.rfind(host, 0) == 0) return true;
-    return false;
+struct Target {
+    std::string host;  // as getaddrinfo wants it: no brackets around an IPv6 address
+    int port = 0;
+    std::string host_port;  // for the Host header
+};
+
+// Only loopback servers: a load test must not leave the machine.
+Target loopback_target(const std::string& url) {
+    for (const char* prefix : {"http://127.0.0.1:", "http://localhost:", "http://[::1]:"}) {
+        const std::string p = prefix;
+        if (url.rfind(p, 0) != 0) continue;
+        Target t;
+        t.host_port = url.substr(7);
+        while (!t.host_port.empty() && t.host_port.back() == '/') t.host_port.pop_back();
+        t.host = p.substr(7, p.size() - 8);
+        if (t.host.front() == '[') t.host = t.host.substr(1, t.host.size() - 2);
+        try {
+            std::size_t used = 0;
+            t.port = std::stoi(url.substr(p.size()), &used);
+            if (p.size() + used != 7 + t.host_port.size()) throw std::invalid_argument("port");
+        } catch (const std::exception&) {
+            throw CommandError("cannot read the port of " + url);
+        }
+        return t;
+    }
+    throw CommandError("bench localize only targets a loopback server (http://127.0.0.1:PORT)");
 }
 
-json run_phase(const Args& a, const std::string& path, const std::vector<std::string>* bodies) {
+json run_phase(const Args& a, const Target& target, const std::vector<std::string>& requests) {
     std::atomic<int> next{0};
     std::atomic<int> errors{0};
     std::vector<std::vector<double>> latencies(static_cast<std::size_t>(a.concurrency));
@@ -111,20 +135,16 @@ json run_phase(const Args& a, const std::string& path, const std::vector<std::st
     std::vector<std::thread> threads;
     for (int t = 0; t < a.concurrency; ++t) {
         threads.emplace_back([&, t] {
-            httplib::Client http(a.server.client_options().base_url);
-            http.set_keep_alive(true);
-            http.set_tcp_nodelay(true);
-            http.set_read_timeout(10, 0);
+            BenchConnection connection(target.host, target.port);
             auto& lat = latencies[static_cast<std::size_t>(t)];
             lat.reserve(static_cast<std::size_t>(a.requests / a.concurrency + 1));
             for (;;) {
                 const int i = next++;
                 if (i >= a.requests || Clock::now() > deadline) break;
                 const auto s = Clock::now();
-                httplib::Result r = bodies ? http.Post(path, (*bodies)[static_cast<std::size_t>(i) % bodies->size()], "application/json")
-                                           : http.Get(path);
+                const auto status = connection.round_trip(requests[static_cast<std::size_t>(i) % requests.size()]);
                 lat.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
-                if (!r || r->status != 200) ++errors;
+                if (status != 200) ++errors;
             }
         });
     }
@@ -143,7 +163,7 @@ json run_phase(const Args& a, const std::string& path, const std::vector<std::st
 
 void run(Args a) {
     a.server.server = a.server.client_options().base_url;
-    if (!loopback(a.server.server)) throw CommandError("bench localize only targets a loopback server (http://127.0.0.1:PORT)");
+    const Target target = loopback_target(a.server.server);
     httplib::Client http(a.server.server);
     const auto bodies = load_bodies(a, http);
     const std::string path = "/v1/radiomaps/" + std::to_string(a.radiomap) + "/localize";
@@ -152,11 +172,15 @@ void run(Args a) {
         if (!r) throw CommandError("no answer from " + a.server.server);
         if (r->status != 200) throw CommandError("localize answered " + std::to_string(r->status) + ": " + r->body.substr(0, 300));
     }
+    std::vector<std::string> localize_requests;
+    localize_requests.reserve(bodies.size());
+    for (const auto& b : bodies) localize_requests.push_back(http_request("POST", path, target.host_port, b));
+    const std::vector<std::string> health_requests{http_request("GET", "/health", target.host_port)};
     Args warm = a;
     warm.requests = std::min(a.warmup, a.requests);
-    run_phase(warm, path, &bodies);
-    const json localize = run_phase(a, path, &bodies);
-    const json health = run_phase(a, "/health", nullptr);
+    run_phase(warm, target, localize_requests);
+    const json localize = run_phase(a, target, localize_requests);
+    const json health = run_phase(a, target, health_requests);
     const double ratio = health.at("req_per_s").get<double>() > 0
                              ? localize.at("req_per_s").get<double>() / health.at("req_per_s").get<double>()
                              : 0.0;

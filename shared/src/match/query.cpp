@@ -1,28 +1,46 @@
 #include "locus/match/query.hpp"
 
-#include <map>
+#include <algorithm>
+#include <numeric>
+#include <string_view>
 #include <utility>
 
 namespace locus::match {
 
 namespace {
 // Mean per (type, normalised bssid) in first-seen order; invalid RSS values are dropped.
+// Duplicates are found by sorting indices rather than with a map: this runs for every
+// localize request, and a map costs a node and two key copies per reading.
 Query average(const std::vector<const Reading*>& readings) {
     Query q;
-    std::map<std::pair<std::string, std::string>, std::size_t> slot;
-    std::vector<int> counts;
-    for (const Reading* r : readings) {
-        if (!valid_rss(r->rss)) continue;
-        auto key = std::make_pair(r->type, normalise_bssid(r->bssid));
-        auto [it, inserted] = slot.try_emplace(key, q.aps.size());
-        if (inserted) {
-            q.aps.push_back(QueryAp{key.first, key.second, 0.0});
-            counts.push_back(0);
+    q.aps.reserve(readings.size());
+    for (const Reading* r : readings)
+        if (valid_rss(r->rss)) q.aps.push_back(QueryAp{r->type, normalise_bssid(r->bssid), r->rss});
+    std::vector<std::size_t> order(q.aps.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    const auto key = [&](std::size_t i) { return std::pair<std::string_view, std::string_view>(q.aps[i].type, q.aps[i].bssid); };
+    // Stable, so within a key the first-seen reading comes first and keeps its slot.
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+    std::vector<bool> merged(q.aps.size(), false);
+    for (std::size_t s = 0; s < order.size();) {
+        std::size_t e = s + 1;
+        while (e < order.size() && key(order[e]) == key(order[s])) ++e;
+        if (e - s > 1) {
+            QueryAp& first = q.aps[order[s]];
+            for (std::size_t j = s + 1; j < e; ++j) {
+                first.rss += (q.aps[order[j]].rss - first.rss) / static_cast<double>(j - s + 1);
+                merged[order[j]] = true;
+            }
         }
-        const std::size_t i = it->second;
-        ++counts[i];
-        q.aps[i].rss += (r->rss - q.aps[i].rss) / counts[i];
+        s = e;
     }
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < q.aps.size(); ++i)
+        if (!merged[i]) {
+            if (w != i) q.aps[w] = std::move(q.aps[i]);
+            ++w;
+        }
+    q.aps.resize(w);
     return q;
 }
 }  // namespace

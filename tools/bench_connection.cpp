@@ -1,0 +1,124 @@
+#include "bench_connection.hpp"
+
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <string_view>
+
+namespace locus::tools {
+
+namespace {
+bool iequals_prefix(std::string_view line, std::string_view name) {
+    if (line.size() < name.size()) return false;
+    for (std::size_t i = 0; i < name.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(line[i])) != name[i]) return false;
+    return true;
+}
+}  // namespace
+
+std::string http_request(const std::string& method, const std::string& path, const std::string& host_port,
+                         const std::string& body) {
+    std::string r = method + " " + path + " HTTP/1.1\r\nHost: " + host_port + "\r\n";
+    if (!body.empty() || method == "POST")
+        r += "Content-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) + "\r\n";
+    return r + "\r\n" + body;
+}
+
+BenchConnection::~BenchConnection() { close(); }
+
+bool BenchConnection::open() {
+    addrinfo hints{};
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    addrinfo* found = nullptr;
+    if (getaddrinfo(host_.c_str(), std::to_string(port_).c_str(), &hints, &found) != 0) return false;
+    for (addrinfo* a = found; a; a = a->ai_next) {
+        fd_ = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
+        if (fd_ < 0) continue;
+        if (::connect(fd_, a->ai_addr, a->ai_addrlen) == 0) break;
+        ::close(fd_);
+        fd_ = -1;
+    }
+    freeaddrinfo(found);
+    if (fd_ < 0) return false;
+    const int one = 1;
+    ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    const timeval timeout{10, 0};
+    ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    ::setsockopt(fd_, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof timeout);
+    buffer_.clear();
+    return true;
+}
+
+void BenchConnection::close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+}
+
+std::optional<int> BenchConnection::round_trip(const std::string& request) {
+    if (fd_ < 0 && !open()) return std::nullopt;
+    for (std::size_t sent = 0; sent < request.size();) {
+        const ssize_t n = ::send(fd_, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            close();
+            return std::nullopt;
+        }
+        sent += static_cast<std::size_t>(n);
+    }
+    auto status = read_answer();
+    if (!status) close();
+    return status;
+}
+
+std::optional<int> BenchConnection::read_answer() {
+    char chunk[16384];
+    const auto receive = [&]() -> bool {
+        for (;;) {
+            const ssize_t n = ::recv(fd_, chunk, sizeof chunk, 0);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) return false;
+            buffer_.append(chunk, static_cast<std::size_t>(n));
+            return true;
+        }
+    };
+    std::size_t head_end;
+    while ((head_end = buffer_.find("\r\n\r\n")) == std::string::npos)
+        if (!receive()) return std::nullopt;
+    const std::string_view head(buffer_.data(), head_end);
+    // "HTTP/1.1 200 OK"
+    const auto space = head.find(' ');
+    int status = 0;
+    if (space == std::string_view::npos ||
+        std::from_chars(head.data() + space + 1, head.data() + head.size(), status).ec != std::errc())
+        return std::nullopt;
+    std::size_t length = 0;
+    bool close_after = false;
+    for (std::size_t at = head.find("\r\n"); at != std::string_view::npos;) {
+        const std::size_t next = head.find("\r\n", at + 2);
+        const std::string_view line = head.substr(at + 2, next == std::string_view::npos ? std::string_view::npos : next - at - 2);
+        if (iequals_prefix(line, "content-length:")) {
+            auto value = line.substr(15);
+            while (!value.empty() && value.front() == ' ') value.remove_prefix(1);
+            if (std::from_chars(value.data(), value.data() + value.size(), length).ec != std::errc()) return std::nullopt;
+        } else if (iequals_prefix(line, "connection:") && line.find("close") != std::string_view::npos) {
+            close_after = true;
+        }
+        at = next;
+    }
+    const std::size_t total = head_end + 4 + length;
+    while (buffer_.size() < total)
+        if (!receive()) return std::nullopt;
+    buffer_.erase(0, total);
+    if (close_after) close();
+    return status;
+}
+
+}  // namespace locus::tools

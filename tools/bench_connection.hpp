@@ -1,0 +1,43 @@
+#pragma once
+// One keep-alive HTTP/1.1 connection for the load generator of `locus bench localize`.
+//
+// Why not cpp-httplib's client, which the rest of the tools use: it writes a request's headers
+// and body with two send() calls, so every POST reaches the server as two segments and the
+// server thread wakes twice; and it builds each request anew. A load generator should cost
+// the machine as little as possible and the same for every request kind, so this one sends
+// each pre-built request in a single write (as curl and wrk do) and reads the answer by its
+// Content-Length. It speaks only what the benchmark needs: no chunked bodies, no TLS.
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace locus::tools {
+
+class BenchConnection {
+public:
+    BenchConnection(std::string host, int port) : host_(std::move(host)), port_(port) {}
+    ~BenchConnection();
+    BenchConnection(const BenchConnection&) = delete;
+    BenchConnection& operator=(const BenchConnection&) = delete;
+
+    // Sends one complete request and returns the answer's status code, or nullopt on a
+    // network error or a malformed answer (the connection is then closed and reopened on the
+    // next call). The answer body is read and dropped.
+    std::optional<int> round_trip(const std::string& request);
+
+private:
+    bool open();
+    void close();
+    std::optional<int> read_answer();
+
+    std::string host_;
+    int port_;
+    int fd_ = -1;
+    std::string buffer_;  // bytes received past the previous answer
+};
+
+// "POST /path HTTP/1.1" with Host, Content-Type and Content-Length, then the body.
+std::string http_request(const std::string& method, const std::string& path, const std::string& host_port,
+                         const std::string& body = {});
+
+}  // namespace locus::tools
