@@ -105,8 +105,10 @@ std::optional<Point> point_of(std::optional<double> x, std::optional<double> y) 
     return Point{coordinate(*x, "x"), coordinate(*y, "y")};
 }
 
-void parse_json_lines(std::string_view text, SurveyFile& out) {
-    Builder builder(out);
+// Calls use(line, line_no) for every line that is neither blank nor a '#' comment, trimmed and
+// numbered from 1, until use returns false. Returns the number of the last line read.
+template <typename Use>
+std::size_t for_each_line(std::string_view text, Use use) {
     std::size_t line_no = 0;
     while (!text.empty()) {
         const auto nl = text.find('\n');
@@ -114,6 +116,14 @@ void parse_json_lines(std::string_view text, SurveyFile& out) {
         text = nl == std::string_view::npos ? std::string_view{} : text.substr(nl + 1);
         ++line_no;
         if (line.empty() || line.front() == '#') continue;
+        if (!use(line, line_no)) break;
+    }
+    return line_no;
+}
+
+void parse_json_lines(std::string_view text, SurveyFile& out) {
+    Builder builder(out);
+    for_each_line(text, [&](std::string_view line, std::size_t line_no) {
         try {
             const json j = json::parse(line, nullptr, false);
             if (j.is_discarded()) throw Bad("not valid JSON");
@@ -157,7 +167,8 @@ void parse_json_lines(std::string_view text, SurveyFile& out) {
         } catch (const Bad& e) {
             out.errors.push_back({line_no, e.what()});
         }
-    }
+        return true;
+    });
 }
 
 std::vector<std::string_view> split(std::string_view line) {
@@ -178,13 +189,8 @@ void parse_csv(std::string_view text, SurveyFile& out) {
     std::size_t header_cells = 0;
     // (rp index, t) -> scan index within that RP, and the APs already in the scan.
     std::map<std::pair<std::size_t, std::string>, std::pair<std::size_t, std::set<std::pair<std::string, std::string>>>> scans;
-    std::size_t line_no = 0;
-    while (!text.empty()) {
-        const auto nl = text.find('\n');
-        const std::string_view line = trim(text.substr(0, nl));
-        text = nl == std::string_view::npos ? std::string_view{} : text.substr(nl + 1);
-        ++line_no;
-        if (line.empty() || line.front() == '#') continue;
+    bool header_refused = false;
+    const std::size_t last_line = for_each_line(text, [&](std::string_view line, std::size_t line_no) {
         const auto cells = split(line);
         if (!have_header) {
             for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -199,11 +205,12 @@ void parse_csv(std::string_view text, SurveyFile& out) {
             const bool located = column.count("rp") || (column.count("x") && column.count("y"));
             if (!column.count("bssid") || !column.count("rss") || !column.count("t") || !located) {
                 out.errors.push_back({line_no, "the header needs bssid, rss, t and rp or x,y"});
-                return;  // without a usable header no line can be read
+                header_refused = true;
+                return false;  // without a usable header no line can be read
             }
             have_header = true;
             header_cells = cells.size();
-            continue;
+            return true;
         }
         try {
             if (cells.size() != header_cells)
@@ -240,8 +247,9 @@ void parse_csv(std::string_view text, SurveyFile& out) {
         } catch (const Bad& e) {
             out.errors.push_back({line_no, e.what()});
         }
-    }
-    if (!have_header) out.errors.push_back({line_no, "no header line"});
+        return true;
+    });
+    if (!have_header && !header_refused) out.errors.push_back({last_line, "no header line"});
 }
 
 }  // namespace

@@ -127,3 +127,18 @@ TEST(SurveyFormat, CsvWithoutUsableHeaderReadsNothing) {
     EXPECT_EQ(f.errors[0].line, 1u);
     EXPECT_TRUE(f.rps.empty());
 }
+
+TEST(SurveyCsv, AHeaderWithoutTheNeededColumnsStopsTheFile) {
+    const auto f = parse("# comment\n\nrp,bssid,rss\nA,aa:bb:cc:00:00:01,-50\n", Format::Csv);
+    ASSERT_EQ(f.errors.size(), 1u);  // the lines after it are not read, and not reported one by one
+    EXPECT_EQ(f.errors[0].line, 3u);
+    EXPECT_NE(f.errors[0].message.find("header needs"), std::string::npos);
+    EXPECT_TRUE(f.rps.empty());
+}
+
+TEST(SurveyCsv, AFileOfCommentsHasNoHeader) {
+    const auto f = parse("# only\n# comments\n\n", Format::Csv);
+    ASSERT_EQ(f.errors.size(), 1u);
+    EXPECT_EQ(f.errors[0].line, 3u);  // the last line read
+    EXPECT_EQ(f.errors[0].message, "no header line");
+}
