@@ -179,3 +179,35 @@ TEST(SimWalk, SurveyDriftAndScanSweepChangeOnlyTheOnlineScans) {
     for (std::size_t i = 0; i < a.scans.size(); ++i) differing += !same_scan(a.scans[i].readings, b.scans[i].readings);
     EXPECT_GT(differing, static_cast<int>(a.scans.size()) / 2);
 }
+
+TEST(SimEvaluate, FiltersCanMoveALateFixByTheStepsTakenSince) {
+    // Three 1 m steps north at t = 1, 2, 3 s; a near-certain fix at (0, 5) arrives at 3.5 s.
+    // With a 1 s latency the fix stands for 2.5 s, so the step at 3 s is added: (0, 6).
+    const std::vector<PdrStep> steps{{1.0, 1.0, 0.0, false}, {2.0, 1.0, 0.0, false}, {3.0, 1.0, 0.0, false}};
+    Fix fix;
+    fix.t_s = 3.5;
+    fix.at = {0.0, 5.0};
+    fix.aps = 5;
+    fix.cov = 1e-8 * Eigen::Matrix2d::Identity();
+    auto kalman_end = [&](double latency) {
+        EvalConfig cfg;
+        cfg.kalman_fix_latency_s = latency;
+        for (const NamedTrack& t : run_methods(steps, {fix}, {0.0, 0.0}, std::nullopt, cfg))
+            if (t.method == "kalman") return t.track.back().at;
+        return Point{-1.0, -1.0};
+    };
+    EXPECT_NEAR(kalman_end(0.0).y, 5.0, 1e-4);
+    EXPECT_NEAR(kalman_end(1.0).y, 6.0, 1e-4);
+    EXPECT_NEAR(kalman_end(1.0).x, 0.0, 1e-4);
+    // 2.6 s back: every step after 0.9 s, all three.
+    EXPECT_NEAR(kalman_end(2.6).y, 8.0, 1e-4);
+    // The rules never move the fix: only_wifi answers it as it came.
+    EvalConfig cfg;
+    cfg.kalman_fix_latency_s = 1.0;
+    cfg.particle_fix_latency_s = 1.0;
+    for (const NamedTrack& t : run_methods(steps, {fix}, {0.0, 0.0}, std::nullopt, cfg)) {
+        if (t.method == "only_wifi") {
+            EXPECT_NEAR(t.track.back().at.y, 5.0, 1e-12);
+        }
+    }
+}

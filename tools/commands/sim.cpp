@@ -33,6 +33,8 @@ struct Args {
     int gamma = 2;
     int particles = 1000;
     double fix_sigma_floor = sim::EvalConfig{}.fix_sigma_floor_m;
+    double kalman_latency = sim::EvalConfig{}.kalman_fix_latency_s;
+    double particle_latency = sim::EvalConfig{}.particle_fix_latency_s;
     double scale_sigma = fusion::ParticleConfig{}.initial_scale_sigma;
     sim::SimConfig walk;  // defaults of the simulator; the options below override a few
 };
@@ -52,6 +54,8 @@ void run(const Args& a) {
     cfg.rules.gamma = a.gamma;
     cfg.particle.particles = a.particles;
     cfg.fix_sigma_floor_m = a.fix_sigma_floor;
+    cfg.kalman_fix_latency_s = a.kalman_latency;
+    cfg.particle_fix_latency_s = a.particle_latency;
     cfg.particle.initial_scale_sigma = a.scale_sigma;
 
     std::vector<std::string> order;
@@ -125,6 +129,10 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
     cmd->add_option("--gamma", args->gamma, "proportional γ");
     cmd->add_option("--particles", args->particles, "Particle count");
     cmd->add_option("--fix-sigma-floor", args->fix_sigma_floor, "Floor of a fix's σ per axis, m (kalman, particle)")
+        ->capture_default_str();
+    cmd->add_option("--kalman-latency", args->kalman_latency, "Age of a fix the Kalman filter compensates, s")
+        ->capture_default_str();
+    cmd->add_option("--particle-latency", args->particle_latency, "Age of a fix the particle filter compensates, s")
         ->capture_default_str();
     cmd->add_option("--scale-sigma", args->scale_sigma, "Particle filter's prior step-length scale spread")
         ->capture_default_str();

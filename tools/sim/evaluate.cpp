@@ -97,6 +97,18 @@ Track rule_track(fusion::Rule rule, const std::vector<PdrStep>& steps, const std
     return track;
 }
 
+// The fix moved by the PDR displacement of the steps taken in its last `latency` seconds.
+Point latency_corrected(const Fix& f, const std::vector<PdrStep>& steps, double latency_s) {
+    Point at = f.at;
+    if (latency_s <= 0.0) return at;
+    for (const PdrStep& s : steps) {
+        if (s.t_s <= f.t_s - latency_s) continue;
+        if (s.t_s > f.t_s) break;
+        at = pdr::step(at, s.length_m, s.heading_rad);
+    }
+    return at;
+}
+
 }  // namespace
 
 std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
@@ -129,7 +141,7 @@ std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std
                 track.push_back({s.t_s, kf.position()});
             },
             [&](const Fix& f) {
-                kf.update(f.at, f.cov);
+                kf.update(latency_corrected(f, steps, config.kalman_fix_latency_s), f.cov);
                 track.push_back({f.t_s, kf.position()});
             });
         out.push_back({"kalman", std::move(track)});
@@ -145,7 +157,7 @@ std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std
                 track.push_back({s.t_s, pf.position()});
             },
             [&](const Fix& f) {
-                pf.update(f.at, f.cov);
+                pf.update(latency_corrected(f, steps, config.particle_fix_latency_s), f.cov);
                 track.push_back({f.t_s, pf.position()});
             });
         out.push_back({"particle", std::move(track)});
