@@ -47,8 +47,9 @@ const Fixture* fixture() {
     return f.get();
 }
 
-// floor_knn > 0: bayes with the opt-in knn floor vote (Options::floor_knn).
-void localize_bench(benchmark::State& state, match::Algorithm algorithm, int floor_knn = 0) {
+// floor_knn > 0: bayes with the opt-in knn floor vote (Options::floor_knn). no_cap: bayes
+// as it was before the outlier cap (σ floor 8 dB, no cap), to see what the cap costs.
+void localize_bench(benchmark::State& state, match::Algorithm algorithm, int floor_knn = 0, bool no_cap = false) {
     const Fixture* f = fixture();
     if (!f) {
         state.SkipWithError("UJIIndoorLoc not found under LOCUS_DATA_DIR/ujiindoorloc");
@@ -56,6 +57,10 @@ void localize_bench(benchmark::State& state, match::Algorithm algorithm, int flo
     }
     match::Options options;  // the defaults the server uses
     if (floor_knn > 0) options.floor_knn = floor_knn;
+    if (no_cap) {
+        options.outlier_sigmas = 0.0;
+        options.sigma_floor = 8.0;
+    }
     std::size_t i = 0;
     for (auto _ : state) {
         auto r = match::localize(f->index, f->queries[i], algorithm, options);
@@ -85,6 +90,7 @@ BENCHMARK_CAPTURE(localize_bench, bsbnn, match::Algorithm::bsbnn)->Unit(benchmar
 BENCHMARK_CAPTURE(localize_bench, knn, match::Algorithm::knn)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(localize_bench, wknn, match::Algorithm::wknn)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(localize_bench, bayes, match::Algorithm::bayes)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(localize_bench, bayes_no_cap, match::Algorithm::bayes, 0, true)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(localize_bench, bayes_floor_knn5, match::Algorithm::bayes, 5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(build_bench)->Unit(benchmark::kMillisecond);
 

@@ -166,11 +166,12 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
                 const double var = floored ? sigma2_floor : t.variance;
                 const double log_var = floored ? log_sigma2_floor : t.log_variance;
                 const double d = k.rss - list.mean[j];
-                const double z2 = d * d / var;
+                const double inv = 1.0 / var;
+                const double z2 = d * d * inv;
                 const double log_gauss = -0.5 * (kLog2Pi + log_var) - 0.5 * std::min(z2, kappa2);
                 s.acc[rp] += t.log_detect + log_gauss - t.log_miss - k.penalty;
                 // A capped reading says nothing about the phone's offset either.
-                const double inv_var = z2 > kappa2 ? 0.0 : 1.0 / var;
+                const double inv_var = z2 > kappa2 ? 0.0 : inv;
                 s.acc_wd[rp] += d * inv_var;
                 s.acc_w[rp] += inv_var;
             };
