@@ -47,7 +47,7 @@ match::Options parse_options(const json& j) {
     if (!j.is_object()) throw invalid_field("'options' must be an object");
     http::only_fields(j, {"k", "tolerance", "gamma", "near", "representation", "distance", "sigma_floor", "estimate",
                           "candidates", "temperature", "offset_sigma", "bayes_k", "floor_temperature", "floor_knn",
-                          "floor_knn_weight", "floor_aps", "floor_ap_weight"},
+                          "floor_knn_weight", "floor_aps", "floor_ap_weight", "outlier_sigmas"},
                       "options");
     o.k = bounded_int(j, "k", 1, 100, o.k);
     o.candidates = bounded_int(j, "candidates", 1, 100, o.candidates);
@@ -56,6 +56,7 @@ match::Options parse_options(const json& j) {
     o.sigma_floor = bounded_number(j, "sigma_floor", 0.1, 60.0, o.sigma_floor);
     o.temperature = bounded_number(j, "temperature", 0.01, 1000.0, o.temperature);
     o.offset_sigma = bounded_number(j, "offset_sigma", 0.0, 60.0, o.offset_sigma);
+    o.outlier_sigmas = bounded_number(j, "outlier_sigmas", 0.0, 100.0, o.outlier_sigmas);
     o.bayes_k = bounded_int(j, "bayes_k", 0, 1000, o.bayes_k);
     o.floor_temperature = bounded_number(j, "floor_temperature", 0.0, 1000.0, o.floor_temperature);
     o.floor_knn = bounded_int(j, "floor_knn", 0, 100, o.floor_knn);

@@ -149,13 +149,28 @@ TEST_F(Localize, EveryOptionIsAccepted) {
     json body = scan(-70, -40);
     body["algorithm"] = "bayes";
     body["options"] = {{"k", 2}, {"tolerance", 0.1}, {"gamma", 3}, {"representation", "positive"}, {"distance", "manhattan"},
-                       {"sigma_floor", 4}, {"estimate", "map"}, {"temperature", 2}, {"offset_sigma", 0}, {"bayes_k", 2},
+                       {"sigma_floor", 4}, {"estimate", "map"}, {"temperature", 2}, {"offset_sigma", 0}, {"outlier_sigmas", 3}, {"bayes_k", 2},
                        {"floor_temperature", 1}, {"floor_knn", 2}, {"floor_knn_weight", 0.5}, {"floor_aps", 0},
                        {"floor_ap_weight", 0.2}, {"candidates", 2}, {"near", {{"x", 18}, {"y", 5}, {"radius", 50}}}};
     const auto r = s.post(path, body);
     ASSERT_EQ(r.status, 200) << r.raw;
     EXPECT_EQ(r.body.at("candidates").size(), 2u);
     EXPECT_DOUBLE_EQ(r.body.at("x").get<double>(), 18.0);  // MAP estimate: the single best RP
+}
+
+// AP 2 reads 0 dBm, a glitch: every RP stores it at -40 dB or weaker. σ = 5 dB (the 4 dB²
+// variance raised to sigma_floor), no offset estimate. Squared standardised residuals
+// (AP 1, AP 2): west (0.04, 196), middle (14.44, 144), east (33.64, 64). Uncapped, east has
+// the smallest sum; capped at 5σ (25 each), west (25.04) beats middle (39.44) and east (50).
+TEST_F(Localize, OutlierCapStopsOneGlitchedReadingFromDecidingTheAnswer) {
+    for (const auto& [cap, x] : {std::pair{0.0, 18.0}, std::pair{5.0, 2.0}}) {
+        json body = scan(-41, 0);
+        body["algorithm"] = "bayes";
+        body["options"] = {{"outlier_sigmas", cap}, {"offset_sigma", 0}, {"estimate", "map"}, {"sigma_floor", 5}};
+        const auto r = s.post(path, body);
+        ASSERT_EQ(r.status, 200) << r.raw;
+        EXPECT_DOUBLE_EQ(r.body.at("x").get<double>(), x) << "outlier_sigmas " << cap;
+    }
 }
 
 TEST_F(Localize, BadRequestsAreRefused) {
@@ -175,6 +190,7 @@ TEST_F(Localize, BadRequestsAreRefused) {
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"speed", 3}}}}, 422, "invalid_field");
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"floor_ap_weight", 2}}}}, 422, "out_of_range");
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"bayes_k", -1}}}}, 422, "out_of_range");
+    expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"outlier_sigmas", -1}}}}, 422, "out_of_range");
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", 7}}, 422, "invalid_field");
     expect({{"scans", scan(-50, -50)["scans"]}, {"algorithm", 7}}, 422, "invalid_field");
     expect({{"scans", {{{"bssid", "aa"}}}}}, 422, "invalid_field");
