@@ -6,6 +6,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -36,8 +37,45 @@ struct Args {
     double kalman_latency = sim::EvalConfig{}.kalman_fix_latency_s;
     double particle_latency = sim::EvalConfig{}.particle_fix_latency_s;
     double scale_sigma = fusion::ParticleConfig{}.initial_scale_sigma;
+    std::vector<std::string> particle_set;  // key=value overrides of fusion::ParticleConfig
     sim::SimConfig walk;  // defaults of the simulator; the options below override a few
 };
+
+// For the particle filter's tuning sweeps (docs/fusion.md): any numeric ParticleConfig field.
+void set_particle_field(fusion::ParticleConfig& c, const std::string& kv) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw tools::CommandError("--particle-set wants key=value, got '" + kv + "'");
+    const std::string key = kv.substr(0, eq);
+    double v = 0.0;
+    try {
+        v = std::stod(kv.substr(eq + 1));
+    } catch (const std::exception&) {
+        throw tools::CommandError("--particle-set " + key + ": not a number");
+    }
+    const std::map<std::string, double*> fields = {
+        {"initial_sigma_m", &c.initial_sigma_m},
+        {"initial_bias_sigma_rad", &c.initial_bias_sigma_rad},
+        {"initial_scale_sigma", &c.initial_scale_sigma},
+        {"heading_sigma_rad", &c.heading_sigma_rad},
+        {"bias_walk_sigma_rad", &c.bias_walk_sigma_rad},
+        {"length_sigma", &c.length_sigma},
+        {"disturbed_heading_sigma_rad", &c.disturbed_heading_sigma_rad},
+        {"retry_heading_sigma_rad", &c.retry_heading_sigma_rad},
+        {"blocked_weight", &c.blocked_weight},
+        {"outlier_floor", &c.outlier_floor},
+        {"resample_fraction", &c.resample_fraction},
+        {"roughening_m", &c.roughening_m},
+        {"injection_likelihood", &c.injection_likelihood},
+        {"injection_fraction", &c.injection_fraction},
+    };
+    if (key == "blocked_retries") {
+        c.blocked_retries = static_cast<int>(v);
+        return;
+    }
+    const auto it = fields.find(key);
+    if (it == fields.end()) throw tools::CommandError("--particle-set: unknown key '" + key + "'");
+    *it->second = v;
+}
 
 void run(const Args& a) {
     const sim::Scenario& sc = sim::scenario(a.scenario);
@@ -57,6 +95,7 @@ void run(const Args& a) {
     cfg.kalman_fix_latency_s = a.kalman_latency;
     cfg.particle_fix_latency_s = a.particle_latency;
     cfg.particle.initial_scale_sigma = a.scale_sigma;
+    for (const std::string& kv : a.particle_set) set_particle_field(cfg.particle, kv);
 
     std::vector<std::string> order;
     std::map<std::string, sim::Score> sums;
@@ -136,6 +175,8 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--scale-sigma", args->scale_sigma, "Particle filter's prior step-length scale spread")
         ->capture_default_str();
+    cmd->add_option("--particle-set", args->particle_set,
+                    "Override a particle filter setting, key=value (ParticleConfig field), repeatable");
     // Simulator knobs, for the calibration sweeps of docs/fusion.md.
     cmd->add_option("--scan-duration", args->walk.scan_duration_s, "Channel sweep of a scan, s")->capture_default_str();
     cmd->add_option("--drift-db", args->walk.survey_drift_sigma_db, "Survey-to-walk RSS change, dB")->capture_default_str();
