@@ -8,6 +8,7 @@
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
 #include "locus/match/localize.hpp"
+#include "localize/plain_request.hpp"
 
 namespace locus::localize {
 
@@ -144,7 +145,7 @@ public:
         if (depth_ == 1) return not_an_object();
         if (depth_ == 2 && (top_ == Top::scans || top_ == Top::means)) return true;
         if (depth_ == 3 && top_ == Top::scans) {
-            scans.emplace_back().reserve(64);
+            scans.emplace_back();
             return true;
         }
         return misplaced();
@@ -335,6 +336,11 @@ private:
 }  // namespace
 
 LocalizeRequest parse_localize_request(const std::string& body) {
+    if (auto plain = parse_plain_localize_request(body)) return std::move(*plain);
+    return parse_localize_request_in_full(body);
+}
+
+LocalizeRequest parse_localize_request_in_full(const std::string& body) {
     RequestParser parser;
     return parser.finish(body);
 }
@@ -401,7 +407,7 @@ std::string answer(const Snapshot& snapshot, const LocalizeRequest& request) {
     }
     w.raw("]");
     w.key("score").number(result->score).key("matched_aps").integer(result->matched_aps);
-    w.key("algorithm").text(result->algorithm);
+    w.key("algorithm").raw("\"").raw(result->algorithm).raw("\"");  // one of our own plain names
     w.key("candidates").raw("[");
     for (std::size_t i = 0; i < result->candidates.size(); ++i) {
         const auto& c = result->candidates[i];

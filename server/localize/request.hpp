@@ -20,7 +20,11 @@ struct LocalizeRequest {
     match::Options options;
 };
 
+// Throws http::ApiError (400 invalid_json, 422 invalid_field / out_of_range) for a bad body.
+// The plain body of a phone's fix takes the fast path (plain_request.hpp); every other body,
+// and every bad one, is read in full by the streaming parser, which owns the error messages.
 LocalizeRequest parse_localize_request(const std::string& body);
+LocalizeRequest parse_localize_request_in_full(const std::string& body);
 
 // The answer's JSON text. 422 no_match when no RP shares an AP with the scan.
 std::string answer(const Snapshot& snapshot, const LocalizeRequest& request);

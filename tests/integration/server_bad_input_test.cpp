@@ -182,6 +182,16 @@ TEST_F(BadInput, HugeBodiesAreRefused) {
     EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
 }
 
+// Millions of empty scans just under the body limit: each costs an empty vector while the body
+// is read (a reserve per scan here once cost gigabytes), and the request is a plain 422.
+TEST_F(BadInput, MillionsOfEmptyScansAreACheapRefusal) {
+    std::string body = R"({"scans":[[])";
+    while (body.size() < 7u * 1024u * 1024u) body.append(",[]");
+    body.append("]}");
+    expect_error(s.post_raw("/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize", body), 422, "invalid_field",
+                 "2.4 million empty scans");
+}
+
 TEST(ServerLimits, BodyLimitIsConfigurable) {
     ServerProcess s({"--max-body-bytes", "1024"});
     const auto r = s.post_raw("/v1/maps", name_body(2000));

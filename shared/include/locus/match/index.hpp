@@ -4,6 +4,7 @@
 // shares an AP with. Built once from the stored RPs; on a write the owner builds a new
 // one and swaps it in (building 933 UJIIndoorLoc RPs takes a few milliseconds).
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -95,7 +96,12 @@ public:
 private:
     IndexParams params_;
     std::vector<RpInfo> rps_;
-    std::unordered_map<std::string, std::uint32_t> ap_ids_;  // key: type + '\n' + bssid
+    // Transparent, so a lookup by string_view builds no std::string.
+    struct KeyHash {
+        using is_transparent = void;
+        std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+    };
+    std::unordered_map<std::string, std::uint32_t, KeyHash, std::equal_to<>> ap_ids_;  // key: type + '\n' + bssid
     std::vector<std::size_t> offsets_{0};  // AP j's postings are [offsets_[j], offsets_[j+1])
     std::vector<std::uint32_t> post_rp_;
     std::vector<double> post_mean_;

@@ -1,0 +1,165 @@
+#include "localize/plain_request.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <system_error>
+
+#include "http/validation.hpp"
+
+namespace locus::localize {
+
+namespace {
+
+// A cursor over the body. Every reader returns false when the text is not what the fast
+// path takes, and the caller gives up (the full parser then reads the body).
+class Reader {
+public:
+    explicit Reader(std::string_view text) : s_(text) {}
+
+    void skip_space() {
+        while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\t' || s_[i_] == '\n' || s_[i_] == '\r')) ++i_;
+    }
+    bool at_end() {
+        skip_space();
+        return i_ == s_.size();
+    }
+    // Consumes `c` (after white space) if it is next.
+    bool take(char c) {
+        skip_space();
+        if (i_ < s_.size() && s_[i_] == c) {
+            ++i_;
+            return true;
+        }
+        return false;
+    }
+    // A string of printable ASCII without escapes.
+    bool string(std::string_view& out) {
+        if (!take('"')) return false;
+        const std::size_t start = i_;
+        for (; i_ < s_.size(); ++i_) {
+            const auto c = static_cast<unsigned char>(s_[i_]);
+            if (c == '"') {
+                out = s_.substr(start, i_ - start);
+                ++i_;
+                return true;
+            }
+            if (c == '\\' || c < 0x20 || c >= 0x80) return false;
+        }
+        return false;
+    }
+    // A JSON number (RFC 8259 grammar), short enough that a double holds it exactly as
+    // nlohmann would read it (as an integer or with strtod, both exact or correctly rounded).
+    bool number(double& out) {
+        skip_space();
+        const std::size_t start = i_;
+        auto digits = [&] {
+            const std::size_t from = i_;
+            while (i_ < s_.size() && s_[i_] >= '0' && s_[i_] <= '9') ++i_;
+            return i_ - from;
+        };
+        if (i_ < s_.size() && s_[i_] == '-') ++i_;
+        if (i_ < s_.size() && s_[i_] == '0') ++i_;
+        else if (digits() == 0) return false;
+        bool integral = true;
+        if (i_ < s_.size() && s_[i_] == '.') {
+            ++i_;
+            integral = false;
+            if (digits() == 0) return false;
+        }
+        if (i_ < s_.size() && (s_[i_] == 'e' || s_[i_] == 'E')) {
+            ++i_;
+            integral = false;
+            if (i_ < s_.size() && (s_[i_] == '+' || s_[i_] == '-')) ++i_;
+            if (digits() == 0) return false;
+        }
+        if (i_ - start > 24 || (integral && i_ - start > 15)) return false;
+        const char* first = s_.data() + start;
+        const char* last = s_.data() + i_;
+        if (integral) {  // as nlohmann: an int64, then a double (so "-0" is +0.0)
+            long long n = 0;
+            const auto r = std::from_chars(first, last, n);
+            out = static_cast<double>(n);
+            return r.ec == std::errc() && r.ptr == last;
+        }
+        const auto r = std::from_chars(first, last, out);
+        return r.ec == std::errc() && r.ptr == last;
+    }
+
+private:
+    std::string_view s_;
+    std::size_t i_ = 0;
+};
+
+// {"bssid": .., "rss": .., "type": ..}, each key at most once, bssid and rss required.
+bool reading(Reader& in, Reading& out) {
+    if (!in.take('{')) return false;
+    bool has_bssid = false, has_rss = false, has_type = false;
+    std::string_view bssid, type;
+    double rss = 0.0;
+    do {
+        std::string_view key;
+        if (!in.string(key) || !in.take(':')) return false;
+        if (key == "bssid" && !has_bssid) has_bssid = in.string(bssid);
+        else if (key == "type" && !has_type) has_type = in.string(type);
+        else if (key == "rss" && !has_rss) has_rss = in.number(rss);
+        else return false;
+        if (!(key == "bssid" ? has_bssid : key == "type" ? has_type : has_rss)) return false;
+    } while (in.take(','));
+    if (!in.take('}') || !has_bssid || !has_rss) return false;
+    if (http::bssid_problem(bssid) || (has_type && http::type_problem(type))) return false;
+    if (!std::isfinite(rss) || !valid_rss(rss)) return false;
+    out.bssid.assign(bssid);  // normalised with the query, as on the full path
+    if (has_type) out.type.assign(type);
+    out.rss = rss;
+    return true;
+}
+
+// [[reading, ..], ..]: at least one scan, none empty.
+bool scans(Reader& in, std::vector<Scan>& out) {
+    if (!in.take('[')) return false;
+    do {
+        if (!in.take('[')) return false;
+        Scan& scan = out.emplace_back();
+        do {
+            if (!reading(in, scan.emplace_back())) return false;
+        } while (in.take(','));
+        if (!in.take(']')) return false;
+    } while (in.take(','));
+    return in.take(']');
+}
+
+}  // namespace
+
+std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view body) {
+    Reader in(body);
+    if (!in.take('{')) return std::nullopt;
+    std::vector<Scan> scan_list;
+    std::optional<std::string_view> algorithm;
+    bool has_scans = false;
+    do {
+        std::string_view key;
+        if (!in.string(key) || !in.take(':')) return std::nullopt;
+        if (key == "scans" && !has_scans) {
+            has_scans = true;
+            if (!scans(in, scan_list)) return std::nullopt;
+        } else if (key == "algorithm" && !algorithm) {
+            std::string_view name;
+            if (!in.string(name)) return std::nullopt;
+            algorithm = name;
+        } else {
+            return std::nullopt;
+        }
+    } while (in.take(','));
+    if (!in.take('}') || !in.at_end() || !has_scans) return std::nullopt;
+    LocalizeRequest r;
+    if (algorithm) {
+        const auto a = match::parse_algorithm(*algorithm);
+        if (!a) return std::nullopt;
+        r.algorithm = *a;
+    }
+    r.query = match::Query::from_scans(scan_list);
+    if (r.query.aps.empty()) return std::nullopt;
+    return r;
+}
+
+}  // namespace locus::localize

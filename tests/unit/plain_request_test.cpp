@@ -1,0 +1,137 @@
+// The localize fast path (server/localize/plain_request.hpp): for every body it accepts, the
+// result must be exactly what the full parser gives; everything unusual must be declined.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <random>
+
+#include "http/api_error.hpp"
+#include "localize/plain_request.hpp"
+#include "uji_csv.hpp"
+
+using namespace locus;
+using namespace locus::localize;
+
+namespace {
+
+std::optional<LocalizeRequest> full(const std::string& body) {
+    try {
+        return parse_localize_request_in_full(body);
+    } catch (const http::ApiError&) {
+        return std::nullopt;
+    }
+}
+
+// Same algorithm, same query (bit for bit), same options.
+void expect_same(const LocalizeRequest& a, const LocalizeRequest& b, const std::string& body) {
+    EXPECT_EQ(a.algorithm, b.algorithm) << body;
+    ASSERT_EQ(a.query.aps.size(), b.query.aps.size()) << body;
+    for (std::size_t i = 0; i < a.query.aps.size(); ++i) {
+        EXPECT_EQ(a.query.aps[i].type, b.query.aps[i].type) << body;
+        EXPECT_EQ(a.query.aps[i].bssid, b.query.aps[i].bssid) << body;
+        EXPECT_EQ(std::signbit(a.query.aps[i].rss), std::signbit(b.query.aps[i].rss)) << body;
+        EXPECT_EQ(a.query.aps[i].rss, b.query.aps[i].rss) << body;
+    }
+    EXPECT_EQ(a.options.k, b.options.k);
+    EXPECT_EQ(a.options.candidates, b.options.candidates);
+    EXPECT_FALSE(a.options.near.has_value());
+    EXPECT_FALSE(b.options.near.has_value());
+}
+
+// Accepted by the fast path, and identical to the full parse.
+void expect_fast(const std::string& body) {
+    const auto fast = parse_plain_localize_request(body);
+    ASSERT_TRUE(fast.has_value()) << "declined: " << body;
+    const auto reference = full(body);
+    ASSERT_TRUE(reference.has_value()) << "the full parser refuses: " << body;
+    expect_same(*fast, *reference, body);
+}
+
+const std::vector<std::string> kPlain = {
+    R"({"algorithm":"nn","scans":[[{"bssid":"aa:bb:cc:dd:ee:ff","rss":-61}]]})",
+    R"({"scans":[[{"rss":-61.5,"bssid":"AA-BB-CC-DD-EE-01","type":"wifi"},{"type":"ble","bssid":"beacon 7","rss":-80}]]})",
+    " \n{ \"scans\" : [ [ { \"bssid\" : \" x1 \" , \"rss\" : -7e1 } ] , [ {\"bssid\":\"x1\",\"rss\":-72.25E0} ] ] ,\r\n\t\"algorithm\" : \"bayes\" } \n",
+    R"({"scans":[[{"bssid":"a","rss":0},{"bssid":"b","rss":-0},{"bssid":"c","rss":-120},{"bssid":"a","rss":-10.0}]]})",
+};
+
+}  // namespace
+
+TEST(PlainRequest, TakesThePlainShapesAndAgreesWithTheFullParser) {
+    for (const auto& body : kPlain) expect_fast(body);
+    const auto r = parse_plain_localize_request(kPlain[2]);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->algorithm, match::Algorithm::bayes);
+    ASSERT_EQ(r->query.aps.size(), 1u);  // one AP in two scans: averaged, trimmed
+    EXPECT_EQ(r->query.aps[0].bssid, "x1");
+    EXPECT_DOUBLE_EQ(r->query.aps[0].rss, -71.125);
+}
+
+TEST(PlainRequest, DeclinesWhatItDoesNotReadWithCertainty) {
+    for (const char* body : {
+             R"({"scans":[[{"bssid":"a\u0041","rss":-60}]]})",             // escape
+             R"({"scans":[[{"bssid":"é","rss":-60}]]})",                   // non-ASCII
+             R"({"scans":[[{"bssid":"a","rss":-60}]],"options":{"k":1}})",  // options
+             R"({"measurements":[{"bssid":"a","rss":-60}]})",              // means
+             R"({"scans":[[{"bssid":"a","rss":-60,"type":null}]]})",       // null
+             R"({"scans":[[{"bssid":"a","bssid":"b","rss":-60}]]})",       // duplicate key
+             R"({"scans":[[{"bssid":"a","rss":-60}]],"scans":[[{"bssid":"a","rss":-60}]]})",
+             R"({"scans":[[{"bssid":"a","rss":-60}]]} x)",                 // trailing text
+             R"({"scans":[]})", R"({"scans":[[]]})", R"({})", R"([])", "",
+             R"({"scans":[[{"bssid":"a","rss":-60}]],"algorithm":"magic"})",
+             R"({"scans":[[{"bssid":"a","rss":-60,"extra":1}]]})",
+             R"({"scans":[[{"bssid":"a","rss":10}]]})",                    // out of range
+             R"({"scans":[[{"bssid":"a","rss":-60.}]]})", R"({"scans":[[{"bssid":"a","rss":-060}]]})",
+             R"({"scans":[[{"bssid":"a","rss":+60}]]})", R"({"scans":[[{"bssid":"a","rss":-1234567890123456}]]})",
+             R"({"scans":[[{"bssid":"  ","rss":-60}]]})", R"({"scans":[[{"bssid":"a","rss":-60,"type":"lte"}]]})",
+             R"({"scans":[[{"bssid":"a","rss":-60},]]})",
+         })
+        EXPECT_FALSE(parse_plain_localize_request(body).has_value()) << body;
+}
+
+// Thousands of mutated bodies: whatever the fast path accepts, the full parser reads the same.
+TEST(PlainRequest, MutatedBodiesNeverDisagreeWithTheFullParser) {
+    std::mt19937 rng(20261122);
+    const std::string alphabet = "{}[]:,\" -.0123456789eE+abtrsnul\\\t\xc3";
+    std::size_t accepted = 0, total = 0;
+    for (const auto& base : kPlain) {
+        for (int n = 0; n < 3000; ++n) {
+            std::string body = base;
+            const int edits = 1 + static_cast<int>(rng() % 3);
+            for (int e = 0; e < edits && !body.empty(); ++e) {
+                const std::size_t at = rng() % body.size();
+                const char c = alphabet[rng() % alphabet.size()];
+                switch (rng() % 4) {
+                    case 0: body[at] = c; break;
+                    case 1: body.erase(at, 1); break;
+                    case 2: body.insert(body.begin() + static_cast<std::ptrdiff_t>(at), c); break;
+                    default: body.resize(at); break;
+                }
+            }
+            ++total;
+            const auto fast = parse_plain_localize_request(body);
+            if (!fast) continue;
+            ++accepted;
+            const auto reference = full(body);
+            ASSERT_TRUE(reference.has_value()) << "the fast path took a body the full parser refuses: " << body;
+            expect_same(*fast, *reference, body);
+        }
+    }
+    // Many mutations only change a digit or a name: the comparison must have had work to do.
+    EXPECT_GT(accepted, total / 20) << accepted << " of " << total;
+}
+
+TEST(PlainRequest, RealScansTakeTheFastPath) {
+    const std::string path = std::string(LOCUS_DATA_DIR) + "/ujiindoorloc/trainingData.csv";
+    if (!std::ifstream(path)) GTEST_SKIP() << "UJIIndoorLoc not found under LOCUS_DATA_DIR/ujiindoorloc";
+    namespace uji = locus::tools::uji;
+    const uji::Data data = uji::read_file(path);
+    std::size_t checked = 0;
+    for (std::size_t i = 0; i < data.rows.size(); i += 97) {
+        if (data.rows[i].heard.empty()) continue;
+        nlohmann::json readings = nlohmann::json::array();
+        for (const auto& r : uji::scan_of(data, data.rows[i])) readings.push_back({{"bssid", r.bssid}, {"rss", r.rss}});
+        expect_fast(nlohmann::json{{"algorithm", "wknn"}, {"scans", {readings}}}.dump());
+        ++checked;
+    }
+    EXPECT_GT(checked, 150u);
+}
