@@ -1,6 +1,13 @@
 // `locus bench localize` against the real server: the load generator's keep-alive connection,
 // the JSON it prints, and what it refuses.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <thread>
 
 #include "bench_connection.hpp"
 #include "hierarchy.hpp"
@@ -56,9 +63,94 @@ TEST_F(Bench, ConnectionReopensAfterTheServerCloses) {
     EXPECT_EQ(c.round_trip(http_request("GET", "/health", host_port())), 200);
 }
 
+namespace {
+
+// A loopback port nobody listens on: bound, then released.
+int free_port() {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    ::close(fd);
+    return ntohs(a.sin_port);
+}
+
+// A one-connection server that answers each request with the next of `answers`, written one
+// byte per send() so the client sees every answer arrive in pieces.
+class ScriptedServer {
+public:
+    explicit ScriptedServer(std::vector<std::string> answers) : answers_(std::move(answers)) {
+        listener_ = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in a{};
+        a.sin_family = AF_INET;
+        a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        socklen_t len = sizeof a;
+        ::bind(listener_, reinterpret_cast<sockaddr*>(&a), sizeof a);
+        ::listen(listener_, 1);
+        ::getsockname(listener_, reinterpret_cast<sockaddr*>(&a), &len);
+        port_ = ntohs(a.sin_port);
+        thread_ = std::thread([this] {
+            const int fd = ::accept(listener_, nullptr, nullptr);
+            const int one = 1;
+            ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+            std::string in;
+            char buf[4096];
+            for (const auto& answer : answers_) {
+                while (in.find("\r\n\r\n") == std::string::npos) {
+                    const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+                    if (n <= 0) {
+                        ::close(fd);
+                        return;
+                    }
+                    in.append(buf, static_cast<std::size_t>(n));
+                }
+                in.erase(0, in.find("\r\n\r\n") + 4);
+                for (char c : answer) ::send(fd, &c, 1, MSG_NOSIGNAL);
+            }
+            ::close(fd);
+        });
+    }
+    ~ScriptedServer() {
+        thread_.join();
+        ::close(listener_);
+    }
+    int port() const { return port_; }
+
+private:
+    std::vector<std::string> answers_;
+    int listener_ = -1, port_ = 0;
+    std::thread thread_;
+};
+
+}  // namespace
+
 TEST(BenchConnectionRefused, NoServerIsANetworkError) {
-    BenchConnection c("127.0.0.1", 1);  // nothing listens on port 1 here
-    EXPECT_EQ(c.round_trip(http_request("GET", "/health", "127.0.0.1:1")), std::nullopt);
+    const int port = free_port();
+    BenchConnection c("127.0.0.1", port);
+    EXPECT_EQ(c.round_trip(http_request("GET", "/health", "127.0.0.1:" + std::to_string(port))), std::nullopt);
+}
+
+TEST(BenchConnectionScripted, AnswersInPiecesAndAnswersItCannotDelimit) {
+    ScriptedServer server({"HTTP/1.1 200 OK\r\nContent-Length: 5\r\n\r\nhello",
+                           "HTTP/1.1 422 Unprocessable\r\ncontent-length:2\r\n\r\n{}",
+                           "HTTP/1.1 200 OK\r\nContent-Type: text/plain\r\n\r\nno length"});
+    BenchConnection c("127.0.0.1", server.port());
+    const std::string get = http_request("GET", "/", "127.0.0.1");
+    EXPECT_EQ(c.round_trip(get), 200);
+    EXPECT_EQ(c.round_trip(get), 422);
+    EXPECT_EQ(c.round_trip(get), std::nullopt);  // no Content-Length: its end is unknowable
+}
+
+TEST(BenchConnectionScripted, ChunkedAndNonHttpAnswersAreErrors) {
+    ScriptedServer chunked({"HTTP/1.1 200 OK\r\nTransfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n0\r\n\r\n"});
+    BenchConnection a("127.0.0.1", chunked.port());
+    EXPECT_EQ(a.round_trip(http_request("GET", "/", "127.0.0.1")), std::nullopt);
+    ScriptedServer garbage({"SSH-2.0-OpenSSH\r\n\r\n"});
+    BenchConnection b("127.0.0.1", garbage.port());
+    EXPECT_EQ(b.round_trip(http_request("GET", "/", "127.0.0.1")), std::nullopt);
 }
 
 TEST_F(Bench, PrintsThroughputAndLatencyForLocalizeAndHealth) {
@@ -85,4 +177,7 @@ TEST_F(Bench, RefusesAnUnknownRadioMapAndARemoteServer) {
     const auto remote = run_command({LOCUS_CLI_BIN, "bench", "localize", "--server", "http://192.0.2.1:80", "--radiomap", "1", "--requests", "10"});
     EXPECT_NE(remote.status, 0);
     EXPECT_NE(remote.err.find("loopback"), std::string::npos) << remote.err;
+    const auto bad_port = run_command({LOCUS_CLI_BIN, "bench", "localize", "--server", "http://127.0.0.1:70000", "--radiomap", "1"});
+    EXPECT_NE(bad_port.status, 0);
+    EXPECT_NE(bad_port.err.find("port"), std::string::npos) << bad_port.err;
 }

@@ -158,7 +158,7 @@ TEST_F(Localize, EveryOptionIsAccepted) {
     EXPECT_DOUBLE_EQ(r.body.at("x").get<double>(), 18.0);  // MAP estimate: the single best RP
 }
 
-// AP 2 reads 0 dBm, a glitch: every RP stores it at -40 dB or weaker. σ = 5 dB (the 4 dB²
+// AP 2 reads 0 dBm, a glitch: every RP stores it at -40 dBm or weaker. σ = 5 dB (the 4 dB²
 // variance raised to sigma_floor), no offset estimate. Squared standardised residuals
 // (AP 1, AP 2): west (0.04, 196), middle (14.44, 144), east (33.64, 64). Uncapped, east has
 // the smallest sum; capped at 5σ (25 each), west (25.04) beats middle (39.44) and east (50).

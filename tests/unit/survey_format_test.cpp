@@ -128,7 +128,7 @@ TEST(SurveyFormat, CsvWithoutUsableHeaderReadsNothing) {
     EXPECT_TRUE(f.rps.empty());
 }
 
-TEST(SurveyCsv, AHeaderWithoutTheNeededColumnsStopsTheFile) {
+TEST(SurveyFormat, ACsvHeaderWithoutTheNeededColumnsStopsTheFile) {
     const auto f = parse("# comment\n\nrp,bssid,rss\nA,aa:bb:cc:00:00:01,-50\n", Format::Csv);
     ASSERT_EQ(f.errors.size(), 1u);  // the lines after it are not read, and not reported one by one
     EXPECT_EQ(f.errors[0].line, 3u);
@@ -136,7 +136,7 @@ TEST(SurveyCsv, AHeaderWithoutTheNeededColumnsStopsTheFile) {
     EXPECT_TRUE(f.rps.empty());
 }
 
-TEST(SurveyCsv, AFileOfCommentsHasNoHeader) {
+TEST(SurveyFormat, ACsvFileOfCommentsHasNoHeader) {
     const auto f = parse("# only\n# comments\n\n", Format::Csv);
     ASSERT_EQ(f.errors.size(), 1u);
     EXPECT_EQ(f.errors[0].line, 3u);  // the last line read
