@@ -10,8 +10,8 @@
 
 namespace locus::localize {
 
-// The matcher used when a request names none: the most accurate on UJIIndoorLoc held-out
-// users (docs/matchers.md).
+// The matcher used when a request names none: the most accurate on UJIIndoorLoc, on the
+// tuning users (2, 4, …, 18) and on the report users (1, 3, …, 17) alike (docs/matchers.md).
 inline constexpr match::Algorithm kDefaultAlgorithm = match::Algorithm::bayes;
 
 struct LocalizeRequest {

@@ -25,6 +25,7 @@ namespace uji = locus::tools::uji;
 struct Args {
     std::string train, test;
     std::optional<int> holdout_user, holdout_phone;
+    std::vector<int> exclude_users;
     std::string algorithm = "all";
     std::optional<int> k, bayes_k, floor_knn, floor_aps;
     std::optional<double> floor_temperature, floor_knn_weight, floor_ap_weight;
@@ -79,11 +80,12 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
         building_hits += building_ok;
         floor_hits += building_ok && r.floor_id == floor_label(truth[i].building, truth[i].floor);
         errors.push_back(distance(r.at, truth[i].at));
-        if (per_query)
+        if (per_query &&
             std::fprintf(per_query, "%s,%zu,%d,%d,%.3f,%.3f,%lld,%lld,%.3f,%.3f,%.3f,%.3f\n",
                          std::string(match::to_string(algorithm)).c_str(), i, truth[i].building,
                          truth[i].floor, truth[i].at.x, truth[i].at.y, r.building_id, r.floor_id % 100, r.at.x, r.at.y,
-                         errors.back(), nearest_on_true_floor(index, truth[i]));
+                         errors.back(), nearest_on_true_floor(index, truth[i])) < 0)
+            throw tools::CommandError("cannot write the --per-query file");
     }
     std::sort(errors.begin(), errors.end());
     double sum = 0.0;
@@ -206,6 +208,8 @@ void run(const Args& a) {
     std::vector<std::size_t> train_rows, test_rows;
     for (std::size_t i = 0; i < train.rows.size(); ++i) {
         const auto& row = train.rows[i];
+        // Lets a held-out phone be queried without the rows of a user who was also tuning data.
+        if (std::find(a.exclude_users.begin(), a.exclude_users.end(), row.user_id) != a.exclude_users.end()) continue;
         const bool held = (a.holdout_user && row.user_id == *a.holdout_user) ||
                           (a.holdout_phone && row.phone_id == *a.holdout_phone);
         (held ? test_rows : train_rows).push_back(i);
@@ -268,8 +272,9 @@ void run(const Args& a) {
     if (!a.per_query.empty()) {
         per_query.reset(std::fopen(a.per_query.c_str(), "w"));
         if (!per_query) throw CommandError("cannot write " + a.per_query);
-        std::fputs("algorithm,query,building,floor,x,y,est_building,est_floor,est_x,est_y,error_m,oracle_m\n",
-                   per_query.get());
+        if (std::fputs("algorithm,query,building,floor,x,y,est_building,est_floor,est_x,est_y,error_m,oracle_m\n",
+                       per_query.get()) < 0)
+            throw CommandError("cannot write " + a.per_query);
     }
     for (auto alg : algorithms) {
         std::size_t unanswered = 0;
@@ -279,6 +284,8 @@ void run(const Args& a) {
                       << " queries shared no AP with any RP (counted as misses, no error)\n";
         out.push_back(std::move(o));
     }
+    // A full disk often shows only when the buffer is flushed, so the close is checked too.
+    if (per_query && std::fclose(per_query.release()) != 0) throw CommandError("cannot write " + a.per_query);
     if (a.json) {
         std::cout << (out.size() > 1 ? out : out.front()).dump() << "\n";
         return;
@@ -303,6 +310,8 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--test", a->test, "CSV of online scans (e.g. the validation file)")->check(CLI::ExistingFile);
     cmd->add_option("--holdout-user", a->holdout_user, "query with this USERID's training rows, map the rest");
     cmd->add_option("--holdout-phone", a->holdout_phone, "query with this PHONEID's training rows, map the rest");
+    cmd->add_option("--exclude-user", a->exclude_users,
+                    "drop this USERID's training rows from both map and queries (repeatable)");
     cmd->add_option("--algorithm", a->algorithm, "bsb, nn, bsbnn, knn, wknn, bayes or all")->capture_default_str();
     cmd->add_option("--k", a->k, "neighbours for knn/wknn (and bayes when --bayes-k is 0)");
     cmd->add_option("--bayes-k", a->bayes_k, "bayes: RPs in the posterior mean (0 = --k)");
@@ -312,7 +321,8 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--distance", a->distance, "knn/wknn distance: euclidean, manhattan, sorensen");
     cmd->add_option("--sigma-floor", a->sigma_floor, "bayes: minimum standard deviation (dB)");
     cmd->add_option("--outlier-sigmas", a->outlier_sigmas,
-                    "bayes: cap of each AP's standardised residual, in sigmas (0 = no cap)");
+                    "bayes: cap of each AP's standardised residual, in sigmas (0 = no cap)")
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--temperature", a->temperature, "bayes: posterior tempering T");
     cmd->add_option("--offset-sigma", a->offset_sigma, "bayes: prior sd of the phone's RSS offset (dB), 0 = off");
     cmd->add_option("--estimate", a->estimate, "bayes: map or mean");

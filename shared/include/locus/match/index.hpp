@@ -30,11 +30,11 @@ struct IndexParams {
     double missing_rss = -100.0;
     double exponential_alpha = 24.0;          // exponential representation: exp(pos/α)
     // powed representation: (pos/|missing|)^β. Torres-Sospedra use e; β = 2 did slightly
-    // better on held-out UJIIndoorLoc users (docs/matchers.md).
+    // better on the tuning users (2, 4, …, 18) of UJIIndoorLoc (docs/matchers.md).
     double powed_beta = 2.0;
     // Detection rates count/scans are clamped into [min_detection, 1 - min_detection] so a
     // single contrary observation never makes a likelihood zero.
-    double min_detection = 0.05;  // tuned on held-out UJIIndoorLoc users
+    double min_detection = 0.05;  // tuned on the tuning users (2, 4, …, 18) of UJIIndoorLoc
     // knn/wknn compare the RP's expected representation, detection rate × rep(mean), i.e.
     // the average fingerprint with "not heard" scans counted as 0, instead of rep(mean).
     bool expected_representation = true;
