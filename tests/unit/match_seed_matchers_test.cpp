@@ -169,6 +169,23 @@ TEST(Query, InterleavedRepeatsKeepFirstSeenOrder) {
     EXPECT_DOUBLE_EQ(q.aps[2].rss, -90.0);
 }
 
+// Many APs, each heard twice, in reverse name order: the sort that finds the repeats must not
+// change the first-seen order.
+TEST(Query, ManyReadingsAveragedInFirstSeenOrder) {
+    std::vector<Reading> means;
+    for (int round = 0; round < 2; ++round)
+        for (int i = 39; i >= 0; --i) means.push_back({"wifi", "ap" + std::to_string(i), round == 0 ? -50.0 : -61.0});
+    means.push_back({"ble", "ap7", -70});
+    const Query q = Query::from_means(means);
+    ASSERT_EQ(q.aps.size(), 41u);
+    for (std::size_t k = 0; k < 40; ++k) {
+        EXPECT_EQ(q.aps[k].bssid, "ap" + std::to_string(39 - k));
+        EXPECT_DOUBLE_EQ(q.aps[k].rss, -55.5);
+    }
+    EXPECT_EQ(q.aps[40].type, "ble");
+    EXPECT_DOUBLE_EQ(q.aps[40].rss, -70.0);
+}
+
 TEST(Names, ParseAndPrintRoundTrip) {
     for (auto a : all_algorithms()) EXPECT_EQ(parse_algorithm(to_string(a)), a);
     EXPECT_EQ(all_algorithms().size(), 6u);
