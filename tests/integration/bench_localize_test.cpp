@@ -166,6 +166,8 @@ TEST_F(Bench, PrintsThroughputAndLatencyForLocalizeAndHealth) {
         EXPECT_LE(p.at("p50_ms").get<double>(), p.at("p99_ms").get<double>()) << phase;
     }
     EXPECT_EQ(out.at("distinct_scans"), 2);  // one per RP: its own means
+    ASSERT_EQ(out.at("ratio_by_round").size(), 5u);  // the default --rounds: 60 of each kind a round
+    for (const auto& r : out.at("ratio_by_round")) EXPECT_GT(r.get<double>(), 0.0);
     EXPECT_NEAR(out.at("localize_over_health").get<double>(),
                 out.at("localize").at("req_per_s").get<double>() / out.at("health").at("req_per_s").get<double>(), 1e-9);
 }

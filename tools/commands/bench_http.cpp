@@ -1,8 +1,11 @@
 // `locus bench localize`: HTTP throughput and latency of a running server on loopback, for
 // POST /v1/radiomaps/{id}/localize replaying real scans and, as the yardstick, GET /health.
-// C threads each keep one connection alive and send N/C requests back to back; bounded by
+// C threads each keep one connection alive and send requests back to back; bounded by
 // --requests and --max-seconds. Requests are built before the clock starts and each goes out
-// in one write (tools/bench_connection.hpp says why). Prints one JSON object.
+// in one write (tools/bench_connection.hpp says why). The two kinds alternate in --rounds
+// rounds (localize, health, localize, ...), so a change in the machine's background load
+// during the run weighs on both alike instead of on whichever phase it hit. Prints one JSON
+// object.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -36,6 +39,21 @@ struct Args {
     std::string scans_file;
     std::string algorithm = "wknn";
     int warmup = 200;
+    int rounds = 5;
+};
+
+// What one kind of request did, over one or several rounds.
+struct Phase {
+    std::vector<double> latencies_ms;  // answered 200
+    int errors = 0;
+    double seconds = 0.0;
+
+    void add(Phase&& other) {
+        latencies_ms.insert(latencies_ms.end(), other.latencies_ms.begin(), other.latencies_ms.end());
+        errors += other.errors;
+        seconds += other.seconds;
+    }
+    double per_second() const { return seconds > 0 ? static_cast<double>(latencies_ms.size()) / seconds : 0.0; }
 };
 
 double percentile(std::vector<double>& v, double p) {
@@ -126,23 +144,25 @@ Target loopback_target(const std::string& url) {
     throw CommandError("bench localize only targets a loopback server (http://127.0.0.1:PORT)");
 }
 
-json run_phase(const Args& a, const Target& target, const std::vector<std::string>& requests) {
+// `count` requests, request i being requests[(first + i) % size], on C connections.
+Phase run_phase(const Args& a, int count, double max_seconds, const Target& target, const std::vector<std::string>& requests,
+                std::size_t first) {
     std::atomic<int> next{0};
     std::atomic<int> errors{0};
     std::vector<std::vector<double>> latencies(static_cast<std::size_t>(a.concurrency));
-    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.max_seconds));
+    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(max_seconds));
     const auto t0 = Clock::now();
     std::vector<std::thread> threads;
     for (int t = 0; t < a.concurrency; ++t) {
         threads.emplace_back([&, t] {
             BenchConnection connection(target.host, target.port);
             auto& lat = latencies[static_cast<std::size_t>(t)];
-            lat.reserve(static_cast<std::size_t>(a.requests / a.concurrency + 1));
+            lat.reserve(static_cast<std::size_t>(count / a.concurrency + 1));
             for (;;) {
                 const int i = next++;
-                if (i >= a.requests || Clock::now() > deadline) break;
+                if (i >= count || Clock::now() > deadline) break;
                 const auto s = Clock::now();
-                const auto status = connection.round_trip(requests[static_cast<std::size_t>(i) % requests.size()]);
+                const auto status = connection.round_trip(requests[(first + static_cast<std::size_t>(i)) % requests.size()]);
                 // A failure (often an instant refusal) is counted, not timed: it would make a
                 // failing server look fast.
                 if (status == 200) lat.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
@@ -151,16 +171,20 @@ json run_phase(const Args& a, const Target& target, const std::vector<std::strin
         });
     }
     for (auto& th : threads) th.join();
-    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    std::vector<double> all;
-    for (auto& l : latencies) all.insert(all.end(), l.begin(), l.end());
-    const auto ok = all.size();
-    return {{"requests", ok + static_cast<std::size_t>(errors.load())},
-            {"errors", errors.load()},
-            {"seconds", seconds},
-            {"req_per_s", seconds > 0 ? static_cast<double>(ok) / seconds : 0.0},  // answered 200
-            {"p50_ms", percentile(all, 0.50)},
-            {"p99_ms", percentile(all, 0.99)}};
+    Phase out;
+    out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    out.errors = errors.load();
+    for (auto& l : latencies) out.latencies_ms.insert(out.latencies_ms.end(), l.begin(), l.end());
+    return out;
+}
+
+json summary(Phase& p) {
+    return {{"requests", p.latencies_ms.size() + static_cast<std::size_t>(p.errors)},
+            {"errors", p.errors},
+            {"seconds", p.seconds},
+            {"req_per_s", p.per_second()},  // answered 200
+            {"p50_ms", percentile(p.latencies_ms, 0.50)},
+            {"p99_ms", percentile(p.latencies_ms, 0.99)}};
 }
 
 void run(Args a) {
@@ -178,23 +202,30 @@ void run(Args a) {
     localize_requests.reserve(bodies.size());
     for (const auto& b : bodies) localize_requests.push_back(http_request("POST", path, target.host_port, b));
     const std::vector<std::string> health_requests{http_request("GET", "/health", target.host_port)};
-    Args warm = a;
-    warm.requests = std::min(a.warmup, a.requests);
-    run_phase(warm, target, localize_requests);
-    const json localize = run_phase(a, target, localize_requests);
-    const json health = run_phase(a, target, health_requests);
-    const double ratio = health.at("req_per_s").get<double>() > 0
-                             ? localize.at("req_per_s").get<double>() / health.at("req_per_s").get<double>()
-                             : 0.0;
-    std::cout << json{{"localize", localize},
-                      {"health", health},
+    run_phase(a, std::min(a.warmup, a.requests), a.max_seconds, target, localize_requests, 0);
+    Phase localize, health;
+    json ratio_by_round = json::array();
+    const int rounds = std::min(a.rounds, a.requests);
+    for (int r = 0; r < rounds; ++r) {
+        const int count = a.requests / rounds + (r < a.requests % rounds ? 1 : 0);
+        Phase l = run_phase(a, count, a.max_seconds / rounds, target, localize_requests,
+                            static_cast<std::size_t>(r) * static_cast<std::size_t>(a.requests / rounds));
+        Phase h = run_phase(a, count, a.max_seconds / rounds, target, health_requests, 0);
+        ratio_by_round.push_back(h.per_second() > 0 ? l.per_second() / h.per_second() : 0.0);
+        localize.add(std::move(l));
+        health.add(std::move(h));
+    }
+    const double ratio = health.per_second() > 0 ? localize.per_second() / health.per_second() : 0.0;
+    std::cout << json{{"localize", summary(localize)},
+                      {"health", summary(health)},
                       {"localize_over_health", ratio},
+                      {"ratio_by_round", ratio_by_round},
                       {"concurrency", a.concurrency},
                       {"distinct_scans", bodies.size()},
                       {"algorithm", a.algorithm}}
                      .dump()
               << "\n";
-    const int errors = localize.at("errors").get<int>() + health.at("errors").get<int>();
+    const int errors = localize.errors + health.errors;
     if (errors > 0) throw CommandError(std::to_string(errors) + " requests failed; the figures above leave them out");
 }
 
@@ -207,8 +238,9 @@ LOCUS_COMMAND("bench-localize", [](CLI::App& app) {
     args->server.add_to(*cmd);
     cmd->add_option("--radiomap", args->radiomap, "radio map to localize against")->required();
     cmd->add_option("--concurrency", args->concurrency, "parallel keep-alive connections")->capture_default_str()->check(CLI::Range(1, 256));
-    cmd->add_option("--requests", args->requests, "requests per phase")->capture_default_str()->check(CLI::Range(1, 1'000'000));
-    cmd->add_option("--max-seconds", args->max_seconds, "time limit per phase")->capture_default_str()->check(CLI::Range(0.1, 600.0));
+    cmd->add_option("--requests", args->requests, "requests per kind (localize, health), spread over the rounds")->capture_default_str()->check(CLI::Range(1, 1'000'000));
+    cmd->add_option("--rounds", args->rounds, "localize and health phases alternate this many times")->capture_default_str()->check(CLI::Range(1, 100));
+    cmd->add_option("--max-seconds", args->max_seconds, "time limit per kind of request")->capture_default_str()->check(CLI::Range(0.1, 600.0));
     cmd->add_option("--scans", args->scans_file, "scans to replay: UJIIndoorLoc CSV or a survey file (default: the RPs' own means)")
         ->check(CLI::ExistingFile);
     cmd->add_option("--algorithm", args->algorithm, "bsb, nn, bsbnn, knn, wknn, bayes")->capture_default_str();
