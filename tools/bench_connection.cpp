@@ -16,6 +16,20 @@ namespace locus::tools {
 
 namespace {
 constexpr std::size_t kMaxBody = 64u << 20;  // far above any answer of ours; guards the buffer
+constexpr std::size_t kMaxHead = 64u << 10;
+
+bool iequals(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
+    return true;
+}
+
+std::string_view trim_blanks(std::string_view v) {
+    while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
+    while (!v.empty() && (v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
+    return v;
+}
 
 bool iequals_prefix(std::string_view line, std::string_view name) {
     if (line.size() < name.size()) return false;
@@ -95,7 +109,7 @@ std::optional<int> BenchConnection::read_answer() {
     };
     std::size_t head_end;
     while ((head_end = buffer_.find("\r\n\r\n")) == std::string::npos)
-        if (!receive()) return std::nullopt;
+        if (buffer_.size() > kMaxHead || !receive()) return std::nullopt;
     const std::string_view head(buffer_.data(), head_end);
     // "HTTP/1.1 200 OK"
     const auto space = head.find(' ');
@@ -109,15 +123,15 @@ std::optional<int> BenchConnection::read_answer() {
         const std::size_t next = head.find("\r\n", at + 2);
         const std::string_view line = head.substr(at + 2, next == std::string_view::npos ? std::string_view::npos : next - at - 2);
         if (iequals_prefix(line, "content-length:")) {
-            auto value = line.substr(15);
-            while (!value.empty() && value.front() == ' ') value.remove_prefix(1);
+            const auto value = trim_blanks(line.substr(15));
             std::size_t n = 0;
-            if (std::from_chars(value.data(), value.data() + value.size(), n).ec != std::errc() || n > kMaxBody)
+            const auto r = std::from_chars(value.data(), value.data() + value.size(), n);
+            if (r.ec != std::errc() || r.ptr != value.data() + value.size() || n > kMaxBody || (length && *length != n))
                 return std::nullopt;
             length = n;
         } else if (iequals_prefix(line, "transfer-encoding:")) {
             return std::nullopt;  // chunked answers: not something our server sends
-        } else if (iequals_prefix(line, "connection:") && line.find("close") != std::string_view::npos) {
+        } else if (iequals_prefix(line, "connection:") && iequals(trim_blanks(line.substr(11)), "close")) {
             close_after = true;
         }
         at = next;

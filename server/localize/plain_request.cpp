@@ -2,7 +2,9 @@
 
 #include <charconv>
 #include <cmath>
+#include <string>
 #include <system_error>
+#include <vector>
 
 #include "http/validation.hpp"
 
@@ -47,8 +49,9 @@ public:
         }
         return false;
     }
-    // A JSON number (RFC 8259 grammar), short enough that a double holds it exactly as
-    // nlohmann would read it (as an integer or with strtod, both exact or correctly rounded).
+    // A JSON number (RFC 8259 grammar). An integer of up to 15 characters fits the int64 that
+    // nlohmann reads it as; a fraction or exponent goes through from_chars, which rounds
+    // correctly like nlohmann's strtod. The 24-character cap only bounds the work.
     bool number(double& out) {
         skip_space();
         const std::size_t start = i_;

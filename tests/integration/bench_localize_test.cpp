@@ -151,6 +151,12 @@ TEST(BenchConnectionScripted, ChunkedAndNonHttpAnswersAreErrors) {
     ScriptedServer garbage({"SSH-2.0-OpenSSH\r\n\r\n"});
     BenchConnection b("127.0.0.1", garbage.port());
     EXPECT_EQ(b.round_trip(http_request("GET", "/", "127.0.0.1")), std::nullopt);
+    ScriptedServer bad_length({"HTTP/1.1 200 OK\r\nContent-Length: 2abc\r\n\r\nok"});
+    BenchConnection c("127.0.0.1", bad_length.port());
+    EXPECT_EQ(c.round_trip(http_request("GET", "/", "127.0.0.1")), std::nullopt);
+    ScriptedServer two_lengths({"HTTP/1.1 200 OK\r\nContent-Length: 2\r\nContent-Length:\t3\r\n\r\nok!"});
+    BenchConnection d("127.0.0.1", two_lengths.port());
+    EXPECT_EQ(d.round_trip(http_request("GET", "/", "127.0.0.1")), std::nullopt);
 }
 
 TEST_F(Bench, PrintsThroughputAndLatencyForLocalizeAndHealth) {

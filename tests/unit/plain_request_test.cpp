@@ -2,6 +2,7 @@
 // result must be exactly what the full parser gives; everything unusual must be declined.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <random>
 
@@ -52,6 +53,7 @@ const std::vector<std::string> kPlain = {
     R"({"scans":[[{"rss":-61.5,"bssid":"AA-BB-CC-DD-EE-01","type":"wifi"},{"type":"ble","bssid":"beacon 7","rss":-80}]]})",
     " \n{ \"scans\" : [ [ { \"bssid\" : \" x1 \" , \"rss\" : -7e1 } ] , [ {\"bssid\":\"x1\",\"rss\":-72.25E0} ] ] ,\r\n\t\"algorithm\" : \"bayes\" } \n",
     R"({"scans":[[{"bssid":"a","rss":0},{"bssid":"b","rss":-0},{"bssid":"c","rss":-120},{"bssid":"a","rss":-10.0}]]})",
+    R"({"scans":[[{"type":"ble","bssid":")" + std::string(63, 'q') + R"(","rss":-99}]],"algorithm":"knn"})",
 };
 
 }  // namespace
@@ -64,6 +66,15 @@ TEST(PlainRequest, TakesThePlainShapesAndAgreesWithTheFullParser) {
     ASSERT_EQ(r->query.aps.size(), 1u);  // one AP in two scans: averaged, trimmed
     EXPECT_EQ(r->query.aps[0].bssid, "x1");
     EXPECT_DOUBLE_EQ(r->query.aps[0].rss, -71.125);
+}
+
+TEST(PlainRequest, EdgesOfWhatItTakesAgreeWithTheFullParser) {
+    expect_fast(R"({"scans":[[{"bssid":")" + std::string(64, 'b') + R"(","rss":-60}]]})");  // the longest bssid
+    EXPECT_FALSE(parse_plain_localize_request(R"({"scans":[[{"bssid":")" + std::string(65, 'b') + R"(","rss":-60}]]})"));
+    expect_fast(R"({"scans":[[{"bssid":"a","rss":-61.123456789012345678},{"bssid":"b","rss":-1e-300},{"bssid":"c","rss":-6.1E+1}]]})");
+    expect_fast(R"({"scans":[[{"bssid":"a","rss":-120}]],"algorithm":"bsbnn"})");
+    expect_fast("{\"scans\":[[{\"bssid\":\"a\x7f\",\"rss\":-60}]]}");  // DEL needs no escape in JSON
+    EXPECT_FALSE(parse_plain_localize_request(R"({"scans":[[{"bssid":"a","rss":-1e400}]]})"));
 }
 
 TEST(PlainRequest, DeclinesWhatItDoesNotReadWithCertainty) {
@@ -84,6 +95,11 @@ TEST(PlainRequest, DeclinesWhatItDoesNotReadWithCertainty) {
              R"({"scans":[[{"bssid":"a","rss":+60}]]})", R"({"scans":[[{"bssid":"a","rss":-1234567890123456}]]})",
              R"({"scans":[[{"bssid":"  ","rss":-60}]]})", R"({"scans":[[{"bssid":"a","rss":-60,"type":"lte"}]]})",
              R"({"scans":[[{"bssid":"a","rss":-60},]]})",
+             R"({"algorithm":"nn","algorithm":"bayes","scans":[[{"bssid":"a","rss":-60}]]})",  // the full parser keeps the last
+             R"({"scans":[[{"bssid":"a","rss":-60,"rss":-70}]]})",
+             R"({"scans":[[{"bssid":"a","type":"ble","type":"wifi","rss":-60}]]})",
+             R"({"scans":[[{"bssid":"a","rss":-12345678901234567}]]})",  // too long for the integer reader, in any case
+             "\xef\xbb\xbf{\"scans\":[[{\"bssid\":\"a\",\"rss\":-60}]]}",  // byte-order mark
          })
         EXPECT_FALSE(parse_plain_localize_request(body).has_value()) << body;
 }
@@ -91,7 +107,7 @@ TEST(PlainRequest, DeclinesWhatItDoesNotReadWithCertainty) {
 // Thousands of mutated bodies: whatever the fast path accepts, the full parser reads the same.
 TEST(PlainRequest, MutatedBodiesNeverDisagreeWithTheFullParser) {
     std::mt19937 rng(20261122);
-    const std::string alphabet = "{}[]:,\" -.0123456789eE+abtrsnul\\\t\xc3";
+    const std::string alphabet = std::string("{}[]:,\" -.0123456789eE+abtrsnulypwifl\\\t\r\n\x7f\xc3") + '\0';
     std::size_t accepted = 0, total = 0;
     for (const auto& base : kPlain) {
         for (int n = 0; n < 3000; ++n) {
