@@ -54,6 +54,8 @@ const Fixture* fixture(const char* algorithm) {
     }
     out->snapshot.index = match::Index::build(rps);
     out->one_floor.index = match::Index::build(floor_rps);
+    localize::prepare_answers(out->snapshot);
+    localize::prepare_answers(out->one_floor);
     for (std::size_t i = 0; i < data.rows.size(); i += 10)
         if (!data.rows[i].heard.empty()) out->bodies.push_back(body_of(uji::scan_of(data, data.rows[i]), algorithm));
     slot = std::move(out);

@@ -412,12 +412,28 @@ std::string answer(const Snapshot& snapshot, const LocalizeRequest& request) {
     for (std::size_t i = 0; i < result->candidates.size(); ++i) {
         const auto& c = result->candidates[i];
         if (i) w.raw(",");
+        if (auto it = snapshot.candidate_json.find(c.rp_id); it != snapshot.candidate_json.end()) {
+            w.raw(it->second.head).number(c.score).raw(it->second.tail).integer(c.matched_aps).raw("}");
+            continue;
+        }
         w.raw("{").key("rp_id").integer(c.rp_id).key("x").number(c.at.x).key("y").number(c.at.y);
         w.key("score").number(c.score).key("floor_id").integer(c.floor_id).key("building_id").integer(c.building_id);
         w.key("matched_aps").integer(c.matched_aps).raw("}");
     }
     w.raw("]}");
     return std::move(w.out);
+}
+
+void prepare_answers(Snapshot& snapshot) {
+    snapshot.candidate_json.clear();
+    snapshot.candidate_json.reserve(snapshot.index.size());
+    for (std::size_t i = 0; i < snapshot.index.size(); ++i) {
+        const auto& rp = snapshot.index.rp(i);
+        Writer head, tail;
+        head.raw("{").key("rp_id").integer(rp.id).key("x").number(rp.at.x).key("y").number(rp.at.y).key("score");
+        tail.raw(",").raw("\"floor_id\":").integer(rp.floor_id).key("building_id").integer(rp.building_id).key("matched_aps");
+        snapshot.candidate_json[rp.id] = {std::move(head.out), std::move(tail.out)};
+    }
 }
 
 }  // namespace locus::localize

@@ -29,4 +29,9 @@ LocalizeRequest parse_localize_request_in_full(const std::string& body);
 // The answer's JSON text. 422 no_match when no RP shares an AP with the scan.
 std::string answer(const Snapshot& snapshot, const LocalizeRequest& request);
 
+// Fills snapshot.candidate_json from its index, so an answer writes only each candidate's
+// score and matched APs: formatting the ten candidates' coordinates and ids anew was a quarter
+// of a one-floor localize request's own work. An answer without it writes every field.
+void prepare_answers(Snapshot& snapshot);
+
 }  // namespace locus::localize

@@ -71,6 +71,7 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
         rps.push_back({std::move(s.rp), s.floor_id, s.building_id});
     }
     snap->index = match::Index::build(rps);
+    prepare_answers(*snap);
     std::shared_ptr<const Snapshot> out = snap;
     std::lock_guard lock(mu_);
     table(scope)[id] = out;

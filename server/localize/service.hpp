@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <thread>
 #include <unordered_map>
 #include <unordered_set>
@@ -24,10 +25,16 @@ class App;
 
 namespace locus::localize {
 
-// An index with the rooms of the floors it covers (for the symbolic location).
+// An index with the rooms of the floors it covers (for the symbolic location), and each RP's
+// part of a candidate in the JSON answer, written once per snapshot (request.hpp).
 struct Snapshot {
     match::Index index;
     std::unordered_map<long long, std::vector<Room>> rooms_by_floor;
+    struct CandidateJson {
+        std::string head;  // {"rp_id":..,"x":..,"y":..,"score":
+        std::string tail;  // ,"floor_id":..,"building_id":..,"matched_aps":
+    };
+    std::unordered_map<long long, CandidateJson> candidate_json;  // by RP id
 };
 
 class Service {

@@ -19,8 +19,12 @@ Query average(const std::vector<const Reading*>& readings) {
     std::vector<std::size_t> order(q.aps.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     const auto key = [&](std::size_t i) { return std::pair<std::string_view, std::string_view>(q.aps[i].type, q.aps[i].bssid); };
-    // Stable, so within a key the first-seen reading comes first and keeps its slot.
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+    // Ties broken by position, so within a key the first-seen reading comes first and keeps
+    // its slot (a stable sort would do the same with a scratch buffer per request).
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        const auto ka = key(a), kb = key(b);
+        return ka < kb || (ka == kb && a < b);
+    });
     std::vector<bool> merged(q.aps.size(), false);
     for (std::size_t s = 0; s < order.size();) {
         std::size_t e = s + 1;
