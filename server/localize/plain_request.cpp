@@ -117,18 +117,27 @@ bool reading(Reader& in, Reading& out) {
     return true;
 }
 
-// [[reading, ..], ..]: at least one scan, none empty.
-bool scans(Reader& in, std::vector<Scan>& out) {
+// [[reading, ..], ..]: at least one scan, none empty. The readings of all scans go into one
+// list in order, which is what Query::from_scans averages over as well.
+bool scans(Reader& in, std::vector<Reading>& out) {
     if (!in.take('[')) return false;
     do {
         if (!in.take('[')) return false;
-        Scan& scan = out.emplace_back();
         do {
-            if (!reading(in, scan.emplace_back())) return false;
+            if (!reading(in, out.emplace_back())) return false;
         } while (in.take(','));
         if (!in.take(']')) return false;
     } while (in.take(','));
     return in.take(']');
+}
+
+// Each worker thread keeps its reading list between requests, so a request does not grow one
+// reading by reading; one that held a huge body gives the memory back.
+std::vector<Reading>& scratch_readings() {
+    thread_local std::vector<Reading> readings;
+    if (readings.capacity() > 4096) std::vector<Reading>().swap(readings);
+    readings.clear();
+    return readings;
 }
 
 }  // namespace
@@ -136,7 +145,7 @@ bool scans(Reader& in, std::vector<Scan>& out) {
 std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view body) {
     Reader in(body);
     if (!in.take('{')) return std::nullopt;
-    std::vector<Scan> scan_list;
+    std::vector<Reading>& readings = scratch_readings();
     std::optional<std::string_view> algorithm;
     bool has_scans = false;
     do {
@@ -144,7 +153,7 @@ std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view bod
         if (!in.string(key) || !in.take(':')) return std::nullopt;
         if (key == "scans" && !has_scans) {
             has_scans = true;
-            if (!scans(in, scan_list)) return std::nullopt;
+            if (!scans(in, readings)) return std::nullopt;
         } else if (key == "algorithm" && !algorithm) {
             std::string_view name;
             if (!in.string(name)) return std::nullopt;
@@ -160,7 +169,7 @@ std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view bod
         if (!a) return std::nullopt;
         r.algorithm = *a;
     }
-    r.query = match::Query::from_scans(scan_list);
+    r.query = match::Query::from_means(readings);  // the same average as from_scans over the scans
     if (r.query.aps.empty()) return std::nullopt;
     return r;
 }

@@ -1,7 +1,7 @@
 #include "locus/match/query.hpp"
 
 #include <algorithm>
-#include <numeric>
+#include <functional>
 #include <string_view>
 #include <utility>
 
@@ -9,32 +9,35 @@ namespace locus::match {
 
 namespace {
 // Mean per (type, normalised bssid) in first-seen order; invalid RSS values are dropped.
-// Duplicates are found by sorting indices rather than with a map: this runs for every
-// localize request, and a map costs a node and two key copies per reading.
+// Duplicates are found by sorting rather than with a map: this runs for every localize
+// request, and a map costs a node and two key copies per reading.
 Query average(const std::vector<const Reading*>& readings) {
     Query q;
     q.aps.reserve(readings.size());
     for (const Reading* r : readings)
         if (valid_rss(r->rss)) q.aps.push_back(QueryAp{r->type, normalise_bssid(r->bssid), r->rss});
-    std::vector<std::size_t> order(q.aps.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    const auto key = [&](std::size_t i) { return std::pair<std::string_view, std::string_view>(q.aps[i].type, q.aps[i].bssid); };
-    // Ties broken by position, so within a key the first-seen reading comes first and keeps
-    // its slot (a stable sort would do the same with a scratch buffer per request).
+    // Repeats are found by sorting positions by (hash, key, position): strings are compared
+    // only where hashes are equal, and within a key the first-seen reading comes first.
+    const std::size_t n = q.aps.size();
+    std::vector<std::size_t> hash(n), order(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        hash[i] = std::hash<std::string_view>{}(q.aps[i].bssid) * 31 + std::hash<std::string_view>{}(q.aps[i].type);
+        order[i] = i;
+    }
+    const auto key = [&](std::size_t i) { return std::pair<std::string_view, std::string_view>(q.aps[i].bssid, q.aps[i].type); };
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        if (hash[a] != hash[b]) return hash[a] < hash[b];
         const auto ka = key(a), kb = key(b);
         return ka < kb || (ka == kb && a < b);
     });
-    std::vector<bool> merged(q.aps.size(), false);
-    for (std::size_t s = 0; s < order.size();) {
+    std::vector<bool> merged(n, false);
+    for (std::size_t s = 0; s < n;) {
         std::size_t e = s + 1;
-        while (e < order.size() && key(order[e]) == key(order[s])) ++e;
-        if (e - s > 1) {
-            QueryAp& first = q.aps[order[s]];
-            for (std::size_t j = s + 1; j < e; ++j) {
-                first.rss += (q.aps[order[j]].rss - first.rss) / static_cast<double>(j - s + 1);
-                merged[order[j]] = true;
-            }
+        while (e < n && hash[order[e]] == hash[order[s]] && key(order[e]) == key(order[s])) ++e;
+        QueryAp& first = q.aps[order[s]];
+        for (std::size_t j = s + 1; j < e; ++j) {
+            first.rss += (q.aps[order[j]].rss - first.rss) / static_cast<double>(j - s + 1);
+            merged[order[j]] = true;
         }
         s = e;
     }
