@@ -21,7 +21,7 @@ Query average(const std::vector<const Reading*>& readings) {
     const std::size_t n = q.aps.size();
     std::vector<std::size_t> hash(n), order(n);
     for (std::size_t i = 0; i < n; ++i) {
-        hash[i] = std::hash<std::string_view>{}(q.aps[i].bssid) * 31 + std::hash<std::string_view>{}(q.aps[i].type);
+        hash[i] = std::hash<std::string_view>{}(q.aps[i].bssid);  // a type differs only in the key compare
         order[i] = i;
     }
     const auto key = [&](std::size_t i) { return std::pair<std::string_view, std::string_view>(q.aps[i].bssid, q.aps[i].type); };
