@@ -28,7 +28,8 @@ struct Fixture {
 
 std::string body_of(const Scan& scan, const char* algorithm) {
     nlohmann::json readings = nlohmann::json::array();
-    for (const auto& r : scan) readings.push_back({{"bssid", r.bssid}, {"rss", r.rss}});
+    // Whole dBm as integers, as phones send them (and as `locus bench localize` does).
+    for (const auto& r : scan) readings.push_back({{"bssid", r.bssid}, {"rss", static_cast<long long>(r.rss)}});
     return nlohmann::json{{"algorithm", algorithm}, {"scans", {readings}}}.dump();
 }
 

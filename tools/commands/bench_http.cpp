@@ -70,7 +70,10 @@ std::string scans_body(const std::vector<Scan>& scans, const std::string& algori
     for (const auto& scan : scans) {
         json readings = json::array();
         for (const auto& r : scan) {
-            json reading = {{"bssid", r.bssid}, {"rss", r.rss}};
+            // Whole dBm as an integer, the way phones report RSS (and UJIIndoorLoc stores it).
+            json reading = {{"bssid", r.bssid}};
+            if (r.rss == std::trunc(r.rss)) reading["rss"] = static_cast<long long>(r.rss);
+            else reading["rss"] = r.rss;
             if (r.type != "wifi") reading["type"] = r.type;
             readings.push_back(std::move(reading));
         }
