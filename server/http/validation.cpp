@@ -163,8 +163,7 @@ const char* type_problem(std::string_view type) {
 const char* bssid_problem(std::string_view raw) {
     if (raw.empty() || raw.size() > 64) return "must be 1 to 64 characters";
     // As normalise_bssid will see it: surrounding white space goes, control characters inside stay.
-    while (!raw.empty() && std::isspace(static_cast<unsigned char>(raw.front()))) raw.remove_prefix(1);
-    while (!raw.empty() && std::isspace(static_cast<unsigned char>(raw.back()))) raw.remove_suffix(1);
+    raw = trim_bssid(raw);
     if (raw.empty()) return "must not be blank";
     for (char c : raw)
         if (static_cast<unsigned char>(c) < 0x20) return "holds control characters";

@@ -89,3 +89,12 @@ TEST(Validation, ErrorMessagesNameThePlaceInTheBody) {
         EXPECT_NE(std::string(e.what()).find("scans[0][1].rss"), std::string::npos) << e.what();
     }
 }
+
+// The white space trimmed around a BSSID is the C locale's set, no more and no less.
+TEST(Validation, BssidWhiteSpaceIsTheSixAsciiSpaces) {
+    EXPECT_STREQ(http::bssid_problem(std::string_view("\t\n\v\f\r ")), "must not be blank");
+    EXPECT_STREQ(http::bssid_problem(std::string_view(" \x01 ")), "holds control characters");  // not white space
+    EXPECT_EQ(http::bssid_problem(std::string_view("\v a \f")), nullptr);
+    EXPECT_EQ(locus::normalise_bssid("\v AA-BB-CC-DD-EE-FF\r\n"), "aa:bb:cc:dd:ee:ff");
+    EXPECT_EQ(locus::normalise_bssid("\x1c" "ab"), "\x1c" "ab");  // a separator, not white space
+}

@@ -18,6 +18,9 @@ bool valid_rss(double rss);  // finite and within [kMinRss, kMaxRss]
 // Lower-cases a BSSID; MACs written with '-' become ':' separated (aa:bb:cc:dd:ee:ff).
 // BLE ids and other free strings are only lower-cased and trimmed.
 std::string normalise_bssid(std::string_view raw);
+// `raw` without the white space (ASCII: space, \t \n \v \f \r) around it, as
+// normalise_bssid trims it.
+std::string_view trim_bssid(std::string_view raw);
 
 struct Measurement {
     std::string type = "wifi";  // "wifi" or "ble"
