@@ -132,20 +132,29 @@ bool scans(Reader& in, std::vector<Reading>& out) {
 }
 
 // Each worker thread keeps its reading list between requests, so a request does not grow one
-// reading by reading; one that held a huge body gives the memory back.
-std::vector<Reading>& scratch_readings() {
-    thread_local std::vector<Reading> readings;
-    if (readings.capacity() > 4096) std::vector<Reading>().swap(readings);
-    readings.clear();
-    return readings;
-}
+// reading by reading; after a huge body the list gives its memory back at once.
+class ScratchReadings {
+public:
+    ScratchReadings() { list().clear(); }
+    ~ScratchReadings() {
+        list().clear();
+        if (list().capacity() > 4096) std::vector<Reading>().swap(list());
+    }
+    ScratchReadings(const ScratchReadings&) = delete;
+    ScratchReadings& operator=(const ScratchReadings&) = delete;
+    static std::vector<Reading>& list() {
+        thread_local std::vector<Reading> readings;
+        return readings;
+    }
+};
 
 }  // namespace
 
 std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view body) {
     Reader in(body);
     if (!in.take('{')) return std::nullopt;
-    std::vector<Reading>& readings = scratch_readings();
+    const ScratchReadings scratch;
+    std::vector<Reading>& readings = ScratchReadings::list();
     std::optional<std::string_view> algorithm;
     bool has_scans = false;
     do {
