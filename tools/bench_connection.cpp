@@ -50,6 +50,7 @@ std::string http_request(const std::string& method, const std::string& path, con
 BenchConnection::~BenchConnection() { close(); }
 
 bool BenchConnection::open() {
+    close();
     addrinfo hints{};
     hints.ai_family = AF_UNSPEC;
     hints.ai_socktype = SOCK_STREAM;

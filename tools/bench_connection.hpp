@@ -24,9 +24,10 @@ public:
     // network error or a malformed answer (the connection is then closed and reopened on the
     // next call). The answer body is read and dropped.
     std::optional<int> round_trip(const std::string& request);
+    // Connects now rather than on the first request; false if the server cannot be reached.
+    bool open();
 
 private:
-    bool open();
     void close();
     std::optional<int> read_answer();
 

@@ -7,6 +7,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <fstream>
 #include <thread>
 
 #include "bench_connection.hpp"
@@ -174,6 +175,34 @@ TEST_F(Bench, PrintsThroughputAndLatencyForLocalizeAndHealth) {
     for (const auto& r : out.at("ratio_by_round")) EXPECT_GT(r.get<double>(), 0.0);
     EXPECT_NEAR(out.at("localize_over_health").get<double>(),
                 out.at("localize").at("req_per_s").get<double>() / out.at("health").at("req_per_s").get<double>(), 1e-9);
+}
+
+// Every other scan is larger than the server accepts (413): those requests are counted as
+// errors, left out of the figures, and the command fails after printing them.
+TEST(BenchFailures, FailedRequestsAreCountedAndFailTheCommand) {
+    ServerProcess s({"--max-body-bytes", "1000"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const auto r = s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import",
+                          {{"name", "corridor"}, {"rps", {rp("west", 2, -40, -70), rp("east", 18, -70, -40)}}});
+    ASSERT_EQ(r.status, 201) << r.raw;
+    const std::string scans = locus::testing::make_temp_dir() + "/scans.jsonl";
+    {
+        std::ofstream out(scans);
+        out << R"({"rp":"a","x":1,"y":1,"t":1,"readings":[{"bssid":"aa:00:00:00:00:01","rss":-41}]})" << "\n";
+        out << R"({"rp":"a","x":1,"y":1,"t":2,"readings":[{"bssid":"aa:00:00:00:00:01","rss":-41})";
+        for (int i = 0; i < 40; ++i) out << R"(,{"bssid":"bb:00:00:00:00:)" << 10 + i << R"(","rss":-80})";
+        out << "]}\n";
+    }
+    const auto run = run_command({LOCUS_CLI_BIN, "bench", "localize", "--server", s.url(), "--radiomap",
+                                  std::to_string(r.body.at("id").get<std::int64_t>()), "--scans", scans, "--concurrency", "1",
+                                  "--requests", "100", "--rounds", "1"});
+    EXPECT_NE(run.status, 0);
+    EXPECT_NE(run.err.find("50 requests failed"), std::string::npos) << run.err;
+    const json out = json::parse(run.out);
+    EXPECT_EQ(out.at("localize").at("requests"), 100);
+    EXPECT_EQ(out.at("localize").at("errors"), 50);
+    EXPECT_EQ(out.at("health").at("errors"), 0);
+    EXPECT_EQ(out.at("distinct_scans"), 2);
 }
 
 TEST_F(Bench, RefusesAnUnknownRadioMapAndARemoteServer) {

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <latch>
 #include <set>
 #include <thread>
 
@@ -153,14 +154,19 @@ Phase run_phase(const Args& a, int count, double max_seconds, const Target& targ
     std::atomic<int> next{0};
     std::atomic<int> errors{0};
     std::vector<std::vector<double>> latencies(static_cast<std::size_t>(a.concurrency));
-    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(max_seconds));
-    const auto t0 = Clock::now();
+    // Threads start and connect before the clock does, so neither is timed.
+    std::latch ready(a.concurrency);
+    std::latch go(1);
+    Clock::time_point deadline;
     std::vector<std::thread> threads;
     for (int t = 0; t < a.concurrency; ++t) {
         threads.emplace_back([&, t] {
             BenchConnection connection(target.host, target.port);
+            connection.open();  // a failure shows as errors on the first request
             auto& lat = latencies[static_cast<std::size_t>(t)];
             lat.reserve(static_cast<std::size_t>(count / a.concurrency + 1));
+            ready.count_down();
+            go.wait();
             for (;;) {
                 const int i = next++;
                 if (i >= count || Clock::now() > deadline) break;
@@ -173,6 +179,10 @@ Phase run_phase(const Args& a, int count, double max_seconds, const Target& targ
             }
         });
     }
+    ready.wait();
+    const auto t0 = Clock::now();
+    deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(max_seconds));
+    go.count_down();
     for (auto& th : threads) th.join();
     Phase out;
     out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
