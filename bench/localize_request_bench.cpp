@@ -9,11 +9,11 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "localize/request.hpp"
+#include "localize_body.hpp"
 #include "uji_csv.hpp"
 
 namespace {
@@ -26,13 +26,6 @@ struct Fixture {
     std::vector<std::string> bodies;  // {"algorithm": ..., "scans": [[{bssid, rss}...]]}
 };
 
-std::string body_of(const Scan& scan, const char* algorithm) {
-    nlohmann::json readings = nlohmann::json::array();
-    // Whole dBm as integers, as phones send them (and as `locus bench localize` does).
-    for (const auto& r : scan) readings.push_back({{"bssid", r.bssid}, {"rss", static_cast<long long>(r.rss)}});
-    return nlohmann::json{{"algorithm", algorithm}, {"scans", {readings}}}.dump();
-}
-
 const Fixture* fixture(const char* algorithm) {
     static std::map<std::string, std::unique_ptr<Fixture>> cache;
     auto& slot = cache[algorithm];
@@ -41,24 +34,16 @@ const Fixture* fixture(const char* algorithm) {
     if (!std::ifstream(path)) return nullptr;
     auto out = std::make_unique<Fixture>();
     const uji::Data data = uji::read_file(path);
-    std::vector<match::IndexedRp> rps, floor_rps;
-    for (const auto& g : uji::group_reference_points(data)) {
-        match::IndexedRp rp;
-        rp.rp.id = static_cast<long long>(rps.size()) + 1;
-        rp.rp.at = Point{g.longitude, g.latitude};
-        rp.rp.scans = static_cast<std::int64_t>(g.rows.size());
-        rp.rp.measurements = g.measurements;
-        rp.floor_id = g.building * 100 + g.floor;
-        rp.building_id = g.building;
-        if (rp.floor_id == 100) floor_rps.push_back(rp);
-        rps.push_back(std::move(rp));
-    }
+    const std::vector<match::IndexedRp> rps = uji::indexed_rps(data);
+    std::vector<match::IndexedRp> floor_rps;
+    for (const auto& rp : rps)
+        if (rp.floor_id == uji::floor_id(1, 0)) floor_rps.push_back(rp);
     out->snapshot.index = match::Index::build(rps);
     out->one_floor.index = match::Index::build(floor_rps);
     localize::prepare_answers(out->snapshot);
     localize::prepare_answers(out->one_floor);
     for (std::size_t i = 0; i < data.rows.size(); i += 10)
-        if (!data.rows[i].heard.empty()) out->bodies.push_back(body_of(uji::scan_of(data, data.rows[i]), algorithm));
+        if (!data.rows[i].heard.empty()) out->bodies.push_back(tools::localize_body({uji::scan_of(data, data.rows[i])}, algorithm));
     slot = std::move(out);
     return slot.get();
 }

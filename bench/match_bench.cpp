@@ -27,16 +27,7 @@ const Fixture* fixture() {
         if (!std::ifstream(path)) return nullptr;
         auto out = std::make_unique<Fixture>();
         const uji::Data data = uji::read_file(path);
-        for (const auto& g : uji::group_reference_points(data)) {
-            match::IndexedRp rp;
-            rp.rp.id = static_cast<long long>(out->rps.size()) + 1;
-            rp.rp.at = Point{g.longitude, g.latitude};
-            rp.rp.scans = static_cast<std::int64_t>(g.rows.size());
-            rp.rp.measurements = g.measurements;
-            rp.floor_id = g.building * 100 + g.floor;
-            rp.building_id = g.building;
-            out->rps.push_back(std::move(rp));
-        }
+        out->rps = uji::indexed_rps(data);
         out->index = match::Index::build(out->rps);
         // Every 10th row as an online scan: ~2,000 real queries spread over the 3 buildings.
         for (std::size_t i = 0; i < data.rows.size(); i += 10)

@@ -25,18 +25,16 @@ bool iequals(std::string_view a, std::string_view b) {
     return true;
 }
 
+bool iequals_prefix(std::string_view line, std::string_view name) {
+    return line.size() >= name.size() && iequals(line.substr(0, name.size()), name);
+}
+
 std::string_view trim_blanks(std::string_view v) {
     while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
     while (!v.empty() && (v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
     return v;
 }
 
-bool iequals_prefix(std::string_view line, std::string_view name) {
-    if (line.size() < name.size()) return false;
-    for (std::size_t i = 0; i < name.size(); ++i)
-        if (std::tolower(static_cast<unsigned char>(line[i])) != name[i]) return false;
-    return true;
-}
 }  // namespace
 
 std::string http_request(const std::string& method, const std::string& path, const std::string& host_port,

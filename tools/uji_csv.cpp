@@ -144,4 +144,19 @@ std::vector<ReferencePointGroup> group_reference_points(const Data& data, const 
     return out;
 }
 
+std::vector<match::IndexedRp> indexed_rps(const Data& data, const std::vector<std::size_t>& rows) {
+    std::vector<match::IndexedRp> out;
+    for (auto& g : group_reference_points(data, rows)) {
+        match::IndexedRp rp;
+        rp.rp.id = static_cast<long long>(out.size()) + 1;
+        rp.rp.at = Point{g.longitude, g.latitude};
+        rp.rp.scans = static_cast<std::int64_t>(g.rows.size());
+        rp.rp.measurements = std::move(g.measurements);
+        rp.floor_id = floor_id(g.building, g.floor);
+        rp.building_id = g.building;
+        out.push_back(std::move(rp));
+    }
+    return out;
+}
+
 }  // namespace locus::tools::uji

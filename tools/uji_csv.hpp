@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "locus/match/index.hpp"
 #include "locus/radio_map.hpp"
 
 namespace locus::tools::uji {
@@ -56,5 +57,12 @@ struct ReferencePointGroup {
 // Groups the given rows (all rows when `rows` is empty) into RPs, ordered by
 // (building, floor, longitude, latitude); measurements are in WAP column order.
 std::vector<ReferencePointGroup> group_reference_points(const Data& data, const std::vector<std::size_t>& rows = {});
+
+// The floor id the in-process matchers give a (building, floor): building · 100 + floor.
+inline long long floor_id(int building, int floor) { return building * 100LL + floor; }
+
+// The groups of `rows` (all when empty) as matcher RPs, ids 1, 2, … in group order, with
+// floor_id(building, floor) and the building as building id.
+std::vector<match::IndexedRp> indexed_rps(const Data& data, const std::vector<std::size_t>& rows = {});
 
 }  // namespace locus::tools::uji

@@ -102,11 +102,18 @@ bool reading(Reader& in, Reading& out) {
     do {
         std::string_view key;
         if (!in.string(key) || !in.take(':')) return false;
-        if (key == "bssid" && !has_bssid) has_bssid = in.string(bssid);
-        else if (key == "type" && !has_type) has_type = in.string(type);
-        else if (key == "rss" && !has_rss) has_rss = in.number(rss);
-        else return false;
-        if (!(key == "bssid" ? has_bssid : key == "type" ? has_type : has_rss)) return false;
+        if (key == "bssid" && !has_bssid) {
+            if (!in.string(bssid)) return false;
+            has_bssid = true;
+        } else if (key == "type" && !has_type) {
+            if (!in.string(type)) return false;
+            has_type = true;
+        } else if (key == "rss" && !has_rss) {
+            if (!in.number(rss)) return false;
+            has_rss = true;
+        } else {
+            return false;  // an unknown or repeated key
+        }
     } while (in.take(','));
     if (!in.take('}') || !has_bssid || !has_rss) return false;
     if (http::bssid_problem(bssid) || (has_type && http::type_problem(type))) return false;

@@ -377,6 +377,16 @@ public:
     }
     Writer& text(const std::string& s) { return raw(json(s).dump()); }
 };
+
+// A candidate is head, score, tail, matched APs, "}". The head and tail depend on the RP
+// only, so a snapshot writes them once (prepare_answers).
+Writer& candidate_head(Writer& w, long long rp_id, Point at) {
+    return w.raw("{").key("rp_id").integer(rp_id).key("x").number(at.x).key("y").number(at.y).key("score");
+}
+Writer& candidate_tail(Writer& w, long long floor_id, long long building_id) {
+    // The comma by hand: key() cannot see the score before it when the tail is written alone.
+    return w.raw(",\"floor_id\":").integer(floor_id).key("building_id").integer(building_id).key("matched_aps");
+}
 }  // namespace
 
 std::string answer(const Snapshot& snapshot, const LocalizeRequest& request) {
@@ -413,12 +423,13 @@ std::string answer(const Snapshot& snapshot, const LocalizeRequest& request) {
         const auto& c = result->candidates[i];
         if (i) w.raw(",");
         if (auto it = snapshot.candidate_json.find(c.rp_id); it != snapshot.candidate_json.end()) {
-            w.raw(it->second.head).number(c.score).raw(it->second.tail).integer(c.matched_aps).raw("}");
-            continue;
+            w.raw(it->second.head);
+            w.number(c.score).raw(it->second.tail);
+        } else {
+            candidate_head(w, c.rp_id, c.at).number(c.score);
+            candidate_tail(w, c.floor_id, c.building_id);
         }
-        w.raw("{").key("rp_id").integer(c.rp_id).key("x").number(c.at.x).key("y").number(c.at.y);
-        w.key("score").number(c.score).key("floor_id").integer(c.floor_id).key("building_id").integer(c.building_id);
-        w.key("matched_aps").integer(c.matched_aps).raw("}");
+        w.integer(c.matched_aps).raw("}");
     }
     w.raw("]}");
     return std::move(w.out);
@@ -430,8 +441,8 @@ void prepare_answers(Snapshot& snapshot) {
     for (std::size_t i = 0; i < snapshot.index.size(); ++i) {
         const auto& rp = snapshot.index.rp(i);
         Writer head, tail;
-        head.raw("{").key("rp_id").integer(rp.id).key("x").number(rp.at.x).key("y").number(rp.at.y).key("score");
-        tail.raw(",").raw("\"floor_id\":").integer(rp.floor_id).key("building_id").integer(rp.building_id).key("matched_aps");
+        candidate_head(head, rp.id, rp.at);
+        candidate_tail(tail, rp.floor_id, rp.building_id);
         snapshot.candidate_json[rp.id] = {std::move(head.out), std::move(tail.out)};
     }
 }

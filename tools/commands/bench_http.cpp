@@ -20,6 +20,7 @@
 
 #include "bench_connection.hpp"
 #include "command_registry.hpp"
+#include "localize_body.hpp"
 #include "survey_connect.hpp"
 #include "survey_format.hpp"
 #include "uji_csv.hpp"
@@ -66,23 +67,6 @@ double percentile(std::vector<double>& v, double p) {
     return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
 }
 
-std::string scans_body(const std::vector<Scan>& scans, const std::string& algorithm) {
-    json s = json::array();
-    for (const auto& scan : scans) {
-        json readings = json::array();
-        for (const auto& r : scan) {
-            // Whole dBm as an integer, the way phones report RSS (and UJIIndoorLoc stores it).
-            json reading = {{"bssid", r.bssid}};
-            if (r.rss == std::trunc(r.rss)) reading["rss"] = static_cast<long long>(r.rss);
-            else reading["rss"] = r.rss;
-            if (r.type != "wifi") reading["type"] = r.type;
-            readings.push_back(std::move(reading));
-        }
-        s.push_back(std::move(readings));
-    }
-    return json{{"algorithm", algorithm}, {"scans", s}}.dump();
-}
-
 // Real scans to replay: a UJIIndoorLoc CSV (one query per row), a survey file (one per scan),
 // or, with no file, each RP of the radio map queried with its own stored means. Scans that
 // share no AP with the radio map (another building's rows) would only measure the 422 path,
@@ -115,7 +99,7 @@ std::vector<std::string> load_bodies(const Args& a, httplib::Client& http) {
     std::vector<std::string> bodies;
     for (const auto& s : scans)
         if (std::any_of(s.begin(), s.end(), [&](const Reading& rd) { return known.count(rd.bssid) > 0; }))
-            bodies.push_back(scans_body({s}, a.algorithm));
+            bodies.push_back(localize_body({s}, a.algorithm));
     if (bodies.empty()) throw CommandError("no scan shares an access point with radio map " + std::to_string(a.radiomap));
     return bodies;
 }

@@ -39,8 +39,6 @@ struct Args {
     std::string per_query;
 };
 
-long long floor_label(int building, int floor) { return building * 100LL + floor; }
-
 // Linear interpolation between order statistics (the common "type 7" definition).
 double percentile(const std::vector<double>& sorted, double p) {
     if (sorted.empty()) return std::nan("");
@@ -78,7 +76,7 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
         const auto& r = *results[i];
         const bool building_ok = r.building_id == truth[i].building;
         building_hits += building_ok;
-        floor_hits += building_ok && r.floor_id == floor_label(truth[i].building, truth[i].floor);
+        floor_hits += building_ok && r.floor_id == uji::floor_id(truth[i].building, truth[i].floor);
         errors.push_back(distance(r.at, truth[i].at));
         if (per_query &&
             std::fprintf(per_query, "%s,%zu,%d,%d,%.3f,%.3f,%lld,%lld,%.3f,%.3f,%.3f,%.3f\n",
@@ -113,7 +111,7 @@ double nearest_on_true_floor(const match::Index& index, const Truth& t) {
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < index.size(); ++i) {
         const auto& rp = index.rp(i);
-        if (rp.building_id == t.building && rp.floor_id == floor_label(t.building, t.floor))
+        if (rp.building_id == t.building && rp.floor_id == uji::floor_id(t.building, t.floor))
             best = std::min(best, distance(rp.at, t.at));
     }
     return best;
@@ -220,17 +218,7 @@ void run(const Args& a) {
     }
     if (train_rows.empty()) throw CommandError("no training rows left");
 
-    std::vector<match::IndexedRp> rps;
-    for (const auto& g : uji::group_reference_points(train, train_rows)) {
-        match::IndexedRp rp;
-        rp.rp.id = static_cast<long long>(rps.size()) + 1;
-        rp.rp.at = Point{g.longitude, g.latitude};
-        rp.rp.scans = static_cast<std::int64_t>(g.rows.size());
-        rp.rp.measurements = g.measurements;
-        rp.floor_id = floor_label(g.building, g.floor);
-        rp.building_id = g.building;
-        rps.push_back(std::move(rp));
-    }
+    const std::vector<match::IndexedRp> rps = uji::indexed_rps(train, train_rows);
     const match::Index index = match::Index::build(rps, params);
 
     // A scan with no valid reading is not a query (the API rejects it with 422).
