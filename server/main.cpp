@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
         }
         locus::localize::Service localizer(repo);
         locus::http::App app(repo, {api_key, max_body, !quiet});
-        localizer.install(app);
+        localizer.install(app);  // before the store routes: see install_store_routes
+        app.install_store_routes();
         auto& server = app.server();
         server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
 

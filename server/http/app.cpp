@@ -95,6 +95,9 @@ void App::guarded(httplib::Response& res, const std::function<void()>& body) {
 
 App::App(store::Repository& repo, AppOptions options) : repo_(repo), options_(std::move(options)) {
     install_middleware();
+}
+
+void App::install_store_routes() {
     install_crud();
     install_radiomap_routes();
 }

@@ -27,6 +27,10 @@ class App {
 public:
     App(store::Repository& repo, AppOptions options);
     httplib::Server& server() { return server_; }
+    // The CRUD, scan and radio-map routes. httplib tries a method's routes in the order they
+    // were added, one regex match each, so routes added before these (localize, the request
+    // a phone repeats) are found without failing a match per store route first.
+    void install_store_routes();
     void on_write(WriteListener listener) { listener_ = std::move(listener); }
 
     // Runs a handler body, turning every failure into the JSON error shape.

@@ -93,40 +93,35 @@ private:
     std::size_t i_ = 0;
 };
 
-// {"bssid": .., "rss": .., "type": ..}, each key at most once, bssid and rss required.
-bool reading(Reader& in, Reading& out) {
+// {"bssid": .., "rss": .., "type": ..}, each key at most once, bssid and rss required. The
+// reading's text stays in the body: the query copies it once, normalised.
+bool reading(Reader& in, match::ReadingView& out) {
     if (!in.take('{')) return false;
     bool has_bssid = false, has_rss = false, has_type = false;
-    std::string_view bssid, type;
-    double rss = 0.0;
     do {
         std::string_view key;
         if (!in.string(key) || !in.take(':')) return false;
         if (key == "bssid" && !has_bssid) {
-            if (!in.string(bssid)) return false;
+            if (!in.string(out.bssid)) return false;
             has_bssid = true;
         } else if (key == "type" && !has_type) {
-            if (!in.string(type)) return false;
+            if (!in.string(out.type)) return false;
             has_type = true;
         } else if (key == "rss" && !has_rss) {
-            if (!in.number(rss)) return false;
+            if (!in.number(out.rss)) return false;
             has_rss = true;
         } else {
             return false;  // an unknown or repeated key
         }
     } while (in.take(','));
     if (!in.take('}') || !has_bssid || !has_rss) return false;
-    if (http::bssid_problem(bssid) || (has_type && http::type_problem(type))) return false;
-    if (!std::isfinite(rss) || !valid_rss(rss)) return false;
-    out.bssid.assign(bssid);  // normalised with the query, as on the full path
-    if (has_type) out.type.assign(type);
-    out.rss = rss;
-    return true;
+    if (http::bssid_problem(out.bssid) || (has_type && http::type_problem(out.type))) return false;
+    return std::isfinite(out.rss) && valid_rss(out.rss);
 }
 
 // [[reading, ..], ..]: at least one scan, none empty. The readings of all scans go into one
 // list in order, which is what Query::from_scans averages over as well.
-bool scans(Reader& in, std::vector<Reading>& out) {
+bool scans(Reader& in, std::vector<match::ReadingView>& out) {
     if (!in.take('[')) return false;
     do {
         if (!in.take('[')) return false;
@@ -145,12 +140,12 @@ public:
     ScratchReadings() { list().clear(); }
     ~ScratchReadings() {
         list().clear();
-        if (list().capacity() > 4096) std::vector<Reading>().swap(list());
+        if (list().capacity() > 4096) std::vector<match::ReadingView>().swap(list());
     }
     ScratchReadings(const ScratchReadings&) = delete;
     ScratchReadings& operator=(const ScratchReadings&) = delete;
-    static std::vector<Reading>& list() {
-        thread_local std::vector<Reading> readings;
+    static std::vector<match::ReadingView>& list() {
+        thread_local std::vector<match::ReadingView> readings;
         return readings;
     }
 };
@@ -161,7 +156,7 @@ std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view bod
     Reader in(body);
     if (!in.take('{')) return std::nullopt;
     const ScratchReadings scratch;
-    std::vector<Reading>& readings = ScratchReadings::list();
+    std::vector<match::ReadingView>& readings = ScratchReadings::list();
     std::optional<std::string_view> algorithm;
     bool has_scans = false;
     do {

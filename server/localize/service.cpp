@@ -151,7 +151,9 @@ void Service::install(http::App& app) {
                               http::App::guarded(res, [&] {
                                   const auto id = http::parse_id(req.matches[1].str(), what);
                                   const auto request = parse_localize_request(req.body);
-                                  res.set_content(answer(*lookup(scope, id), request), "application/json");
+                                  // Moved in: set_content would copy the answer.
+                                  res.body = answer(*lookup(scope, id), request);
+                                  res.set_header("Content-Type", "application/json");
                               });
                           });
     }

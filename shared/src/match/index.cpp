@@ -13,14 +13,6 @@ struct Posting {
     double rep[3];
     LikelihoodTerms likelihood;
 };
-
-std::string ap_key(std::string_view type, std::string_view bssid) {
-    std::string key;
-    key.reserve(type.size() + 1 + bssid.size());
-    key.append(type).push_back('\n');
-    key.append(bssid);
-    return key;
-}
 }  // namespace
 
 double Index::represent(double rss, int representation) const {
@@ -57,7 +49,7 @@ Index Index::build(const std::vector<IndexedRp>& rps, const IndexParams& params)
         for (const auto& m : in.rp.measurements) {
             if (m.stats.count <= 0 || !std::isfinite(m.stats.mean)) continue;
             const std::string bssid = normalise_bssid(m.bssid);
-            auto [it, inserted] = idx.ap_ids_.try_emplace(ap_key(m.type, bssid), static_cast<std::uint32_t>(lists.size()));
+            auto [it, inserted] = idx.ap_ids_.try_emplace(ApKey{m.type, bssid}, static_cast<std::uint32_t>(lists.size()));
             if (inserted) lists.emplace_back();
             auto& list = lists[it->second];
             // Two measurements of one AP at one RP would be a store bug; keep the first.
@@ -111,17 +103,11 @@ PostingList Index::postings(std::size_t ap) const {
 }
 
 long Index::ap_of(std::string_view type, std::string_view bssid) const {
-    // Looked up with a key on the stack: this runs for every AP of every query, and a
-    // 17-character MAC plus its type does not fit in a std::string's inline buffer.
-    char buf[96];
-    if (type.size() + 1 + bssid.size() > sizeof buf) {
-        auto it = ap_ids_.find(ap_key(type, bssid));
-        return it == ap_ids_.end() ? -1 : static_cast<long>(it->second);
-    }
-    std::copy(type.begin(), type.end(), buf);
-    buf[type.size()] = '\n';
-    std::copy(bssid.begin(), bssid.end(), buf + type.size() + 1);
-    auto it = ap_ids_.find(std::string_view(buf, type.size() + 1 + bssid.size()));
+    return ap_of(type, bssid, std::hash<std::string_view>{}(bssid));
+}
+
+long Index::ap_of(std::string_view type, std::string_view bssid, std::size_t bssid_hash) const {
+    const auto it = ap_ids_.find(ApKeyView{type, bssid, bssid_hash});
     return it == ap_ids_.end() ? -1 : static_cast<long>(it->second);
 }
 

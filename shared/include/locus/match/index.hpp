@@ -79,6 +79,9 @@ public:
 
     // Position of an AP in the index, or -1 if no RP stores it. `bssid` must be normalised.
     long ap_of(std::string_view type, std::string_view bssid) const;
+    // The same with std::hash<std::string_view> of the bssid already known (QueryAp has it),
+    // so a query hashes each AP once.
+    long ap_of(std::string_view type, std::string_view bssid, std::size_t bssid_hash) const;
     PostingList postings(std::size_t ap) const;
     // Position of the RP storing the AP with the strongest mean (the first such RP on a tie):
     // where the AP most likely is, floor included.
@@ -96,12 +99,27 @@ public:
 private:
     IndexParams params_;
     std::vector<RpInfo> rps_;
-    // Transparent, so a lookup by string_view builds no std::string.
+    // An AP is keyed by (type, bssid) and hashed by its bssid alone, so a lookup takes a hash
+    // the query computed already, and builds no std::string (transparent hash and equality).
+    struct ApKey {
+        std::string type, bssid;
+    };
+    struct ApKeyView {
+        std::string_view type, bssid;
+        std::size_t bssid_hash;
+    };
     struct KeyHash {
         using is_transparent = void;
-        std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+        std::size_t operator()(const ApKey& k) const { return std::hash<std::string_view>{}(k.bssid); }
+        std::size_t operator()(const ApKeyView& k) const { return k.bssid_hash; }
     };
-    std::unordered_map<std::string, std::uint32_t, KeyHash, std::equal_to<>> ap_ids_;  // key: type + '\n' + bssid
+    struct KeyEqual {
+        using is_transparent = void;
+        bool operator()(const ApKey& a, const ApKey& b) const { return a.bssid == b.bssid && a.type == b.type; }
+        bool operator()(const ApKeyView& a, const ApKey& b) const { return a.bssid == b.bssid && a.type == b.type; }
+        bool operator()(const ApKey& a, const ApKeyView& b) const { return a.bssid == b.bssid && a.type == b.type; }
+    };
+    std::unordered_map<ApKey, std::uint32_t, KeyHash, KeyEqual> ap_ids_;
     std::vector<std::size_t> offsets_{0};  // AP j's postings are [offsets_[j], offsets_[j+1])
     std::vector<std::uint32_t> post_rp_;
     std::vector<double> post_mean_;

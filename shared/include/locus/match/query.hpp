@@ -1,6 +1,8 @@
 #pragma once
 // The online side of a match: one mean RSS per (type, bssid).
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "locus/radio_map.hpp"
@@ -11,6 +13,17 @@ struct QueryAp {
     std::string type = "wifi";
     std::string bssid;  // normalised (normalise_bssid)
     double rss = 0.0;   // mean over the online scans, dBm
+    // std::hash<std::string_view> of bssid, set by from_scans/from_means: the query hashes
+    // each AP once, for its duplicate check and for the index lookup (Index::ap_of).
+    std::size_t bssid_hash = 0;
+};
+
+// A reading that does not own its text, for a caller that still holds it (the server's
+// request parser reads views into the body and copies nothing before the query).
+struct ReadingView {
+    std::string_view type = "wifi";
+    std::string_view bssid;
+    double rss = 0.0;
 };
 
 struct Query {
@@ -21,6 +34,7 @@ struct Query {
     static Query from_scans(const std::vector<Scan>& scans);
     // Already-averaged input ("measurements" in the API); duplicates are averaged.
     static Query from_means(const std::vector<Reading>& means);
+    static Query from_means(std::span<const ReadingView> means);
 };
 
 }  // namespace locus::match
