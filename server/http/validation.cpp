@@ -83,7 +83,13 @@ json check_rects(const json& v, bool create) {
 
 }  // namespace
 
+void reject_nul(std::string_view body) {
+    if (body.find('\0') != std::string_view::npos)
+        throw ApiError(400, "invalid_json", "the request body is not valid JSON (it holds a NUL byte)");
+}
+
 json parse_object(const std::string& body) {
+    reject_nul(body);
     json j = json::parse(body, nullptr, false);
     if (j.is_discarded()) throw ApiError(400, "invalid_json", "the request body is not valid JSON");
     if (!j.is_object()) throw ApiError(400, "invalid_json", "the request body must be a JSON object");

@@ -17,6 +17,9 @@ namespace locus::http {
 
 // Parses a request body that must be a JSON object (400 invalid_json otherwise).
 nlohmann::json parse_object(const std::string& body);
+// 400 invalid_json for a body holding a NUL byte: nlohmann's lexer takes NUL for the end of
+// the input, so '{"a":1}' followed by NUL and anything at all would otherwise parse.
+void reject_nul(std::string_view body);
 
 // Checks a create (all required fields present) or a patch (any subset) against the kind's
 // fields; unknown fields are refused so that a typo never silently drops data. Returns the

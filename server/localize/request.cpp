@@ -94,6 +94,7 @@ public:
     bool has_options = false;
 
     LocalizeRequest finish(const std::string& body) {
+        http::reject_nul(body);
         if (!json::sax_parse(body, this) || syntax_error_) throw ApiError(400, "invalid_json", "the request body is not valid JSON");
         if (error_) throw *error_;
         LocalizeRequest r;

@@ -54,6 +54,18 @@ TEST_F(BadInput, MalformedJson) {
     EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
 }
 
+TEST_F(BadInput, ANulByteEndsNothing) {
+    // nlohmann's lexer reads NUL as the end of input; a body with junk after one is refused.
+    using namespace std::string_literals;
+    expect_error(s.post_raw("/v1/maps", "{\"name\":\"x\"}\0junk"s), 400, "invalid_json", "map after NUL");
+    expect_error(s.post_raw(scans, "{\"scans\": [[{\"bssid\":\"a\",\"rss\":-50}]]}\0"s), 400, "invalid_json", "scans then NUL");
+    const std::string localize = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
+    expect_error(s.post_raw(localize, "{\"algorithm\":\"wknn\",\"scans\":[[{\"bssid\":\"a\",\"rss\":-50}]]}\0junk"s), 400,
+                 "invalid_json", "localize after NUL");
+    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_TRUE(rp_state().at("measurements").empty());
+}
+
 TEST_F(BadInput, NanAndInfinityAreRefused) {
     // JSON has no NaN or Infinity; the literals and overflowing numbers are malformed JSON.
     for (const std::string v : {"NaN", "nan", "Infinity", "-Infinity", "1e999", "-1e999"}) {
