@@ -151,8 +151,10 @@ void Service::install(http::App& app) {
                               http::App::guarded(res, [&] {
                                   const auto id = http::parse_id(req.matches[1].str(), what);
                                   const auto request = parse_localize_request(req.body);
-                                  // Moved in: set_content would copy the answer.
+                                  // Moved in: set_content would copy the answer. As set_content
+                                  // does, any earlier Content-Type goes.
                                   res.body = answer(*lookup(scope, id), request);
+                                  res.headers.erase("Content-Type");
                                   res.set_header("Content-Type", "application/json");
                               });
                           });

@@ -1,6 +1,7 @@
 // Localization over HTTP: a small radio map imported through the API, answers with room and
 // candidates, the index following writes, whole-map floor detection, and bad requests.
 #include <gtest/gtest.h>
+#include <httplib.h>
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
@@ -61,6 +62,17 @@ TEST_F(Localize, AnswersTheNearestRpWithRoomAndCandidates) {
     EXPECT_NEAR(r.body.at("score").get<double>(), std::sqrt(2.0), 1e-9);  // sqrt(1² + 1²), no penalty
     ASSERT_EQ(r.body.at("candidates").size(), 3u);
     EXPECT_EQ(r.body.at("rps").size(), 1u);
+}
+
+TEST_F(Localize, TheAnswerIsJsonWithOneContentType) {
+    httplib::Client c("127.0.0.1", s.port());
+    const auto r = c.Post(path.c_str(), scan(-41, -69).dump(), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    EXPECT_EQ(r->get_header_value_count("Content-Type"), 1u);
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/json");
+    EXPECT_EQ(r->get_header_value("Content-Length"), std::to_string(r->body.size()));
+    EXPECT_EQ(json::parse(r->body).at("algorithm"), "bayes");  // the default
 }
 
 TEST_F(Localize, EveryAlgorithmAnswersTheObviousCase) {

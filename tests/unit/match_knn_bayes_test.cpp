@@ -397,3 +397,48 @@ TEST(FloorDetection, StrongestApsVoteForTheirHomeFloor) {
     o.near = Near{{0, 0}, 25.0};
     EXPECT_EQ(localize(split_floors_with_loud_rp(), q, Algorithm::bayes, o)->floor_id, 10);
 }
+
+// The same AP id on two radios is two APs: the index keys an AP by (type, bssid), though it
+// hashes by the bssid alone.
+TEST(Index, OneIdOnTwoRadiosIsTwoAps) {
+    Measurement ble = m("x", -50);
+    ble.type = "ble";
+    const Index idx = Index::build({rp(1, {0, 0}, {m("x", -50)}), rp(2, {10, 0}, {ble})});
+    ASSERT_EQ(idx.ap_count(), 2u);
+    EXPECT_NE(idx.ap_of("wifi", "x"), idx.ap_of("ble", "x"));
+    EXPECT_EQ(idx.ap_of("ble", "y"), -1);
+    const auto heard_on_ble = localize(idx, Query::from_means({Reading{"ble", "x", -50}}), Algorithm::nn);
+    ASSERT_TRUE(heard_on_ble);
+    EXPECT_EQ(heard_on_ble->rp_ids, (std::vector<long long>{2}));
+    EXPECT_EQ(localize(idx, Query::from_means({Reading{"wifi", "X", -50}}), Algorithm::nn)->rp_ids, (std::vector<long long>{1}));
+}
+
+// A radio map's index holds one floor, so every candidate is on it and bayes answers from its
+// ranked list as it stands; with every floor option on, the answer is the one the whole map
+// gives once the vote has picked that floor (StrongestApsVoteForTheirHomeFloor).
+TEST(FloorDetection, OneFloorIndexAnswersAsTheWholeMapDoesForThatFloor) {
+    const Index floor20 = Index::build({rp(2, {10, 0}, {m("a", -54, 4.0)}, 20), rp(3, {20, 0}, {m("a", -54, 4.0)}, 20),
+                                        rp(4, {30, 0}, {m("a", -30, 4.0)}, 20)},
+                                       bayes_params());
+    const Query q = query({{"a", -50}});
+    Options o = ap_vote(0.4);
+    o.floor_knn = 3;
+    o.floor_knn_weight = 0.3;
+    const auto whole = localize(split_floors_with_loud_rp(), q, Algorithm::bayes, ap_vote(0.4));
+    const auto one = localize(floor20, q, Algorithm::bayes, o);
+    ASSERT_TRUE(whole && one);
+    EXPECT_EQ(one->floor_id, 20);
+    EXPECT_EQ(one->rp_ids, whole->rp_ids);
+    EXPECT_NEAR(one->at.x, whole->at.x, 1e-9);
+    ASSERT_EQ(one->candidates.size(), 3u);
+    EXPECT_EQ(one->candidates[0].rp_id, 2);  // equal likelihoods rank by position
+    EXPECT_EQ(one->candidates[1].rp_id, 3);
+    EXPECT_EQ(one->candidates[2].rp_id, 4);
+    // `near` leaves RP4 out of the candidates, and its AP vote with it.
+    o.near = Near{{0, 0}, 25.0};
+    const auto near = localize(floor20, q, Algorithm::bayes, o);
+    ASSERT_TRUE(near);
+    EXPECT_EQ(near->rp_ids, (std::vector<long long>{2, 3}));
+    EXPECT_DOUBLE_EQ(near->at.x, 15.0);
+    EXPECT_EQ(near->candidates.size(), 2u);
+}

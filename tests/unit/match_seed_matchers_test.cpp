@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <string_view>
 
 #include "locus/match/localize.hpp"
 #include "match_fixture.hpp"
@@ -167,6 +169,18 @@ TEST(Query, InterleavedRepeatsKeepFirstSeenOrder) {
     EXPECT_DOUBLE_EQ(q.aps[1].rss, -51.5);
     EXPECT_EQ(q.aps[2].bssid, "c");
     EXPECT_DOUBLE_EQ(q.aps[2].rss, -90.0);
+}
+
+// One id on two radios, interleaved: two APs, each averaged over its own readings, and each
+// carrying the hash of its bssid that the index lookup uses.
+TEST(Query, OneIdOnTwoRadiosStaysTwoAps) {
+    const Query q = Query::from_means({{"wifi", "x", -50}, {"ble", "x", -60}, {"wifi", "x", -70}, {"ble", "X", -80}});
+    ASSERT_EQ(q.aps.size(), 2u);
+    EXPECT_EQ(q.aps[0].type, "wifi");
+    EXPECT_DOUBLE_EQ(q.aps[0].rss, -60.0);
+    EXPECT_EQ(q.aps[1].type, "ble");
+    EXPECT_DOUBLE_EQ(q.aps[1].rss, -70.0);
+    for (const auto& ap : q.aps) EXPECT_EQ(ap.bssid_hash, std::hash<std::string_view>{}(ap.bssid));
 }
 
 // Many APs, each heard twice, in reverse name order: the sort that finds the repeats must not

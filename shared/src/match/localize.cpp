@@ -1,6 +1,7 @@
 #include "locus/match/localize.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -108,6 +109,8 @@ std::optional<Result> localize(const Index& index, const Query& query, Algorithm
         q_sum += r;
         q_sq_sum += r * r;
         q_penalty += penalty;
+        // Only Query::from_scans/from_means make a QueryAp, and they set the hash.
+        assert(ap.bssid_hash == std::hash<std::string_view>{}(ap.bssid));
         const long id = index.ap_of(ap.type, ap.bssid, ap.bssid_hash);
         if (id >= 0) known.push_back(Known{static_cast<std::uint32_t>(id), ap.rss, r, penalty});
     }

@@ -9,10 +9,11 @@ namespace locus::match {
 
 namespace {
 // Mean per (type, normalised bssid) in first-seen order; invalid RSS values are dropped.
-// Duplicates are found by sorting (hash, position) pairs rather than with a map: this runs
-// for every localize request, and a map costs a node and two key copies per reading. Keys
-// are compared only where hashes are equal; the scratch is per thread, so a warmed-up
-// thread allocates nothing here but the query itself.
+// Duplicates are found by sorting (hash, key, position) slots rather than with a map: this
+// runs for every localize request, and a map costs a node and two key copies per reading.
+// Keys are compared only where hashes are equal, and the sort keeps the worst case at
+// n log n even for readings chosen to share a hash. The scratch is per thread, so a
+// warmed-up thread allocates nothing here but the query itself.
 Query average(std::span<const ReadingView> readings) {
     Query q;
     q.aps.reserve(readings.size());
@@ -21,50 +22,51 @@ Query average(std::span<const ReadingView> readings) {
     struct Slot {
         std::size_t hash;
         std::size_t pos;
-        double count;    // readings averaged into this one so far
-        bool merged;     // averaged into an earlier reading of the same key
     };
     thread_local std::vector<Slot> slots;
+    thread_local std::vector<unsigned char> merged;
     const std::size_t n = q.aps.size();
     slots.clear();
     for (std::size_t i = 0; i < n; ++i) {
         q.aps[i].bssid_hash = std::hash<std::string_view>{}(q.aps[i].bssid);
-        slots.push_back(Slot{q.aps[i].bssid_hash, i, 1.0, false});  // a type differs only in the key compare
+        slots.push_back(Slot{q.aps[i].bssid_hash, i});  // a type differs only in the key compare
     }
-    std::sort(slots.begin(), slots.end(),
-              [](const Slot& a, const Slot& b) { return a.hash != b.hash ? a.hash < b.hash : a.pos < b.pos; });
-    const auto same_key = [&](const Slot& a, const Slot& b) {
-        return q.aps[a.pos].bssid == q.aps[b.pos].bssid && q.aps[a.pos].type == q.aps[b.pos].type;
+    const auto key = [&](const Slot& a) {
+        return std::pair<std::string_view, std::string_view>(q.aps[a.pos].bssid, q.aps[a.pos].type);
     };
+    std::sort(slots.begin(), slots.end(), [&](const Slot& a, const Slot& b) {
+        if (a.hash != b.hash) return a.hash < b.hash;
+        const auto ka = key(a), kb = key(b);
+        return ka != kb ? ka < kb : a.pos < b.pos;
+    });
+    // Within a key the first-seen reading comes first: the later ones are averaged into it
+    // in the order they were seen.
     bool any_merged = false;
+    merged.assign(n, 0);
     for (std::size_t s = 0; s < n;) {
         std::size_t e = s + 1;
-        while (e < n && slots[e].hash == slots[s].hash) ++e;
-        // Within one hash, in position order: each reading joins the first earlier one with
-        // its key, so the mean is taken in first-seen order.
-        for (std::size_t j = s + 1; j < e; ++j)
-            for (std::size_t i = s; i < j; ++i) {
-                Slot& first = slots[i];
-                if (first.merged || !same_key(first, slots[j])) continue;
-                first.count += 1.0;
-                QueryAp& ap = q.aps[first.pos];
-                ap.rss += (q.aps[slots[j].pos].rss - ap.rss) / first.count;
-                slots[j].merged = any_merged = true;
-                break;
-            }
+        QueryAp& first = q.aps[slots[s].pos];
+        for (; e < n && slots[e].hash == slots[s].hash && key(slots[e]) == key(slots[s]); ++e) {
+            first.rss += (q.aps[slots[e].pos].rss - first.rss) / static_cast<double>(e - s + 1);
+            merged[slots[e].pos] = 1;
+            any_merged = true;
+        }
         s = e;
     }
-    if (!any_merged) return q;
-    thread_local std::vector<unsigned char> merged;
-    merged.assign(n, 0);
-    for (const Slot& slot : slots) merged[slot.pos] = slot.merged;
-    std::size_t w = 0;
-    for (std::size_t i = 0; i < n; ++i)
-        if (!merged[i]) {
-            if (w != i) q.aps[w] = std::move(q.aps[i]);
-            ++w;
-        }
-    q.aps.resize(w);
+    if (any_merged) {
+        std::size_t w = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            if (!merged[i]) {
+                if (w != i) q.aps[w] = std::move(q.aps[i]);
+                ++w;
+            }
+        q.aps.resize(w);
+    }
+    // As the request parser's scratch: a huge body's scratch is given back at once.
+    if (slots.capacity() > 4096) {
+        std::vector<Slot>().swap(slots);
+        std::vector<unsigned char>().swap(merged);
+    }
     return q;
 }
 
