@@ -8,13 +8,14 @@
 #include <thread>
 
 #include "http/app.hpp"
+#include "http/json_text.hpp"
 #include "localize/service.hpp"
 #include "store/migrations.hpp"
 #include "store/repository.hpp"
 
 namespace {
 void log_event(const nlohmann::json& event) {
-    const std::string line = event.dump() + "\n";
+    const std::string line = locus::http::json_text(event) + "\n";
     std::fwrite(line.data(), 1, line.size(), stderr);
     std::fflush(stderr);
 }

@@ -5,6 +5,7 @@
 #include <ctime>
 
 #include "http/api_error.hpp"
+#include "http/json_text.hpp"
 #include "http/validation.hpp"
 #include "store/migrations.hpp"
 
@@ -60,14 +61,14 @@ std::string parent_path(const store::Kind& k) {
 
 void write_error(httplib::Response& res, int status, const std::string& code, const std::string& message) {
     res.status = status;
-    res.set_content(json{{"error", {{"code", code}, {"message", message}}}}.dump(), "application/json");
+    res.set_content(json_text(json{{"error", {{"code", code}, {"message", message}}}}), "application/json");
 }
 
 void App::respond(httplib::Response& res, const std::function<std::pair<int, json>()>& body) {
     guarded(res, [&] {
         auto [status, out] = body();
         res.status = status;
-        if (status != 204) res.set_content(out.dump(), "application/json");
+        if (status != 204) res.set_content(json_text(out), "application/json");
     });
 }
 
@@ -80,16 +81,18 @@ void App::guarded(httplib::Response& res, const std::function<void()>& body) {
         write_error(res, 404, "not_found", e.what());
     } catch (const store::Conflict& e) {
         write_error(res, 409, "conflict", e.what());
+    } catch (const store::OutOfRange& e) {
+        write_error(res, 422, "out_of_range", e.what());
     } catch (const store::SqliteError& e) {
         // Constraint failures that validation did not catch are still the client's input.
         if (e.is_constraint()) write_error(res, 409, "conflict", e.what());
         else write_error(res, 500, "internal", "storage error");
-        std::fprintf(stderr, "{\"event\":\"sqlite_error\",\"message\":%s}\n", json(e.what()).dump().c_str());
+        std::fprintf(stderr, "{\"event\":\"sqlite_error\",\"message\":%s}\n", json_text(e.what()).c_str());
     } catch (const json::exception& e) {
         write_error(res, 422, "invalid_field", e.what());
     } catch (const std::exception& e) {
         write_error(res, 500, "internal", "internal error");
-        std::fprintf(stderr, "{\"event\":\"internal_error\",\"message\":%s}\n", json(e.what()).dump().c_str());
+        std::fprintf(stderr, "{\"event\":\"internal_error\",\"message\":%s}\n", json_text(e.what()).c_str());
     }
 }
 
@@ -118,6 +121,13 @@ void App::install_middleware() {
 
     server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
         request_start = std::chrono::steady_clock::now();
+        // cpp-httplib reads a body without a length until the client closes the connection,
+        // so such a request would wait out the read timeout and then get a bare 400.
+        const bool has_body = req.method == "POST" || req.method == "PATCH" || req.method == "PUT";
+        if (has_body && !req.has_header("Content-Length") && !req.has_header("Transfer-Encoding")) {
+            write_error(res, 411, "length_required", "a " + req.method + " needs a Content-Length (or a chunked body)");
+            return httplib::Server::HandlerResponse::Handled;
+        }
         if (options_.api_key.empty() || is_read(req)) return httplib::Server::HandlerResponse::Unhandled;
         const std::string auth = req.get_header_value("Authorization");
         const std::string prefix = "Bearer ";
@@ -148,13 +158,12 @@ void App::install_middleware() {
             const auto us = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() -
                                                                                    request_start)
                                 .count();
-            const std::string line = json{{"ts", utc_now()},
-                                          {"method", req.method},
-                                          {"path", req.path},
-                                          {"status", res.status},
-                                          {"us", us},
-                                          {"remote", req.remote_addr}}
-                                         .dump() +
+            const std::string line = json_text(json{{"ts", utc_now()},
+                                                    {"method", req.method},
+                                                    {"path", req.path},
+                                                    {"status", res.status},
+                                                    {"us", us},
+                                                    {"remote", req.remote_addr}}) +
                                      "\n";
             std::fwrite(line.data(), 1, line.size(), stderr);
         });

@@ -73,8 +73,12 @@ json check_rects(const json& v, bool create) {
     for (std::size_t i = 0; i < v.size(); ++i) {
         const std::string where = "rects[" + std::to_string(i) + "]";
         if (!v[i].is_object()) throw invalid_field("'" + where + "' must be an object");
-        const double xmin = finite_number(v[i], "xmin", where), ymin = finite_number(v[i], "ymin", where);
-        const double xmax = finite_number(v[i], "xmax", where), ymax = finite_number(v[i], "ymax", where);
+        only_fields(v[i], {"xmin", "ymin", "xmax", "ymax"}, where);
+        auto coordinate = [&](const char* name) {
+            return finite_number(v[i], name, where, -store::kMaxCoordinate, store::kMaxCoordinate);
+        };
+        const double xmin = coordinate("xmin"), ymin = coordinate("ymin");
+        const double xmax = coordinate("xmax"), ymax = coordinate("ymax");
         if (xmin > xmax || ymin > ymax) throw invalid_field("'" + where + "' needs xmin <= xmax and ymin <= ymax");
         out.push_back({{"xmin", xmin}, {"ymin", ymin}, {"xmax", xmax}, {"ymax", ymax}});
     }
@@ -252,8 +256,8 @@ Measurement parse_measurement(const json& j, const std::string& where) {
     if (it == j.end()) throw invalid_field("missing field '" + at(where, "count") + "'");
     const auto count = as_integer(*it);
     if (!count || it->is_boolean()) throw invalid_field("'" + at(where, "count") + "' must be an integer");
-    if (*count < 1 || *count > 1'000'000'000)
-        throw ApiError(422, "out_of_range", "'" + at(where, "count") + "' must be between 1 and 1e9");
+    if (*count < 1 || *count > kMaxCount)
+        throw ApiError(422, "out_of_range", "'" + at(where, "count") + "' must be between 1 and 2^53");
     m.stats.count = *count;
     return m;
 }
@@ -291,6 +295,7 @@ void validate_radiomap_document(const json& doc) {
         if (rp.contains("scans")) {
             const auto s = as_integer(rp.at("scans"));
             if (!s || *s < 0) throw invalid_field("'" + where + ".scans' must be a non-negative integer");
+            if (*s > kMaxCount) throw ApiError(422, "out_of_range", "'" + where + ".scans' must be at most 2^53");
         }
         if (rp.contains("measurements")) parse_measurements(rp.at("measurements"), where + ".measurements");
     }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "http/api_error.hpp"
+#include "http/json_text.hpp"
 #include "http/validation.hpp"
 #include "locus/match/localize.hpp"
 #include "localize/plain_request.hpp"
@@ -376,7 +377,7 @@ public:
         out.append(buf, r.ptr);
         return *this;
     }
-    Writer& text(const std::string& s) { return raw(json(s).dump()); }
+    Writer& text(const std::string& s) { return raw(http::json_text(s)); }
 };
 
 // A candidate is head, score, tail, matched APs, "}". The head and tail depend on the RP

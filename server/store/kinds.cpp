@@ -6,7 +6,6 @@
 namespace locus::store {
 
 namespace {
-constexpr double kMaxCoordinate = 1e7;  // metres; UTM eastings/northings fit comfortably
 
 Field name_field() { return {.name = "name", .type = FieldType::Text, .required = true, .max_length = 200}; }
 Field description_field() { return {.name = "description", .type = FieldType::Text, .max_length = 4000}; }

@@ -7,6 +7,9 @@
 
 namespace locus::store {
 
+// Bound of every coordinate and size, in metres: UTM eastings and northings fit comfortably.
+inline constexpr double kMaxCoordinate = 1e7;
+
 enum class FieldType { Text, Real, Integer };
 
 struct Field {

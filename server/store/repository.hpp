@@ -22,6 +22,10 @@ struct NotFound : std::runtime_error {
 struct Conflict : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+// A write that would take a stored count past kMaxCount (the API answers 422 out_of_range).
+struct OutOfRange : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
 
 struct ScanUpload {
     std::optional<std::string> upload_id;

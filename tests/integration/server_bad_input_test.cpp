@@ -2,9 +2,12 @@
 // leaves the server serving.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <string>
+#include <thread>
 
+#include "bench_connection.hpp"
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
@@ -150,6 +153,72 @@ TEST_F(BadInput, AFailedImportCreatesNothing) {
     doc["rps"].back() = {{"name", "p99"}, {"x", 1}, {"y", 1}, {"measurements", {{{"bssid", "aa"}, {"mean", -50}, {"variance", -1}, {"count", 1}}}}};
     expect_error(s.post(path, doc), 422, "out_of_range", "bad measurement at the end");
     EXPECT_EQ(s.get("/v1/floors/" + std::to_string(h.floor) + "/radiomaps").body.at("total"), 1);
+}
+
+// Stored counts stop at 2^53 (exact in the merge's doubles): an upload that would pass it
+// is refused whole, so whatever is stored can always be exported and imported again.
+TEST_F(BadInput, CountsStopAt2To53AndAnExportAlwaysImports) {
+    const std::int64_t max_count = std::int64_t{1} << 53;
+    auto aggregate = [](std::int64_t count) {
+        return json{{"measurements", {{{"bssid", "aa:bb:cc:dd:ee:ff"}, {"mean", -50}, {"variance", 1}, {"count", count}}}}};
+    };
+    ASSERT_EQ(s.post(scans, aggregate(1'000'000'000)).status, 200);
+    ASSERT_EQ(s.post(scans, aggregate(1'000'000'000)).status, 200);
+    const json before = rp_state();
+    ASSERT_EQ(before.at("measurements").at(0).at("count"), 2'000'000'000);
+    expect_error(s.post(scans, aggregate(max_count)), 422, "out_of_range", "count past 2^53");
+    expect_error(s.post(scans, aggregate(max_count + 1)), 422, "out_of_range", "one aggregate past 2^53");
+    EXPECT_EQ(rp_state(), before);
+
+    json doc = s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export").body;
+    doc["name"] = "copy";
+    const std::string import = "/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import";
+    const auto copied = s.post(import, doc);
+    EXPECT_EQ(copied.status, 201) << copied.raw;
+    doc["name"] = "too many scans";
+    doc["rps"][0]["scans"] = max_count + 1;
+    expect_error(s.post(import, doc), 422, "out_of_range", "import scans past 2^53");
+}
+
+// Bytes that are not UTF-8 in the path or the method end up in the error message and the
+// access-log line; they must not end the server (nlohmann's dump throws on them).
+TEST_F(BadInput, BytesThatAreNotUtf8InThePathOrMethod) {
+    expect_error(s.get("/v1/ma%FFps"), 404, "not_found", "percent-encoded 0xFF in the path");
+    expect_error(s.get("/v1/maps/1%C0%AF"), 404, "not_found", "overlong encoding in the path");
+    locus::tools::BenchConnection c("127.0.0.1", s.port());
+    EXPECT_EQ(c.round_trip("G\xffT /v1/maps HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"), 400);
+    EXPECT_EQ(c.round_trip("GET /v1/\xfe HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"), 404);
+    // The access log is written after the answer: wait for the line, then check the server.
+    std::string log = s.log();
+    for (int i = 0; i < 100 && log.find("\"status\":400") == std::string::npos; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        log = s.log();
+    }
+    EXPECT_NE(log.find("\"status\":400"), std::string::npos) << log;
+    EXPECT_EQ(s.get("/health").status, 200);
+}
+
+// A write without a Content-Length is answered at once (cpp-httplib alone would read until
+// the client closes, then answer a bare 400), and the connection stays usable.
+TEST_F(BadInput, AWriteWithoutALengthIsRefusedAtOnce) {
+    locus::tools::BenchConnection c("127.0.0.1", s.port());
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_EQ(c.round_trip("POST /v1/maps HTTP/1.1\r\nHost: x\r\n\r\n"), 411);
+    EXPECT_EQ(c.round_trip("PATCH /v1/maps/" + std::to_string(h.map) + " HTTP/1.1\r\nHost: x\r\n\r\n"), 411);
+    EXPECT_EQ(c.round_trip("GET /health HTTP/1.1\r\nHost: x\r\n\r\n"), 200);  // the same connection
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+    expect_error(s.post_raw("/v1/maps", ""), 400, "invalid_json", "an empty body with its length");
+    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+}
+
+// Room rectangles are coordinates like any other: bounded, and no unknown keys.
+TEST_F(BadInput, RoomRectanglesAreCheckedLikeCoordinates) {
+    const std::string rooms = "/v1/floors/" + std::to_string(h.floor) + "/rooms";
+    expect_error(s.post(rooms, {{"name", "R"}, {"rects", {{{"xmin", -1e308}, {"ymin", 0}, {"xmax", 1}, {"ymax", 1}}}}}), 422,
+                 "out_of_range", "huge coordinate");
+    expect_error(s.post(rooms, {{"name", "R"}, {"rects", {{{"xmin", 0}, {"ymin", 0}, {"xmax", 1}, {"ymax", 1}, {"z", 1}}}}}), 422,
+                 "invalid_field", "unknown key in a rectangle");
+    EXPECT_EQ(s.get(rooms).body.at("total"), 0);
 }
 
 TEST_F(BadInput, UnknownIds) {

@@ -7,6 +7,11 @@
 
 namespace locus {
 
+// The largest sample or scan count stored for an AP or an RP: 2^53, the last count a double
+// (the merge's weights) still holds exactly. Uploads that would pass it are refused, so every
+// stored count can be exported and imported again.
+inline constexpr std::int64_t kMaxCount = std::int64_t{1} << 53;
+
 struct RssStats {
     double mean = 0.0;
     double variance = 0.0;  // population variance, dBm²
