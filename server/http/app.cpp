@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <strings.h>
 
 #include "http/api_error.hpp"
 #include "http/json_text.hpp"
@@ -121,10 +122,12 @@ void App::install_middleware() {
 
     server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
         request_start = std::chrono::steady_clock::now();
-        // cpp-httplib reads a body without a length until the client closes the connection,
-        // so such a request would wait out the read timeout and then get a bare 400.
+        // cpp-httplib reads a body without a length (or with a transfer coding other than
+        // chunked) until the client closes the connection, so such a request would wait out
+        // the read timeout and then get a bare 400.
         const bool has_body = req.method == "POST" || req.method == "PATCH" || req.method == "PUT";
-        if (has_body && !req.has_header("Content-Length") && !req.has_header("Transfer-Encoding")) {
+        if (has_body && !req.has_header("Content-Length") &&
+            strcasecmp(req.get_header_value("Transfer-Encoding").c_str(), "chunked") != 0) {
             write_error(res, 411, "length_required", "a " + req.method + " needs a Content-Length (or a chunked body)");
             return httplib::Server::HandlerResponse::Handled;
         }
@@ -255,8 +258,13 @@ void App::install_radiomap_routes() {
                 for (auto& m : parsed) {
                     auto same = std::find_if(upload.measurements.begin(), upload.measurements.end(),
                                              [&](const Measurement& o) { return o.type == m.type && o.bssid == m.bssid; });
-                    if (same == upload.measurements.end()) upload.measurements.push_back(std::move(m));
-                    else same->stats.merge(m.stats);
+                    if (same == upload.measurements.end()) {
+                        upload.measurements.push_back(std::move(m));
+                    } else {
+                        if (same->stats.count > kMaxCount - m.stats.count)
+                            throw ApiError(422, "out_of_range", "the counts of '" + m.bssid + "' in 'measurements' add up past 2^53");
+                        same->stats.merge(m.stats);
+                    }
                 }
                 // Aggregates carry no scan count; the best lower bound is the most-seen AP's count.
                 for (const auto& m : upload.measurements) upload.scans = std::max(upload.scans, m.stats.count);

@@ -75,7 +75,10 @@ json check_rects(const json& v, bool create) {
         if (!v[i].is_object()) throw invalid_field("'" + where + "' must be an object");
         only_fields(v[i], {"xmin", "ymin", "xmax", "ymax"}, where);
         auto coordinate = [&](const char* name) {
-            return finite_number(v[i], name, where, -store::kMaxCoordinate, store::kMaxCoordinate);
+            const double c = finite_number(v[i], name, where);
+            if (std::abs(c) > store::kMaxCoordinate)
+                throw invalid_field("'" + at(where, name) + "' is out of range [-1e7, 1e7] (metres)");
+            return c;
         };
         const double xmin = coordinate("xmin"), ymin = coordinate("ymin");
         const double xmax = coordinate("xmax"), ymax = coordinate("ymax");
@@ -250,8 +253,12 @@ Measurement parse_measurement(const json& j, const std::string& where) {
     m.type = parse_type(j, where);
     m.bssid = parse_bssid(j, where);
     m.stats.mean = finite_number(j, "mean", where, kMinRss, kMaxRss);
-    // The variance of values confined to [-120, 0] cannot exceed 60².
-    m.stats.variance = finite_number(j, "variance", where, 0.0, 3600.0);
+    // The variance of values confined to [kMinRss, kMaxRss] with this mean cannot exceed
+    // (kMaxRss − mean)(mean − kMinRss) (Bhatia–Davis; at most 60² = 3600). Aggregates past it
+    // describe no real samples, and merging them could store what no import would take back.
+    // The slack covers rounding in an aggregate computed from real samples.
+    const double bound = (kMaxRss - m.stats.mean) * (m.stats.mean - kMinRss);
+    m.stats.variance = finite_number(j, "variance", where, 0.0, bound + 1e-6);
     const auto it = j.find("count");
     if (it == j.end()) throw invalid_field("missing field '" + at(where, "count") + "'");
     const auto count = as_integer(*it);

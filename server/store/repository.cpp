@@ -244,7 +244,7 @@ void Repository::merge_measurements(std::int64_t rp_id, const std::vector<Measur
         sel.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid);
         RssStats stats;
         if (sel.step()) stats = RssStats{sel.real(0), sel.real(1), sel.int64(2)};
-        if (stats.count > kMaxCount - m.stats.count)
+        if (m.stats.count < 1 || m.stats.count > kMaxCount || stats.count > kMaxCount - m.stats.count)
             throw OutOfRange("the count of " + m.bssid + " at this RP would pass 2^53");
         stats.merge(m.stats);
         put.reset();
@@ -253,7 +253,8 @@ void Repository::merge_measurements(std::int64_t rp_id, const std::vector<Measur
     }
     Stmt cur(db_, "SELECT scans FROM rps WHERE id = ?");
     cur.bind(1, rp_id);
-    if (cur.step() && cur.int64(0) > kMaxCount - scans) throw OutOfRange("the RP's scan count would pass 2^53");
+    if (scans < 0 || scans > kMaxCount || (cur.step() && cur.int64(0) > kMaxCount - scans))
+        throw OutOfRange("the RP's scan count would pass 2^53");
     Stmt upd(db_, "UPDATE rps SET scans = scans + ? WHERE id = ?");
     upd.bind(1, scans).bind(2, rp_id).run();
 }

@@ -178,6 +178,39 @@ TEST_F(BadInput, CountsStopAt2To53AndAnExportAlwaysImports) {
     doc["name"] = "too many scans";
     doc["rps"][0]["scans"] = max_count + 1;
     expect_error(s.post(import, doc), 422, "out_of_range", "import scans past 2^53");
+
+    // Two aggregates of one AP in one upload are merged first: their sum is checked too.
+    json twice = aggregate(max_count);
+    twice["measurements"].push_back(twice["measurements"][0]);
+    expect_error(s.post(scans, twice), 422, "out_of_range", "one upload's aggregates past 2^53");
+    // A new AP first, then one that would pass the bound: the whole upload is refused.
+    json two_aps = aggregate(max_count);
+    two_aps["measurements"].insert(two_aps["measurements"].begin(),
+                                   json{{"bssid", "11:22:33:44:55:66"}, {"mean", -60}, {"variance", 1}, {"count", 5}});
+    expect_error(s.post(scans, two_aps), 422, "out_of_range", "second AP past 2^53");
+    EXPECT_EQ(rp_state(), before);
+    // The RP's scan counter: an imported RP at 2^53 scans takes no more.
+    doc["name"] = "full";
+    doc["rps"][0]["scans"] = max_count;
+    doc["rps"][0]["measurements"] = json::array();
+    const auto full = s.post(import, doc);
+    ASSERT_EQ(full.status, 201) << full.raw;
+    const auto full_rps = s.get("/v1/radiomaps/" + std::to_string(full.body.at("id").get<std::int64_t>()) + "/rps").body;
+    const std::string full_scans = "/v1/rps/" + std::to_string(full_rps.at("items").at(0).at("id").get<std::int64_t>()) + "/scans";
+    expect_error(s.post(full_scans, {{"scans", one_scan(-50)}}), 422, "out_of_range", "RP scans past 2^53");
+}
+
+// An aggregate whose variance no samples in [-120, 0] with that mean could have is refused
+// (Bhatia–Davis: at most (0 − mean)(mean + 120)); merged, such aggregates could store what no
+// import would take back.
+TEST_F(BadInput, AnAggregateNoSamplesCouldHaveIsRefused) {
+    auto aggregate = [](double mean, double variance) {
+        return json{{"measurements", {{{"bssid", "aa"}, {"mean", mean}, {"variance", variance}, {"count", 3}}}}};
+    };
+    expect_error(s.post(scans, aggregate(-120, 1)), 422, "out_of_range", "spread at the floor");
+    expect_error(s.post(scans, aggregate(-10, 1101)), 422, "out_of_range", "spread past (10)(110)");
+    EXPECT_TRUE(rp_state().at("measurements").empty());
+    EXPECT_EQ(s.post(scans, aggregate(-60, 3600)).status, 200);  // the widest: half at -120, half at 0
 }
 
 // Bytes that are not UTF-8 in the path or the method end up in the error message and the
@@ -205,6 +238,7 @@ TEST_F(BadInput, AWriteWithoutALengthIsRefusedAtOnce) {
     const auto t0 = std::chrono::steady_clock::now();
     EXPECT_EQ(c.round_trip("POST /v1/maps HTTP/1.1\r\nHost: x\r\n\r\n"), 411);
     EXPECT_EQ(c.round_trip("PATCH /v1/maps/" + std::to_string(h.map) + " HTTP/1.1\r\nHost: x\r\n\r\n"), 411);
+    EXPECT_EQ(c.round_trip("POST /v1/maps HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: identity\r\n\r\n"), 411);
     EXPECT_EQ(c.round_trip("GET /health HTTP/1.1\r\nHost: x\r\n\r\n"), 200);  // the same connection
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
     expect_error(s.post_raw("/v1/maps", ""), 400, "invalid_json", "an empty body with its length");
@@ -215,7 +249,7 @@ TEST_F(BadInput, AWriteWithoutALengthIsRefusedAtOnce) {
 TEST_F(BadInput, RoomRectanglesAreCheckedLikeCoordinates) {
     const std::string rooms = "/v1/floors/" + std::to_string(h.floor) + "/rooms";
     expect_error(s.post(rooms, {{"name", "R"}, {"rects", {{{"xmin", -1e308}, {"ymin", 0}, {"xmax", 1}, {"ymax", 1}}}}}), 422,
-                 "out_of_range", "huge coordinate");
+                 "invalid_field", "huge coordinate");
     expect_error(s.post(rooms, {{"name", "R"}, {"rects", {{{"xmin", 0}, {"ymin", 0}, {"xmax", 1}, {"ymax", 1}, {"z", 1}}}}}), 422,
                  "invalid_field", "unknown key in a rectangle");
     EXPECT_EQ(s.get(rooms).body.at("total"), 0);
