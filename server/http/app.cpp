@@ -261,7 +261,7 @@ void App::install_radiomap_routes() {
                     if (same == upload.measurements.end()) {
                         upload.measurements.push_back(std::move(m));
                     } else {
-                        if (same->stats.count > kMaxCount - m.stats.count)
+                        if (!same->stats.can_merge(m.stats))
                             throw ApiError(422, "out_of_range", "the counts of '" + m.bssid + "' in 'measurements' add up past 2^53");
                         same->stats.merge(m.stats);
                     }

@@ -244,7 +244,7 @@ void Repository::merge_measurements(std::int64_t rp_id, const std::vector<Measur
         sel.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid);
         RssStats stats;
         if (sel.step()) stats = RssStats{sel.real(0), sel.real(1), sel.int64(2)};
-        if (m.stats.count < 1 || m.stats.count > kMaxCount || stats.count > kMaxCount - m.stats.count)
+        if (m.stats.count < 1 || !stats.can_merge(m.stats))
             throw OutOfRange("the count of " + m.bssid + " at this RP would pass 2^53");
         stats.merge(m.stats);
         put.reset();

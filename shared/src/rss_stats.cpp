@@ -22,6 +22,11 @@ void RssStats::merge(const RssStats& other) {
     count += other.count;
 }
 
+bool RssStats::can_merge(const RssStats& other) const {
+    const std::int64_t a = count > 0 ? count : 0, b = other.count > 0 ? other.count : 0;  // merge ignores an empty side
+    return a <= kMaxCount && b <= kMaxCount - a;
+}
+
 RssStats RssStats::of(std::span<const double> samples) {
     RssStats s;
     for (double v : samples) s.add(v);

@@ -6,6 +6,7 @@
 
 #include "locus/rss_stats.hpp"
 
+using locus::kMaxCount;
 using locus::RssStats;
 
 namespace {
@@ -81,4 +82,15 @@ TEST(RssStats, MergingEmptyChangesNothing) {
     RssStats empty;
     empty.merge(before);
     EXPECT_DOUBLE_EQ(empty.variance, before.variance);
+}
+
+TEST(RssStats, CanMergeStopsAtTheLargestStoredCount) {
+    const RssStats half{-50.0, 1.0, kMaxCount / 2};
+    EXPECT_TRUE(half.can_merge(half));  // exactly 2^53
+    EXPECT_FALSE(half.can_merge(RssStats{-50.0, 1.0, kMaxCount / 2 + 1}));
+    EXPECT_TRUE(RssStats{}.can_merge(RssStats{-50.0, 1.0, kMaxCount}));  // an empty side adds nothing
+    EXPECT_FALSE(RssStats{}.can_merge(RssStats{-50.0, 1.0, kMaxCount + 1}));
+    const RssStats full{-50.0, 1.0, kMaxCount};
+    EXPECT_FALSE(full.can_merge(RssStats{-50.0, 1.0, 1}));
+    EXPECT_TRUE(full.can_merge(RssStats{}));
 }

@@ -19,6 +19,8 @@ struct RssStats {
 
     void add(double sample);
     void merge(const RssStats& other);
+    // Whether merge(other) keeps the count within kMaxCount, where writes are refused.
+    bool can_merge(const RssStats& other) const;
     static RssStats of(std::span<const double> samples);
 };
 

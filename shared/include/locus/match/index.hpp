@@ -115,9 +115,8 @@ private:
     };
     struct KeyEqual {
         using is_transparent = void;
-        bool operator()(const ApKey& a, const ApKey& b) const { return a.bssid == b.bssid && a.type == b.type; }
-        bool operator()(const ApKeyView& a, const ApKey& b) const { return a.bssid == b.bssid && a.type == b.type; }
-        bool operator()(const ApKey& a, const ApKeyView& b) const { return a.bssid == b.bssid && a.type == b.type; }
+        template <typename A, typename B>  // ApKey or ApKeyView on either side
+        bool operator()(const A& a, const B& b) const { return a.bssid == b.bssid && a.type == b.type; }
     };
     std::unordered_map<ApKey, std::uint32_t, KeyHash, KeyEqual> ap_ids_;
     std::vector<std::size_t> offsets_{0};  // AP j's postings are [offsets_[j], offsets_[j+1])
