@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <pthread.h>
+#include <chrono>
 #include <thread>
 
 #include "http/app.hpp"
@@ -26,15 +27,28 @@ int main(int argc, char** argv) {
     std::string db_path = "locus.db", host = "127.0.0.1", api_key;
     int port = 8080;
     bool demo = false, quiet = false;
-    std::size_t max_body = 8u * 1024u * 1024u;
-    int threads = 8;
+    locus::http::FrontOptions front;
+    int threads = static_cast<int>(front.min_threads);
+    double keep_alive_s = 10, header_s = 10, read_s = 10;
     cli.add_option("--db", db_path, "SQLite database file (created if missing)")->capture_default_str();
     cli.add_option("--host", host, "address to listen on")->capture_default_str();
     cli.add_option("--port", port, "port to listen on (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
     cli.add_option("--api-key", api_key, "require 'Authorization: Bearer KEY' for writes")->envname("LOCUS_API_KEY");
     cli.add_flag("--demo", demo, "create the demo map when the database holds no map");
-    cli.add_option("--max-body-bytes", max_body, "largest request body accepted")->capture_default_str()->check(CLI::PositiveNumber);
-    cli.add_option("--threads", threads, "HTTP worker threads")->capture_default_str()->check(CLI::Range(1, 256));
+    cli.add_option("--max-body-bytes", front.max_body_bytes, "largest request body accepted (a chunked body: on the wire)")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    cli.add_option("--threads", threads, "HTTP workers kept when idle; one more starts per open connection")
+        ->capture_default_str()->check(CLI::Range(1, 256));
+    cli.add_option("--max-connections", front.max_connections, "open connections served at once; past it, 503 server_busy")
+        ->capture_default_str()->check(CLI::Range(1, 100000));
+    cli.add_option("--keep-alive-timeout", keep_alive_s, "seconds an idle kept-alive connection stays open")
+        ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+    cli.add_option("--keep-alive-requests", front.keep_alive_max_requests, "requests served on one connection before it closes")
+        ->capture_default_str()->check(CLI::Range(1, 1000000));
+    cli.add_option("--header-timeout", header_s, "seconds a request head may take to arrive (slow clients are cut off)")
+        ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+    cli.add_option("--read-timeout", read_s, "seconds to wait for the next bytes of a request body")
+        ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
     cli.add_flag("--quiet", quiet, "no access log");
     CLI11_PARSE(cli, argc, argv);
 
@@ -46,6 +60,12 @@ int main(int argc, char** argv) {
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     std::signal(SIGPIPE, SIG_IGN);
 
+    auto ms = [](double seconds) { return std::chrono::milliseconds(static_cast<long long>(seconds * 1000.0)); };
+    front.min_threads = static_cast<std::size_t>(threads);
+    front.keep_alive_timeout = ms(keep_alive_s);
+    front.header_timeout = ms(header_s);
+    front.read_timeout = ms(read_s);
+
     try {
         locus::store::Repository repo(db_path);
         if (demo && !repo.has_maps()) {
@@ -53,25 +73,25 @@ int main(int argc, char** argv) {
             log_event({{"event", "demo_map_created"}, {"map_id", map.at("id")}});
         }
         locus::localize::Service localizer(repo);
-        locus::http::App app(repo, {api_key, max_body, !quiet});
+        locus::http::App app(repo, {api_key, !quiet, front});
         localizer.install(app);  // before the store routes: see install_store_routes
         app.install_store_routes();
         auto& server = app.server();
-        server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
-
-        const int bound = port == 0 ? server.bind_to_any_port(host) : (server.bind_to_port(host, port) ? port : -1);
+        std::string listen_error;
+        const int bound = server.bind(host, port, listen_error);
         if (bound < 0) {
-            log_event({{"event", "error"}, {"message", "cannot listen on " + host + ":" + std::to_string(port)}});
+            log_event({{"event", "error"}, {"message", listen_error}});
             return 1;
         }
         std::thread signal_waiter([&server, signals] {
             int sig = 0;
             sigwait(&signals, &sig);
             log_event({{"event", "shutdown"}, {"signal", sig}});
-            server.stop();
+            server.shut_down();
         });
-        log_event({{"event", "listening"}, {"host", host}, {"port", bound}, {"db", db_path}, {"auth", !api_key.empty()}});
-        const bool ok = server.listen_after_bind();
+        log_event({{"event", "listening"}, {"host", host}, {"port", bound}, {"db", db_path}, {"auth", !api_key.empty()},
+                   {"max_connections", server.options().max_connections}});
+        const bool ok = server.serve();
         if (!ok && server.is_running()) log_event({{"event", "error"}, {"message", "listen failed"}});
         // Wake the signal thread if listen ended for another reason.
         pthread_kill(signal_waiter.native_handle(), SIGTERM);

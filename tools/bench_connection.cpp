@@ -47,31 +47,39 @@ std::string http_request(const std::string& method, const std::string& path, con
 
 BenchConnection::~BenchConnection() { close(); }
 
-bool BenchConnection::open() {
-    close();
+int open_socket(const std::string& host, int port) {
     addrinfo hints{};
     hints.ai_family = AF_UNSPEC;
     hints.ai_socktype = SOCK_STREAM;
     addrinfo* found = nullptr;
-    if (getaddrinfo(host_.c_str(), std::to_string(port_).c_str(), &hints, &found) != 0) return false;
-    for (addrinfo* a = found; a; a = a->ai_next) {
-        fd_ = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
-        if (fd_ < 0) continue;
+    if (getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) return -1;
+    int fd = -1;
+    for (addrinfo* a = found; a && fd < 0; a = a->ai_next) {
+        fd = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
+        if (fd < 0) continue;
         // Before connect: on Linux the send timeout also bounds connect(), so a full
         // listen backlog cannot hold a thread past the benchmark's time limit.
         const timeval timeout{10, 0};
-        ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-        ::setsockopt(fd_, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof timeout);
-        if (::connect(fd_, a->ai_addr, a->ai_addrlen) == 0) break;
-        ::close(fd_);
-        fd_ = -1;
+        ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+        ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof timeout);
+        if (::connect(fd, a->ai_addr, a->ai_addrlen) != 0) {
+            ::close(fd);
+            fd = -1;
+        }
     }
     freeaddrinfo(found);
-    if (fd_ < 0) return false;
-    const int one = 1;
-    ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    if (fd >= 0) {
+        const int one = 1;
+        ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    }
+    return fd;
+}
+
+bool BenchConnection::open() {
+    close();
+    fd_ = open_socket(host_, port_);
     buffer_.clear();
-    return true;
+    return fd_ >= 0;
 }
 
 void BenchConnection::close() {

@@ -37,6 +37,9 @@ private:
     std::string buffer_;  // bytes received past the previous answer
 };
 
+// A blocking TCP connection with TCP_NODELAY and 10 s send/receive timeouts, or -1.
+int open_socket(const std::string& host, int port);
+
 // "POST /path HTTP/1.1" with Host, Content-Type and Content-Length, then the body.
 std::string http_request(const std::string& method, const std::string& path, const std::string& host_port,
                          const std::string& body = {});

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
-#include <strings.h>
 
 #include "http/api_error.hpp"
 #include "http/json_text.hpp"
@@ -46,9 +45,12 @@ const char* code_for_status(int status) {
         case 401: return "unauthorized";
         case 404: return "not_found";
         case 405: return "method_not_allowed";
+        case 408: return "request_timeout";
+        case 411: return "length_required";
         case 413: return "payload_too_large";
         case 414: return "uri_too_long";
         case 415: return "unsupported_media_type";
+        case 431: return "header_too_large";
         default: return status >= 500 ? "internal" : "error";
     }
 }
@@ -97,7 +99,8 @@ void App::guarded(httplib::Response& res, const std::function<void()>& body) {
     }
 }
 
-App::App(store::Repository& repo, AppOptions options) : repo_(repo), options_(std::move(options)) {
+App::App(store::Repository& repo, AppOptions options)
+    : repo_(repo), options_(std::move(options)), server_(options_.front) {
     install_middleware();
 }
 
@@ -111,24 +114,11 @@ void App::notify(const store::Kind& kind, const json& row, bool deleted) {
 }
 
 void App::install_middleware() {
-    server_.set_payload_max_length(options_.max_body_bytes);
-    server_.set_keep_alive_max_count(100000);
-    server_.set_keep_alive_timeout(10);
-    // httplib writes headers and body separately; with Nagle on, every answer on a kept-alive
-    // connection waits for the client's delayed ACK (~40 ms on Linux).
-    server_.set_tcp_nodelay(true);
-    server_.set_read_timeout(10, 0);
-    server_.set_write_timeout(10, 0);
-
     server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
         request_start = std::chrono::steady_clock::now();
-        // cpp-httplib reads a body without a length (or with a transfer coding other than
-        // chunked) until the client closes the connection, so such a request would wait out
-        // the read timeout and then get a bare 400.
-        const bool has_body = req.method == "POST" || req.method == "PATCH" || req.method == "PUT";
-        if (has_body && !req.has_header("Content-Length") &&
-            strcasecmp(req.get_header_value("Transfer-Encoding").c_str(), "chunked") != 0) {
-            write_error(res, 411, "length_required", "a " + req.method + " needs a Content-Length (or a chunked body)");
+        if (auto refusal = server_.refusal(req)) {
+            write_error(res, refusal->status, refusal->code, refusal->message);
+            Front::close_after(res);  // what follows the head cannot be told apart from a next request
             return httplib::Server::HandlerResponse::Handled;
         }
         if (options_.api_key.empty() || is_read(req)) return httplib::Server::HandlerResponse::Unhandled;
@@ -142,12 +132,18 @@ void App::install_middleware() {
         return httplib::Server::HandlerResponse::Unhandled;
     });
 
-    // httplib answers some failures itself (unknown route, body over the limit) with an empty body.
-    server_.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request& req, httplib::Response& res) {
+    // Called for every answer >= 400. httplib answers some failures itself (unknown route, a
+    // body it could not read) with an empty body.
+    server_.set_error_handler(httplib::Server::HandlerWithResponse([this](const httplib::Request& req, httplib::Response& res) {
+        Front::on_error_answer(res);  // may say why httplib gave up: 408, 413, 431
         if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
         std::string message = "request failed with status " + std::to_string(res.status);
         if (res.status == 404) message = "no route for " + req.method + " " + req.path;
-        if (res.status == 413) message = "the request body is larger than the server accepts";
+        if (res.status == 413)
+            message = "the request body is larger than the server accepts (" +
+                      std::to_string(server_.options().max_body_bytes) + " bytes)";
+        if (res.status == 408) message = "the request did not arrive in time";
+        if (res.status == 431) message = "the request head is larger than the server accepts";
         write_error(res, res.status, code_for_status(res.status), message);
         return httplib::Server::HandlerResponse::Handled;
     }));

@@ -8,15 +8,16 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "http/front.hpp"
 #include "store/kinds.hpp"
 #include "store/repository.hpp"
 
 namespace locus::http {
 
 struct AppOptions {
-    std::string api_key;                            // empty: writes need no key
-    std::size_t max_body_bytes = 8u * 1024u * 1024u;
+    std::string api_key;  // empty: writes need no key
     bool access_log = true;
+    FrontOptions front;   // connections, timeouts, body limit
 };
 
 // Told after every committed write, so in-memory indexes can follow (kind, the row as it was
@@ -26,7 +27,7 @@ using WriteListener = std::function<void(const store::Kind& kind, const nlohmann
 class App {
 public:
     App(store::Repository& repo, AppOptions options);
-    httplib::Server& server() { return server_; }
+    Front& server() { return server_; }
     // The CRUD, scan and radio-map routes. httplib tries a method's routes in the order they
     // were added, one regex match each, so routes added before these (localize, the request
     // a phone repeats) are found without failing a match per store route first.
@@ -46,7 +47,7 @@ private:
 
     store::Repository& repo_;
     AppOptions options_;
-    httplib::Server server_;
+    Front server_;
     WriteListener listener_;
 };
 

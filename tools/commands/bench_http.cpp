@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_connection.hpp"
+#include "bench_load.hpp"
 #include "command_registry.hpp"
 #include "localize_body.hpp"
 #include "survey_connect.hpp"
@@ -57,80 +58,6 @@ struct Phase {
     }
     double per_second() const { return seconds > 0 ? static_cast<double>(latencies_ms.size()) / seconds : 0.0; }
 };
-
-double percentile(std::vector<double>& v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const double pos = p * static_cast<double>(v.size() - 1);
-    const auto lo = static_cast<std::size_t>(std::floor(pos));
-    const auto hi = std::min(lo + 1, v.size() - 1);
-    return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
-
-// Real scans to replay: a UJIIndoorLoc CSV (one query per row), a survey file (one per scan),
-// or, with no file, each RP of the radio map queried with its own stored means. Scans that
-// share no AP with the radio map (another building's rows) would only measure the 422 path,
-// so they are left out.
-std::vector<std::string> load_bodies(const Args& a, httplib::Client& http) {
-    auto r = http.Get("/v1/radiomaps/" + std::to_string(a.radiomap) + "/export");
-    if (!r) throw CommandError("no answer from " + a.server.server);
-    if (r->status != 200) throw CommandError("cannot export radio map " + std::to_string(a.radiomap) + ": " + r->body.substr(0, 300));
-    const json doc = json::parse(r->body);
-    std::set<std::string> known;
-    std::vector<Scan> scans;
-    for (const auto& rp : doc.at("rps")) {
-        Scan s;
-        for (const auto& m : rp.at("measurements")) {
-            s.push_back({m.value("type", "wifi"), m.at("bssid").get<std::string>(), m.at("mean").get<double>()});
-            known.insert(s.back().bssid);
-        }
-        if (a.scans_file.empty()) scans.push_back(std::move(s));
-    }
-    if (!a.scans_file.empty()) {
-        const std::string text = read_file(a.scans_file);
-        if (text.rfind("WAP", 0) == 0) {
-            const auto data = uji::parse(text);
-            for (const auto& row : data.rows) scans.push_back(uji::scan_of(data, row));
-        } else {
-            const auto file = survey::parse(text, survey::format_of(a.scans_file));
-            for (const auto& rp : file.rps) scans.insert(scans.end(), rp.scans.begin(), rp.scans.end());
-        }
-    }
-    std::vector<std::string> bodies;
-    for (const auto& s : scans)
-        if (std::any_of(s.begin(), s.end(), [&](const Reading& rd) { return known.count(rd.bssid) > 0; }))
-            bodies.push_back(localize_body({s}, a.algorithm));
-    if (bodies.empty()) throw CommandError("no scan shares an access point with radio map " + std::to_string(a.radiomap));
-    return bodies;
-}
-
-struct Target {
-    std::string host;  // as getaddrinfo wants it: no brackets around an IPv6 address
-    int port = 0;
-    std::string host_port;  // for the Host header
-};
-
-// Only loopback servers: a load test must not leave the machine.
-Target loopback_target(const std::string& url) {
-    for (const char* prefix : {"http://127.0.0.1:", "http://localhost:", "http://[::1]:"}) {
-        const std::string p = prefix;
-        if (url.rfind(p, 0) != 0) continue;
-        Target t;
-        t.host_port = url.substr(7);
-        while (!t.host_port.empty() && t.host_port.back() == '/') t.host_port.pop_back();
-        t.host = p.substr(7, p.size() - 8);
-        if (t.host.front() == '[') t.host = t.host.substr(1, t.host.size() - 2);
-        try {
-            std::size_t used = 0;
-            t.port = std::stoi(url.substr(p.size()), &used);
-            if (p.size() + used != 7 + t.host_port.size() || t.port < 1 || t.port > 65535) throw std::invalid_argument("port");
-        } catch (const std::exception&) {
-            throw CommandError("cannot read the port of " + url);
-        }
-        return t;
-    }
-    throw CommandError("bench localize only targets a loopback server (http://127.0.0.1:PORT)");
-}
 
 // `count` requests, request i being requests[(first + i) % size], on C connections.
 Phase run_phase(const Args& a, int count, double max_seconds, const Target& target, const std::vector<std::string>& requests,
@@ -186,9 +113,9 @@ json summary(Phase& p) {
 
 void run(Args a) {
     a.server.server = a.server.client_options().base_url;
-    const Target target = loopback_target(a.server.server);
+    const Target target = loopback_target(a.server.server, "bench localize");
     httplib::Client http(a.server.server);
-    const auto bodies = load_bodies(a, http);
+    const auto bodies = localize_bodies(http, a.radiomap, a.scans_file, a.algorithm);
     const std::string path = "/v1/radiomaps/" + std::to_string(a.radiomap) + "/localize";
     {
         auto r = http.Post(path, bodies.front(), "application/json");

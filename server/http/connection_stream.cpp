@@ -1,0 +1,137 @@
+#include "http/connection_stream.hpp"
+
+#include <netdb.h>
+#include <poll.h>
+#include <sys/socket.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+
+namespace locus::http {
+
+namespace {
+
+void address_of(int fd, bool peer, std::string& ip, int& port) {
+    sockaddr_storage addr{};
+    socklen_t len = sizeof addr;
+    const int r = peer ? ::getpeername(fd, reinterpret_cast<sockaddr*>(&addr), &len)
+                       : ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+    if (r != 0) return;
+    char host[NI_MAXHOST], serv[NI_MAXSERV];
+    if (::getnameinfo(reinterpret_cast<sockaddr*>(&addr), len, host, sizeof host, serv, sizeof serv,
+                      NI_NUMERICHOST | NI_NUMERICSERV) == 0) {
+        ip = host;
+        port = std::atoi(serv);
+    }
+}
+
+}  // namespace
+
+ConnectionStream::ConnectionStream(int fd, int wake_fd, std::chrono::milliseconds read_timeout,
+                                   std::chrono::milliseconds write_timeout)
+    : fd_(fd), wake_fd_(wake_fd), read_timeout_(read_timeout), write_timeout_(write_timeout) {}
+
+bool ConnectionStream::wait(short events, Clock::time_point until, bool wakeable) {
+    for (;;) {
+        const auto now = Clock::now();
+        if (now >= until) {
+            failure_ = Failure::timeout;
+            return false;
+        }
+        const auto left = std::chrono::ceil<std::chrono::milliseconds>(until - now).count();
+        pollfd fds[2] = {{fd_, events, 0}, {wake_fd_, POLLIN, 0}};
+        const nfds_t count = wakeable && wake_fd_ >= 0 ? 2 : 1;
+        const int r = ::poll(fds, count, static_cast<int>(std::min<long long>(left, INT_MAX)));
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            failure_ = Failure::error;
+            return false;
+        }
+        if (r == 0) continue;  // the loop checks the clock
+        if (count == 2 && fds[1].revents != 0) {
+            failure_ = Failure::stopped;
+            return false;
+        }
+        if (fds[0].revents != 0) return true;  // POLLHUP and POLLERR too: recv/send say what
+    }
+}
+
+bool ConnectionStream::fill() {
+    begin_ = end_ = 0;
+    const auto until = phase_ == Phase::head ? head_deadline_ : Clock::now() + read_timeout_;
+    if (!wait(POLLIN, until, phase_ == Phase::head)) return false;
+    for (;;) {
+        const ssize_t n = ::recv(fd_, buffer_, kBufferSize, 0);
+        if (n > 0) {
+            end_ = static_cast<std::size_t>(n);
+            return true;
+        }
+        if (n == 0) {
+            failure_ = Failure::closed;
+            return false;
+        }
+        if (errno == EINTR) continue;
+        failure_ = (errno == EAGAIN || errno == EWOULDBLOCK) ? Failure::timeout : Failure::error;
+        return false;
+    }
+}
+
+ssize_t ConnectionStream::read(char* ptr, size_t size) {
+    if (size == 0) return 0;
+    std::uint64_t want = size;
+    if (remaining_) {
+        if (*remaining_ == 0) {
+            failure_ = phase_ == Phase::head ? Failure::head_too_large : Failure::body_too_large;
+            return -1;
+        }
+        want = std::min(want, *remaining_);
+    }
+    if (begin_ == end_ && !fill()) return failure_ == Failure::closed ? 0 : -1;
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(want, end_ - begin_));
+    std::memcpy(ptr, buffer_ + begin_, n);
+    begin_ += n;
+    consumed_ += n;
+    if (remaining_) *remaining_ -= n;
+    return static_cast<ssize_t>(n);
+}
+
+bool ConnectionStream::is_writable() const {
+    pollfd fd{fd_, POLLOUT, 0};
+    return ::poll(&fd, 1, static_cast<int>(write_timeout_.count())) > 0;
+}
+
+ssize_t ConnectionStream::write(const char* ptr, size_t size) {
+    if (!wait(POLLOUT, Clock::now() + write_timeout_, false)) return -1;
+    for (;;) {
+        const ssize_t n = ::send(fd_, ptr, size, MSG_NOSIGNAL);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) failure_ = Failure::error;
+        return n;
+    }
+}
+
+void ConnectionStream::get_remote_ip_and_port(std::string& ip, int& port) const { address_of(fd_, true, ip, port); }
+void ConnectionStream::get_local_ip_and_port(std::string& ip, int& port) const { address_of(fd_, false, ip, port); }
+
+bool ConnectionStream::wait_for_request(std::chrono::milliseconds idle) {
+    failure_ = Failure::none;
+    if (begin_ < end_) return true;
+    return wait(POLLIN, Clock::now() + idle, true);
+}
+
+void ConnectionStream::begin_head(Clock::time_point deadline, std::size_t max_bytes) {
+    phase_ = Phase::head;
+    head_deadline_ = deadline;
+    remaining_ = max_bytes;
+    failure_ = Failure::none;
+}
+
+void ConnectionStream::begin_body(std::uint64_t budget) {
+    phase_ = Phase::body;
+    remaining_ = budget;
+}
+
+}  // namespace locus::http

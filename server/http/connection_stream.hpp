@@ -1,0 +1,70 @@
+#pragma once
+// One client connection as cpp-httplib's Stream, kept for the connection's whole life.
+//
+// cpp-httplib's own server makes a new stream per request, so bytes it read past one request
+// (the next, pipelined request) were dropped with it and the client hung until the keep-alive
+// timeout. This stream keeps its buffer across requests, so pipelined requests are answered
+// in order. It also enforces what the library cannot be configured to enforce:
+// - a deadline for the whole request head (a client trickling a byte a second is cut off
+//   after --header-timeout, not kept forever by a per-read timeout) and a cap on its size;
+// - a byte budget for the body, counted on the wire, so a chunked body cannot pass
+//   --max-body-bytes (cpp-httplib checks the limit against Content-Length only);
+// - a wake descriptor: when it becomes readable (server shutdown) waits for a next request
+//   or a request head end at once.
+// All waits use poll(), so descriptors above FD_SETSIZE are fine.
+#include <httplib.h>
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace locus::http {
+
+class ConnectionStream final : public httplib::Stream {
+public:
+    using Clock = std::chrono::steady_clock;
+    enum class Failure { none, closed, timeout, head_too_large, body_too_large, stopped, error };
+
+    ConnectionStream(int fd, int wake_fd, std::chrono::milliseconds read_timeout, std::chrono::milliseconds write_timeout);
+
+    bool is_readable() const override { return begin_ < end_; }
+    bool is_writable() const override;
+    ssize_t read(char* ptr, size_t size) override;
+    ssize_t write(const char* ptr, size_t size) override;
+    void get_remote_ip_and_port(std::string& ip, int& port) const override;
+    void get_local_ip_and_port(std::string& ip, int& port) const override;
+    socket_t socket() const override { return fd_; }
+
+    // Waits until a next request's first byte is here (buffered or arriving within `idle`).
+    // False on timeout, close, error or shutdown.
+    bool wait_for_request(std::chrono::milliseconds idle);
+    // From here on, reads belong to a request head: they end at `deadline`, after `max_bytes`,
+    // or when the wake descriptor fires.
+    void begin_head(Clock::time_point deadline, std::size_t max_bytes);
+    // From here on, reads belong to the body: at most `budget` bytes, each read waiting at most
+    // the read timeout.
+    void begin_body(std::uint64_t budget);
+
+    std::uint64_t consumed() const { return consumed_; }  // bytes handed to the reader so far
+    Failure failure() const { return failure_; }
+
+private:
+    enum class Phase { head, body };
+    bool fill();  // false: failure_ says why (closed: orderly end of stream)
+    bool wait(short events, Clock::time_point until, bool wakeable);
+
+    int fd_, wake_fd_;
+    std::chrono::milliseconds read_timeout_, write_timeout_;
+    Phase phase_ = Phase::head;
+    Clock::time_point head_deadline_ = Clock::time_point::max();
+    std::optional<std::uint64_t> remaining_;  // bytes this phase may still read
+    std::uint64_t consumed_ = 0;
+    Failure failure_ = Failure::none;
+    static constexpr std::size_t kBufferSize = 16 * 1024;
+    char buffer_[kBufferSize];
+    std::size_t begin_ = 0, end_ = 0;
+};
+
+}  // namespace locus::http

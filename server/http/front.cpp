@@ -1,0 +1,266 @@
+#include "http/front.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <strings.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "http/connection_pool.hpp"
+#include "http/connection_stream.hpp"
+
+namespace locus::http {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+thread_local RequestFraming* current_framing = nullptr;
+
+// A chunked body is counted on the wire, chunk-size lines and CRLFs included; this much on top
+// of --max-body-bytes covers the framing of chunks of a few hundred bytes and more.
+std::uint64_t chunked_budget(std::uint64_t max_body) { return max_body + max_body / 16 + 1024; }
+
+bool all_digits(const std::string& s) {
+    return !s.empty() && s.size() <= 19 &&
+           std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+bool has_body_method(const std::string& method) { return method == "POST" || method == "PUT" || method == "PATCH"; }
+
+// After refusing or breaking off a request, the client may still be sending. Closing with
+// unread bytes makes the kernel answer with RST, which can destroy our answer before the
+// client reads it; so stop writing, read and drop what comes for a moment, then close.
+void close_lingering(int fd, std::chrono::milliseconds linger, std::uint64_t max_bytes) {
+    ::shutdown(fd, SHUT_WR);
+    const auto until = Clock::now() + linger;
+    char scratch[16 * 1024];
+    std::uint64_t dropped = 0;
+    while (dropped < max_bytes) {
+        const auto left = std::chrono::ceil<std::chrono::milliseconds>(until - Clock::now()).count();
+        if (left <= 0) break;
+        pollfd p{fd, POLLIN, 0};
+        const int r = ::poll(&p, 1, static_cast<int>(std::min<long long>(left, 1000)));  // 1 s of silence ends it
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) break;
+        const ssize_t n = ::recv(fd, scratch, sizeof scratch, 0);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        dropped += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+}
+
+void send_all(int fd, const std::string& bytes) {
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+        const ssize_t n = ::send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return;  // a full send buffer on a brand-new connection: the client is gone
+        sent += static_cast<std::size_t>(n);
+    }
+}
+
+// The answer past the connection cap, written before reading anything: cheap on purpose.
+std::string busy_answer(std::size_t cap) {
+    const std::string body = R"({"error":{"code":"server_busy","message":"the server is serving its limit of )" +
+                             std::to_string(cap) + R"( connections; retry shortly"}})";
+    return "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\nRetry-After: 1\r\n"
+           "Connection: close\r\nContent-Length: " +
+           std::to_string(body.size()) + "\r\n\r\n" + body;
+}
+
+// Soft descriptor limit up to the hard one: each connection is a descriptor, and the usual
+// soft limit (1024) is below a thousand phones. Returns the limit now in force.
+rlim_t raise_descriptor_limit() {
+    rlimit lim{};
+    if (::getrlimit(RLIMIT_NOFILE, &lim) != 0) return 1024;
+    if (lim.rlim_cur < lim.rlim_max) {
+        rlimit raised = lim;
+        raised.rlim_cur = lim.rlim_max;
+        if (::setrlimit(RLIMIT_NOFILE, &raised) == 0) lim = raised;
+    }
+    return lim.rlim_cur;
+}
+
+}  // namespace
+
+Front::Front(FrontOptions options) : options_(options) {
+    if (::pipe2(wake_, O_CLOEXEC) != 0) wake_[0] = wake_[1] = -1;
+    new_task_queue = [this] { return new ConnectionPool(options_.min_threads, options_.max_connections + 64); };
+    // cpp-httplib's default also sets SO_REUSEPORT, with which a second server binds the same
+    // port and the kernel splits connections between the two.
+    set_socket_options([](socket_t sock) {
+        int yes = 1;
+        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
+    // Answers go out as headers then body in two writes; with Nagle on, every answer on a
+    // kept-alive connection waits for the client's delayed ACK (~40 ms on Linux).
+    set_tcp_nodelay(true);
+    set_read_timeout(std::chrono::duration_cast<std::chrono::seconds>(options_.read_timeout).count(), 0);
+    set_write_timeout(std::chrono::duration_cast<std::chrono::seconds>(options_.write_timeout).count(), 0);
+    set_keep_alive_max_count(options_.keep_alive_max_requests);
+    set_keep_alive_timeout(std::chrono::duration_cast<std::chrono::seconds>(options_.keep_alive_timeout).count());
+    set_payload_max_length(options_.max_body_bytes);
+}
+
+Front::~Front() {
+    for (int fd : wake_)
+        if (fd >= 0) ::close(fd);
+}
+
+int Front::bind(const std::string& host, int port, std::string& error) {
+    const rlim_t descriptors = raise_descriptor_limit();
+    if (descriptors < options_.max_connections + 64)
+        options_.max_connections = descriptors > 128 ? static_cast<std::size_t>(descriptors - 64) : 64;
+    errno = 0;
+    const int bound = port == 0 ? bind_to_any_port(host) : (bind_to_port(host, port) ? port : -1);
+    if (bound < 0) {
+        error = "cannot listen on " + host + ":" + std::to_string(port) +
+                (errno != 0 ? std::string(": ") + std::strerror(errno) : std::string());
+        return -1;
+    }
+    // A burst of connecting phones overflowed cpp-httplib's backlog of 5 (SYNs dropped and
+    // retried a second later); listen() again only changes the backlog.
+    ::listen(svr_sock_, SOMAXCONN);
+    return bound;
+}
+
+void Front::shut_down() {
+    stopping_ = true;
+    if (wake_[1] >= 0) {
+        const char byte = 1;
+        [[maybe_unused]] const auto n = ::write(wake_[1], &byte, 1);
+    }
+    stop();
+}
+
+RequestFraming* Front::current() { return current_framing; }
+
+void Front::close_after(httplib::Response& res) {
+    if (current_framing) current_framing->close = true;
+    res.set_header("Connection", "close");
+}
+
+void Front::on_error_answer(httplib::Response& res) {
+    RequestFraming* f = current_framing;
+    if (!f) return;
+    f->failed = true;
+    if (f->stream && res.status == 400 && res.body.empty()) {
+        switch (f->stream->failure()) {
+            case ConnectionStream::Failure::body_too_large: res.status = 413; break;
+            case ConnectionStream::Failure::timeout: res.status = 408; break;
+            case ConnectionStream::Failure::head_too_large: res.status = 431; break;
+            default: break;
+        }
+    }
+    // Whatever was not read of this request would be taken for the next one.
+    const bool body_unread = f->chunked || (f->content_length && *f->content_length > 0 && f->stream &&
+                                            f->stream->consumed() - f->head_end < *f->content_length);
+    // cpp-httplib's own failures (an empty body) mean it lost its place in the stream.
+    const bool framing_lost = res.body.empty() && (res.status == 400 || res.status == 408 || res.status == 411 ||
+                                                   res.status == 413 || res.status == 431);
+    if (!f->parsed || body_unread || framing_lost)
+        close_after(res);
+}
+
+std::optional<Refusal> Front::refusal(const httplib::Request& req) const {
+    const RequestFraming* f = current_framing;
+    if (!f) return std::nullopt;
+    if (f->content_length_headers > 1 || !f->valid_content_length)
+        return Refusal{400, "bad_request", "Content-Length must be given once, as a decimal number"};
+    const bool has_coding = req.has_header("Transfer-Encoding");
+    if (has_coding && f->content_length_headers > 0)
+        return Refusal{400, "bad_request", "a request may not carry both Content-Length and Transfer-Encoding"};
+    if (!has_body_method(req.method)) {
+        if ((f->content_length && *f->content_length > 0) || has_coding)
+            return Refusal{400, "bad_request", "a " + req.method + " request carries no body"};
+        return std::nullopt;
+    }
+    // cpp-httplib would read a body without a length (or with another coding) until the client
+    // closes the connection: the request would wait out the read timeout and get a bare 400.
+    if (f->other_coding || (!f->content_length && !f->chunked))
+        return Refusal{411, "length_required", "a " + req.method + " needs a Content-Length (or a chunked body)"};
+    if (f->content_length && *f->content_length > options_.max_body_bytes)
+        return Refusal{413, "payload_too_large",
+                       "the request body is larger than the server accepts (" + std::to_string(options_.max_body_bytes) +
+                           " bytes)"};
+    return std::nullopt;
+}
+
+void Front::start_request(httplib::Request& req, RequestFraming& framing, ConnectionStream& stream) const {
+    framing.parsed = true;
+    framing.head_end = stream.consumed();
+    framing.content_length_headers = req.get_header_value_count("Content-Length");
+    for (std::size_t i = 0; i < framing.content_length_headers; ++i) {
+        const std::string value = req.get_header_value("Content-Length", i);
+        if (!all_digits(value)) framing.valid_content_length = false;
+        else if (!framing.content_length) framing.content_length = std::stoull(value);
+    }
+    const std::size_t codings = req.get_header_value_count("Transfer-Encoding");
+    framing.chunked = codings == 1 && strcasecmp(req.get_header_value("Transfer-Encoding").c_str(), "chunked") == 0;
+    framing.other_coding = codings > 0 && !framing.chunked;
+
+    // The body budget: a length is read exactly; a chunked body up to the limit on the wire.
+    std::uint64_t budget = 0;
+    if (framing.content_length && framing.valid_content_length) budget = *framing.content_length;
+    else if (framing.chunked) budget = chunked_budget(options_.max_body_bytes);
+    stream.begin_body(budget);
+
+    // `curl -d` sends JSON as a form; cpp-httplib parses forms and refuses them past 8 KiB.
+    // Every body of this API is JSON, whatever the client calls it.
+    auto type = req.headers.find("Content-Type");
+    if (type != req.headers.end() && strncasecmp(type->second.c_str(), "application/x-www-form-urlencoded", 33) == 0)
+        type->second = "application/json";
+}
+
+bool Front::process_and_close_socket(socket_t sock) {
+    const std::size_t open = ++open_;
+    if (open > options_.max_connections || stopping_) {
+        send_all(sock, busy_answer(options_.max_connections));
+        --open_;
+        close_lingering(sock, std::chrono::milliseconds(200), 64 * 1024);
+        return true;
+    }
+    serve_connection(sock);
+    --open_;
+    return true;
+}
+
+void Front::serve_connection(int fd) {
+    ConnectionStream stream(fd, wake_[0], options_.read_timeout, options_.write_timeout);
+    bool linger = false;
+    for (std::size_t served = 0; !stopping_; ++served) {
+        if (!stream.wait_for_request(served == 0 ? options_.header_timeout : options_.keep_alive_timeout)) break;
+        RequestFraming framing;
+        framing.stream = &stream;
+        current_framing = &framing;
+        stream.begin_head(Clock::now() + options_.header_timeout, options_.max_header_bytes);
+        const bool last = served + 1 >= options_.keep_alive_max_requests || stopping_;
+        bool client_closes = false;
+        const bool answered =
+            process_request(stream, last, client_closes, [&](httplib::Request& req) { start_request(req, framing, stream); });
+        current_framing = nullptr;
+        const bool body_unread = framing.content_length && stream.consumed() - framing.head_end < *framing.content_length;
+        if (!answered || !framing.parsed || framing.close || body_unread || (framing.chunked && framing.failed)) {
+            linger = true;
+            break;
+        }
+        if (client_closes || last) break;
+    }
+    if (linger) {
+        // Long enough for a client that writes its whole body before reading (cpp-httplib's
+        // own client does) to finish and read the refusal; bounded in time and bytes.
+        close_lingering(fd, std::chrono::seconds(5), std::max<std::uint64_t>(4 * options_.max_body_bytes, 16u << 20));
+    } else {
+        ::shutdown(fd, SHUT_RDWR);
+        ::close(fd);
+    }
+}
+
+}  // namespace locus::http

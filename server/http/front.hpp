@@ -1,0 +1,107 @@
+#pragma once
+// The HTTP front: cpp-httplib's Server with its connection handling replaced, through the
+// library's own extension points (the virtual process_and_close_socket, the protected
+// process_request, a TaskQueue from new_task_queue, the socket options callback). Routing,
+// request parsing and answer writing stay cpp-httplib's.
+//
+// What it adds, and why (each was seen failing with cpp-httplib's defaults):
+// - A worker per open connection, started on demand (ConnectionPool), so idle keep-alive
+//   clients cannot take every worker; past --max-connections a client gets an immediate
+//   503 server_busy (Retry-After: 1) instead of waiting in a queue.
+// - One stream per connection (ConnectionStream), so pipelined requests are answered in order.
+// - A deadline for each request head (--header-timeout), a short idle keep-alive timeout and
+//   a cap on requests per connection.
+// - Framing checks before any body is read (refusal()): one decimal Content-Length, no
+//   Content-Length together with Transfer-Encoding, only `chunked` as a coding, no body on
+//   GET/HEAD/OPTIONS, nothing over --max-body-bytes. A chunked body is counted on the wire.
+// - A connection whose request body was not read to its end (a refused write, a broken
+//   chunked body) is closed after the answer, which says `Connection: close`: the unread
+//   bytes are never taken for a next request (request smuggling behind a proxy).
+// - No SO_REUSEPORT: a second server on the same port fails to start instead of splitting
+//   the traffic between two databases. The listen backlog is raised from the library's 5.
+// - Shutdown wakes idle connections at once.
+#include <httplib.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace locus::http {
+
+class ConnectionStream;
+
+struct FrontOptions {
+    std::size_t min_threads = 8;             // workers kept when idle
+    std::size_t max_connections = 2048;      // open connections served at once; more get 503
+    std::chrono::milliseconds keep_alive_timeout{10'000};
+    std::size_t keep_alive_max_requests = 1000;
+    std::chrono::milliseconds header_timeout{10'000};  // from a request's first byte to its blank line
+    std::chrono::milliseconds read_timeout{10'000};    // longest wait for the next bytes of a body
+    std::chrono::milliseconds write_timeout{10'000};
+    std::size_t max_header_bytes = 64 * 1024;
+    std::uint64_t max_body_bytes = 8u * 1024u * 1024u;
+};
+
+// What the connection layer knows of the request being served; handlers reach it through
+// Front::current() because cpp-httplib's handler signature carries no connection.
+struct RequestFraming {
+    bool parsed = false;                         // the head was read and parsed
+    std::optional<std::uint64_t> content_length;
+    std::size_t content_length_headers = 0;
+    bool valid_content_length = true;            // every Content-Length was one decimal number
+    bool chunked = false;
+    bool other_coding = false;                   // a Transfer-Encoding other than one `chunked`
+    std::uint64_t head_end = 0;                  // stream position where the body starts
+    bool close = false;                          // end the connection after this answer
+    bool failed = false;                         // answered with a status >= 400
+    const ConnectionStream* stream = nullptr;
+};
+
+struct Refusal {
+    int status;
+    std::string code, message;
+};
+
+class Front : public httplib::Server {
+public:
+    explicit Front(FrontOptions options = {});
+    ~Front() override;
+    Front(const Front&) = delete;
+    Front& operator=(const Front&) = delete;
+
+    // Binds and listens (port 0: any free port). Returns the port, or -1 with `error` set.
+    int bind(const std::string& host, int port, std::string& error);
+    // Serves until shut_down(); false if accepting failed.
+    bool serve() { return listen_after_bind(); }
+    // Stops accepting and wakes every connection waiting for a request; returns at once.
+    void shut_down();
+
+    const FrontOptions& options() const { return options_; }
+    std::size_t open_connections() const { return open_.load(); }
+
+    // Why the request now being read must be refused before its body is read, if it must.
+    std::optional<Refusal> refusal(const httplib::Request& req) const;
+
+    // The request being served on this thread, or nullptr.
+    static RequestFraming* current();
+    // Ends the connection after this answer, and says so in the answer.
+    static void close_after(httplib::Response& res);
+    // Called for every answer >= 400: marks it failed and, when the connection layer cut the
+    // body or head short, turns cpp-httplib's bare 400 into 413 or 408.
+    static void on_error_answer(httplib::Response& res);
+
+private:
+    bool process_and_close_socket(socket_t sock) override;
+    void serve_connection(int fd);
+    void start_request(httplib::Request& req, RequestFraming& framing, ConnectionStream& stream) const;
+
+    FrontOptions options_;
+    std::atomic<std::size_t> open_{0};
+    std::atomic<bool> stopping_{false};
+    int wake_[2] = {-1, -1};  // a pipe; its read end becomes readable at shutdown
+};
+
+}  // namespace locus::http

@@ -1,0 +1,247 @@
+// The connection layer against raw sockets: idle and slow clients, pipelining, lying or
+// refused bodies, the connection cap, a shared port. Each case was seen failing with
+// cpp-httplib's own connection handling.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "raw_connection.hpp"
+#include "server_process.hpp"
+
+using locus::testing::raw_get;
+using locus::testing::raw_post;
+using locus::testing::RawConnection;
+using locus::testing::ServerProcess;
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::string chunked_post(const std::string& path, const std::string& body, std::size_t chunk_size,
+                         const std::string& extra_headers = {}) {
+    std::string out = "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n" +
+                      "Transfer-Encoding: chunked\r\n" + extra_headers + "\r\n";
+    for (std::size_t i = 0; i < body.size(); i += chunk_size) {
+        const std::string piece = body.substr(i, chunk_size);
+        char size[32];
+        std::snprintf(size, sizeof size, "%zx\r\n", piece.size());
+        out += size + piece + "\r\n";
+    }
+    return out + "0\r\n\r\n";
+}
+
+json map_count(const ServerProcess& s) { return s.get("/v1/maps").body.at("total"); }
+
+}  // namespace
+
+// With cpp-httplib's fixed pool of --threads workers, that many idle keep-alive connections
+// left every other client waiting (8.7 s for /health behind 8 idle connections).
+TEST(Connections, IdleAndHalfSentRequestsDoNotStallOthers) {
+    ServerProcess s({"--threads", "2"});
+    std::vector<std::unique_ptr<RawConnection>> idle;
+    for (int i = 0; i < 24; ++i) {
+        idle.push_back(std::make_unique<RawConnection>(s.port()));
+        ASSERT_TRUE(idle.back()->connected());
+        if (i % 2 == 0) {  // a kept-alive client that has been answered once
+            ASSERT_TRUE(idle.back()->send(raw_get("/health")));
+            ASSERT_TRUE(idle.back()->read_answer());
+        } else {  // a client that sent half a request head
+            ASSERT_TRUE(idle.back()->send("GET /health HTTP/1.1\r\nHost: x"));
+        }
+    }
+    RawConnection fresh(s.port());
+    ASSERT_TRUE(fresh.send(raw_get("/v1/maps")));
+    const auto answer = fresh.read_answer(3s);  // generous: the old server needed 10 s and more
+    ASSERT_TRUE(answer) << "a new client was not answered while 24 connections sat idle";
+    EXPECT_EQ(answer->status, 200);
+}
+
+TEST(Connections, PipelinedRequestsAreAnsweredInOrder) {
+    ServerProcess s;
+    RawConnection c(s.port());
+    ASSERT_TRUE(c.send(raw_get("/health") + raw_get("/v1/maps/999") + raw_post("/v1/maps", R"({"name":"piped"})") +
+                       raw_get("/v1/maps")));
+    const int expected[] = {200, 404, 201, 200};
+    for (int status : expected) {
+        const auto a = c.read_answer(3s);
+        ASSERT_TRUE(a) << "a pipelined request was not answered";
+        EXPECT_EQ(a->status, status) << a->head;
+    }
+    EXPECT_EQ(map_count(s), 1);
+}
+
+// A 401 went out before the body was read, and the body was then parsed as the next request
+// on the same connection: request smuggling behind a proxy that reuses connections.
+TEST(Connections, ARefusedBodyIsNeverTakenForTheNextRequest) {
+    ServerProcess s({"--api-key", "k"});
+    const std::string smuggled = raw_get("/v1/maps/999");
+    RawConnection c(s.port());
+    ASSERT_TRUE(c.send(raw_post("/v1/maps", smuggled)));
+    const auto refused = c.read_answer();
+    ASSERT_TRUE(refused);
+    EXPECT_EQ(refused->status, 401);
+    EXPECT_EQ(refused->header("Connection"), "close");
+    EXPECT_FALSE(c.read_answer(1500ms)) << "the body was answered as a request";
+    EXPECT_TRUE(c.closed_within(3s));
+
+    // The same with the body sent after the refusal has arrived.
+    RawConnection late(s.port());
+    const std::string head = raw_post("/v1/maps", smuggled);
+    ASSERT_TRUE(late.send(head.substr(0, head.size() - smuggled.size())));
+    const auto refused_early = late.read_answer();
+    ASSERT_TRUE(refused_early);
+    EXPECT_EQ(refused_early->status, 401);
+    late.send(smuggled);
+    EXPECT_FALSE(late.read_answer(1500ms)) << "the late body was answered as a request";
+}
+
+TEST(Connections, AChunkedBodyCannotPassTheBodyLimit) {
+    ServerProcess s({"--max-body-bytes", "4096"});
+    const std::string big = R"({"name":"big","description":")" + std::string(20000, 'x') + R"("})";
+    RawConnection c(s.port());
+    ASSERT_TRUE(c.send(chunked_post("/v1/maps", big, 1000)));
+    const auto a = c.read_answer();
+    ASSERT_TRUE(a);
+    EXPECT_EQ(a->status, 413) << a->body;
+    EXPECT_EQ(json::parse(a->body).at("error").at("code"), "payload_too_large");
+    EXPECT_EQ(a->header("Connection"), "close");
+    EXPECT_EQ(map_count(s), 0);
+
+    // Within the limit, chunked is fine, and the connection stays usable.
+    RawConnection ok(s.port());
+    ASSERT_TRUE(ok.send(chunked_post("/v1/maps", R"({"name":"small"})", 5) + raw_get("/v1/maps")));
+    const auto created = ok.read_answer();
+    ASSERT_TRUE(created);
+    EXPECT_EQ(created->status, 201) << created->body;
+    const auto listed = ok.read_answer();
+    ASSERT_TRUE(listed);
+    EXPECT_EQ(json::parse(listed->body).at("total"), 1);
+}
+
+TEST(Connections, ALengthOverTheLimitIsRefusedBeforeTheBodyIsRead) {
+    ServerProcess s({"--max-body-bytes", "4096"});
+    RawConnection c(s.port());
+    ASSERT_TRUE(c.send("POST /v1/maps HTTP/1.1\r\nHost: x\r\nContent-Length: 67108864\r\n\r\n{\"name\":"));
+    const auto a = c.read_answer();  // answered without waiting for 64 MiB
+    ASSERT_TRUE(a);
+    EXPECT_EQ(a->status, 413);
+    EXPECT_EQ(a->header("Connection"), "close");
+}
+
+TEST(Connections, AmbiguousFramingIsRefusedAndTheConnectionClosed) {
+    ServerProcess s;
+    const std::string body = R"({"name":"x"})";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"two lengths", "POST /v1/maps HTTP/1.1\r\nHost: x\r\nContent-Length: 12\r\nContent-Length: 5\r\n\r\n" + body},
+        {"length and chunked",
+         "POST /v1/maps HTTP/1.1\r\nHost: x\r\nContent-Length: 12\r\nTransfer-Encoding: chunked\r\n\r\n" + body},
+        {"signed length", "POST /v1/maps HTTP/1.1\r\nHost: x\r\nContent-Length: +12\r\n\r\n" + body},
+        {"a GET with a body", "GET /v1/maps HTTP/1.1\r\nHost: x\r\nContent-Length: 12\r\n\r\n" + body},
+        {"an unknown coding", "POST /v1/maps HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: gzip, chunked\r\n\r\n" + body},
+    };
+    for (const auto& [what, request] : cases) {
+        RawConnection c(s.port());
+        ASSERT_TRUE(c.send(request + raw_get("/v1/maps/999")));
+        const auto a = c.read_answer();
+        ASSERT_TRUE(a) << what;
+        EXPECT_TRUE(a->status == 400 || a->status == 411) << what << ": " << a->head;
+        EXPECT_EQ(a->header("Connection"), "close") << what;
+        EXPECT_FALSE(c.read_answer(1s)) << what << ": bytes after it were answered as a request";
+    }
+    EXPECT_EQ(map_count(s), 0);
+}
+
+TEST(Connections, PastTheConnectionCapClientsGetAQuick503) {
+    ServerProcess s({"--max-connections", "4"});
+    std::vector<std::unique_ptr<RawConnection>> held;
+    for (int i = 0; i < 4; ++i) {
+        held.push_back(std::make_unique<RawConnection>(s.port()));
+        ASSERT_TRUE(held.back()->send(raw_get("/health")));
+        ASSERT_TRUE(held.back()->read_answer());
+    }
+    RawConnection extra(s.port());
+    ASSERT_TRUE(extra.connected());
+    extra.send(raw_get("/health"));
+    const auto busy = extra.read_answer(3s);
+    ASSERT_TRUE(busy);
+    EXPECT_EQ(busy->status, 503);
+    EXPECT_EQ(busy->header("Retry-After"), "1");
+    EXPECT_EQ(json::parse(busy->body).at("error").at("code"), "server_busy");
+
+    held.pop_back();  // one closes: a new client is served again
+    std::this_thread::sleep_for(200ms);
+    RawConnection again(s.port());
+    ASSERT_TRUE(again.send(raw_get("/health")));
+    const auto ok = again.read_answer(3s);
+    ASSERT_TRUE(ok);
+    EXPECT_EQ(ok->status, 200);
+}
+
+// A client trickling its head a byte at a time was kept forever by a per-read timeout.
+TEST(Connections, ASlowHeadIsCutOffAtTheHeaderTimeout) {
+    ServerProcess s({"--header-timeout", "1"});
+    RawConnection c(s.port());
+    const std::string head = "GET /health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
+    const auto start = std::chrono::steady_clock::now();
+    bool cut = false;
+    for (std::size_t i = 0; i < 40 && !cut; ++i) {
+        if (!c.send(std::string(1, i < head.size() ? head[i] : 'a'))) cut = true;
+        else cut = c.closed_within(150ms);
+    }
+    EXPECT_TRUE(cut) << "the trickling client was still connected after 6 s";
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
+}
+
+TEST(Connections, KeepAliveEndsAfterTheRequestCap) {
+    ServerProcess s({"--keep-alive-requests", "3"});
+    RawConnection c(s.port());
+    ASSERT_TRUE(c.send(raw_get("/health") + raw_get("/health") + raw_get("/health") + raw_get("/health")));
+    for (int i = 0; i < 3; ++i) {
+        const auto a = c.read_answer();
+        ASSERT_TRUE(a);
+        EXPECT_EQ(a->status, 200);
+        if (i == 2) {
+            EXPECT_EQ(a->header("Connection"), "close");
+        }
+    }
+    EXPECT_TRUE(c.closed_within(3s));
+}
+
+// `curl -d` sends JSON as application/x-www-form-urlencoded; cpp-httplib parsed such bodies as
+// forms and refused them past 8 KiB.
+TEST(Connections, AFormEncodedJsonBodyOver8KiBIsAccepted) {
+    ServerProcess s;
+    const std::string body = R"({"name":"big form",)" + std::string(12000, ' ') + R"("description":"spaced"})";
+    const auto r = s.post_raw("/v1/maps", body, "application/x-www-form-urlencoded");
+    EXPECT_EQ(r.status, 201) << r.raw;
+    EXPECT_EQ(map_count(s), 1);
+}
+
+// cpp-httplib set SO_REUSEPORT, so a second server on the port started and the kernel split
+// requests between two databases.
+TEST(Connections, ASecondServerOnTheSamePortRefusesToStart) {
+    ServerProcess first;
+    const auto second = locus::testing::run_command({"/usr/bin/timeout", "10", LOCUS_SERVER_BIN, "--db", first.dir() + "/second.db", "--host",
+                                                     "127.0.0.1", "--port", std::to_string(first.port())});
+    EXPECT_NE(second.status, 0);
+    EXPECT_NE(second.err.find("cannot listen on 127.0.0.1:" + std::to_string(first.port())), std::string::npos)
+        << second.err;
+    EXPECT_NE(second.err.find("in use"), std::string::npos) << second.err;
+}
+
+TEST(Connections, ShutdownDoesNotWaitForIdleConnections) {
+    ServerProcess s({"--keep-alive-timeout", "60"});
+    std::vector<std::unique_ptr<RawConnection>> idle;
+    for (int i = 0; i < 8; ++i) {
+        idle.push_back(std::make_unique<RawConnection>(s.port()));
+        idle.back()->send(raw_get("/health"));
+        ASSERT_TRUE(idle.back()->read_answer());
+    }
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_EQ(s.stop(), 0);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 10s) << "shutdown waited for the keep-alive timeout";
+}

@@ -1,0 +1,82 @@
+#include "bench_load.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "command_registry.hpp"
+#include "localize_body.hpp"
+#include "survey_connect.hpp"
+#include "survey_format.hpp"
+#include "uji_csv.hpp"
+
+namespace locus::tools {
+
+using nlohmann::json;
+
+Target loopback_target(const std::string& url, const std::string& command) {
+    for (const char* prefix : {"http://127.0.0.1:", "http://localhost:", "http://[::1]:"}) {
+        const std::string p = prefix;
+        if (url.rfind(p, 0) != 0) continue;
+        Target t;
+        t.host_port = url.substr(7);
+        while (!t.host_port.empty() && t.host_port.back() == '/') t.host_port.pop_back();
+        t.host = p.substr(7, p.size() - 8);
+        if (t.host.front() == '[') t.host = t.host.substr(1, t.host.size() - 2);
+        try {
+            std::size_t used = 0;
+            t.port = std::stoi(url.substr(p.size()), &used);
+            if (p.size() + used != 7 + t.host_port.size() || t.port < 1 || t.port > 65535) throw std::invalid_argument("port");
+        } catch (const std::exception&) {
+            throw CommandError("cannot read the port of " + url);
+        }
+        return t;
+    }
+    throw CommandError(command + " only targets a loopback server (http://127.0.0.1:PORT)");
+}
+
+std::vector<std::string> localize_bodies(httplib::Client& http, std::int64_t radiomap, const std::string& scans_file,
+                                         const std::string& algorithm) {
+    auto r = http.Get("/v1/radiomaps/" + std::to_string(radiomap) + "/export");
+    if (!r) throw CommandError("no answer from the server (" + httplib::to_string(r.error()) + ")");
+    if (r->status != 200) throw CommandError("cannot export radio map " + std::to_string(radiomap) + ": " + r->body.substr(0, 300));
+    const json doc = json::parse(r->body);
+    std::set<std::string> known;
+    std::vector<Scan> scans;
+    for (const auto& rp : doc.at("rps")) {
+        Scan s;
+        for (const auto& m : rp.at("measurements")) {
+            s.push_back({m.value("type", "wifi"), m.at("bssid").get<std::string>(), m.at("mean").get<double>()});
+            known.insert(s.back().bssid);
+        }
+        if (scans_file.empty()) scans.push_back(std::move(s));
+    }
+    if (!scans_file.empty()) {
+        const std::string text = read_file(scans_file);
+        if (text.rfind("WAP", 0) == 0) {
+            const auto data = uji::parse(text);
+            for (const auto& row : data.rows) scans.push_back(uji::scan_of(data, row));
+        } else {
+            const auto file = survey::parse(text, survey::format_of(scans_file));
+            for (const auto& rp : file.rps) scans.insert(scans.end(), rp.scans.begin(), rp.scans.end());
+        }
+    }
+    std::vector<std::string> bodies;
+    for (const auto& s : scans)
+        if (std::any_of(s.begin(), s.end(), [&](const Reading& rd) { return known.count(rd.bssid) > 0; }))
+            bodies.push_back(localize_body({s}, algorithm));
+    if (bodies.empty()) throw CommandError("no scan shares an access point with radio map " + std::to_string(radiomap));
+    return bodies;
+}
+
+double percentile(std::vector<double>& v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const double pos = p * static_cast<double>(v.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(pos));
+    const auto hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+}  // namespace locus::tools
