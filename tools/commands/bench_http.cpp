@@ -73,8 +73,19 @@ double percentile(std::vector<double>& v, double p) {
 // so they are left out.
 std::vector<std::string> load_bodies(const Args& a, httplib::Client& http) {
     auto r = http.Get("/v1/radiomaps/" + std::to_string(a.radiomap) + "/export");
-    if (!r) throw CommandError("no answer from " + a.server.server);
-    if (r->status != 200) throw CommandError("cannot export radio map " + std::to_string(a.radiomap) + ": " + r->body.substr(0, 300));
+    if (!r)
+        throw CommandError("cannot connect to " + a.server.server + " (" + httplib::to_string(r.error()) +
+                           "); is locus-server running?");
+    if (r->status != 200) {
+        // The server's {"error": {"code", "message"}}: a 404 means there is no such radio map.
+        const json err = json::parse(r->body, nullptr, false);
+        std::string message = r->body.substr(0, 300);
+        if (err.is_object() && err.contains("error") && err["error"].is_object())
+            message = err["error"].value("message", message);
+        const std::string rm = "radio map " + std::to_string(a.radiomap);
+        if (r->status == 404) throw CommandError(rm + " does not exist on " + a.server.server + " (" + message + ")");
+        throw CommandError("cannot read " + rm + " (HTTP " + std::to_string(r->status) + "): " + message);
+    }
     const json doc = json::parse(r->body);
     std::set<std::string> known;
     std::vector<Scan> scans;
