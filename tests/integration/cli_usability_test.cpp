@@ -89,6 +89,11 @@ TEST(CliMessages, AServerThatIsDownIsNamed) {
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.err, "cannot connect to " + url + " (connection refused) after 2 attempts; is locus-server running?"))
         << r.err;
+
+    const auto b = run_command({kCli, "bench", "localize", "--server", url, "--radiomap", "1", "--retries", "2"});
+    EXPECT_EQ(b.status, 1);
+    EXPECT_TRUE(contains(b.err, "cannot connect to " + url + " (connection refused) after 2 attempts; is locus-server running?"))
+        << b.err;
 }
 
 TEST(CliMessages, BenchOnAMissingRadioMapSaysItDoesNotExist) {

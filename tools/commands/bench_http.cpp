@@ -73,9 +73,12 @@ double percentile(std::vector<double>& v, double p) {
 // so they are left out.
 std::vector<std::string> load_bodies(const Args& a, httplib::Client& http) {
     auto r = http.Get("/v1/radiomaps/" + std::to_string(a.radiomap) + "/export");
-    if (!r)
-        throw CommandError("cannot connect to " + a.server.server + " (" + httplib::to_string(r.error()) +
-                           "); is locus-server running?");
+    if (!r) {
+        // The REST client retries and names the reason: "cannot connect to URL (connection
+        // refused) after 6 attempts; is locus-server running?".
+        locus::api::Client(a.server.client_options()).get("/health");
+        throw CommandError("no answer from " + a.server.server + " (" + httplib::to_string(r.error()) + ")");
+    }
     if (r->status != 200) {
         // The server's {"error": {"code", "message"}}: a 404 means there is no such radio map.
         const json err = json::parse(r->body, nullptr, false);
