@@ -1,11 +1,14 @@
 #include "bench_load.hpp"
 
+#include <httplib.h>
+
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "command_registry.hpp"
+#include "locus/api/client.hpp"
 #include "localize_body.hpp"
 #include "survey_connect.hpp"
 #include "survey_format.hpp"
@@ -36,11 +39,26 @@ Target loopback_target(const std::string& url, const std::string& command) {
     throw CommandError(command + " only targets a loopback server (http://127.0.0.1:PORT)");
 }
 
-std::vector<std::string> localize_bodies(httplib::Client& http, std::int64_t radiomap, const std::string& scans_file,
+std::vector<std::string> localize_bodies(const ServerArgs& server, std::int64_t radiomap, const std::string& scans_file,
                                          const std::string& algorithm) {
+    httplib::Client http(server.client_options().base_url);
     auto r = http.Get("/v1/radiomaps/" + std::to_string(radiomap) + "/export");
-    if (!r) throw CommandError("no answer from the server (" + httplib::to_string(r.error()) + ")");
-    if (r->status != 200) throw CommandError("cannot export radio map " + std::to_string(radiomap) + ": " + r->body.substr(0, 300));
+    if (!r) {
+        // The REST client retries and names the reason: "cannot connect to URL (connection
+        // refused) after 6 attempts; is locus-server running?".
+        locus::api::Client(server.client_options()).get("/health");
+        throw CommandError("no answer from " + server.server + " (" + httplib::to_string(r.error()) + ")");
+    }
+    if (r->status != 200) {
+        // The server's {"error": {"code", "message"}}: a 404 means there is no such radio map.
+        const json err = json::parse(r->body, nullptr, false);
+        std::string message = r->body.substr(0, 300);
+        if (err.is_object() && err.contains("error") && err["error"].is_object())
+            message = err["error"].value("message", message);
+        const std::string rm = "radio map " + std::to_string(radiomap);
+        if (r->status == 404) throw CommandError(rm + " does not exist on " + server.server + " (" + message + ")");
+        throw CommandError("cannot read " + rm + " (HTTP " + std::to_string(r->status) + "): " + message);
+    }
     const json doc = json::parse(r->body);
     std::set<std::string> known;
     std::vector<Scan> scans;

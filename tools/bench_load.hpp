@@ -1,11 +1,11 @@
 #pragma once
 // What the load commands (`bench localize`, `bench connections`) share: the loopback-only
 // target, the localize bodies they replay, and the percentile they report.
-#include <httplib.h>
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "survey_connect.hpp"
 
 namespace locus::tools {
 
@@ -23,7 +23,7 @@ Target loopback_target(const std::string& url, const std::string& command);
 // (one per scan), or, with no file, each RP of the radio map queried with its own stored
 // means. Scans that share no AP with the radio map (another building's rows) would only
 // measure the 422 path, so they are left out.
-std::vector<std::string> localize_bodies(httplib::Client& http, std::int64_t radiomap, const std::string& scans_file,
+std::vector<std::string> localize_bodies(const ServerArgs& server, std::int64_t radiomap, const std::string& scans_file,
                                          const std::string& algorithm);
 
 // Linear interpolation between order statistics; sorts `v`.

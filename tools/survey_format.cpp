@@ -65,7 +65,11 @@ Reading reading(std::string type, std::string_view bssid, double rss) {
     if (r.bssid.size() > 64) throw Bad("'bssid' is longer than 64 characters");
     for (char c : r.bssid)
         if (static_cast<unsigned char>(c) < 0x20 || c == ',') throw Bad("'bssid' holds a control character or comma");
-    if (!valid_rss(rss)) throw Bad("'rss' = " + std::to_string(rss) + " dBm is outside [-120, 0]");
+    if (!valid_rss(rss)) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", rss);  // 100, not 100.000000
+        throw Bad(std::string("'rss' = ") + buf + " dBm is outside [-120, 0]");
+    }
     r.rss = rss;
     return r;
 }

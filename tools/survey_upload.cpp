@@ -1,5 +1,7 @@
 #include "survey_upload.hpp"
 
+#include "survey_connect.hpp"
+
 #include <unistd.h>
 
 #include <atomic>
@@ -116,7 +118,7 @@ UploadSummary upload_rps(const api::ClientOptions& client_options, const std::ve
             } catch (const std::exception& e) {
                 ++failed;
                 std::lock_guard lock(failures_mu);
-                summary.failures.push_back(job.source + ": RP '" + job.name + "': " + e.what());
+                summary.failures.push_back(job.source + ": RP '" + job.name + "': " + plain_numbers(e.what()));
             }
             ++done;
         }

@@ -22,7 +22,6 @@
 #include <mutex>
 #include <thread>
 
-#include <httplib.h>
 #include <nlohmann/json.hpp>
 
 #include "bench_connection.hpp"
@@ -78,8 +77,7 @@ struct SlowClient {
 void run(const Args& a) {
     const std::string base = a.server.client_options().base_url;
     const Target target = loopback_target(base, "bench connections");
-    httplib::Client http(base);
-    const auto bodies = localize_bodies(http, a.radiomap, "", a.algorithm);
+    const auto bodies = localize_bodies(a.server, a.radiomap, "", a.algorithm);
     const std::string path = "/v1/radiomaps/" + std::to_string(a.radiomap) + "/localize";
     std::vector<std::string> requests;
     for (const auto& b : bodies) requests.push_back(http_request("POST", path, target.host_port, b));

@@ -9,10 +9,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <iostream>
 #include <latch>
-#include <set>
 #include <thread>
 
 #include <httplib.h>
@@ -21,10 +19,7 @@
 #include "bench_connection.hpp"
 #include "bench_load.hpp"
 #include "command_registry.hpp"
-#include "localize_body.hpp"
 #include "survey_connect.hpp"
-#include "survey_format.hpp"
-#include "uji_csv.hpp"
 
 namespace {
 
@@ -115,7 +110,7 @@ void run(Args a) {
     a.server.server = a.server.client_options().base_url;
     const Target target = loopback_target(a.server.server, "bench localize");
     httplib::Client http(a.server.server);
-    const auto bodies = localize_bodies(http, a.radiomap, a.scans_file, a.algorithm);
+    const auto bodies = localize_bodies(a.server, a.radiomap, a.scans_file, a.algorithm);
     const std::string path = "/v1/radiomaps/" + std::to_string(a.radiomap) + "/localize";
     {
         auto r = http.Post(path, bodies.front(), "application/json");

@@ -58,6 +58,11 @@ void run(const Args& a) {
     } else {
         std::ofstream out(a.output, std::ios::binary);
         if (!(out << text)) throw CommandError("cannot write '" + a.output + "'");
+        // stdout stays free for the data; the summary of what went into the file is on stderr.
+        std::size_t measurements = 0;
+        for (const auto& rp : doc.at("rps")) measurements += rp.at("measurements").size();
+        std::cerr << "wrote radio map " << a.radiomap << ": " << doc.at("rps").size() << " RPs, " << measurements
+                  << " measurements to " << a.output << "\n";
     }
 }
 

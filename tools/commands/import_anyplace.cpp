@@ -82,6 +82,7 @@ void run(const Args& a) {
     const auto building = client.ensure_building(map.id, building_name, origin);
 
     std::map<std::string, std::int64_t> radiomap_of;
+    json radiomap_list = json::array();
     std::vector<RpJob> jobs;
     for (const auto& f : files) {
         // (floor, RP name) -> job; timestamp -> scan index within the job.
@@ -100,6 +101,8 @@ void run(const Args& a) {
                 fl.height = height + 1.0;
                 const auto floor = client.ensure_floor(fl);
                 radiomap_of[line.floor] = client.ensure_radiomap(floor.id, "anyplace", "RPs from Anyplace rss-log").id;
+                radiomap_list.push_back({{"id", radiomap_of[line.floor]}, {"name", "anyplace"}, {"building", building.name},
+                                         {"building_id", building.id}, {"floor", fl.name}, {"floor_id", floor.id}});
             }
             char name[64];
             std::snprintf(name, sizeof name, "ap_%.7f_%.7f", line.lat, line.lon);
@@ -130,10 +133,12 @@ void run(const Args& a) {
     out["map_id"] = map.id;
     out["building_id"] = building.id;
     out["floors"] = radiomap_of.size();
+    out["radiomap_list"] = radiomap_list;
     out["files"] = paths;
     out["malformed_lines"] = malformed;
     out["origin"] = {{"lat", lat0}, {"lon", lon0}};
     std::cout << out.dump() << "\n";
+    print_radiomaps(radiomap_list);
     for (const auto& fl : summary.failures) std::cerr << "locus: " << fl << "\n";
     if (summary.failed > 0) throw CommandError(std::to_string(summary.failed) + " RPs failed to upload; re-run to retry them");
 }
@@ -147,7 +152,7 @@ LOCUS_COMMAND("import-anyplace", [](CLI::App& app) {
     args->server.add_to(*cmd);
     cmd->add_option("--map", args->map, "map name (created if missing)")->capture_default_str();
     cmd->add_option("--building", args->building, "building name (default: the folder's name)");
-    cmd->add_flag("!--no-progress", args->progress, "no progress bar even on a terminal");
+    locus::tools::add_no_progress_flag(*cmd, args->progress);
     cmd->add_option("DIR", args->dir, "folder holding rss-log files (searched recursively), or one rss-log file")
         ->required()
         ->check(CLI::ExistingPath);

@@ -99,7 +99,7 @@ LOCUS_COMMAND("import-find3", [](CLI::App& app) {
     cmd->add_option("--room-size", args->room_size, "side of each label's square room, metres")
         ->capture_default_str()
         ->check(CLI::Range(0.5, 1000.0));
-    cmd->add_flag("!--no-progress", args->progress, "no progress bar even on a terminal");
+    locus::tools::add_no_progress_flag(*cmd, args->progress);
     cmd->add_option("FILE", args->file, "FIND3 .jsons export")->required()->check(CLI::ExistingFile);
     cmd->callback([args] { run(*args); });
 });

@@ -1,6 +1,6 @@
 // `locus import uji --server URL --map NAME FILE`: the UJIIndoorLoc training CSV into a map
 // through the public API. Buildings "Building <B>", floors "Floor <F>" (level F), one radio
-// map "UJIIndoorLoc" per floor, one RP per distinct (building, floor, longitude, latitude).
+// map "UJIIndoorLoc building <B> floor <F>" per floor, one RP per distinct (building, floor, longitude, latitude).
 //
 // Coordinates: the CSV's projected metres minus a per-building origin (the smallest
 // LONGITUDE and LATITUDE seen in that building), so every floor of a building shares one
@@ -67,6 +67,7 @@ void run(const Args& a) {
 
     std::map<int, api::BuildingInfo> buildings;
     std::map<std::pair<int, int>, std::int64_t> radiomap_of;  // (building, floor) -> radio map id
+    nlohmann::json radiomap_list = nlohmann::json::array();
     nlohmann::json origins = nlohmann::json::object();
     for (const auto& g : groups) {
         const Extent& e = extent.at(g.building);
@@ -87,7 +88,11 @@ void run(const Args& a) {
             f.width = e.xmax - e.xmin + 1.0;
             f.height = e.ymax - e.ymin + 1.0;
             const auto floor = client.ensure_floor(f);
-            radiomap_of[key] = client.ensure_radiomap(floor.id, "UJIIndoorLoc", "training RPs: mean/variance/count per WAP").id;
+            // Thirteen radio maps: each name says which building and floor it covers.
+            const std::string name = "UJIIndoorLoc building " + std::to_string(g.building) + " floor " + std::to_string(g.floor);
+            radiomap_of[key] = client.ensure_radiomap(floor.id, name, "training RPs: mean/variance/count per WAP").id;
+            radiomap_list.push_back({{"id", radiomap_of[key]}, {"name", name}, {"building", buildings[g.building].name},
+                                     {"building_id", f.building_id}, {"floor", f.name}, {"floor_id", floor.id}});
         }
     }
 
@@ -122,10 +127,12 @@ void run(const Args& a) {
     out["map_id"] = map.id;
     out["buildings"] = buildings.size();
     out["radiomaps"] = radiomap_of.size();
+    out["radiomap_list"] = radiomap_list;
     out["rows"] = data.rows.size();
     out["upload_id"] = upload_id;
     out["origins"] = origins;
     std::cout << out.dump() << "\n";
+    print_radiomaps(radiomap_list);
     for (const auto& f : summary.failures) std::cerr << "locus: " << f << "\n";
     if (summary.failed > 0) throw CommandError(std::to_string(summary.failed) + " RPs failed to upload; re-run to retry them");
     if (summary.interrupted) throw CommandError("stopped after " + std::to_string(*a.stop_after) + " RPs (--stop-after)", 3);
@@ -141,7 +148,7 @@ LOCUS_COMMAND("import-uji", [](CLI::App& app) {
     cmd->add_option("--map", args->map, "map name (created if missing)")->capture_default_str();
     cmd->add_option("--concurrency", args->concurrency, "parallel connections")->capture_default_str()->check(CLI::Range(1, 64));
     cmd->add_option("--stop-after", args->stop_after, "upload only the first N RPs, then stop (to test resuming)")->group("");
-    cmd->add_flag("!--no-progress", args->progress, "no progress bar even on a terminal");
+    locus::tools::add_no_progress_flag(*cmd, args->progress);
     cmd->add_option("FILE", args->file, "trainingData.csv")->required()->check(CLI::ExistingFile);
     cmd->callback([args] { run(*args); });
 });

@@ -111,6 +111,10 @@ void run(const Args& a) {
             ++no_match;  // a scan that matches nothing gives no fix; PDR carries on
         }
     }
+    if (fixes.empty() && no_match > 0)
+        throw tools::CommandError("no scan of " + a.file + " matched any AP of radio map " + std::to_string(a.radiomap) +
+                                  " (" + std::to_string(no_match) + " scans, every one answered no_match): is it the walk's "
+                                  "radio map? --upload-survey puts the walk's survey scans into it first");
     const auto tracks = sim::run_methods(steps, fixes, walk.start, walk.map, cfg);
 
     json out = {{"file", a.file}, {"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"steps", steps.size()},

@@ -167,7 +167,7 @@ LOCUS_COMMAND("survey", [](CLI::App& app) {
     u->add_flag("--strict", ua->strict, "refuse a whole file when any line of it is malformed");
     u->add_option("--concurrency", ua->concurrency, "parallel connections")->capture_default_str()->check(CLI::Range(1, 64));
     u->add_option("--stop-after", ua->stop_after, "upload only the first N RPs, then stop (to test resuming)")->group("");
-    u->add_flag("!--no-progress", ua->progress, "no progress bar even on a terminal");
+    locus::tools::add_no_progress_flag(*u, ua->progress);
     u->add_option("FILE", ua->files, "survey files")->required()->check(CLI::ExistingFile);
     u->callback([ua] { upload(*ua); });
 });

@@ -2,7 +2,15 @@
 
 #include <httplib.h>
 
+#include <netdb.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <random>
 #include <thread>
 
@@ -60,6 +68,49 @@ Info find_or_create(const std::string& name, List list, Create create) {
     }
 }
 
+// Why a connection to base_url fails ("connection refused", "no route to host", ...): httplib
+// only says "Connection", so one plain connect() is tried again for its errno.
+std::string connect_failure(const std::string& base_url) {
+    std::string rest = base_url;
+    std::string port = "80";
+    if (const auto p = rest.find("://"); p != std::string::npos) {
+        if (rest.compare(0, p, "https") == 0) port = "443";
+        rest = rest.substr(p + 3);
+    }
+    rest = rest.substr(0, rest.find('/'));
+    std::string host = rest;
+    if (!rest.empty() && rest[0] == '[') {  // [v6]:port
+        const auto close = rest.find(']');
+        host = rest.substr(1, close == std::string::npos ? std::string::npos : close - 1);
+        if (close != std::string::npos && close + 1 < rest.size() && rest[close + 1] == ':') port = rest.substr(close + 2);
+    } else if (const auto colon = rest.rfind(':'); colon != std::string::npos) {
+        host = rest.substr(0, colon);
+        port = rest.substr(colon + 1);
+    }
+    addrinfo hints{};
+    hints.ai_socktype = SOCK_STREAM;
+    addrinfo* found = nullptr;
+    if (const int rc = getaddrinfo(host.c_str(), port.c_str(), &hints, &found); rc != 0) return gai_strerror(rc);
+    std::string reason = "cannot connect";
+    for (addrinfo* ai = found; ai != nullptr; ai = ai->ai_next) {
+        const int fd = ::socket(ai->ai_family, ai->ai_socktype, ai->ai_protocol);
+        if (fd < 0) continue;
+        timeval tv{2, 0};  // connect() gives up after the send timeout on Linux
+        ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+        const int rc = ::connect(fd, ai->ai_addr, ai->ai_addrlen);
+        const int err = errno;
+        ::close(fd);
+        if (rc == 0) {
+            reason = "it accepted a connection just now";
+            break;
+        }
+        reason = err == EINPROGRESS || err == EAGAIN ? "connection timed out" : std::strerror(err);
+    }
+    freeaddrinfo(found);
+    if (!reason.empty()) reason[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(reason[0])));
+    return reason;
+}
+
 }  // namespace
 
 Client::Client(ClientOptions options) : options_(std::move(options)), conn_(std::make_unique<Connection>(options_.base_url)) {
@@ -101,8 +152,14 @@ json Client::send(const char* method, const std::string& path, const std::string
             return j;
         }
         if (!is_retryable(status) || attempt >= options_.retry.max_attempts) {
+            const std::string attempts = std::to_string(attempt) + (attempt == 1 ? " attempt" : " attempts");
+            if (!r && (r.error() == httplib::Error::Connection || r.error() == httplib::Error::ConnectionTimeout))
+                throw NetworkError("cannot connect to " + options_.base_url + " (" +
+                                   (r.error() == httplib::Error::ConnectionTimeout ? std::string("connection timed out")
+                                                                                   : connect_failure(options_.base_url)) +
+                                   ") after " + attempts + "; is locus-server running?");
             if (!r) throw NetworkError(verb + " " + options_.base_url + path + ": " + httplib::to_string(r.error()) +
-                                       " (after " + std::to_string(attempt) + " attempts)");
+                                       " (after " + attempts + ")");
             throw error_from(status, r->body);
         }
         // A Retry-After in seconds from a 429/503 is honoured when it asks for longer.
