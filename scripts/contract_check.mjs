@@ -9,14 +9,19 @@
 //   - an unexpected status, an answer whose status the operation does not document;
 //   - an operation of the spec that got no request, or no successful one;
 //   - a request Prism answered itself instead of forwarding it.
+// A POST or PATCH without a Content-Length cannot pass through Prism (it adds one), so those
+// (411) are sent straight to the server, one per body-taking operation, and their answers
+// are checked here against the operation's documented 411 (status, error code, shape).
 // Node 18+ (built-in fetch), no dependencies.
 //
-// Environment: CONTRACT_PROXY (Prism's URL), CONTRACT_SPEC_JSON (the spec bundled as JSON),
+// Environment: CONTRACT_PROXY (Prism's URL), CONTRACT_SERVER (the server's URL), CONTRACT_SPEC_JSON (the spec bundled as JSON),
 // CONTRACT_API_KEY (the server's key), CONTRACT_SERVER_LOG (the server's access log),
 // CONTRACT_SKIP (operationIds not to exercise, comma-separated; listed in the summary).
 import { readFileSync } from 'node:fs';
+import { connect } from 'node:net';
 
 const proxy = process.env.CONTRACT_PROXY;
+const server = new URL(process.env.CONTRACT_SERVER);
 const apiKey = process.env.CONTRACT_API_KEY;
 const spec = JSON.parse(readFileSync(process.env.CONTRACT_SPEC_JSON, 'utf8'));
 const serverLog = process.env.CONTRACT_SERVER_LOG;
@@ -34,6 +39,8 @@ for (const [template, item] of Object.entries(spec.paths)) {
       template,
       regex,
       statuses: Object.keys(item[method].responses || {}),
+      responses: item[method].responses || {},
+      hasBody: !!item[method].requestBody,
       seen: [],
     });
   }
@@ -46,6 +53,7 @@ for (const id of skip)
 
 const violations = [];
 let sent = 0;
+let direct = 0;
 let skipped = 0;
 
 function operationOf(method, path) {
@@ -312,8 +320,68 @@ async function run() {
   await del(`/v1/maps/${map}`, { expect: 404 });
 }
 
+// Follows local $refs of the bundled spec.
+function deref(node) {
+  for (let i = 0; node && node.$ref && i < 20; i++)
+    node = node.$ref.slice(2).split('/').reduce((o, k) => o?.[k.replace(/~1/g, '/').replace(/~0/g, '~')], spec);
+  return node;
+}
+
+// One HTTP/1.1 request without a Content-Length or body, straight to the server.
+function rawRequest(method, path) {
+  return new Promise((resolve) => {
+    let data = '';
+    const socket = connect(Number(server.port), server.hostname, () =>
+      socket.write(`${method} ${path} HTTP/1.1\r\nHost: ${server.host}\r\nAuthorization: Bearer ${apiKey}\r\nConnection: close\r\n\r\n`),
+    );
+    socket.setTimeout(10000, () => socket.destroy(new Error('timed out')));
+    socket.on('data', (d) => (data += d));
+    socket.on('error', (e) => resolve({ error: e.message }));
+    socket.on('close', () => {
+      const [head, ...rest] = data.split('\r\n\r\n');
+      const status = Number((head.match(/^HTTP\/1\.[01] (\d{3})/) || [])[1] || 0);
+      const contentType = (head.match(/^content-type:\s*(.*)$/im) || [])[1] || '';
+      resolve({ status, contentType, body: rest.join('\r\n\r\n') });
+    });
+  });
+}
+
+async function lengthRequired() {
+  for (const op of operations) {
+    if (!op.hasBody || skip.has(op.id)) continue;
+    const path = op.template.replace(/\{[^}]+\}/g, '1');
+    const what = `${op.method} ${path} without a Content-Length (straight to the server)`;
+    direct++;
+    const r = await rawRequest(op.method, path);
+    if (r.error) {
+      violations.push(`${what}: no answer (${r.error})`);
+      continue;
+    }
+    if (r.status !== 411) violations.push(`${what}: expected 411, got ${r.status} ${r.body.slice(0, 200)}`);
+    const documented = deref(op.responses[String(r.status)]);
+    if (!documented) {
+      violations.push(`${what} -> ${r.status}: ${op.id} does not document status ${r.status}`);
+      continue;
+    }
+    const schema = deref(documented.content?.['application/json']?.schema);
+    const codes = deref(deref(schema?.properties?.error)?.properties?.code)?.enum;
+    let body = null;
+    try {
+      body = JSON.parse(r.body);
+    } catch {
+      body = null;
+    }
+    if (!r.contentType.startsWith('application/json')) violations.push(`${what} -> ${r.status}: content type ${r.contentType}`);
+    if (!body || typeof body.error?.code !== 'string' || typeof body.error?.message !== 'string')
+      violations.push(`${what} -> ${r.status}: not an error body: ${r.body.slice(0, 200)}`);
+    else if (codes && !codes.includes(body.error.code))
+      violations.push(`${what} -> ${r.status}: error code ${body.error.code} is not one of ${codes.join(', ')}`);
+  }
+}
+
 try {
   await run();
+  await lengthRequired();
 } catch (e) {
   violations.push(e.message);
 }
@@ -331,13 +399,15 @@ for (const op of operations) {
 if (serverLog) {
   await new Promise((r) => setTimeout(r, 300));
   const served = readFileSync(serverLog, 'utf8').split('\n').filter((l) => l.includes('"method"')).length;
-  if (served !== sent) violations.push(`the server logged ${served} requests of the ${sent} sent through Prism`);
+  if (served !== sent + direct)
+    violations.push(`the server logged ${served} requests of the ${sent} sent through Prism and ${direct} sent to it directly`);
 }
 
 for (const v of violations) console.log(`violation: ${v}`);
 const covered = operations.length - skippedOps.length;
 console.log(
-  `contract: ${sent} requests, ${violations.length} violations (${covered} of ${operations.length} operations exercised` +
+  `contract: ${sent + direct} requests, ${violations.length} violations (${sent} through Prism, ${direct} straight to the server; ` +
+    `${covered} of ${operations.length} operations exercised` +
     (skippedOps.length ? `; skipped by CONTRACT_SKIP: ${skippedOps.map((op) => op.id).join(', ')}, ${skipped} requests not sent` : '') +
     ')',
 );

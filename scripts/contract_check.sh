@@ -78,7 +78,7 @@ PRISM_PID=$!
 wait_for "$TMP/prism.log" 'Prism is listening' "$PRISM_PID" Prism
 
 set +e
-CONTRACT_PROXY="http://127.0.0.1:$PRISM_PORT" CONTRACT_SPEC_JSON="$TMP/openapi.json" \
+CONTRACT_PROXY="http://127.0.0.1:$PRISM_PORT" CONTRACT_SERVER="http://127.0.0.1:$SERVER_PORT" CONTRACT_SPEC_JSON="$TMP/openapi.json" \
     CONTRACT_API_KEY="$API_KEY" CONTRACT_SERVER_LOG="$TMP/server.log" NODE_NO_WARNINGS=1 \
     timeout "$RUN_SECONDS" node "$ROOT/scripts/contract_check.mjs"
 status=$?
