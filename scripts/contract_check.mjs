@@ -250,6 +250,7 @@ async function run() {
   await post(`/v1/rps/${rp1}/scans`, { scans: [] }, { expect: 422, invalid: true });
   await post(`/v1/rps/${rp1}/scans`, { scans: [scan([1, -130])] }, { expect: 422, invalid: true });
   await post(`/v1/rps/${rp1}/scans`, { scans: [[{ bssid: ap(1), rss: -40, ssid: 'x' }]] }, { expect: 422, invalid: true });
+  await post(`/v1/rps/${rp1}/scans`, { scans: [[{ bssid: '   ', rss: -40 }]] }, { expect: 422, invalid: true });
   await post(`/v1/rps/${rp1}/scans`, { measurements: [{ bssid: ap(1), mean: -60, variance: 4000, count: 2 }] }, { expect: 422, invalid: true });
   await post(`/v1/rps/${rp1}/scans`, { measurements: [{ bssid: ap(1), mean: -60, variance: 1, count: 0 }] }, { expect: 422, invalid: true });
   await post(`/v1/rps/${UNKNOWN}/scans`, { scans: [scan([1, -40])] }, { expect: 404 });
