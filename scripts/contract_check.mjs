@@ -396,7 +396,8 @@ for (const op of operations) {
     violations.push(`${op.id} (${op.method} ${op.template}): no successful answer (got ${[...new Set(op.seen)].join(', ')})`);
 }
 
-// Each request must have reached the server (not been answered by Prism on its own).
+// Each request must have reached the server (not been answered by Prism on its own): the
+// server writes one JSON line with a "method" per request (its other lines are events).
 if (serverLog) {
   await new Promise((r) => setTimeout(r, 300));
   const served = readFileSync(serverLog, 'utf8').split('\n').filter((l) => l.includes('"method"')).length;

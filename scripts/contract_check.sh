@@ -68,8 +68,6 @@ SERVER_PID=$!
 wait_for "$TMP/server.log" '"event":"listening"' "$SERVER_PID" locus-server
 SERVER_PORT=$(sed -n 's/.*"event":"listening".*"port":\([0-9]*\).*/\1/p' "$TMP/server.log" | head -n1)
 [ -n "$SERVER_PORT" ] || die "cannot read the server's port from its log"
-# From here on the server log holds only the access log (one JSON line per request).
-: >"$TMP/server.log"
 
 PRISM_PORT=$(node -e 'const s=require("net").createServer();s.listen(0,"127.0.0.1",()=>{console.log(s.address().port);s.close()})')
 "$PRISM" proxy "$SPEC" "http://127.0.0.1:$SERVER_PORT" --host 127.0.0.1 --port "$PRISM_PORT" \
