@@ -1,0 +1,416 @@
+// Traffic for the contract check (scripts/contract_check.sh starts the server and Prism and
+// runs this). Every request goes through Prism's validating proxy, which forwards it to the
+// real locus-server and reports in the `sl-violations` header where the request or the
+// answer departs from schema/openapi.yaml. A violation is any of:
+//   - Prism found the answer off the spec (undocumented status, body or header off its schema);
+//   - Prism found a request off the spec that was meant to be valid;
+//   - a request meant to be invalid (the server refuses it) that the spec accepts: the spec
+//     is looser than the server there;
+//   - an unexpected status, an answer whose status the operation does not document;
+//   - an operation of the spec that got no request, or no successful one;
+//   - a request Prism answered itself instead of forwarding it.
+// A POST or PATCH without a Content-Length cannot pass through Prism (it adds one), so those
+// (411) are sent straight to the server, one per body-taking operation, and their answers
+// are checked here against the operation's documented 411 (status, error code, shape).
+// Node 18+ (built-in fetch), no dependencies.
+//
+// Environment: CONTRACT_PROXY (Prism's URL), CONTRACT_SERVER (the server's URL), CONTRACT_SPEC_JSON (the spec bundled as JSON),
+// CONTRACT_API_KEY (the server's key), CONTRACT_SERVER_LOG (the server's access log),
+// CONTRACT_SKIP (operationIds not to exercise, comma-separated; listed in the summary).
+import { readFileSync } from 'node:fs';
+import { connect } from 'node:net';
+
+const proxy = process.env.CONTRACT_PROXY;
+const server = new URL(process.env.CONTRACT_SERVER);
+const apiKey = process.env.CONTRACT_API_KEY;
+const spec = JSON.parse(readFileSync(process.env.CONTRACT_SPEC_JSON, 'utf8'));
+const serverLog = process.env.CONTRACT_SERVER_LOG;
+const skip = new Set((process.env.CONTRACT_SKIP || '').split(',').map((s) => s.trim()).filter(Boolean));
+
+// The spec's operations, each with a regex for its path and the statuses it documents.
+const operations = [];
+for (const [template, item] of Object.entries(spec.paths)) {
+  const regex = new RegExp('^' + template.replace(/\{[^}]+\}/g, '[^/]+') + '$');
+  for (const method of ['get', 'put', 'post', 'patch', 'delete', 'head', 'options']) {
+    if (!item[method]) continue;
+    operations.push({
+      id: item[method].operationId || `${method.toUpperCase()} ${template}`,
+      method: method.toUpperCase(),
+      template,
+      regex,
+      statuses: Object.keys(item[method].responses || {}),
+      responses: item[method].responses || {},
+      hasBody: !!item[method].requestBody,
+      seen: [],
+    });
+  }
+}
+for (const id of skip)
+  if (!operations.some((op) => op.id === id)) {
+    console.error(`contract: CONTRACT_SKIP names no operation of the spec: ${id}`);
+    process.exit(2);
+  }
+
+const violations = [];
+let sent = 0;
+let direct = 0;
+let skipped = 0;
+
+function operationOf(method, path) {
+  const bare = path.split('?')[0];
+  return operations.find((op) => op.method === method && op.regex.test(bare));
+}
+
+// Sends one request through Prism and checks it. `invalid`: the request breaks the spec on
+// purpose (the server must refuse it, and Prism must flag it). Writes carry the key unless
+// `auth` is false; reads and localize carry none unless `auth` is true.
+async function call(method, path, { body, raw, contentType, auth, headers = {}, expect, invalid = false } = {}) {
+  const op = operationOf(method, path);
+  const what = `${method} ${path}${invalid ? ' (invalid on purpose)' : ''}`;
+  if (op && skip.has(op.id)) {
+    skipped++;
+    return { status: 0, json: null };
+  }
+  const h = { ...headers };
+  const isWrite = method !== 'GET' && !path.split('?')[0].endsWith('/localize');
+  if (auth === true || (auth === undefined && isWrite)) h.authorization = `Bearer ${apiKey}`;
+  let payload;
+  if (raw !== undefined) payload = raw;
+  else if (body !== undefined) payload = JSON.stringify(body);
+  if (payload !== undefined) h['content-type'] = contentType || 'application/json';
+
+  sent++;
+  let res;
+  let text;
+  try {
+    res = await fetch(proxy + path, { method, headers: h, body: payload, signal: AbortSignal.timeout(20000) });
+    text = await res.text();
+  } catch (e) {
+    violations.push(`${what}: no answer (${e.message})`);
+    return { status: 0, json: null };
+  }
+  let json = null;
+  try {
+    json = text ? JSON.parse(text) : null;
+  } catch {
+    json = null;
+  }
+
+  let found = [];
+  const header = res.headers.get('sl-violations');
+  if (header) {
+    try {
+      found = JSON.parse(header);
+    } catch {
+      found = [{ location: ['response'], message: header.slice(0, 300) }];
+    }
+  }
+  const where = (v) => (v.location || []).join('.');
+  for (const v of found) {
+    const side = (v.location || [])[0];
+    if (side === 'request' && invalid) continue;
+    violations.push(`${what} -> ${res.status}: ${v.severity || ''} ${where(v)}: ${v.message}`);
+  }
+  if (invalid && !found.some((v) => (v.location || [])[0] === 'request'))
+    violations.push(`${what} -> ${res.status}: the spec accepts this request, the server refuses it`);
+  if (expect !== undefined && res.status !== expect)
+    violations.push(`${what}: expected ${expect}, got ${res.status} ${text.slice(0, 200)}`);
+  if (!op) violations.push(`${what}: no operation of the spec matches`);
+  else {
+    op.seen.push(res.status);
+    if (!op.statuses.includes(String(res.status)))
+      violations.push(`${what} -> ${res.status}: ${op.id} does not document status ${res.status}`);
+  }
+  if ((res.headers.get('content-type') || '').includes('problem+json'))
+    violations.push(`${what} -> ${res.status}: Prism answered itself: ${text.slice(0, 200)}`);
+  return { status: res.status, json, headers: res.headers };
+}
+
+const post = (path, body, opts = {}) => call('POST', path, { body, ...opts });
+const patch = (path, body, opts = {}) => call('PATCH', path, { body, ...opts });
+const get = (path, opts = {}) => call('GET', path, opts);
+const del = (path, opts = {}) => call('DELETE', path, opts);
+const idOf = (r, what) => {
+  if (!r.json || typeof r.json.id !== 'number') throw new Error(`contract: could not create ${what}; stopping`);
+  return r.json.id;
+};
+
+const UNKNOWN = 999999;
+const ap = (n) => `00:1a:2b:00:00:${String(n).padStart(2, '0')}`;
+const scan = (...pairs) => pairs.map(([n, rss]) => ({ bssid: ap(n), rss }));
+
+async function run() {
+  // Probes
+  await get('/health', { expect: 200 });
+  await get('/ready', { expect: 200 });
+
+  // Maps
+  const map = idOf(await post('/v1/maps', { name: 'Contract campus', description: 'made by the contract check' }, { expect: 201 }), 'a map');
+  const other = idOf(await post('/v1/maps', { name: 'Second campus' }, { expect: 201 }), 'a map');
+  await post('/v1/maps', { name: 'Contract campus' }, { expect: 409 });
+  await post('/v1/maps', { name: 'No key' }, { auth: false, expect: 401, invalid: true });
+  await post('/v1/maps', { name: 'Wrong key' }, { auth: false, headers: { authorization: 'Bearer wrong' }, expect: 401 });
+  await post('/v1/maps', { nmae: 'typo' }, { expect: 422, invalid: true });
+  await post('/v1/maps', { name: '' }, { expect: 422, invalid: true });
+  await post('/v1/maps', { name: 'x', description: null }, { expect: 422, invalid: true });
+  await post('/v1/maps', undefined, { raw: '{"name": ', contentType: 'text/plain', expect: 400, invalid: true });
+  await post('/v1/maps', undefined, { raw: '[1, 2]', contentType: 'text/plain', expect: 400, invalid: true });
+  await get('/v1/maps', { expect: 200 });
+  await get('/v1/maps?limit=1&offset=1', { expect: 200 });
+  await get('/v1/maps?limit=0', { expect: 400, invalid: true });
+  await get('/v1/maps?offset=-1', { expect: 400, invalid: true });
+  await get(`/v1/maps/${map}`, { expect: 200 });
+  await get(`/v1/maps/${UNKNOWN}`, { expect: 404 });
+  await patch(`/v1/maps/${map}`, { description: 'patched' }, { expect: 200 });
+  await patch(`/v1/maps/${map}`, {}, { expect: 200 });
+  await patch(`/v1/maps/${map}`, { description: null }, { expect: 200 });
+  await patch(`/v1/maps/${map}`, { name: 'Second campus' }, { expect: 409 });
+  await patch(`/v1/maps/${map}`, { name: null }, { expect: 422, invalid: true });
+  await patch(`/v1/maps/${map}`, { colour: 'red' }, { expect: 422, invalid: true });
+  await patch(`/v1/maps/${UNKNOWN}`, { description: 'x' }, { expect: 404 });
+  await patch(`/v1/maps/${map}`, { description: 'x' }, { auth: false, expect: 401, invalid: true });
+
+  // Buildings
+  const building = idOf(await post(`/v1/maps/${map}/buildings`, { name: 'Library' }, { expect: 201 }), 'a building');
+  await post(`/v1/maps/${map}/buildings`, { name: 'Library' }, { expect: 409 });
+  await post(`/v1/maps/${UNKNOWN}/buildings`, { name: 'Nowhere' }, { expect: 404 });
+  await post(`/v1/maps/${map}/buildings`, { name: 'L', floors: 2 }, { expect: 422, invalid: true });
+  await get(`/v1/maps/${map}/buildings`, { expect: 200 });
+  await get(`/v1/maps/${UNKNOWN}/buildings`, { expect: 404 });
+  await get(`/v1/buildings/${building}`, { expect: 200 });
+  await get(`/v1/buildings/${UNKNOWN}`, { expect: 404 });
+  await patch(`/v1/buildings/${building}`, { description: 'the old library' }, { expect: 200 });
+  await patch(`/v1/buildings/${building}`, { name: 42 }, { expect: 422, invalid: true });
+
+  // Floors
+  const floor = idOf(await post(`/v1/buildings/${building}/floors`, { name: 'Ground floor', level: 0, width: 30, height: 15, north_offset_deg: 12.5 }, { expect: 201 }), 'a floor');
+  const floor2 = idOf(await post(`/v1/buildings/${building}/floors`, { name: 'Basement', level: -1, width: 30, height: 15 }, { expect: 201 }), 'a floor');
+  await post(`/v1/buildings/${building}/floors`, { name: 'Flat', level: 1, width: 0, height: 15 }, { expect: 422, invalid: true });
+  await post(`/v1/buildings/${building}/floors`, { name: 'Half', level: 1.5, width: 3, height: 15 }, { expect: 422, invalid: true });
+  await post(`/v1/buildings/${building}/floors`, { name: 'No size', level: 1 }, { expect: 422, invalid: true });
+  await post(`/v1/buildings/${UNKNOWN}/floors`, { name: 'Nowhere', level: 0, width: 1, height: 1 }, { expect: 404 });
+  await get(`/v1/buildings/${building}/floors?limit=1`, { expect: 200 });
+  await get(`/v1/buildings/${UNKNOWN}/floors`, { expect: 404 });
+  await get(`/v1/floors/${floor}`, { expect: 200 });
+  await patch(`/v1/floors/${floor}`, { north_offset_deg: 10 }, { expect: 200 });
+  await patch(`/v1/floors/${floor}`, { north_offset_deg: null }, { expect: 200 });
+  await patch(`/v1/floors/${floor}`, { level: 2000 }, { expect: 422, invalid: true });
+  await patch(`/v1/floors/${floor}`, { name: 'Basement' }, { expect: 409 });
+
+  // Rooms
+  const room = idOf(await post(`/v1/floors/${floor}/rooms`, { name: 'Lobby', rects: [{ xmin: 0, ymin: 0, xmax: 15, ymax: 15 }] }, { expect: 201 }), 'a room');
+  await post(`/v1/floors/${floor}/rooms`, { name: 'Nothing', rects: [] }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/rooms`, { name: 'Extra', rects: [{ xmin: 0, ymin: 0, xmax: 1, ymax: 1, z: 0 }] }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/rooms`, { name: 'Far', rects: [{ xmin: 0, ymin: 0, xmax: 2e7, ymax: 1 }] }, { expect: 422, invalid: true });
+  await get(`/v1/floors/${floor}/rooms`, { expect: 200 });
+  await get(`/v1/floors/${UNKNOWN}/rooms`, { expect: 404 });
+  await get(`/v1/rooms/${room}`, { expect: 200 });
+  await patch(`/v1/rooms/${room}`, { name: 'Entrance hall' }, { expect: 200 });
+  await patch(`/v1/rooms/${room}`, { rects: [{ xmin: 0, ymin: 0, xmax: 10, ymax: 15 }, { xmin: 10, ymin: 0, xmax: 15, ymax: 5 }] }, { expect: 200 });
+  await patch(`/v1/rooms/${UNKNOWN}`, { name: 'x' }, { expect: 404 });
+
+  // Points of interest
+  const poi = idOf(await post(`/v1/floors/${floor}/pois`, { name: 'Main exit', kind: 'exit', x: 0.5, y: 7.5 }, { expect: 201 }), 'a POI');
+  await post(`/v1/floors/${floor}/pois`, { name: 'No place' }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/pois`, { name: 'Main exit', x: 1, y: 1 }, { expect: 409 });
+  await get(`/v1/floors/${floor}/pois`, { expect: 200 });
+  await get(`/v1/pois/${poi}`, { expect: 200 });
+  await patch(`/v1/pois/${poi}`, { kind: 'emergency_exit' }, { expect: 200 });
+  await patch(`/v1/pois/${poi}`, { x: '1' }, { expect: 422, invalid: true });
+
+  // Radio maps and reference points
+  const radiomap = idOf(await post(`/v1/floors/${floor}/radiomaps`, { name: 'Survey 2026' }, { expect: 201 }), 'a radio map');
+  const radiomap2 = idOf(await post(`/v1/floors/${floor2}/radiomaps`, { name: 'Basement survey', description: 'no rooms here' }, { expect: 201 }), 'a radio map');
+  await post(`/v1/floors/${floor}/radiomaps`, { name: 'Survey 2026' }, { expect: 409 });
+  await post(`/v1/floors/${UNKNOWN}/radiomaps`, { name: 'x' }, { expect: 404 });
+  await get(`/v1/floors/${floor}/radiomaps`, { expect: 200 });
+  await get(`/v1/radiomaps/${radiomap}`, { expect: 200 });
+  await patch(`/v1/radiomaps/${radiomap}`, { description: 're-surveyed' }, { expect: 200 });
+  await patch(`/v1/radiomaps/${radiomap}`, { description: 'x'.repeat(4001) }, { expect: 422, invalid: true });
+
+  const rp1 = idOf(await post(`/v1/radiomaps/${radiomap}/rps`, { name: 'door', x: 1, y: 7.5 }, { expect: 201 }), 'an RP');
+  const rp2 = idOf(await post(`/v1/radiomaps/${radiomap}/rps`, { name: 'desk', x: 12, y: 3 }, { expect: 201 }), 'an RP');
+  const rp3 = idOf(await post(`/v1/radiomaps/${radiomap2}/rps`, { name: 'stairs', x: 5, y: 5 }, { expect: 201 }), 'an RP');
+  await post(`/v1/radiomaps/${radiomap}/rps`, { name: 'door', x: 2, y: 2 }, { expect: 409 });
+  await post(`/v1/radiomaps/${radiomap}/rps`, { name: 'far', x: 1e8, y: 2 }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${UNKNOWN}/rps`, { name: 'x', x: 1, y: 1 }, { expect: 404 });
+  await get(`/v1/radiomaps/${radiomap}/rps`, { expect: 200 });
+  await get(`/v1/radiomaps/${UNKNOWN}/rps`, { expect: 404 });
+  await patch(`/v1/rps/${rp2}`, { x: 12.5 }, { expect: 200 });
+  await patch(`/v1/rps/${rp2}`, { z: 1 }, { expect: 422, invalid: true });
+
+  // Survey uploads
+  const upload = { upload_id: 'door-1', scans: [scan([1, -45], [2, -70]), scan([1, -47], [2, -72], [3, -80])] };
+  await post(`/v1/rps/${rp1}/scans`, upload, { expect: 200 });
+  await post(`/v1/rps/${rp1}/scans`, upload, { expect: 200 });
+  await post(`/v1/rps/${rp2}/scans`, { scans: [[{ type: 'wifi', bssid: ap(1), rss: -75 }, { bssid: ap(2).toUpperCase(), rss: -50 }, { type: 'ble', bssid: 'beacon-7', rss: -60 }], []] }, { expect: 200 });
+  await post(`/v1/rps/${rp3}/scans`, { measurements: [{ bssid: ap(9), mean: -60, variance: 4, count: 3 }, { type: 'wifi', bssid: ap(1), mean: -90, variance: 0, count: 1 }] }, { expect: 200 });
+  await post(`/v1/rps/${rp3}/scans`, { upload_id: 'empty', measurements: [] }, { expect: 200 });
+  await post(`/v1/rps/${rp1}/scans`, { scans: [scan([1, -40])], measurements: [] }, { expect: 422, invalid: true });
+  await post(`/v1/rps/${rp1}/scans`, { scans: [] }, { expect: 422, invalid: true });
+  await post(`/v1/rps/${rp1}/scans`, { scans: [scan([1, -130])] }, { expect: 422, invalid: true });
+  await post(`/v1/rps/${rp1}/scans`, { scans: [[{ bssid: ap(1), rss: -40, ssid: 'x' }]] }, { expect: 422, invalid: true });
+  await post(`/v1/rps/${rp1}/scans`, { scans: [[{ bssid: '   ', rss: -40 }]] }, { expect: 422, invalid: true });
+  await post(`/v1/rps/${rp1}/scans`, { measurements: [{ bssid: ap(1), mean: -60, variance: 4000, count: 2 }] }, { expect: 422, invalid: true });
+  await post(`/v1/rps/${rp1}/scans`, { measurements: [{ bssid: ap(1), mean: -60, variance: 1, count: 0 }] }, { expect: 422, invalid: true });
+  await post(`/v1/rps/${UNKNOWN}/scans`, { scans: [scan([1, -40])] }, { expect: 404 });
+  await post(`/v1/rps/${rp1}/scans`, { scans: [scan([1, -40])] }, { auth: false, expect: 401, invalid: true });
+  await get(`/v1/rps/${rp1}`, { expect: 200 });
+  await get(`/v1/rps/${UNKNOWN}`, { expect: 404 });
+
+  // Export and import
+  const exported = await get(`/v1/radiomaps/${radiomap}/export`, { expect: 200 });
+  await get(`/v1/radiomaps/${UNKNOWN}/export`, { expect: 404 });
+  const doc = { ...(exported.json || {}), name: 'Survey 2026 (copy)' };
+  await post(`/v1/floors/${floor2}/radiomaps/import`, doc, { expect: 201 });
+  await post(`/v1/floors/${floor2}/radiomaps/import`, doc, { expect: 409 });
+  await post(`/v1/floors/${floor2}/radiomaps/import`, { name: 'Minimal', rps: [] }, { expect: 201 });
+  await post(`/v1/floors/${floor2}/radiomaps/import`, { name: 'Twice', rps: [{ name: 'a', x: 0, y: 0 }, { name: 'a', x: 1, y: 1 }] }, { expect: 409 });
+  await post(`/v1/floors/${floor2}/radiomaps/import`, { name: 'Bad RP', rps: [{ name: 'a', x: 0, y: 0, z: 1 }] }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor2}/radiomaps/import`, { format: 'locus-radiomap/2', name: 'Future', rps: [] }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor2}/radiomaps/import`, { name: 'No RPs' }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${UNKNOWN}/radiomaps/import`, { name: 'Nowhere', rps: [] }, { expect: 404 });
+
+  // Localize (open: no key)
+  const live = { scans: [scan([1, -46], [2, -71])] };
+  await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'wknn', ...live }, { expect: 200 });
+  for (const algorithm of ['bsb', 'nn', 'bsbnn', 'knn', 'bayes'])
+    await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm, ...live }, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, options: { k: 2, estimate: 'map', tolerance: 0.5, candidates: 1, near: { x: 1, y: 7, radius: 50 } } }, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { measurements: [{ bssid: ap(1), mean: -46 }, { type: 'wifi', bssid: ap(2), rss: -71 }] }, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap2}/localize`, { scans: [scan([9, -61])] }, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { scans: [scan([77, -50])] }, { expect: 422 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, options: { near: { x: 500, y: 500, radius: 1 } } }, { expect: 422 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, limit: 3 }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, options: { k: 0 } }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, options: { metric: 'cosine' } }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'magic', ...live }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, measurements: [{ bssid: ap(1), rss: -40 }] }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/localize`, {}, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/localize`, undefined, { raw: '{"scans": [[', contentType: 'text/plain', expect: 400, invalid: true });
+  await post(`/v1/radiomaps/${UNKNOWN}/localize`, live, { expect: 404 });
+  await post(`/v1/maps/${map}/localize`, live, { expect: 200 });
+  await post(`/v1/maps/${map}/localize`, { algorithm: 'wknn', scans: [scan([9, -60])] }, { expect: 200 });
+  await post(`/v1/maps/${other}/localize`, live, { expect: 422 });
+  await post(`/v1/maps/${UNKNOWN}/localize`, live, { expect: 404 });
+  // Over the server's --max-body-bytes (the script starts it with 64 KiB), yet valid.
+  const big = { scans: [Array.from({ length: 3000 }, (_, i) => ({ bssid: `aa:bb:cc:dd:${String(i % 100).padStart(2, '0')}:${String(i % 97).padStart(2, '0')}`, rss: -50 }))] };
+  await post(`/v1/maps/${map}/localize`, big, { expect: 413 });
+  await post('/v1/maps', { name: 'Big', description: 'd'.repeat(3000) }, { expect: 201 });
+  await post(`/v1/floors/${floor2}/radiomaps/import`, { name: 'Huge', rps: Array.from({ length: 4000 }, (_, i) => ({ name: `rp${i}`, x: i, y: 0 })) }, { expect: 413 });
+
+  // Deletes, down the hierarchy and then the cascade
+  await del(`/v1/rps/${rp2}`, { auth: false, expect: 401, invalid: true });
+  await del(`/v1/rps/${rp2}`, { expect: 204 });
+  await del(`/v1/rps/${rp2}`, { expect: 404 });
+  await del(`/v1/pois/${poi}`, { expect: 204 });
+  await del(`/v1/pois/${poi}`, { expect: 404 });
+  await del(`/v1/rooms/${room}`, { expect: 204 });
+  await del(`/v1/rooms/${room}`, { expect: 404 });
+  await del(`/v1/radiomaps/${radiomap}`, { expect: 204 });
+  await get(`/v1/rps/${rp1}`, { expect: 404 });
+  await del(`/v1/radiomaps/${radiomap}`, { expect: 404 });
+  await del(`/v1/floors/${floor}`, { expect: 204 });
+  await del(`/v1/floors/${floor}`, { expect: 404 });
+  await del(`/v1/buildings/${building}`, { expect: 204 });
+  await get(`/v1/floors/${floor2}`, { expect: 404 });
+  await get(`/v1/radiomaps/${radiomap2}`, { expect: 404 });
+  await del(`/v1/buildings/${building}`, { expect: 404 });
+  await del(`/v1/maps/${other}`, { expect: 204 });
+  await del(`/v1/maps/${map}`, { expect: 204 });
+  await del(`/v1/maps/${map}`, { expect: 404 });
+}
+
+// Follows local $refs of the bundled spec.
+function deref(node) {
+  for (let i = 0; node && node.$ref && i < 20; i++)
+    node = node.$ref.slice(2).split('/').reduce((o, k) => o?.[k.replace(/~1/g, '/').replace(/~0/g, '~')], spec);
+  return node;
+}
+
+// One HTTP/1.1 request without a Content-Length or body, straight to the server.
+function rawRequest(method, path) {
+  return new Promise((resolve) => {
+    let data = '';
+    const socket = connect(Number(server.port), server.hostname, () =>
+      socket.write(`${method} ${path} HTTP/1.1\r\nHost: ${server.host}\r\nAuthorization: Bearer ${apiKey}\r\nConnection: close\r\n\r\n`),
+    );
+    socket.setTimeout(10000, () => socket.destroy(new Error('timed out')));
+    socket.on('data', (d) => (data += d));
+    socket.on('error', (e) => resolve({ error: e.message }));
+    socket.on('close', () => {
+      const [head, ...rest] = data.split('\r\n\r\n');
+      const status = Number((head.match(/^HTTP\/1\.[01] (\d{3})/) || [])[1] || 0);
+      const contentType = (head.match(/^content-type:\s*(.*)$/im) || [])[1] || '';
+      resolve({ status, contentType, body: rest.join('\r\n\r\n') });
+    });
+  });
+}
+
+async function lengthRequired() {
+  for (const op of operations) {
+    if (!op.hasBody || skip.has(op.id)) continue;
+    const path = op.template.replace(/\{[^}]+\}/g, '1');
+    const what = `${op.method} ${path} without a Content-Length (straight to the server)`;
+    direct++;
+    const r = await rawRequest(op.method, path);
+    if (r.error) {
+      violations.push(`${what}: no answer (${r.error})`);
+      continue;
+    }
+    if (r.status !== 411) violations.push(`${what}: expected 411, got ${r.status} ${r.body.slice(0, 200)}`);
+    const documented = deref(op.responses[String(r.status)]);
+    if (!documented) {
+      violations.push(`${what} -> ${r.status}: ${op.id} does not document status ${r.status}`);
+      continue;
+    }
+    const schema = deref(documented.content?.['application/json']?.schema);
+    const codes = deref(deref(schema?.properties?.error)?.properties?.code)?.enum;
+    let body = null;
+    try {
+      body = JSON.parse(r.body);
+    } catch {
+      body = null;
+    }
+    if (!r.contentType.startsWith('application/json')) violations.push(`${what} -> ${r.status}: content type ${r.contentType}`);
+    if (!body || typeof body.error?.code !== 'string' || typeof body.error?.message !== 'string')
+      violations.push(`${what} -> ${r.status}: not an error body: ${r.body.slice(0, 200)}`);
+    else if (codes && !codes.includes(body.error.code))
+      violations.push(`${what} -> ${r.status}: error code ${body.error.code} is not one of ${codes.join(', ')}`);
+  }
+}
+
+try {
+  await run();
+  await lengthRequired();
+} catch (e) {
+  violations.push(e.message);
+}
+
+// Coverage: every operation got a request and at least one successful answer.
+const skippedOps = operations.filter((op) => skip.has(op.id));
+for (const op of operations) {
+  if (skip.has(op.id)) continue;
+  if (op.seen.length === 0) violations.push(`${op.id} (${op.method} ${op.template}): no request`);
+  else if (!op.seen.some((s) => s >= 200 && s < 300))
+    violations.push(`${op.id} (${op.method} ${op.template}): no successful answer (got ${[...new Set(op.seen)].join(', ')})`);
+}
+
+// Each request must have reached the server (not been answered by Prism on its own): the
+// server writes one JSON line with a "method" per request (its other lines are events).
+if (serverLog) {
+  await new Promise((r) => setTimeout(r, 300));
+  const served = readFileSync(serverLog, 'utf8').split('\n').filter((l) => l.includes('"method"')).length;
+  if (served !== sent + direct)
+    violations.push(`the server logged ${served} requests of the ${sent} sent through Prism and ${direct} sent to it directly`);
+}
+
+for (const v of violations) console.log(`violation: ${v}`);
+const covered = operations.length - skippedOps.length;
+console.log(
+  `contract: ${sent + direct} requests, ${violations.length} violations (${sent} through Prism, ${direct} straight to the server; ` +
+    `${covered} of ${operations.length} operations exercised` +
+    (skippedOps.length ? `; skipped by CONTRACT_SKIP: ${skippedOps.map((op) => op.id).join(', ')}, ${skipped} requests not sent` : '') +
+    ')',
+);
+process.exit(violations.length ? 1 : 0);
