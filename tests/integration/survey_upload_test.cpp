@@ -11,6 +11,7 @@
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
+using locus::testing::body_of;
 using nlohmann::json;
 
 namespace {
@@ -103,7 +104,7 @@ TEST_F(SurveyUpload, SameFileTwiceDoesNotDoubleCount) {
     EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
     // The same scans as CSV are another file: the server merges them (twice the samples).
     ASSERT_EQ(upload(rm, {fixture("walk.csv")}).status, 0);
-    const auto rps = server.get("/v1/radiomaps/" + rm + "/export").body["rps"];
+    const auto rps = body_of(server.get("/v1/radiomaps/" + rm + "/export"))["rps"];
     std::int64_t scans = 0;
     for (const auto& rp : rps) scans += rp["scans"].get<std::int64_t>();
     EXPECT_EQ(scans, 12);
@@ -114,7 +115,7 @@ TEST_F(SurveyUpload, InterruptedUploadResumesToTheCleanResult) {
     const auto cut = upload(rm, {"--concurrency", "1", "--stop-after", "1", fixture("walk.jsonl")});
     EXPECT_EQ(cut.status, 3) << cut.err;
     EXPECT_EQ(json::parse(cut.out)["applied"], 1);
-    EXPECT_EQ(server.get("/v1/radiomaps/" + rm + "/rps").body["total"], 1);
+    EXPECT_EQ(body_of(server.get("/v1/radiomaps/" + rm + "/rps"))["total"], 1);
     const auto rest = upload(rm, {fixture("walk.jsonl")});
     ASSERT_EQ(rest.status, 0) << rest.err;
     const json s = json::parse(rest.out);
@@ -191,7 +192,7 @@ TEST_F(SurveyUpload, PlanSkipsPointsOutsideRoomsAndCreatesOnce) {
     const auto again = run_command(argv);
     ASSERT_EQ(again.status, 0) << again.err;
     EXPECT_EQ(json::parse(again.out)["created"], 0);
-    EXPECT_EQ(server.get("/v1/radiomaps/" + rm + "/rps").body["total"], 9);
+    EXPECT_EQ(body_of(server.get("/v1/radiomaps/" + rm + "/rps"))["total"], 9);
 }
 
 TEST_F(SurveyUpload, ApiKeyFromTheEnvironment) {

@@ -49,6 +49,11 @@ private:
     int port_ = 0;
 };
 
+// The body of an answer with `status`; otherwise throws, failing the test with the status and
+// what came back. A request that timed out has status 0 and a null body: read unchecked, it
+// failed later as a type_error on null that hid the cause.
+nlohmann::json body_of(const Response& r, int status = 200);
+
 // Runs the locus CLI, returning exit status and captured stdout (stderr goes to a file).
 struct CommandResult {
     int status = -1;
