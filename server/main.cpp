@@ -45,6 +45,9 @@ int main(int argc, char** argv) {
     sigaddset(&signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     std::signal(SIGPIPE, SIG_IGN);
+    // A file-size limit (RLIMIT_FSIZE) would kill the process; ignored, the write fails with
+    // EFBIG like on a full disk and the request answers 503.
+    std::signal(SIGXFSZ, SIG_IGN);
 
     try {
         locus::store::Repository repo(db_path);

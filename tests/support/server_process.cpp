@@ -1,6 +1,7 @@
 #include "server_process.hpp"
 
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -68,6 +69,14 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args) : extra_args_(
     start();
 }
 
+ServerProcess::ServerProcess(std::vector<std::string> extra_args, FileSizeLimit limit)
+    : extra_args_(std::move(extra_args)), file_size_limit_(limit.bytes) {
+    dir_ = make_temp_dir();
+    db_path_ = dir_ + "/locus.db";
+    log_path_ = dir_ + "/server.log";
+    start();
+}
+
 ServerProcess::~ServerProcess() {
     if (pid_ > 0) stop();
     std::error_code ec;
@@ -85,6 +94,10 @@ void ServerProcess::start() {
         if (f) {
             dup2(fileno(f), 1);
             dup2(fileno(f), 2);
+        }
+        if (file_size_limit_ > 0) {
+            const rlimit limit{static_cast<rlim_t>(file_size_limit_), static_cast<rlim_t>(file_size_limit_)};
+            setrlimit(RLIMIT_FSIZE, &limit);
         }
         std::vector<char*> cargs;
         for (auto& a : args) cargs.push_back(a.data());
