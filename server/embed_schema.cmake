@@ -1,6 +1,7 @@
 # Writes a C++ file holding each migration (in file-name order) and the demo map as raw strings.
 set(body "// Generated from schema/ by embed_schema.cmake. Do not edit.\n#include <string_view>\n#include <vector>\nnamespace locus::server {\n")
 string(APPEND body "const std::vector<std::string_view>& migrations() {\n  static const std::vector<std::string_view> m = {\n")
+string(REPLACE "|" ";" SQL_FILES "${SQL_FILES}")
 foreach(f ${SQL_FILES})
   file(READ ${f} sql)
   string(APPEND body "    R\"locus_sql(${sql})locus_sql\",\n")

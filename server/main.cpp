@@ -59,6 +59,9 @@ int main(int argc, char** argv) {
     sigaddset(&signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     std::signal(SIGPIPE, SIG_IGN);
+    // A file-size limit (RLIMIT_FSIZE) would kill the process; ignored, the write fails with
+    // EFBIG like on a full disk and the request answers 503.
+    std::signal(SIGXFSZ, SIG_IGN);
 
     auto ms = [](double seconds) { return std::chrono::milliseconds(static_cast<long long>(seconds * 1000.0)); };
     front.min_threads = static_cast<std::size_t>(threads);

@@ -1,6 +1,7 @@
 #include "survey_format.hpp"
 
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -186,6 +187,19 @@ std::vector<std::string_view> split(std::string_view line) {
     return cells;
 }
 
+// Where the first byte that is not UTF-8 sits in a CSV line, as a message naming its cell.
+std::optional<std::string> non_utf8_cell(const std::vector<std::string_view>& cells,
+                                         const std::map<std::string, int>& column) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (valid_utf8(cells[i])) continue;
+        std::string name = "column " + std::to_string(i + 1);
+        for (const auto& [n, c] : column)
+            if (static_cast<std::size_t>(c) == i) name = "'" + n + "' (column " + std::to_string(i + 1) + ")";
+        return "cell " + name + " holds bytes that are not UTF-8";
+    }
+    return std::nullopt;
+}
+
 void parse_csv(std::string_view text, SurveyFile& out) {
     Builder builder(out);
     std::map<std::string, int> column;
@@ -197,6 +211,11 @@ void parse_csv(std::string_view text, SurveyFile& out) {
     const std::size_t last_line = for_each_line(text, [&](std::string_view line, std::size_t line_no) {
         const auto cells = split(line);
         if (!have_header) {
+            if (const auto bad = non_utf8_cell(cells, column)) {
+                out.errors.push_back({line_no, "the header's " + bad->substr(5)});
+                header_refused = true;
+                return false;
+            }
             for (std::size_t i = 0; i < cells.size(); ++i) {
                 const std::string name(cells[i]);
                 if (name != "rp" && name != "x" && name != "y" && name != "t" && name != "type" && name != "bssid" &&
@@ -217,6 +236,9 @@ void parse_csv(std::string_view text, SurveyFile& out) {
             return true;
         }
         try {
+            // A byte that is not UTF-8 cannot go into the JSON sent to the server; before, it
+            // passed here and failed the whole RP's upload on every run.
+            if (const auto bad = non_utf8_cell(cells, column)) throw Bad(*bad);
             if (cells.size() != header_cells)
                 throw Bad("has " + std::to_string(cells.size()) + " cells, the header has " + std::to_string(header_cells));
             auto cell = [&](const char* name) -> std::optional<std::string_view> {
@@ -260,6 +282,32 @@ void parse_csv(std::string_view text, SurveyFile& out) {
 
 Format format_of(std::string_view path) {
     return path.size() >= 4 && path.substr(path.size() - 4) == ".csv" ? Format::Csv : Format::JsonLines;
+}
+
+bool valid_utf8(std::string_view s) {
+    std::size_t i = 0;
+    while (i < s.size()) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        if (c < 0x80) {
+            ++i;
+            continue;
+        }
+        std::size_t len = 0;
+        std::uint32_t cp = 0, min = 0;
+        if ((c & 0xE0) == 0xC0) len = 2, cp = c & 0x1F, min = 0x80;
+        else if ((c & 0xF0) == 0xE0) len = 3, cp = c & 0x0F, min = 0x800;
+        else if ((c & 0xF8) == 0xF0) len = 4, cp = c & 0x07, min = 0x10000;
+        else return false;
+        if (i + len > s.size()) return false;
+        for (std::size_t k = 1; k < len; ++k) {
+            const auto cc = static_cast<unsigned char>(s[i + k]);
+            if ((cc & 0xC0) != 0x80) return false;
+            cp = (cp << 6) | (cc & 0x3F);
+        }
+        if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return false;
+        i += len;
+    }
+    return true;
 }
 
 std::string name_for(Point at) {

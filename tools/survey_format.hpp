@@ -13,6 +13,7 @@
 //   "rp" or "x","y" as above; "t" is required (the readings of one scan share rp and t);
 //   "type" is optional. Blank lines and '#' lines are skipped.
 //
+// Every cell must be UTF-8 (a line with a byte that is not is malformed: JSON cannot carry it).
 // A malformed line is reported (line number and reason) and left out entirely; a CSV line
 // that breaks a scan drops only that reading. Nothing half-parsed reaches the result.
 #include <cstddef>
@@ -50,6 +51,9 @@ struct SurveyFile {
 };
 
 SurveyFile parse(std::string_view text, Format format);
+
+// Whether `s` is well-formed UTF-8 (no overlong forms, surrogates or code points past U+10FFFF).
+bool valid_utf8(std::string_view s);
 
 // The name given to an RP known only by its coordinates.
 std::string name_for(Point at);

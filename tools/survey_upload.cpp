@@ -12,6 +12,8 @@
 #include <set>
 #include <thread>
 
+#include "survey_format.hpp"
+
 namespace locus::tools {
 
 using nlohmann::json;
@@ -39,6 +41,32 @@ std::vector<std::vector<Scan>> chunks(const std::vector<Scan>& scans) {
         in_chunk += s.size();
     }
     return out;
+}
+
+// A name for messages: bytes that are not UTF-8 shown as \xNN (the summary is JSON).
+std::string shown(const std::string& s) {
+    if (survey::valid_utf8(s)) return s;
+    std::string out;
+    for (unsigned char c : s) {
+        if (c < 0x80) {
+            out += static_cast<char>(c);
+        } else {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\x%02X", c);
+            out += buf;
+        }
+    }
+    return out;
+}
+
+// Everything a request will carry as a JSON string must be UTF-8; checked before the RP is
+// created, so that a job the JSON writer would refuse leaves nothing behind.
+void check_sendable(const RpJob& job) {
+    if (!survey::valid_utf8(job.name)) throw std::runtime_error("the RP name is not UTF-8");
+    for (const auto& scan : job.scans)
+        for (const auto& r : scan)
+            if (!survey::valid_utf8(r.bssid) || !survey::valid_utf8(r.type))
+                throw std::runtime_error("a reading of AP '" + shown(r.bssid) + "' is not UTF-8");
 }
 
 void draw_progress(std::size_t done, std::size_t total, std::size_t readings, double seconds) {
@@ -86,8 +114,16 @@ UploadSummary upload_rps(const api::ClientOptions& client_options, const std::ve
                 break;
             }
             const RpJob& job = jobs[i];
+            std::int64_t rp_id = 0;
+            bool created_here = false, any_sent = false;
             try {
-                std::int64_t rp_id = 0;
+                check_sendable(job);
+                if (job.scans.empty()) {
+                    // Nothing to send: an RP is only ever created together with its scans.
+                    ++already;
+                    ++done;
+                    continue;
+                }
                 if (auto it = existing.find({job.radiomap_id, job.name}); it != existing.end()) {
                     rp_id = it->second;
                 } else {
@@ -96,6 +132,7 @@ UploadSummary upload_rps(const api::ClientOptions& client_options, const std::ve
                                                  " gives no coordinates for it");
                     try {
                         rp_id = client.create_rp(job.radiomap_id, job.name, job.at->x, job.at->y).id;
+                        created_here = true;
                         ++created;
                     } catch (const api::ApiError& e) {
                         if (e.status() != 409) throw;
@@ -109,6 +146,7 @@ UploadSummary upload_rps(const api::ClientOptions& client_options, const std::ve
                     up.upload_id = parts.size() == 1 ? job.upload_id : job.upload_id + "#" + std::to_string(k);
                     up.scans = parts[k];
                     any_applied = client.upload(rp_id, up).applied || any_applied;
+                    any_sent = true;
                     std::size_t n = 0;
                     for (const auto& s : parts[k]) n += s.size();
                     readings += n;
@@ -116,9 +154,21 @@ UploadSummary upload_rps(const api::ClientOptions& client_options, const std::ve
                 }
                 ++(any_applied ? applied : already);
             } catch (const std::exception& e) {
+                std::string message = job.source + ": RP '" + shown(job.name) + "': " + plain_numbers(e.what());
+                // The RP this run created got none of its scans: take it away again, so that no
+                // RP is left created but empty (a re-run creates it with its scans).
+                if (created_here && !any_sent) {
+                    try {
+                        client.del("/v1/rps/" + std::to_string(rp_id));
+                        --created;
+                    } catch (const std::exception& d) {
+                        message += "; RP " + std::to_string(rp_id) + " is left without scans (deleting it failed: " +
+                                   d.what() + ")";
+                    }
+                }
                 ++failed;
                 std::lock_guard lock(failures_mu);
-                summary.failures.push_back(job.source + ": RP '" + job.name + "': " + plain_numbers(e.what()));
+                summary.failures.push_back(message);
             }
             ++done;
         }

@@ -1,6 +1,8 @@
 #pragma once
 // Uploads the scans of many reference points to the server in parallel, one request per RP
-// (per chunk, for very large RPs), creating missing RPs by name. Every request carries the
+// (per chunk, for very large RPs), creating missing RPs by name. An RP is created only with
+// scans to send, and an RP this run created is deleted again when its first upload fails, so a
+// failing upload never leaves an RP created but empty. Every request carries the
 // job's upload_id, which the server records per RP: re-running the same jobs, after a clean
 // run or an interrupted one, merges nothing twice.
 #include <cstddef>

@@ -67,6 +67,14 @@ void write_error(httplib::Response& res, int status, const std::string& code, co
     res.set_content(json_text(json{{"error", {{"code", code}, {"message", message}}}}), "application/json");
 }
 
+void write_storage_unavailable(httplib::Response& res, const store::SqliteError& e) {
+    // The request was one transaction and it did not commit: nothing of it was written. The
+    // file's path is for the log and /ready, not for every client.
+    res.set_header("Retry-After", "1");
+    write_error(res, 503, "storage_unavailable",
+                std::string("storage unavailable: ") + e.what() + "; the request changed nothing, retry later");
+}
+
 void App::respond(httplib::Response& res, const std::function<std::pair<int, json>()>& body) {
     guarded(res, [&] {
         auto [status, out] = body();
@@ -89,8 +97,13 @@ void App::guarded(httplib::Response& res, const std::function<void()>& body) {
     } catch (const store::SqliteError& e) {
         // Constraint failures that validation did not catch are still the client's input.
         if (e.is_constraint()) write_error(res, 409, "conflict", e.what());
+        else if (e.is_storage_fault()) write_storage_unavailable(res, e);
         else write_error(res, 500, "internal", "storage error");
-        std::fprintf(stderr, "{\"event\":\"sqlite_error\",\"message\":%s}\n", json_text(e.what()).c_str());
+        if (e.is_storage_fault())
+            std::fprintf(stderr, "{\"event\":\"storage_error\",\"db\":%s,\"message\":%s}\n", json_text(e.file).c_str(),
+                         json_text(e.what()).c_str());
+        else
+            std::fprintf(stderr, "{\"event\":\"sqlite_error\",\"message\":%s}\n", json_text(e.what()).c_str());
     } catch (const json::exception& e) {
         write_error(res, 422, "invalid_field", e.what());
     } catch (const std::exception& e) {
@@ -170,6 +183,19 @@ void App::install_middleware() {
 
     server_.Get("/health", [](const httplib::Request&, httplib::Response& res) {
         res.set_content(R"({"status":"ok"})", "application/json");
+    });
+    // Readiness: /health above is liveness and touches nothing; this commits a one-row write,
+    // so a full disk, a read-only, corrupt or locked database turns it 503.
+    server_.Get("/ready", [this](const httplib::Request&, httplib::Response& res) {
+        try {
+            repo_.probe_write();
+            res.set_content(R"({"status":"ready"})", "application/json");
+        } catch (const std::exception& e) {
+            res.set_header("Retry-After", "1");
+            write_error(res, 503, "storage_unavailable", "database '" + repo_.path() + "' cannot be written: " + e.what());
+            std::fprintf(stderr, "{\"event\":\"not_ready\",\"db\":%s,\"message\":%s}\n", json_text(repo_.path()).c_str(),
+                         json_text(e.what()).c_str());
+        }
     });
 }
 

@@ -52,5 +52,7 @@ private:
 };
 
 void write_error(httplib::Response& res, int status, const std::string& code, const std::string& message);
+// 503 storage_unavailable (with Retry-After) for a storage fault (SqliteError::is_storage_fault).
+void write_storage_unavailable(httplib::Response& res, const store::SqliteError& e);
 
 }  // namespace locus::http

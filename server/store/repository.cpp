@@ -43,7 +43,21 @@ auto translate_constraints(const Kind& k, F&& body) {
 
 }  // namespace
 
-Repository::Repository(const std::string& path) : db_(path) { migrate(db_); }
+Repository::Repository(const std::string& path) : db_(path) {
+    try {
+        migrate(db_);
+    } catch (const SqliteError& e) {
+        throw SqliteError(e.code, "database '" + path + "': " + e.what(), path);
+    }
+}
+
+void Repository::probe_write() {
+    std::lock_guard lock(mu_);
+    Transaction tx(db_);
+    Stmt s(db_, "INSERT INTO ready_probe (id, writes) VALUES (1, 1) ON CONFLICT (id) DO UPDATE SET writes = writes + 1");
+    s.run();
+    tx.commit();
+}
 
 json Repository::row_json(const Kind& k, Stmt& s) {
     json row;

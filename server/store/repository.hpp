@@ -49,6 +49,11 @@ struct StoredRp {
 class Repository {
 public:
     explicit Repository(const std::string& path);
+    const std::string& path() const { return db_.path(); }
+
+    // Commits a one-row change in its own transaction, so that the commit has to reach the
+    // WAL on disk: throws SqliteError when the database cannot really be written (GET /ready).
+    void probe_write();
 
     nlohmann::json create(const Kind& k, std::optional<std::int64_t> parent_id, const nlohmann::json& values);
     nlohmann::json get(const Kind& k, std::int64_t id);

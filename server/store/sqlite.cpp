@@ -1,23 +1,48 @@
 #include "store/sqlite.hpp"
 
+#include <memory>
 #include <utility>
 
 namespace locus::store {
 
-Db::Db(const std::string& path) {
-    const int rc = sqlite3_open_v2(path.c_str(), &db_,
+namespace {
+struct Close {
+    void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
+};
+
+// An error from the connection: SQLite's message after `context`; a storage fault also carries
+// the database file, so that the log can say which file is full, read-only or corrupt.
+SqliteError error_from(sqlite3* db, int code, std::string_view context, const std::string& message) {
+    SqliteError e(code, std::string(context) + message);
+    if (!e.is_storage_fault()) return e;
+    const char* file = sqlite3_db_filename(db, "main");
+    e.file = file ? file : "";
+    return e;
+}
+}  // namespace
+
+Db::Db(const std::string& path) : path_(path) {
+    sqlite3* raw = nullptr;
+    const int rc = sqlite3_open_v2(path.c_str(), &raw,
                                    SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
-    if (rc != SQLITE_OK) {
-        const std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
-        sqlite3_close(db_);
-        db_ = nullptr;
-        throw SqliteError(rc, "cannot open database '" + path + "': " + msg);
-    }
-    sqlite3_extended_result_codes(db_, 1);
-    sqlite3_busy_timeout(db_, 5000);
+    // Closed on every way out of here but the last line: a file that opens and then turns out
+    // not to be a database used to leak its handle.
+    std::unique_ptr<sqlite3, Close> handle(raw);
+    if (rc != SQLITE_OK)
+        throw SqliteError(rc, "cannot open database '" + path + "': " + (raw ? sqlite3_errmsg(raw) : "out of memory"), path);
+    sqlite3_extended_result_codes(raw, 1);
+    sqlite3_busy_timeout(raw, 5000);
     // WAL + synchronous=NORMAL survives a process kill; FULL would also survive power loss
-    // at a large cost per commit, which a radio-map store does not need.
-    exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
+    // at a large cost per commit, which a radio-map store does not need. Setting WAL reads the
+    // file's header, so a file that is not a database fails here, at start-up.
+    char* err = nullptr;
+    if (sqlite3_exec(raw, "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;", nullptr,
+                     nullptr, &err) != SQLITE_OK) {
+        const std::string msg = err ? err : sqlite3_errmsg(raw);
+        sqlite3_free(err);
+        throw SqliteError(sqlite3_extended_errcode(raw), "cannot open database '" + path + "': " + msg, path);
+    }
+    db_ = handle.release();
 }
 
 Db::~Db() {
@@ -25,8 +50,8 @@ Db::~Db() {
 }
 
 void Db::fail(int rc, std::string_view context) const {
-    throw SqliteError(sqlite3_extended_errcode(db_), std::string(context) + ": " + sqlite3_errmsg(db_) +
-                                                        " (" + std::to_string(rc) + ")");
+    throw error_from(db_, sqlite3_extended_errcode(db_), std::string(context) + ": ",
+                     std::string(sqlite3_errmsg(db_)) + " (" + std::to_string(rc) + ")");
 }
 
 void Db::exec(std::string_view sql) {
@@ -36,7 +61,7 @@ void Db::exec(std::string_view sql) {
     if (rc != SQLITE_OK) {
         const std::string msg = err ? err : "unknown error";
         sqlite3_free(err);
-        throw SqliteError(sqlite3_extended_errcode(db_), msg);
+        throw error_from(db_, sqlite3_extended_errcode(db_), "", msg);
     }
 }
 
@@ -56,7 +81,7 @@ Stmt::Stmt(Stmt&& other) noexcept : db_(other.db_), stmt_(std::exchange(other.st
 
 namespace {
 void check_bind(sqlite3* db, int rc) {
-    if (rc != SQLITE_OK) throw SqliteError(rc, std::string("bind: ") + sqlite3_errmsg(db));
+    if (rc != SQLITE_OK) throw error_from(db, rc, "bind: ", sqlite3_errmsg(db));
 }
 }  // namespace
 
@@ -81,7 +106,7 @@ bool Stmt::step() {
     const int rc = sqlite3_step(stmt_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
-    throw SqliteError(sqlite3_extended_errcode(db_), std::string("step: ") + sqlite3_errmsg(db_));
+    throw error_from(db_, sqlite3_extended_errcode(db_), "step: ", sqlite3_errmsg(db_));
 }
 
 void Stmt::run() {

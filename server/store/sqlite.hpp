@@ -7,15 +7,35 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <concepts>
 
 namespace locus::store {
 
 struct SqliteError : std::runtime_error {
     int code;
-    SqliteError(int c, const std::string& what) : std::runtime_error(what), code(c) {}
+    std::string file;  // the database file, when the error is about it (empty otherwise)
+    SqliteError(int c, const std::string& what, std::string db_file = {})
+        : std::runtime_error(what), code(c), file(std::move(db_file)) {}
     bool is_constraint() const { return (code & 0xff) == SQLITE_CONSTRAINT; }
     bool is_unique() const { return code == SQLITE_CONSTRAINT_UNIQUE || code == SQLITE_CONSTRAINT_PRIMARYKEY; }
+    // The database, not the request, is at fault: a full disk, an I/O error, a read-only,
+    // unopenable or corrupt file, or the write lock still held elsewhere after the busy
+    // timeout. The same request may succeed later (the HTTP layer answers 503).
+    bool is_storage_fault() const {
+        switch (code & 0xff) {
+            case SQLITE_FULL:
+            case SQLITE_IOERR:
+            case SQLITE_READONLY:
+            case SQLITE_CANTOPEN:
+            case SQLITE_CORRUPT:
+            case SQLITE_NOTADB:
+            case SQLITE_BUSY:
+                return true;
+            default:
+                return false;
+        }
+    }
 };
 
 class Db;
@@ -55,6 +75,8 @@ private:
 
 class Db {
 public:
+    // Opens (creating) the file and sets WAL; throws SqliteError naming the path when the file
+    // cannot be opened or is not a database.
     explicit Db(const std::string& path);
     ~Db();
     Db(const Db&) = delete;
@@ -65,9 +87,11 @@ public:
     int changes() const;
     sqlite3* handle() { return db_; }
     [[noreturn]] void fail(int rc, std::string_view context) const;
+    const std::string& path() const { return path_; }
 
 private:
     sqlite3* db_ = nullptr;
+    std::string path_;
 };
 
 // BEGIN IMMEDIATE on construction, ROLLBACK unless commit() was called: one per request.

@@ -7,11 +7,13 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "server_process.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
+using locus::testing::body_of;
 using nlohmann::json;
 
 namespace {
@@ -31,11 +33,11 @@ struct Totals {
 // Sums over every radio map of every floor of every building of the map.
 Totals totals(const ServerProcess& s, std::int64_t map) {
     Totals t;
-    const auto list = [&](const std::string& path) { return s.get(path + "?limit=1000").body["items"]; };
+    const auto list = [&](const std::string& path) { return body_of(s.get(path + "?limit=1000"))["items"]; };
     for (const auto& b : list("/v1/maps/" + std::to_string(map) + "/buildings"))
         for (const auto& f : list("/v1/buildings/" + std::to_string(b["id"].get<int>()) + "/floors"))
             for (const auto& rm : list("/v1/floors/" + std::to_string(f["id"].get<int>()) + "/radiomaps")) {
-                const json doc = s.get("/v1/radiomaps/" + std::to_string(rm["id"].get<int>()) + "/export").body;
+                const json doc = body_of(s.get("/v1/radiomaps/" + std::to_string(rm["id"].get<int>()) + "/export"));
                 for (const auto& rp : doc["rps"]) {
                     ++t.rps;
                     t.scans += rp["scans"].get<std::int64_t>();
@@ -48,10 +50,12 @@ Totals totals(const ServerProcess& s, std::int64_t map) {
     return t;
 }
 
+// The summary of a run that must succeed; a failed run stops the test here, with its stderr,
+// instead of later on a field of no summary.
 json run_ok(const std::vector<std::string>& argv) {
     const auto r = run_command(argv);
-    EXPECT_EQ(r.status, 0) << r.err;
-    return json::parse(r.out, nullptr, false);
+    if (r.status != 0) throw std::runtime_error("exit status " + std::to_string(r.status) + ":\n" + r.err);
+    return json::parse(r.out);
 }
 
 TEST(ImportFind3, OneRoomAndOneRpPerLabel) {
@@ -62,10 +66,10 @@ TEST(ImportFind3, OneRoomAndOneRpPerLabel) {
     EXPECT_EQ(first["rps"], 3);  // three labels in the sample
     EXPECT_EQ(first["scans"], 343);
     EXPECT_EQ(first["malformed_lines"], 0);
-    const auto rooms = server.get("/v1/floors/" + std::to_string(first["floor_id"].get<int>()) + "/rooms").body;
+    const auto rooms = body_of(server.get("/v1/floors/" + std::to_string(first["floor_id"].get<int>()) + "/rooms"));
     EXPECT_EQ(rooms["total"], 3);
     // Each RP sits at its room's centre, so localizing its own scan names the room.
-    const auto rps = server.get("/v1/radiomaps/" + std::to_string(first["radiomap_id"].get<int>()) + "/rps").body["items"];
+    const auto rps = body_of(server.get("/v1/radiomaps/" + std::to_string(first["radiomap_id"].get<int>()) + "/rps"))["items"];
     ASSERT_EQ(rps.size(), 3u);
     const Totals before = totals(server, first["map_id"].get<int>());
     EXPECT_EQ(before.scans, 343);
@@ -102,7 +106,7 @@ TEST(ImportAnyplace, TwoFloorsInLocalMetres) {
     EXPECT_EQ(static_cast<std::size_t>(before.rps), points.size());
     EXPECT_EQ(static_cast<std::size_t>(before.samples), first["readings"].get<std::size_t>());
     // Floors are a hotel's size in metres, not degrees.
-    const auto floors = server.get("/v1/buildings/" + std::to_string(first["building_id"].get<int>()) + "/floors").body["items"];
+    const auto floors = body_of(server.get("/v1/buildings/" + std::to_string(first["building_id"].get<int>()) + "/floors"))["items"];
     ASSERT_EQ(floors.size(), 2u);
     for (const auto& f : floors) {
         EXPECT_GT(f["width"].get<double>(), 5.0);
@@ -149,14 +153,14 @@ TEST(ImportUji, LocalizeAnswersComeBackInCsvCoordinates) {
     const int map = out["map_id"].get<int>();
     // The first data row of the CSV: building 1, floor 2 at (-7541.2643, 4864920.7782).
     const std::string rp_name = "b1f2_-7541.2643_4864920.7782";
-    const auto list = [&](const std::string& path) { return server.get(path + "?limit=1000").body["items"]; };
+    const auto list = [&](const std::string& path) { return body_of(server.get(path + "?limit=1000"))["items"]; };
     json rp;
     for (const auto& b : list("/v1/maps/" + std::to_string(map) + "/buildings"))
         if (b["name"] == "Building 1")
             for (const auto& f : list("/v1/buildings/" + std::to_string(b["id"].get<int>()) + "/floors"))
                 if (f["name"] == "Floor 2")
                     for (const auto& rm : list("/v1/floors/" + std::to_string(f["id"].get<int>()) + "/radiomaps")) {
-                        const json doc = server.get("/v1/radiomaps/" + std::to_string(rm["id"].get<int>()) + "/export").body;
+                        const json doc = body_of(server.get("/v1/radiomaps/" + std::to_string(rm["id"].get<int>()) + "/export"));
                         for (const auto& r : doc["rps"])
                             if (r["name"] == rp_name) rp = r;
                     }

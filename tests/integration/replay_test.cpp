@@ -10,6 +10,7 @@
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
+using locus::testing::body_of;
 using nlohmann::json;
 
 TEST(Replay, ServerFixesGiveTheSameTracksAsTheInProcessEvaluation) {
@@ -43,9 +44,9 @@ TEST(Replay, ServerFixesGiveTheSameTracksAsTheInProcessEvaluation) {
     }
 
     // Replaying again uploads nothing twice: the RPs keep their scan counts.
-    const auto rps_before = s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export").body.at("rps");
+    const auto rps_before = body_of(s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export")).at("rps");
     ASSERT_EQ(run_command(replay).status, 0);
-    EXPECT_EQ(s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export").body.at("rps"), rps_before);
+    EXPECT_EQ(body_of(s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export")).at("rps"), rps_before);
 }
 
 TEST(Replay, OneRuleAsCsv) {

@@ -13,6 +13,7 @@
 
 using locus::testing::Response;
 using locus::testing::ServerProcess;
+using locus::testing::body_of;
 using nlohmann::json;
 
 namespace {
@@ -33,7 +34,7 @@ struct BadInput : ::testing::Test {
     std::string scans = "/v1/rps/" + std::to_string(rp) + "/scans";
     std::string floors = "/v1/buildings/" + std::to_string(h.building) + "/floors";
 
-    json rp_state() { return s.get("/v1/rps/" + std::to_string(rp)).body; }
+    json rp_state() { return body_of(s.get("/v1/rps/" + std::to_string(rp))); }
     void TearDown() override { EXPECT_EQ(s.get("/health").status, 200) << "the server must keep serving"; }
 };
 
@@ -54,7 +55,7 @@ TEST_F(BadInput, MalformedJson) {
         expect_error(s.post_raw("/v1/maps", body), 400, "invalid_json", "body '" + body + "'");
     expect_error(s.post_raw("/v1/maps", "[1,2]"), 400, "invalid_json", "array body");
     expect_error(s.post_raw(scans, "{\"scans\": [[{\"bssid\":\"a\",\"rss\":-50}]"), 400, "invalid_json", "truncated scans");
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 1);
 }
 
 TEST_F(BadInput, ANulByteEndsNothing) {
@@ -65,7 +66,7 @@ TEST_F(BadInput, ANulByteEndsNothing) {
     const std::string localize = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
     expect_error(s.post_raw(localize, "{\"algorithm\":\"wknn\",\"scans\":[[{\"bssid\":\"a\",\"rss\":-50}]]}\0junk"s), 400,
                  "invalid_json", "localize after NUL");
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 1);
     EXPECT_TRUE(rp_state().at("measurements").empty());
 }
 
@@ -105,7 +106,7 @@ TEST_F(BadInput, MissingAndUnknownFields) {
     expect_error(s.post(scans, {{"scans", json::array({json::array({{{"bssid", "aa"}}})})}}), 422, "invalid_field", "no rss");
     expect_error(s.post(scans, {{"scans", json::array({json::array({{{"bssid", "aa"}, {"rss", -50}, {"type", "lte"}}})})}}), 422,
                  "invalid_field", "unknown type");
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 1);
 }
 
 TEST_F(BadInput, RssOutsideTheValidRange) {
@@ -141,7 +142,7 @@ TEST_F(BadInput, OneBadReadingRejectsTheWholeUpload) {
     EXPECT_EQ(state.at("scans"), 0);
     // The refused upload id was not recorded: the corrected upload applies.
     scans_body.erase(scans_body.end() - 1);
-    EXPECT_TRUE(s.post(scans, {{"upload_id", "x"}, {"scans", scans_body}}).body.at("applied").get<bool>());
+    EXPECT_TRUE(body_of(s.post(scans, {{"upload_id", "x"}, {"scans", scans_body}})).at("applied").get<bool>());
 }
 
 TEST_F(BadInput, AFailedImportCreatesNothing) {
@@ -152,7 +153,7 @@ TEST_F(BadInput, AFailedImportCreatesNothing) {
     expect_error(s.post(path, doc), 409, "conflict", "duplicate RP name");
     doc["rps"].back() = {{"name", "p99"}, {"x", 1}, {"y", 1}, {"measurements", {{{"bssid", "aa"}, {"mean", -50}, {"variance", -1}, {"count", 1}}}}};
     expect_error(s.post(path, doc), 422, "out_of_range", "bad measurement at the end");
-    EXPECT_EQ(s.get("/v1/floors/" + std::to_string(h.floor) + "/radiomaps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/radiomaps")).at("total"), 1);
 }
 
 // Stored counts stop at 2^53 (exact in the merge's doubles): an upload that would pass it
@@ -170,7 +171,7 @@ TEST_F(BadInput, CountsStopAt2To53AndAnExportAlwaysImports) {
     expect_error(s.post(scans, aggregate(max_count + 1)), 422, "out_of_range", "one aggregate past 2^53");
     EXPECT_EQ(rp_state(), before);
 
-    json doc = s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export").body;
+    json doc = body_of(s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export"));
     doc["name"] = "copy";
     const std::string import = "/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import";
     const auto copied = s.post(import, doc);
@@ -195,7 +196,7 @@ TEST_F(BadInput, CountsStopAt2To53AndAnExportAlwaysImports) {
     doc["rps"][0]["measurements"] = json::array();
     const auto full = s.post(import, doc);
     ASSERT_EQ(full.status, 201) << full.raw;
-    const auto full_rps = s.get("/v1/radiomaps/" + std::to_string(full.body.at("id").get<std::int64_t>()) + "/rps").body;
+    const auto full_rps = body_of(s.get("/v1/radiomaps/" + std::to_string(full.body.at("id").get<std::int64_t>()) + "/rps"));
     const std::string full_scans = "/v1/rps/" + std::to_string(full_rps.at("items").at(0).at("id").get<std::int64_t>()) + "/scans";
     expect_error(s.post(full_scans, {{"scans", one_scan(-50)}}), 422, "out_of_range", "RP scans past 2^53");
 }
@@ -242,7 +243,7 @@ TEST_F(BadInput, AWriteWithoutALengthIsRefusedAtOnce) {
     EXPECT_EQ(c.round_trip("GET /health HTTP/1.1\r\nHost: x\r\n\r\n"), 200);  // the same connection
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
     expect_error(s.post_raw("/v1/maps", ""), 400, "invalid_json", "an empty body with its length");
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 1);
 }
 
 // Room rectangles are coordinates like any other: bounded, and no unknown keys.
@@ -252,7 +253,7 @@ TEST_F(BadInput, RoomRectanglesAreCheckedLikeCoordinates) {
                  "invalid_field", "huge coordinate");
     expect_error(s.post(rooms, {{"name", "R"}, {"rects", {{{"xmin", 0}, {"ymin", 0}, {"xmax", 1}, {"ymax", 1}, {"z", 1}}}}}), 422,
                  "invalid_field", "unknown key in a rectangle");
-    EXPECT_EQ(s.get(rooms).body.at("total"), 0);
+    EXPECT_EQ(body_of(s.get(rooms)).at("total"), 0);
 }
 
 TEST_F(BadInput, UnknownIds) {
@@ -294,7 +295,7 @@ TEST_F(BadInput, BadPagination) {
 TEST_F(BadInput, HugeBodiesAreRefused) {
     const auto r = s.post_raw("/v1/maps", name_body(9u * 1024u * 1024u));
     if (r.status != 0) expect_error(r, 413, "payload_too_large", "9 MiB body");
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 1);
 }
 
 // Millions of empty scans just under the body limit: each costs an empty vector while the body
@@ -312,7 +313,7 @@ TEST(ServerLimits, BodyLimitIsConfigurable) {
     const auto r = s.post_raw("/v1/maps", name_body(2000));
     if (r.status != 0) expect_error(r, 413, "payload_too_large", "2 kB body over a 1 kB limit");
     EXPECT_EQ(s.post("/v1/maps", {{"name", "small"}}).status, 201);
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 1);
 }
 
 TEST(ServerAuth, WritesNeedTheKeyReadsDoNot) {
@@ -330,7 +331,7 @@ TEST(ServerAuth, WritesNeedTheKeyReadsDoNot) {
     expect_error(s.patch("/v1/maps/" + id, {{"name", "N"}}), 401, "unauthorized", "patch without key");
     // Localizing is a read: it is answered (here 404: the map has no radio map 1) without a key.
     EXPECT_NE(s.post("/v1/radiomaps/1/localize", {{"scans", one_scan(-50)}}).status, 401);
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 1);
 }
 
 TEST(ServerAuth, KeyCanComeFromTheEnvironment) {

@@ -9,6 +9,7 @@
 #include "server_process.hpp"
 
 using locus::testing::ServerProcess;
+using locus::testing::body_of;
 using nlohmann::json;
 
 namespace {
@@ -81,8 +82,8 @@ TEST(ServerHierarchy, ListsArePaginatedAndScopedToTheirParent) {
     const auto page3 = s.get(base + "?limit=3&offset=6");
     ASSERT_EQ(page3.body.at("items").size(), 1u);
     EXPECT_EQ(page3.body.at("items")[0].at("name"), "rp6");
-    EXPECT_TRUE(s.get(base + "?offset=100").body.at("items").empty());
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 2);
+    EXPECT_TRUE(body_of(s.get(base + "?offset=100")).at("items").empty());
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 2);
 }
 
 TEST(ServerHierarchy, PatchChangesOnlyTheGivenFields) {
@@ -94,7 +95,7 @@ TEST(ServerHierarchy, PatchChangesOnlyTheGivenFields) {
     EXPECT_DOUBLE_EQ(r.body.at("north_offset_deg").get<double>(), -12.0);
     EXPECT_EQ(r.body.at("name"), "Ground");
     EXPECT_DOUBLE_EQ(r.body.at("width").get<double>(), 30.0);
-    EXPECT_DOUBLE_EQ(s.get(floor).body.at("north_offset_deg").get<double>(), -12.0);
+    EXPECT_DOUBLE_EQ(body_of(s.get(floor)).at("north_offset_deg").get<double>(), -12.0);
 }
 
 TEST(ServerHierarchy, DeleteCascadesDownTheHierarchy) {
@@ -120,12 +121,12 @@ TEST(ServerHierarchy, EverythingIsFoundAgainAfterARestart) {
                      {{"upload_id", "u1"}, {"scans", {{{{"bssid", "AA:BB:CC:DD:EE:01"}, {"rss", -60}}}, {{{"bssid", "aa:bb:cc:dd:ee:01"}, {"rss", -64}}}}}})
                   .status,
               200);
-    const auto before = s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export").body;
+    const auto before = body_of(s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export"));
     EXPECT_EQ(s.stop(), 0) << "SIGTERM must end the server cleanly";
     s.start();
-    const auto after = s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export").body;
+    const auto after = body_of(s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export"));
     EXPECT_EQ(before, after);
-    EXPECT_EQ(s.get("/v1/maps/" + std::to_string(h.map)).body.at("name"), "HQ");
+    EXPECT_EQ(body_of(s.get("/v1/maps/" + std::to_string(h.map))).at("name"), "HQ");
     // The upload id is remembered across the restart too.
     const auto again = s.post("/v1/rps/" + std::to_string(rp) + "/scans",
                               {{"upload_id", "u1"}, {"scans", {{{{"bssid", "aa:bb:cc:dd:ee:01"}, {"rss", -10}}}}}});
@@ -139,7 +140,7 @@ TEST(ServerHierarchy, CommittedWritesSurviveKill9) {
     for (int i = 0; i < 20; ++i) locus::testing::make_rp(s, h.radiomap, "rp" + std::to_string(i), i, i);
     s.kill9();
     s.start();
-    EXPECT_EQ(s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/rps").body.at("total"), 20);
+    EXPECT_EQ(body_of(s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/rps")).at("total"), 20);
 }
 
 TEST(ServerHierarchy, StartsWithTheDemoMapWhenAsked) {
@@ -147,20 +148,20 @@ TEST(ServerHierarchy, StartsWithTheDemoMapWhenAsked) {
     const auto maps = s.get("/v1/maps");
     ASSERT_EQ(maps.body.at("total"), 1);
     const auto map_id = maps.body.at("items")[0].at("id").get<long long>();
-    const auto buildings = s.get("/v1/maps/" + std::to_string(map_id) + "/buildings").body;
+    const auto buildings = body_of(s.get("/v1/maps/" + std::to_string(map_id) + "/buildings"));
     ASSERT_EQ(buildings.at("total"), 1);
-    const auto floors = s.get("/v1/buildings/" + std::to_string(buildings.at("items")[0].at("id").get<long long>()) + "/floors").body;
+    const auto floors = body_of(s.get("/v1/buildings/" + std::to_string(buildings.at("items")[0].at("id").get<long long>()) + "/floors"));
     ASSERT_EQ(floors.at("total"), 2);
     const auto floor_id = floors.at("items")[0].at("id").get<long long>();
-    EXPECT_GE(s.get("/v1/floors/" + std::to_string(floor_id) + "/rooms").body.at("total").get<int>(), 2);
-    EXPECT_GE(s.get("/v1/floors/" + std::to_string(floor_id) + "/pois").body.at("total").get<int>(), 1);
-    const auto rms = s.get("/v1/floors/" + std::to_string(floor_id) + "/radiomaps").body;
+    EXPECT_GE(body_of(s.get("/v1/floors/" + std::to_string(floor_id) + "/rooms")).at("total").get<int>(), 2);
+    EXPECT_GE(body_of(s.get("/v1/floors/" + std::to_string(floor_id) + "/pois")).at("total").get<int>(), 1);
+    const auto rms = body_of(s.get("/v1/floors/" + std::to_string(floor_id) + "/radiomaps"));
     ASSERT_EQ(rms.at("total"), 1);
-    EXPECT_GE(s.get("/v1/radiomaps/" + std::to_string(rms.at("items")[0].at("id").get<long long>()) + "/rps").body.at("total").get<int>(), 12);
+    EXPECT_GE(body_of(s.get("/v1/radiomaps/" + std::to_string(rms.at("items")[0].at("id").get<long long>()) + "/rps")).at("total").get<int>(), 12);
     // A restart with --demo on a non-empty database adds nothing.
     s.stop();
     s.start();
-    EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+    EXPECT_EQ(body_of(s.get("/v1/maps")).at("total"), 1);
 }
 
 TEST(ServerHierarchy, AccessLogHasOneStructuredLinePerRequest) {

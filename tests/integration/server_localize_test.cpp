@@ -7,6 +7,7 @@
 #include "server_process.hpp"
 
 using locus::testing::ServerProcess;
+using locus::testing::body_of;
 using nlohmann::json;
 
 namespace {
@@ -96,9 +97,9 @@ TEST_F(Localize, EveryAlgorithmAnswersTheObviousCase) {
 TEST_F(Localize, TheIndexFollowsWrites) {
     json body = scan(-41, -69);
     body["algorithm"] = "nn";
-    ASSERT_DOUBLE_EQ(s.post(path, body).body.at("x").get<double>(), 2.0);
+    ASSERT_DOUBLE_EQ(body_of(s.post(path, body)).at("x").get<double>(), 2.0);
 
-    const auto rps = s.get("/v1/radiomaps/" + std::to_string(rm) + "/rps").body.at("items");
+    const auto rps = body_of(s.get("/v1/radiomaps/" + std::to_string(rm) + "/rps")).at("items");
     ASSERT_EQ(rps[0].at("name"), "west");
     ASSERT_EQ(s.del("/v1/rps/" + std::to_string(rps[0].at("id").get<long long>())).status, 204);
     auto after = s.post(path, body);
@@ -109,7 +110,7 @@ TEST_F(Localize, TheIndexFollowsWrites) {
     // A new RP with an upload becomes the answer at once.
     const auto fresh = locus::testing::make_rp(s, rm, "far-west", 0.5, 5.0);
     ASSERT_EQ(s.post("/v1/rps/" + std::to_string(fresh) + "/scans", scan(-41, -69)).status, 200);
-    EXPECT_DOUBLE_EQ(s.post(path, body).body.at("x").get<double>(), 0.5);
+    EXPECT_DOUBLE_EQ(body_of(s.post(path, body)).at("x").get<double>(), 0.5);
 }
 
 TEST_F(Localize, WholeMapPicksTheFloor) {
@@ -127,7 +128,7 @@ TEST_F(Localize, WholeMapPicksTheFloor) {
     EXPECT_DOUBLE_EQ(r.body.at("x").get<double>(), 2.0);
     body = scan(-41, -69);
     body["algorithm"] = "nn";
-    EXPECT_EQ(s.post("/v1/maps/" + std::to_string(h.map) + "/localize", body).body.at("floor_id"), h.floor);
+    EXPECT_EQ(body_of(s.post("/v1/maps/" + std::to_string(h.map) + "/localize", body)).at("floor_id"), h.floor);
 }
 
 TEST_F(Localize, NearRestrictsCandidates) {

@@ -9,6 +9,7 @@
 #include "server_process.hpp"
 
 using locus::testing::ServerProcess;
+using locus::testing::body_of;
 using nlohmann::json;
 
 namespace {
@@ -51,7 +52,7 @@ TEST_F(Fixture, TwoUploadsMergeToTheStatisticsOfAllSamples) {
     for (double v : all) var += (v - mean) * (v - mean);
     var /= static_cast<double>(all.size());
 
-    const auto stored = s.get("/v1/rps/" + std::to_string(rp)).body;
+    const auto stored = body_of(s.get("/v1/rps/" + std::to_string(rp)));
     const auto m = measurement(stored, "aa:bb:cc:00:00:01");
     ASSERT_FALSE(m.is_null()) << stored.dump();
     EXPECT_EQ(m.at("count"), 7);
@@ -63,19 +64,19 @@ TEST_F(Fixture, TwoUploadsMergeToTheStatisticsOfAllSamples) {
 
 TEST_F(Fixture, ARepeatedUploadIdChangesNothing) {
     const json body = {{"upload_id", "file-1"}, {"scans", scans_of({-50, -52}, "aa:bb:cc:00:00:02")}};
-    ASSERT_TRUE(s.post(scans_path, body).body.at("applied").get<bool>());
-    const auto before = s.get("/v1/rps/" + std::to_string(rp)).body;
+    ASSERT_TRUE(body_of(s.post(scans_path, body)).at("applied").get<bool>());
+    const auto before = body_of(s.get("/v1/rps/" + std::to_string(rp)));
     const auto again = s.post(scans_path, body);
     EXPECT_EQ(again.status, 200);
     EXPECT_FALSE(again.body.at("applied").get<bool>());
-    EXPECT_EQ(s.get("/v1/rps/" + std::to_string(rp)).body, before);
+    EXPECT_EQ(body_of(s.get("/v1/rps/" + std::to_string(rp))), before);
 }
 
 TEST_F(Fixture, UploadsWithoutAnIdAlwaysMerge) {
     const json body = {{"scans", scans_of({-50}, "aa:bb:cc:00:00:03")}};
     s.post(scans_path, body);
     s.post(scans_path, body);
-    EXPECT_EQ(measurement(s.get("/v1/rps/" + std::to_string(rp)).body, "aa:bb:cc:00:00:03").at("count"), 2);
+    EXPECT_EQ(measurement(body_of(s.get("/v1/rps/" + std::to_string(rp))), "aa:bb:cc:00:00:03").at("count"), 2);
 }
 
 TEST_F(Fixture, AggregatesMergeExactlyLikeRawScans) {
@@ -83,7 +84,7 @@ TEST_F(Fixture, AggregatesMergeExactlyLikeRawScans) {
     auto r = s.post(scans_path, {{"measurements", {{{"type", "wifi"}, {"bssid", "aa:bb:cc:00:00:04"}, {"mean", -61.0}, {"variance", 1.0}, {"count", 2}}}}});
     ASSERT_EQ(r.status, 200) << r.raw;
     s.post(scans_path, {{"scans", scans_of({-64}, "aa:bb:cc:00:00:04")}});
-    const auto m = measurement(s.get("/v1/rps/" + std::to_string(rp)).body, "aa:bb:cc:00:00:04");
+    const auto m = measurement(body_of(s.get("/v1/rps/" + std::to_string(rp))), "aa:bb:cc:00:00:04");
     EXPECT_EQ(m.at("count"), 3);
     EXPECT_NEAR(m.at("mean").get<double>(), -62.0, 1e-12);
     EXPECT_NEAR(m.at("variance").get<double>(), 8.0 / 3.0, 1e-12);
@@ -97,7 +98,7 @@ TEST_F(Fixture, ApsSeenInSomeScansKeepTheirOwnCount) {
         scans.push_back(scan);
     }
     s.post(scans_path, {{"scans", scans}});
-    const auto stored = s.get("/v1/rps/" + std::to_string(rp)).body;
+    const auto stored = body_of(s.get("/v1/rps/" + std::to_string(rp)));
     EXPECT_EQ(stored.at("scans"), 5);
     EXPECT_EQ(measurement(stored, "aa:bb:cc:00:00:05").at("count"), 5);
     EXPECT_EQ(measurement(stored, "aa:bb:cc:00:00:06").at("count"), 2);
@@ -117,12 +118,12 @@ TEST_F(Fixture, ExportImportRoundTrip) {
     const auto imported = s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", doc);
     ASSERT_EQ(imported.status, 201) << imported.raw;
     EXPECT_EQ(imported.body.at("rp_count"), 2);
-    const auto again = s.get("/v1/radiomaps/" + std::to_string(imported.body.at("id").get<long long>()) + "/export").body;
+    const auto again = body_of(s.get("/v1/radiomaps/" + std::to_string(imported.body.at("id").get<long long>()) + "/export"));
     EXPECT_EQ(again.at("rps"), exported.body.at("rps"));
     EXPECT_EQ(again.at("name"), "copy");
 
     // Importing under an existing name is a conflict and adds nothing.
     const auto dup = s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", doc);
     EXPECT_EQ(dup.status, 409);
-    EXPECT_EQ(s.get("/v1/floors/" + std::to_string(h.floor) + "/radiomaps").body.at("total"), 2);
+    EXPECT_EQ(body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/radiomaps")).at("total"), 2);
 }

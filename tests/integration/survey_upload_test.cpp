@@ -4,13 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "hierarchy.hpp"
 #include "server_process.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
+using locus::testing::body_of;
 using nlohmann::json;
 
 namespace {
@@ -103,7 +106,7 @@ TEST_F(SurveyUpload, SameFileTwiceDoesNotDoubleCount) {
     EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
     // The same scans as CSV are another file: the server merges them (twice the samples).
     ASSERT_EQ(upload(rm, {fixture("walk.csv")}).status, 0);
-    const auto rps = server.get("/v1/radiomaps/" + rm + "/export").body["rps"];
+    const auto rps = body_of(server.get("/v1/radiomaps/" + rm + "/export"))["rps"];
     std::int64_t scans = 0;
     for (const auto& rp : rps) scans += rp["scans"].get<std::int64_t>();
     EXPECT_EQ(scans, 12);
@@ -114,7 +117,7 @@ TEST_F(SurveyUpload, InterruptedUploadResumesToTheCleanResult) {
     const auto cut = upload(rm, {"--concurrency", "1", "--stop-after", "1", fixture("walk.jsonl")});
     EXPECT_EQ(cut.status, 3) << cut.err;
     EXPECT_EQ(json::parse(cut.out)["applied"], 1);
-    EXPECT_EQ(server.get("/v1/radiomaps/" + rm + "/rps").body["total"], 1);
+    EXPECT_EQ(body_of(server.get("/v1/radiomaps/" + rm + "/rps"))["total"], 1);
     const auto rest = upload(rm, {fixture("walk.jsonl")});
     ASSERT_EQ(rest.status, 0) << rest.err;
     const json s = json::parse(rest.out);
@@ -191,7 +194,7 @@ TEST_F(SurveyUpload, PlanSkipsPointsOutsideRoomsAndCreatesOnce) {
     const auto again = run_command(argv);
     ASSERT_EQ(again.status, 0) << again.err;
     EXPECT_EQ(json::parse(again.out)["created"], 0);
-    EXPECT_EQ(server.get("/v1/radiomaps/" + rm + "/rps").body["total"], 9);
+    EXPECT_EQ(body_of(server.get("/v1/radiomaps/" + rm + "/rps"))["total"], 9);
 }
 
 TEST_F(SurveyUpload, ApiKeyFromTheEnvironment) {
@@ -210,6 +213,69 @@ TEST_F(SurveyUpload, ApiKeyFromTheEnvironment) {
     EXPECT_NE(denied.err.find("Bearer"), std::string::npos) << denied.err;
     const auto ok = run_command(argv, {"LOCUS_API_KEY=s3cret"});
     EXPECT_EQ(ok.status, 0) << ok.err;
+}
+
+// Issue 11 item 9: a CSV cell with a byte that is not UTF-8 is a malformed line like any other
+// (before, RP 'X' was created, and its upload failed with a JSON type_error on every run and
+// left it empty).
+TEST_F(SurveyUpload, ACellThatIsNotUtf8IsAMalformedLine) {
+    const std::string dir = locus::testing::make_temp_dir();
+    const std::string file = dir + "/bytes.csv";
+    {
+        std::ofstream out(file, std::ios::binary);
+        out << "rp,x,y,t,bssid,rss\n"
+               "A,1,1,1,aa:bb:cc:00:00:01,-50\n"
+               "X,2,2,1,aa:bb:cc:00:00:\xff\xfe,-60\n"
+               "X,2,2,1,aa:bb:cc:00:00:02,-61\n";
+    }
+    const auto rm = radiomap("bytes");
+    const auto r = upload(rm, {file});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find(file + ":3:"), std::string::npos) << r.err;
+    const json s = json::parse(r.out);
+    EXPECT_EQ(s["malformed_lines"], 1);
+    EXPECT_EQ(s["failed"], 0);
+    EXPECT_EQ(s["applied"], 2);
+    const auto rps = server.get("/v1/radiomaps/" + rm + "/export");
+    ASSERT_EQ(rps.status, 200) << rps.raw;
+    ASSERT_EQ(rps.body["rps"].size(), 2u);
+    for (const auto& rp : rps.body["rps"]) EXPECT_EQ(rp["scans"], 1) << rp.dump();
+
+    // --strict refuses the file, naming the line, and creates nothing.
+    const auto strict_rm = radiomap("bytes-strict");
+    const auto strict = upload(strict_rm, {"--strict", file});
+    EXPECT_EQ(strict.status, 2) << strict.err;
+    EXPECT_NE(strict.err.find(file + ":3:"), std::string::npos) << strict.err;
+    const auto none = server.get("/v1/radiomaps/" + strict_rm + "/rps");
+    ASSERT_EQ(none.status, 200) << none.raw;
+    EXPECT_EQ(none.body["total"], 0);
+    std::filesystem::remove_all(dir);
+}
+
+// An RP is never left created but empty: when its scans cannot be sent (here the server takes
+// no body over 1,500 bytes, so the RP is created and its upload refused with 413), the RP this
+// run created goes again, and a re-run finds nothing half-done.
+TEST_F(SurveyUpload, AFailedUploadLeavesNoEmptyRp) {
+    ServerProcess small{{"--quiet", "--max-body-bytes", "1500"}};
+    const auto h = locus::testing::make_hierarchy(small);
+    const std::string dir = locus::testing::make_temp_dir();
+    const std::string file = dir + "/big.csv";
+    {
+        std::ofstream out(file, std::ios::binary);
+        out << "rp,x,y,t,bssid,rss\n";
+        for (int t = 0; t < 40; ++t) out << "BIG,1,1," << t << ",aa:bb:cc:00:00:01,-50\n";
+    }
+    const std::vector<std::string> argv{kCli, "survey", "upload", "--server", small.url(), "--radiomap",
+                                        std::to_string(h.radiomap), "--no-progress", file};
+    for (int run = 0; run < 2; ++run) {
+        const auto r = run_command(argv);
+        EXPECT_NE(r.status, 0) << r.err;
+        EXPECT_EQ(json::parse(r.out, nullptr, false).value("failed", -1), 1) << r.out;
+        const auto rps = small.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/rps");
+        ASSERT_EQ(rps.status, 200) << rps.raw;
+        EXPECT_EQ(rps.body["total"], 0) << "run " << run << " left an empty RP: " << rps.raw;
+    }
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

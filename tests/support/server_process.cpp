@@ -1,6 +1,7 @@
 #include "server_process.hpp"
 
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -36,6 +37,16 @@ Response to_response(const httplib::Result& r) {
     return out;
 }
 
+// Generous timeouts: on a loaded CI machine a large export can take longer than
+// cpp-httplib's default 5 s read timeout, and a test then read the body of no answer.
+httplib::Client client(int port) {
+    httplib::Client c("127.0.0.1", port);
+    c.set_connection_timeout(10, 0);
+    c.set_read_timeout(30, 0);
+    c.set_write_timeout(30, 0);
+    return c;
+}
+
 int wait_status(pid_t pid) {
     int status = 0;
     if (waitpid(pid, &status, 0) < 0) return -1;
@@ -62,6 +73,14 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args) : extra_args_(
     start();
 }
 
+ServerProcess::ServerProcess(std::vector<std::string> extra_args, FileSizeLimit limit)
+    : extra_args_(std::move(extra_args)), file_size_limit_(limit.bytes) {
+    dir_ = make_temp_dir();
+    db_path_ = dir_ + "/locus.db";
+    log_path_ = dir_ + "/server.log";
+    start();
+}
+
 ServerProcess::~ServerProcess() {
     if (pid_ > 0) stop();
     std::error_code ec;
@@ -79,6 +98,10 @@ void ServerProcess::start() {
         if (f) {
             dup2(fileno(f), 1);
             dup2(fileno(f), 2);
+        }
+        if (file_size_limit_ > 0) {
+            const rlimit limit{static_cast<rlim_t>(file_size_limit_), static_cast<rlim_t>(file_size_limit_)};
+            setrlimit(RLIMIT_FSIZE, &limit);
         }
         std::vector<char*> cargs;
         for (auto& a : args) cargs.push_back(a.data());
@@ -125,7 +148,7 @@ httplib::Headers ServerProcess::headers() const {
 }
 
 Response ServerProcess::get(const std::string& path) const {
-    httplib::Client c("127.0.0.1", port_);
+    auto c = client(port_);
     return to_response(c.Get(path.c_str(), headers()));
 }
 
@@ -135,18 +158,25 @@ Response ServerProcess::post(const std::string& path, const nlohmann::json& body
 
 Response ServerProcess::post_raw(const std::string& path, const std::string& body,
                                  const std::string& content_type) const {
-    httplib::Client c("127.0.0.1", port_);
+    auto c = client(port_);
     return to_response(c.Post(path.c_str(), headers(), body, content_type.c_str()));
 }
 
 Response ServerProcess::patch(const std::string& path, const nlohmann::json& body) const {
-    httplib::Client c("127.0.0.1", port_);
+    auto c = client(port_);
     return to_response(c.Patch(path.c_str(), headers(), body.dump(), "application/json"));
 }
 
 Response ServerProcess::del(const std::string& path) const {
-    httplib::Client c("127.0.0.1", port_);
+    auto c = client(port_);
     return to_response(c.Delete(path.c_str(), headers()));
+}
+
+nlohmann::json body_of(const Response& r, int status) {
+    if (r.status != status)
+        throw std::runtime_error("expected status " + std::to_string(status) + ", got " + std::to_string(r.status) +
+                                 (r.status == 0 ? " (no answer: connection failed or timed out)" : "") + ": " + r.raw);
+    return r.body;
 }
 
 CommandResult run_command(const std::vector<std::string>& argv, const std::vector<std::string>& env) {

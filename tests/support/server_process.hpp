@@ -10,6 +10,12 @@
 
 namespace locus::testing {
 
+// RLIMIT_FSIZE for the server process: no file it writes grows past this many bytes (writes
+// fail with EFBIG, as on a full disk).
+struct FileSizeLimit {
+    long long bytes = 0;
+};
+
 struct Response {
     int status = 0;  // 0 = no answer (connection failed)
     nlohmann::json body;
@@ -19,6 +25,7 @@ struct Response {
 class ServerProcess {
 public:
     explicit ServerProcess(std::vector<std::string> extra_args = {});
+    ServerProcess(std::vector<std::string> extra_args, FileSizeLimit limit);
     ~ServerProcess();
     ServerProcess(const ServerProcess&) = delete;
     ServerProcess& operator=(const ServerProcess&) = delete;
@@ -33,6 +40,8 @@ public:
     const std::string& dir() const { return dir_; }
     std::string log() const;  // everything the server printed so far
     void set_api_key(std::string key) { api_key_ = std::move(key); }
+    // Applies from the next start(); 0 lifts the limit.
+    void set_file_size_limit(long long bytes) { file_size_limit_ = bytes; }
 
     Response get(const std::string& path) const;
     Response post(const std::string& path, const nlohmann::json& body) const;
@@ -47,7 +56,13 @@ private:
     std::string dir_, db_path_, log_path_, api_key_;
     pid_t pid_ = -1;
     int port_ = 0;
+    long long file_size_limit_ = 0;
 };
+
+// The body of an answer with `status`; otherwise throws, failing the test with the status and
+// what came back. A request that timed out has status 0 and a null body: read unchecked, it
+// failed later as a type_error on null that hid the cause.
+nlohmann::json body_of(const Response& r, int status = 200);
 
 // Runs the locus CLI, returning exit status and captured stdout (stderr goes to a file).
 struct CommandResult {

@@ -133,3 +133,112 @@ TEST(Store, DemoBundleImports) {
     ASSERT_EQ(ids.size(), 2u);
     EXPECT_EQ(repo.rps_of_radiomap(ids[0]).size(), 12u);
 }
+
+namespace {
+std::int64_t count_rows(locus::store::Db& db, const std::string& table) {
+    locus::store::Stmt s(db, "SELECT COUNT(*) FROM " + table);
+    s.step();
+    return s.int64(0);
+}
+}  // namespace
+
+// Issue 11 item 7: a deleted newest row's id went to the next row, so a client holding the old
+// id read another object. Every kind the API exposes: create two, delete the newer, create.
+TEST(Store, AnIdIsNeverHandedOutTwice) {
+    TempDb t;
+    Repository repo(t.path());
+    const auto c = make_chain(repo);
+    struct Case {
+        const char* kind;
+        std::optional<long long> parent;
+        json a, b;
+    };
+    const json floor_b = {{"name", "F2"}, {"level", 1}, {"width", 10.0}, {"height", 5.0}};
+    const std::vector<Case> cases = {
+        {"maps", std::nullopt, {{"name", "M2"}}, {{"name", "M3"}}},
+        {"buildings", c.map, {{"name", "B2"}}, {{"name", "B3"}}},
+        {"floors", c.building, floor_b, {{"name", "F3"}, {"level", 2}, {"width", 1.0}, {"height", 1.0}}},
+        {"rooms", c.floor, {{"name", "r1"}}, {{"name", "r2"}}},
+        {"pois", c.floor, {{"name", "p1"}, {"x", 1.0}, {"y", 1.0}}, {{"name", "p2"}, {"x", 2.0}, {"y", 2.0}}},
+        {"radiomaps", c.floor, {{"name", "R2"}}, {{"name", "R3"}}},
+        {"rps", c.radiomap, {{"name", "q1"}, {"x", 1.0}, {"y", 1.0}}, {{"name", "q2"}, {"x", 2.0}, {"y", 2.0}}},
+    };
+    for (const auto& k : cases) {
+        SCOPED_TRACE(k.kind);
+        const auto newest = repo.create(kind(k.kind), k.parent, k.a).at("id").get<long long>();
+        repo.remove(kind(k.kind), newest);
+        const auto next = repo.create(kind(k.kind), k.parent, k.b).at("id").get<long long>();
+        EXPECT_GT(next, newest) << "id " << newest << " was reused";
+        EXPECT_THROW(repo.get(kind(k.kind), newest), locus::store::NotFound);
+    }
+    // Also across a reopen: the high-water mark is stored, not kept in memory.
+    const auto rp = repo.create(kind("rps"), c.radiomap, {{"name", "last"}, {"x", 0.0}, {"y", 0.0}}).at("id").get<long long>();
+    repo.remove(kind("rps"), rp);
+    Repository reopened(t.path());
+    EXPECT_GT(reopened.create(kind("rps"), c.radiomap, {{"name", "again"}, {"x", 0.0}, {"y", 0.0}}).at("id").get<long long>(), rp);
+}
+
+// A database written by schema version 1 (plain INTEGER PRIMARY KEY) moves to AUTOINCREMENT
+// with every row, id and reference, and ON DELETE CASCADE still works afterwards: the rebuild
+// must not cascade its own DROP TABLEs into the children.
+TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
+    TempDb t;
+    {
+        locus::store::Db db(t.path());  // foreign keys on, as the server runs
+        db.exec(locus::server::migrations().at(0));
+        db.exec("PRAGMA user_version = 1");
+        db.exec(R"sql(
+            INSERT INTO maps (id, name) VALUES (1, 'kept'), (2, 'other');
+            INSERT INTO buildings (id, map_id, name) VALUES (1, 1, 'B'), (2, 2, 'B');
+            INSERT INTO floors (id, building_id, name, level, width, height) VALUES (1, 1, 'F', 0, 30, 15), (2, 2, 'F', 0, 1, 1);
+            INSERT INTO rooms (id, floor_id, name) VALUES (4, 1, 'Lobby');
+            INSERT INTO room_rects (room_id, xmin, ymin, xmax, ymax) VALUES (4, 0, 0, 5, 5), (4, 5, 0, 8, 2);
+            INSERT INTO pois (id, floor_id, name, kind, x, y) VALUES (3, 1, 'Door', 'exit', 1, 2);
+            INSERT INTO radiomaps (id, floor_id, name) VALUES (1, 1, 'R'), (2, 2, 'R');
+            INSERT INTO rps (id, radiomap_id, name, x, y, scans) VALUES (25, 1, 'a', 1, 1, 3), (26, 1, 'b', 2, 2, 1), (27, 2, 'c', 0, 0, 0);
+            INSERT INTO measurements (rp_id, type, bssid, mean, variance, count) VALUES
+              (25, 'wifi', 'aa:bb', -50, 1, 3), (26, 'wifi', 'aa:bb', -60, 0, 1), (27, 'ble', 'cc', -70, 0, 1);
+            INSERT INTO uploads (rp_id, upload_id) VALUES (25, 'u1');
+        )sql");
+    }
+    Repository repo(t.path());
+    {
+        locus::store::Db db(t.path());
+        locus::store::Stmt v(db, "PRAGMA user_version");
+        v.step();
+        EXPECT_EQ(v.int64(0), static_cast<std::int64_t>(locus::server::migrations().size()));
+        locus::store::Stmt fk(db, "PRAGMA foreign_key_check");
+        EXPECT_FALSE(fk.step()) << "dangling reference in " << fk.text(0);
+        locus::store::Stmt sql(db, "SELECT sql FROM sqlite_schema WHERE name = 'rps'");
+        ASSERT_TRUE(sql.step());
+        EXPECT_NE(sql.text(0).find("AUTOINCREMENT"), std::string::npos) << sql.text(0);
+        EXPECT_EQ(count_rows(db, "measurements"), 3);
+        EXPECT_EQ(count_rows(db, "room_rects"), 2);
+        EXPECT_EQ(count_rows(db, "uploads"), 1);
+        EXPECT_EQ(count_rows(db, "sqlite_schema WHERE name LIKE '%_v2'"), 0);
+    }
+    EXPECT_EQ(repo.get(kind("maps"), 1).at("name"), "kept");
+    EXPECT_EQ(repo.get(kind("floors"), 1).at("width"), 30.0);
+    EXPECT_EQ(repo.get(kind("rooms"), 4).at("rects").size(), 2u);
+    EXPECT_EQ(repo.get(kind("pois"), 3).at("kind"), "exit");
+    const auto rp = repo.rp_with_measurements(25);
+    EXPECT_EQ(rp.at("scans"), 3);
+    ASSERT_EQ(rp.at("measurements").size(), 1u);
+    EXPECT_EQ(rp.at("measurements")[0].at("count"), 3);
+    // The upload ids survive: a repeated upload is still ignored.
+    EXPECT_FALSE(repo.merge_scans(25, {std::string("u1"), {{"wifi", "aa:bb", locus::RssStats{-40.0, 0.0, 1}}}, 1}).applied);
+    // Foreign keys are enforced again, and a delete still cascades to the bottom.
+    EXPECT_THROW(repo.create(kind("rps"), 99, {{"name", "x"}, {"x", 0.0}, {"y", 0.0}}), locus::store::NotFound);
+    repo.remove(kind("maps"), 2);
+    EXPECT_THROW(repo.get(kind("rps"), 27), locus::store::NotFound);
+    {
+        locus::store::Db db(t.path());
+        EXPECT_EQ(count_rows(db, "measurements"), 2);
+        EXPECT_EQ(count_rows(db, "buildings"), 1);
+        EXPECT_THROW(db.exec("INSERT INTO buildings (map_id, name) VALUES (42, 'orphan')"), locus::store::SqliteError);
+    }
+    // The migrated ids are the high-water mark: new rows never take an old id.
+    repo.remove(kind("rps"), 26);
+    EXPECT_GT(repo.create(kind("rps"), 1, {{"name", "new"}, {"x", 0.0}, {"y", 0.0}}).at("id").get<long long>(), 27);
+    EXPECT_GT(repo.create(kind("maps"), std::nullopt, {{"name", "new"}}).at("id").get<long long>(), 2);
+}

@@ -142,3 +142,38 @@ TEST(SurveyFormat, ACsvFileOfCommentsHasNoHeader) {
     EXPECT_EQ(f.errors[0].line, 3u);  // the last line read
     EXPECT_EQ(f.errors[0].message, "no header line");
 }
+
+// Issue 11 item 9: a byte that is not UTF-8 in a CSV cell passed the parser, and the upload of
+// the whole RP then failed in the JSON writer on every run. Such a line is malformed.
+TEST(SurveyFormat, ACsvCellThatIsNotUtf8MakesItsLineMalformed) {
+    const std::string text =
+        "rp,x,y,t,type,bssid,rss\n"
+        "A,1,1,1,wifi,aa:bb:cc:00:00:01,-50\n"
+        "A,1,1,1,wifi,aa:bb:cc:00:00:\xff\xfe,-60\n"           // 3: bssid
+        "B\xc3,2,2,1,wifi,aa:bb:cc:00:00:01,-50\n"             // 4: rp, a lead byte without its tail
+        "C,3,3,1,wifi,aa:bb:cc:00:00:\xc0\xaf,-50\n"           // 5: an overlong '/'
+        "D,4,4,1,wifi,aa:bb:cc:00:00:\xed\xa0\x80,-50\n"       // 6: a UTF-16 surrogate
+        "E,5,5,1,w\xe9ifi,aa:bb:cc:00:00:01,-50\n"             // 7: Latin-1, not UTF-8
+        "Caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x93\xa1,6,6,1,wifi,aa:bb:cc:00:00:01,-40\n";  // UTF-8: fine
+    const auto f = parse(text, Format::Csv);
+    ASSERT_EQ(f.errors.size(), 5u);
+    for (std::size_t i = 0; i < 5; ++i) {
+        EXPECT_EQ(f.errors[i].line, i + 3);
+        EXPECT_NE(f.errors[i].message.find("not UTF-8"), std::string::npos) << f.errors[i].message;
+    }
+    EXPECT_NE(f.errors[0].message.find("'bssid'"), std::string::npos) << f.errors[0].message;
+    EXPECT_NE(f.errors[1].message.find("'rp'"), std::string::npos) << f.errors[1].message;
+    ASSERT_EQ(f.rps.size(), 2u);  // nothing of B, C, D, E
+    EXPECT_EQ(f.rps[0].name, "A");
+    ASSERT_EQ(f.rps[0].scans.size(), 1u);
+    EXPECT_EQ(f.rps[0].scans[0].size(), 1u);
+    EXPECT_EQ(f.rps[1].name, "Caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x93\xa1");
+    EXPECT_EQ(f.readings, 2u);
+}
+
+TEST(SurveyFormat, AJsonLineThatIsNotUtf8IsMalformed) {
+    const auto f = parse("{\"rp\":\"A\",\"readings\":[{\"bssid\":\"aa:bb:\xff\",\"rss\":-50}]}\n", Format::JsonLines);
+    ASSERT_EQ(f.errors.size(), 1u);
+    EXPECT_EQ(f.errors[0].line, 1u);
+    EXPECT_TRUE(f.rps.empty());
+}
