@@ -5,6 +5,8 @@
 #   scripts/setup.sh locus-server locus   # only these targets (what run.sh needs)
 #
 # The targets can also come from LOCUS_TARGETS (space-separated); arguments win.
+# LOCUS_DEVTOOLS=1 also installs what the test command's API checks need: Node.js and npm
+# (Debian's) and the pinned developer tools of package-lock.json (npm ci, into node_modules/).
 # When another apt or dpkg holds the package manager's lock, waits for it up to
 # LOCUS_APT_WAIT seconds (default 600) before giving up.
 set -euo pipefail
@@ -17,6 +19,7 @@ fi
 
 packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev libsqlite3-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev)
+[ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! command -v npm >/dev/null 2>&1 && packages+=(nodejs npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -59,6 +62,13 @@ if ((${#missing[@]})); then
   $SUDO apt-get -o DPkg::Lock::Timeout="$APT_WAIT" update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get -o DPkg::Lock::Timeout="$APT_WAIT" install -y -qq \
     --no-install-recommends "${missing[@]}" >&2
+fi
+
+# A copy of the lock file npm ci last installed from: equal means nothing to do.
+if [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! cmp -s package-lock.json node_modules/.locus-installed-lock.json 2>/dev/null; then
+  echo "setup: installing the pinned developer tools (npm ci)" >&2
+  npm ci --no-audit --no-fund --loglevel=error >&2
+  cp package-lock.json node_modules/.locus-installed-lock.json
 fi
 
 BUILD_DIR="${LOCUS_BUILD_DIR:-build}"

@@ -2,6 +2,10 @@
 # Builds Locus and runs every unit and integration test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-LOCUS_TARGETS= bash scripts/setup.sh   # every target: the tests and benchmarks too
+LOCUS_TARGETS= LOCUS_DEVTOOLS=1 bash scripts/setup.sh   # every target, and the API checks' tools
+# The API description: lint-clean, and the real server's traffic through Prism's validating
+# proxy breaks none of it.
+bash scripts/lint_openapi.sh
+bash scripts/contract_check.sh
 cd "${LOCUS_BUILD_DIR:-build}"
 ctest --output-on-failure -j"${LOCUS_JOBS:-2}" "$@"
