@@ -163,10 +163,19 @@ double finite_number(const json& obj, std::string_view field, const std::string&
     return d;
 }
 
+namespace {
+// The shortest text that reads back as the same double: "50", "-120", "0.1", not "50.000000".
+std::string plain(double v) {
+    char buf[32];
+    const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
+    return std::string(buf, end);
+}
+}  // namespace
+
 ApiError out_of_range(const std::string& name, double value, std::optional<double> min, std::optional<double> max) {
     return ApiError(422, "out_of_range",
-                    "'" + name + "' = " + std::to_string(value) + " is outside [" + (min ? std::to_string(*min) : "-inf") +
-                        ", " + (max ? std::to_string(*max) : "inf") + "]");
+                    "'" + name + "' = " + plain(value) + " is outside [" + (min ? plain(*min) : "-inf") + ", " +
+                        (max ? plain(*max) : "inf") + "]");
 }
 
 const char* type_problem(std::string_view type) {

@@ -110,7 +110,9 @@ void Service::on_write(std::string_view kind, const json& row, bool deleted) {
             // Rooms change symbolic locations; deleting a floor, building or map cascades.
             mark_all_dirty();
         }
-    } catch (const store::NotFound&) {
+    } catch (const std::exception&) {
+        // The row's map could not be read (gone, or a storage fault after the write committed):
+        // the write stands, so rebuild everything rather than answer the client with an error.
         mark_all_dirty();
     }
 }

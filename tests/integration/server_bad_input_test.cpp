@@ -114,6 +114,9 @@ TEST_F(BadInput, RssOutsideTheValidRange) {
         expect_error(s.post(scans, {{"scans", one_scan(v)}}), 422, "out_of_range", "rss " + std::to_string(v));
     expect_error(s.post(scans, {{"measurements", {{{"bssid", "aa"}, {"mean", 3.0}, {"variance", 1}, {"count", 3}}}}}), 422,
                  "out_of_range", "mean above 0");
+    // The numbers are written as the client would write them, not as "100.000000".
+    const auto r = s.post(scans, {{"scans", one_scan(100)}});
+    EXPECT_NE(r.raw.find("= 100 is outside [-120, 0]"), std::string::npos) << r.raw;
     // The boundaries themselves are valid samples.
     EXPECT_EQ(s.post(scans, {{"scans", json::array({json::array({{{"bssid", "aa:00"}, {"rss", -120}}, {{"bssid", "aa:01"}, {"rss", 0}}})})}}).status, 200);
 }

@@ -11,6 +11,7 @@
 // Bounded in connections (≤ 5,000 in all) and time (≤ 300 s); loopback only. Prints one JSON
 // object; exits non-zero if any request failed or timed out (10 s).
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -75,6 +76,15 @@ struct SlowClient {
 };
 
 void run(const Args& a) {
+    const auto needed = static_cast<rlim_t>(a.active + a.idle + a.slowloris + 64);
+    rlimit files{};
+    if (::getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < needed) {
+        files.rlim_cur = std::min(needed, files.rlim_max);
+        ::setrlimit(RLIMIT_NOFILE, &files);
+        if (files.rlim_cur < needed)
+            throw CommandError("this many connections need " + std::to_string(needed) +
+                               " open files; raise the limit (ulimit -n) or ask for fewer");
+    }
     const std::string base = a.server.client_options().base_url;
     const Target target = loopback_target(base, "bench connections");
     const auto bodies = localize_bodies(a.server, a.radiomap, "", a.algorithm);
