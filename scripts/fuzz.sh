@@ -14,11 +14,21 @@ seconds="${1:-60}"
 shift $(($# > 0 ? 1 : 0))
 BUILD_DIR="${LOCUS_FUZZ_BUILD_DIR:-build-fuzz}"
 JOBS="${LOCUS_JOBS:-2}"
+cxx="${LOCUS_FUZZ_CXX:-clang++}"
+probe="$(mktemp -d)"
+echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' >"$probe/p.cpp"
+if ! "$cxx" -fsanitize=fuzzer,address,undefined "$probe/p.cpp" -o "$probe/p" 2>"$probe/err"; then
+  cat "$probe/err" >&2
+  echo "fuzz: $cxx cannot build a libFuzzer target; on Debian 12: apt-get install clang libclang-rt-14-dev" >&2
+  rm -rf "$probe"
+  exit 2
+fi
+rm -rf "$probe"
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOCUS_FUZZ=ON \
-      -DCMAKE_CXX_COMPILER="${LOCUS_FUZZ_CXX:-clang++}" "${launcher[@]}" >/dev/null
+      -DCMAKE_CXX_COMPILER="$cxx" "${launcher[@]}" >/dev/null
 cmake --build "$BUILD_DIR" -j"$JOBS" --target locus_fuzz
 
 targets=("$@")
