@@ -17,6 +17,7 @@
 #include "http/api_error.hpp"
 #include "localize/plain_request.hpp"
 #include "localize/request.hpp"
+#include "json_mutator.hpp"
 
 using namespace locus;
 using namespace locus::localize;
@@ -93,3 +94,5 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (served && full) check_same(*served, *full, "parse_localize_request and the full parser read the body differently", body);
     return 0;
 }
+
+LOCUS_FUZZ_JSON_MUTATOR

@@ -16,6 +16,7 @@
 #include "http/json_text.hpp"
 #include "http/validation.hpp"
 #include "store/repository.hpp"
+#include "json_mutator.hpp"
 
 using namespace locus;
 using nlohmann::json;
@@ -110,3 +111,5 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     expect_empty("cleanup", body);
     return 0;
 }
+
+LOCUS_FUZZ_JSON_MUTATOR

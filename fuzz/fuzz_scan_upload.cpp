@@ -20,6 +20,7 @@
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
 #include "store/repository.hpp"
+#include "json_mutator.hpp"
 
 using namespace locus;
 using nlohmann::json;
@@ -94,3 +95,5 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     return 0;
 }
+
+LOCUS_FUZZ_JSON_MUTATOR
