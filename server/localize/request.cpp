@@ -130,7 +130,9 @@ public:
         ++depth_;
         if (depth_ == 1) return true;
         if (in_options()) return tree_open(json::object());
-        if (top_ == Top::scans && depth_ == 4) return start_reading();
+        // A reading only inside a scan array: an object at depth 4 under a misplaced object
+        // would otherwise open a reading with no scan to hold it (scans.back() on an empty list).
+        if (top_ == Top::scans && depth_ == 4 && scan_open_) return start_reading();
         if (top_ == Top::means && depth_ == 3) return start_reading();
         return misplaced();
     }
@@ -148,6 +150,7 @@ public:
         if (depth_ == 2 && (top_ == Top::scans || top_ == Top::means)) return true;
         if (depth_ == 3 && top_ == Top::scans) {
             scans.emplace_back();
+            scan_open_ = true;
             return true;
         }
         return misplaced();
@@ -155,6 +158,7 @@ public:
     bool end_array() override {
         --depth_;
         if (in_options() || (top_ == Top::options && depth_ == 1)) return tree_close();
+        if (depth_ == 2 && top_ == Top::scans) scan_open_ = false;
         if (depth_ == 1 && top_ == Top::scans && scans.empty())
             fail(invalid_field("'scans' must be a non-empty array of scans"));
         if (depth_ == 1 && top_ == Top::means && means.empty())
@@ -329,6 +333,7 @@ private:
     std::string field_name_, pending_key_, text_;
     double number_ = 0.0;
     bool reading_open_ = false;
+    bool scan_open_ = false;  // inside an array of "scans" (at depth 3), which holds readings
     Pending pending_;
     std::vector<json*> stack_;
     std::optional<ApiError> error_;

@@ -149,7 +149,8 @@ void Service::install(http::App& app) {
     for (const auto& [collection, what, scope] : {std::tuple{"radiomaps", "radiomap", Scope::radiomap},
                                                   std::tuple{"maps", "map", Scope::map}}) {
         app.server().Post("/v1/" + std::string(collection) + R"(/(\d+)/localize)",
-                          [this, what, scope](const httplib::Request& req, httplib::Response& res) {
+                          // Init-captures: clang before 16 cannot capture structured bindings.
+                          [this, what = what, scope = scope](const httplib::Request& req, httplib::Response& res) {
                               http::App::guarded(res, [&] {
                                   const auto id = http::parse_id(req.matches[1].str(), what);
                                   const auto request = parse_localize_request(req.body);

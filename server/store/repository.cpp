@@ -318,7 +318,9 @@ namespace {
 std::vector<Measurement> measurements_from(const json& arr) {
     std::vector<Measurement> out;
     for (const auto& m : arr)
-        out.push_back({m.value("type", std::string("wifi")), normalise_bssid(m.at("bssid").get<std::string>()),
+        // A null "type" is wifi, as validation reads it (value() would throw on the null).
+        out.push_back({m.contains("type") && !m.at("type").is_null() ? m.at("type").get<std::string>() : "wifi",
+                       normalise_bssid(m.at("bssid").get<std::string>()),
                        RssStats{m.at("mean").get<double>(), m.at("variance").get<double>(),
                                 m.at("count").get<std::int64_t>()}});
     return out;

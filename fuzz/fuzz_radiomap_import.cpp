@@ -1,0 +1,115 @@
+// The radio-map import (POST /v1/floors/{id}/radiomaps/import): parse_object,
+// validate_radiomap_document, then Repository::import_radiomap into an in-memory SQLite
+// repository, as the handler in server/http/app.cpp does.
+//
+// Checks: validation throws nothing but http::ApiError (400/422) and the import nothing but the
+// store's documented refusals (NotFound, Conflict, OutOfRange, a constraint SqliteError: the
+// 404/409/422 answers of App::guarded); a refused document writes nothing; an accepted one
+// exports a document that validates and imports again to the same export.
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "http/api_error.hpp"
+#include "http/json_text.hpp"
+#include "http/validation.hpp"
+#include "store/repository.hpp"
+#include "json_mutator.hpp"
+
+using namespace locus;
+using nlohmann::json;
+using store::kind;
+
+namespace {
+
+struct Fixture {
+    store::Repository repo{":memory:"};
+    std::int64_t floor = 0, other_floor = 0;
+
+    Fixture() {
+        const auto map = repo.create(kind("maps"), std::nullopt, {{"name", "fuzz"}}).at("id").get<std::int64_t>();
+        const auto building =
+            repo.create(kind("buildings"), map, {{"name", "b"}}).at("id").get<std::int64_t>();
+        const json floor_values = {{"name", "f0"}, {"level", 0}, {"width", 10.0}, {"height", 10.0}};
+        floor = repo.create(kind("floors"), building, floor_values).at("id").get<std::int64_t>();
+        json other = floor_values;
+        other["name"] = "f1";
+        other_floor = repo.create(kind("floors"), building, other).at("id").get<std::int64_t>();
+    }
+};
+
+Fixture& fixture() {
+    static Fixture f;
+    return f;
+}
+
+[[noreturn]] void fail(const std::string& what, const std::string& body) {
+    std::fprintf(stderr, "fuzz_radiomap_import: %s\nbody (%zu bytes): %s\n", what.c_str(), body.size(), body.c_str());
+    std::abort();
+}
+
+std::string text(const json& j) { return http::json_text(j); }
+
+// Runs the import; returns the new radio map's row, or null when the store refused it.
+json import(std::int64_t floor, const json& doc, const std::string& body) {
+    try {
+        return fixture().repo.import_radiomap(floor, doc);
+    } catch (const store::Conflict&) {
+    } catch (const store::OutOfRange&) {
+    } catch (const store::SqliteError& e) {
+        if (!e.is_constraint()) fail(std::string("a storage error (500): ") + e.what(), body);
+    }
+    return json();
+}
+
+void expect_empty(const std::string& when, const std::string& body) {
+    if (!fixture().repo.radiomap_ids().empty()) fail("a refused document wrote a radio map (" + when + ")", body);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const std::string body(reinterpret_cast<const char*>(data), size);
+    auto& f = fixture();
+    json doc;
+    try {
+        doc = http::parse_object(body);
+        http::validate_radiomap_document(doc);
+    } catch (const http::ApiError& e) {
+        if (e.status != 400 && e.status != 422) fail("an ApiError with status " + std::to_string(e.status), body);
+        return 0;
+    }
+
+    const json row = import(f.floor, doc, body);
+    if (row.is_null()) {
+        expect_empty("import", body);
+        return 0;
+    }
+    const auto id = row.at("id").get<std::int64_t>();
+    if (row.at("rp_count").get<std::size_t>() != doc.at("rps").size()) fail("rp_count is not the number of RPs", body);
+
+    // What was stored exports, and the export validates and imports again to the same export.
+    json exported = f.repo.export_radiomap(id);
+    json again;
+    try {
+        again = http::parse_object(http::json_text(exported));  // as the server writes it
+        http::validate_radiomap_document(again);
+    } catch (const http::ApiError& e) {
+        fail(std::string("the export of an accepted document does not validate: ") + e.what() + "\nexport: " + text(exported), body);
+    }
+    const json copy = import(f.other_floor, again, body);
+    if (copy.is_null()) fail("the export of an accepted document does not import: " + text(exported), body);
+    json reexported = f.repo.export_radiomap(copy.at("id").get<std::int64_t>());
+    exported.erase("floor_id");
+    reexported.erase("floor_id");
+    if (exported != reexported) fail("export, import, export changed the radio map:\n" + text(exported) + "\n" + text(reexported), body);
+
+    f.repo.remove(kind("radiomaps"), id);
+    f.repo.remove(kind("radiomaps"), copy.at("id").get<std::int64_t>());
+    expect_empty("cleanup", body);
+    return 0;
+}
+
+LOCUS_FUZZ_JSON_MUTATOR

@@ -1,0 +1,55 @@
+// Inputs the fuzz targets (fuzz/) found to crash or misbehave, one test each. Their full
+// crashing inputs are in fuzz/corpus/; these are the smallest forms. Run under
+// scripts/test_sanitized.sh they would report the original memory errors.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "http/api_error.hpp"
+#include "http/validation.hpp"
+#include "localize/request.hpp"
+#include "store/repository.hpp"
+
+using namespace locus;
+
+namespace {
+
+int status_of(const std::string& body) {
+    try {
+        localize::parse_localize_request(body);
+        return 200;
+    } catch (const http::ApiError& e) {
+        return e.status;
+    }
+}
+
+}  // namespace
+
+// An object nested in a misplaced object under "scans" opened a reading with no scan to hold
+// it: scans.back() on an empty list (fuzz/corpus/fuzz_localize_request/crash_reading_outside_scan).
+TEST(FuzzRegressions, AReadingOutsideAScanIsRefusedWithoutTouchingMemory) {
+    EXPECT_EQ(status_of(R"({"scans":[{"x":{"bssid":"a","rss":-1}}]})"), 422);
+    EXPECT_EQ(status_of(R"({"scans":[{"x":{"bssid":"a","rss":-1,"type":"wifi"}},[{"bssid":"b","rss":-2}]]})"), 422);
+    EXPECT_EQ(status_of(R"({"scans":{"s":[{"bssid":"a","rss":-1}]}})"), 422);
+    EXPECT_EQ(status_of(R"({"scans":[[{"bssid":"a","rss":-1}]]})"), 200);
+}
+
+// A measurement with "type": null passed validation (null is "absent", so wifi) but the
+// store's import read it with json::value(), which throws on a null: the server answered 422
+// with nlohmann's "type must be string, but is null" instead of importing it
+// (fuzz/corpus/fuzz_radiomap_import/crash_null_type.json).
+TEST(FuzzRegressions, AnImportedMeasurementWithANullTypeIsWifi) {
+    using locus::store::kind;
+    locus::store::Repository repo(":memory:");
+    const auto map = repo.create(kind("maps"), std::nullopt, {{"name", "m"}}).at("id").get<std::int64_t>();
+    const auto building = repo.create(kind("buildings"), map, {{"name", "b"}}).at("id").get<std::int64_t>();
+    const auto floor = repo.create(kind("floors"), building, {{"name", "f"}, {"level", 0}, {"width", 10.0}, {"height", 10.0}})
+                           .at("id")
+                           .get<std::int64_t>();
+    const auto doc = nlohmann::json::parse(
+        R"({"name":"n","rps":[{"name":"r","x":0,"y":0,"measurements":[{"type":null,"bssid":"a","mean":-50,"variance":1,"count":1}]}]})");
+    http::validate_radiomap_document(doc);
+    const auto row = repo.import_radiomap(floor, doc);
+    const auto exported = repo.export_radiomap(row.at("id").get<std::int64_t>());
+    EXPECT_EQ(exported.at("rps").at(0).at("measurements").at(0).at("type"), "wifi");
+}
