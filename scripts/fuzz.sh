@@ -15,6 +15,8 @@ shift $(($# > 0 ? 1 : 0))
 BUILD_DIR="${LOCUS_FUZZ_BUILD_DIR:-build-fuzz}"
 JOBS="${LOCUS_JOBS:-2}"
 cxx="${LOCUS_FUZZ_CXX:-clang++}"
+# Debian's clang takes libFuzzer and the sanitizer runtimes from a recommended package.
+[ -n "${LOCUS_FUZZ_CXX:-}" ] || bash scripts/install_packages.sh clang libclang-rt-14-dev cmake make g++
 probe="$(mktemp -d)"
 echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' >"$probe/p.cpp"
 if ! "$cxx" -fsanitize=fuzzer,address,undefined "$probe/p.cpp" -o "$probe/p" 2>"$probe/err"; then
