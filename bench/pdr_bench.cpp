@@ -1,4 +1,4 @@
-// Step-detector throughput (issue 4 target: ≥ 1 M accelerometer samples/s per core).
+// Step-detector throughput (docs/pdr.md target: ≥ 1 M accelerometer samples/s per core).
 // Synthetic 100 Hz walk with noise, pre-generated so only the detector is timed; a second
 // benchmark replays a real Oxford trace when the data set is present.
 #include <benchmark/benchmark.h>

@@ -50,9 +50,8 @@ struct EvalSummary {
 EvalSummary evaluate(const std::vector<const OxfordTrace*>& traces, const pdr::StepDetectorConfig& config);
 EvalSummary summarise(std::vector<TraceResult> results);
 
-// The tuning objective: the mean absolute error over traces, the headline figure. (Adding
-// the worst placement's mean was tried: it trades every other placement for the swinging-arm
-// traces, whose foot-switch truth counts switch bounces; docs/pdr.md.)
+// The tuning objective: the mean absolute error over traces, the headline figure (docs/spec.md §7.3;
+// an objective tried and dropped: docs/pdr.md).
 double objective(const EvalSummary& s);
 
 std::vector<pdr::StepDetectorConfig> tuning_grid();

@@ -1,5 +1,5 @@
 #pragma once
-// Proposes a reference-point grid for a floor (SPEC §3): ceil(A / c²) points are needed for
+// Proposes a reference-point grid for a floor (docs/spec.md §3.1): ceil(A / c²) points are needed for
 // area A and cell side c. The grid has ceil(w/c) × ceil(h/c) cells of side ≤ c, one RP at each
 // cell centre, so it never has fewer points than required; when the floor has rooms, centres
 // outside every room are dropped (nobody can stand there to scan).

@@ -73,7 +73,7 @@ Data parse(std::string_view csv) {
         Row row;
         for (std::size_t c = 0; c < data.waps.size(); ++c) {
             const int v = number<int>(fields[c], line_no);
-            // 100 is "not detected"; anything else out of range is a bad sample (SPEC §2).
+            // 100 is "not detected"; anything else out of range is a bad sample (docs/spec.md §2.7).
             if (v != kNotDetected && valid_rss(v)) row.heard.emplace_back(static_cast<std::uint16_t>(c), v);
         }
         const std::string_view* f = fields.data() + data.waps.size();

@@ -1,4 +1,4 @@
-// What a new user meets on the `locus` command line (issue 11, item 11): a misspelled option
+// What a new user meets on the `locus` command line (docs/survey.md, README): a misspelled option
 // is named, help reads plainly, messages name the real problem (no such radio map, no server,
 // a walk that matches nothing), imports say which radio map is which, `export -o` reports what
 // it wrote, and the example files the docs use exist and work.

@@ -1,4 +1,4 @@
-// Storage faults (issue 11, item 8): a database the server cannot write is a 503
+// Storage faults (README, `/ready`): a database the server cannot write is a 503
 // storage_unavailable that a client may retry, /ready says so while /health stays a cheap
 // liveness check, nothing partial is written, and a database that cannot be opened stops the
 // server at start-up with its path in the log.

@@ -215,7 +215,7 @@ TEST_F(SurveyUpload, ApiKeyFromTheEnvironment) {
     EXPECT_EQ(ok.status, 0) << ok.err;
 }
 
-// Issue 11 item 9: a CSV cell with a byte that is not UTF-8 is a malformed line like any other
+// Regression: a CSV cell with a byte that is not UTF-8 is a malformed line like any other
 // (before, RP 'X' was created, and its upload failed with a JSON type_error on every run and
 // left it empty).
 TEST_F(SurveyUpload, ACellThatIsNotUtf8IsAMalformedLine) {

@@ -1,4 +1,4 @@
-// Hand-computed cases for the five rules of SPEC §6. The common case: previous fused
+// Hand-computed cases for the five rules of docs/spec.md §6. The common case: previous fused
 // position (0,0), PDR at (3,0), WiFi fix at (0,4), so d_pdr = 3, d_wifi = 4, δ = 5.
 #include <gtest/gtest.h>
 
@@ -43,7 +43,7 @@ TEST(FusionRules, MidpointThresholdSwitchesAtLambda) {
     expect_point(fuse(Rule::midpoint_threshold, base(), p), 1.5, 2.0);
     p.lambda_m = 4.0;  // δ = 5 ≥ 4: the PDR is deemed broken, WiFi only
     expect_point(fuse(Rule::midpoint_threshold, base(), p), 0.0, 4.0);
-    p.lambda_m = 5.0;  // δ == λ: strict inequality as in the seed, WiFi only
+    p.lambda_m = 5.0;  // δ == λ: strict inequality (docs/spec.md §6.4), WiFi only
     expect_point(fuse(Rule::midpoint_threshold, base(), p), 0.0, 4.0);
 }
 
@@ -69,7 +69,7 @@ TEST(FusionRules, Proportional2IsTheNormalisedWeight) {
     // r = (1/4) / (1/4 + 1/3) = 3/7; fused = 4/7·(3,0) + 3/7·(0,4).
     EXPECT_NEAR(proportional2_r(3.0, 4.0), 3.0 / 7.0, 1e-12);
     expect_point(fuse(Rule::proportional2, base()), 12.0 / 7.0, 12.0 / 7.0);
-    // The thesis' un-normalised β = 1/(1/4 + 1/3) = 12/7 m would exceed 1; ours stays in [0,1].
+    // Traini 2017's un-normalised β = 1/(1/4 + 1/3) = 12/7 m would exceed 1; ours stays in [0,1].
     EXPECT_LE(proportional2_r(30.0, 0.5), 1.0);
 }
 

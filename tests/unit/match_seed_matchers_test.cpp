@@ -1,4 +1,4 @@
-// bsb, nn and bsbnn (SPEC §4, seed 000 eqs. 2.18–2.20) on a three-RP map worked by hand.
+// bsb, nn and bsbnn (docs/spec.md §4.3–§4.5; Traini 2017 eqs. 2.18–2.20) on a three-RP map worked by hand.
 //   RP1 (0,0):  a -50, b -60, c -70      query: a -52, b -62   (|AP_on| = 2)
 //   RP2 (10,0): a -55, b -65
 //   RP3 (0,10): a -40, d -80

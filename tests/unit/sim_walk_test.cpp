@@ -1,4 +1,4 @@
-// The walking simulator: scenarios as the seed describes them, determinism, physically
+// The walking simulator: scenarios as Traini 2017 describes them, determinism, physically
 // sensible sensors, walk files that round-trip, and the real PDR counting its steps.
 #include <gtest/gtest.h>
 
@@ -18,8 +18,8 @@ using namespace locus::sim;
 TEST(SimScenario, FloorsHaveTheSeedAreasAndWalks) {
     EXPECT_NEAR(scenario("ground").area_m2(), 222.8, 1e-9);
     EXPECT_NEAR(scenario("basement").area_m2(), 452.4, 1e-9);
-    EXPECT_NEAR(scenario("basement").path_length_m(), 52.0, 1e-9);  // seed §4.3.3
-    EXPECT_NEAR(scenario("ground").path_length_m(), 26.5, 1e-9);    // seed: "26 m"
+    EXPECT_NEAR(scenario("basement").path_length_m(), 52.0, 1e-9);  // Traini 2017 §4.3.3
+    EXPECT_NEAR(scenario("ground").path_length_m(), 26.5, 1e-9);    // Traini 2017: "26 m"
     EXPECT_THROW(scenario("attic"), std::invalid_argument);
 }
 
@@ -89,7 +89,7 @@ TEST(SimWalk, SensorsAreSensible) {
 
 TEST(SimWalk, RealPdrCountsTheStepsAndWalksTheDistance) {
     // A person of the nominal 0.70 m step: the default spread of people's step lengths
-    // (±15 %, the seed's PDR distance errors) would make the step count unknown here.
+    // (±15 %, Traini 2017's PDR distance errors) would make the step count unknown here.
     SimConfig cfg;
     cfg.step_length_person_sigma = 0.0;
     const Walk w = simulate(scenario("ground"), 5, cfg);

@@ -142,7 +142,7 @@ std::int64_t count_rows(locus::store::Db& db, const std::string& table) {
 }
 }  // namespace
 
-// Issue 11 item 7: a deleted newest row's id went to the next row, so a client holding the old
+// Regression: a deleted newest row's id went to the next row, so a client holding the old
 // id read another object. Every kind the API exposes: create two, delete the newer, create.
 TEST(Store, AnIdIsNeverHandedOutTwice) {
     TempDb t;

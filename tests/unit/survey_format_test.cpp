@@ -143,7 +143,7 @@ TEST(SurveyFormat, ACsvFileOfCommentsHasNoHeader) {
     EXPECT_EQ(f.errors[0].message, "no header line");
 }
 
-// Issue 11 item 9: a byte that is not UTF-8 in a CSV cell passed the parser, and the upload of
+// Regression: a byte that is not UTF-8 in a CSV cell passed the parser, and the upload of
 // the whole RP then failed in the JSON writer on every run. Such a line is malformed.
 TEST(SurveyFormat, ACsvCellThatIsNotUtf8MakesItsLineMalformed) {
     const std::string text =

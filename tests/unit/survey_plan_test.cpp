@@ -1,4 +1,4 @@
-// RP grid planning (SPEC §3: ceil(A / c²) points for area A and cell side c).
+// RP grid planning (docs/spec.md §3.1: ceil(A / c²) points for area A and cell side c).
 #include <gtest/gtest.h>
 
 #include <stdexcept>

@@ -1,5 +1,5 @@
 // `locus eval uji`: the localize pipeline in-process on UJIIndoorLoc, one JSON object of
-// accuracy and speed per matcher (SPEC §7, issue 3).
+// accuracy and speed per matcher (docs/spec.md §7.1).
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -1,4 +1,4 @@
-// `locus fuse`: one fusion step of SPEC §6 by hand (issue 5), e.g.
+// `locus fuse`: one fusion step of docs/spec.md §6 by hand, e.g.
 //   locus fuse --rule proportional --pdr 3,0 --wifi 0,4 --prev 0,0 --aps 5
 #include <iostream>
 #include <nlohmann/json.hpp>

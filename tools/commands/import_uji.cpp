@@ -4,7 +4,7 @@
 //
 // Coordinates: the CSV's projected metres minus a per-building origin (the smallest
 // LONGITUDE and LATITUDE seen in that building), so every floor of a building shares one
-// frame starting at (0, 0) as SPEC §2 wants; the origin is written into the building's
+// frame starting at (0, 0) as docs/spec.md §2.1 wants; the origin is written into the building's
 // description ("utm_origin=X0,Y0") and printed, and CSV coordinates are recovered as
 // (x + X0, y + Y0). Floor width/height = the building's extent + 1 m.
 //

@@ -350,7 +350,7 @@ void install_track(CLI::App& pdr) {
                               << (r.tp.magnetic_disturbance ? 1 : 0) << "," << quoted(r.room) << "," << quoted(pois) << "\n";
                 }
             } else {
-                // Floor coordinates in metres (SPEC §2), not WGS84: a local-CRS GeoJSON.
+                // Floor coordinates in metres (docs/spec.md §2.1), not WGS84: a local-CRS GeoJSON.
                 json line = json::array({json::array({a->x, a->y})});
                 json features = json::array();
                 for (const auto& r : rows) {

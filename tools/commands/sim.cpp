@@ -1,4 +1,4 @@
-// `locus sim`: the seeded walking simulator (issue 5). Writes a walk file (--out) and/or
+// `locus sim`: the seeded walking simulator (docs/spec.md §7.2). Writes a walk file (--out) and/or
 // scores every positioning method on it (--evaluate); --runs averages consecutive seeds.
 #include <cmath>
 #include <cstdio>
@@ -106,7 +106,7 @@ void run(const Args& a) {
         if (!a.out.empty()) sim::save_walk(a.out, walk);
         if (!a.evaluate) continue;
         cfg.particle.seed = seed;
-        // The seed reports PDR distance against the walk (57.12 and 44.19 m for 52 m).
+        // Traini 2017 reports PDR distance against the walk (57.12 and 44.19 m for 52 m).
         double walked = 0.0;
         for (const sim::PdrStep& st : sim::run_pdr(walk)) walked += st.length_m;
         const double rel = walked / sc.path_length_m() - 1.0;

@@ -1,5 +1,5 @@
 // `locus survey plan` and `locus survey upload`: getting a radio map into the server from a
-// walk with a phone (issue 6). File formats: tools/survey_format.hpp and docs/survey.md.
+// walk with a phone (docs/spec.md §3). File formats: tools/survey_format.hpp and docs/survey.md.
 #include <unistd.h>
 
 #include <iostream>

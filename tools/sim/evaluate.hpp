@@ -55,12 +55,9 @@ struct EvalConfig {
     match::Options match_options;
     double fix_sigma_floor_m = 1.0;  // floor of the fix σ per axis (Kalman R, particle likelihood)
     // A scan's APs are heard over the channel sweep before the results arrive, so a fix
-    // describes where the phone was about half a sweep earlier. The filters (not the seed's
+    // describes where the phone was about half a sweep earlier. The filters (not the five
     // rules) can move the fix by the PDR displacement of the steps in this last stretch
-    // before using it. 0 = off. 1 s is half the simulator's 2 s sweep; chosen per filter on
-    // seeds 101..110: it helps the particle filter (ground 1.32 → 0.95 m, basement 2.50 →
-    // 2.60), not the Kalman filter (basement 3.55 → 3.68 m), whose white-noise model takes
-    // the disturbed PDR's displacement at face value.
+    // before using it. 0 = off. 1 s is half the simulator's 2 s sweep; per-filter choice: docs/fusion.md.
     double kalman_fix_latency_s = 0.0;
     double particle_fix_latency_s = 1.0;
     fusion::RuleParams rules;
@@ -72,13 +69,13 @@ struct EvalConfig {
 // compass + gyro heading), from the walk's known start.
 std::vector<PdrStep> run_pdr(const Walk& walk, pdr::PipelineConfig config = {});
 
-// The survey scans aggregated into RPs (SPEC §3), indexed, and every online scan matched.
+// The survey scans aggregated into RPs (docs/spec.md §3.3), indexed, and every online scan matched.
 match::Index build_index(const Walk& walk);
 std::vector<Fix> run_matcher(const Walk& walk, const match::Index& index, const EvalConfig& config);
 // One match result turned into a fix (shared with replay, which gets results from a server).
 Fix make_fix(double t_s, int aps, const match::Result& result, int k, double sigma_floor_m);
 
-// pdr, wifi, the five rules, kalman and (with a map) particle, in the order.
+// pdr, wifi, the five rules, kalman and (with a map) particle, in the order of docs/spec.md §7.2.
 std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
                                     const std::optional<fusion::Walkable>& map, const EvalConfig& config);
 

@@ -23,7 +23,7 @@ struct PlannedStep {
 
 pdr::Vec3 to_vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-// Heading along the path (SPEC §2: clockwise from +y), turning smoothly over the metre
+// Heading along the path (docs/spec.md §2.2: clockwise from +y), turning smoothly over the metre
 // around each corner as a walker does.
 class HeadingProfile {
 public:

@@ -1,5 +1,5 @@
 #pragma once
-// The seeded walking simulator (SPEC §7, issue 5): a person walks the scenario's path with
+// The seeded walking simulator (docs/spec.md §7.2): a person walks the scenario's path with
 // the phone held flat in front, screen up, top pointing where they walk.
 #include <cstdint>
 
@@ -13,11 +13,11 @@ struct SimConfig {
     double stand_before_s = 2.0;   // still at the start: the compass settles
     double stand_after_s = 1.0;
     double scan_period_s = 3.0;    // one WiFi scan every this many seconds
-    int survey_scans = 30;         // per RP (seed default)
+    int survey_scans = 30;         // per RP (docs/spec.md §3.2)
     // Per-person gait (drawn per seed around these).
     double step_length_m = 0.70;
     // Spread of the person's mean step length, which the PDR's fixed Weinberg K does not
-    // know: calibrated (seeds 101..120, docs/fusion.md) to the seed's PDR distance errors on
+    // know: calibrated (seeds 101..120, docs/fusion.md) to Traini 2017's PDR distance errors on
     // the basement walk, +9.8 % and −15.0 % (57.12 and 44.19 m for 52 m).
     double step_length_person_sigma = 0.15;
     double step_length_sigma = 0.04;         // relative step-to-step spread
@@ -29,7 +29,7 @@ struct SimConfig {
     double bounce_log_sigma = 0.2;
     // The phone is never held exactly along the walking direction: a per-walk yaw offset
     // (it also stands for the residual compass calibration error of the phone). Calibrated
-    // to the seed's ground-floor PDR final error, 3.80 and 4.38 m over 26 m.
+    // to Traini 2017's ground-floor PDR final error, 3.80 and 4.38 m over 26 m.
     double misalignment_sigma_rad = 0.20;  // ≈ 11.5°
     // Sensors.
     double acc_noise = 0.08;        // m/s² per sample
@@ -43,10 +43,10 @@ struct SimConfig {
     // (a dual-band scan takes 1.5–3 s on a phone). 0 = every AP heard where the results arrive.
     double scan_duration_s = 2.0;
     // The building on the walk's day is not the building of the survey day (people, doors,
-    // furniture; seed 000 §1.4.2, AcMu): a per-walk smooth change of each AP's mean RSS over the
+    // furniture; Wu et al. 2015, AcMu): a per-walk smooth change of each AP's mean RSS over the
     // floor, this σ and correlation length; it also stands for the walker's own body
-    // shadowing the phone. Online scans only. Calibrated so that the seed's RSS matchers
-    // (nn, bsbnn) miss by ~3 m on average, as the seed's did (docs/fusion.md).
+    // shadowing the phone. Online scans only. Calibrated so that Traini 2017's RSS matchers
+    // (nn, bsbnn) miss by ~3 m on average, as they did there (docs/fusion.md).
     double survey_drift_sigma_db = 7.5;
     double survey_drift_scale_m = 4.0;
 };

@@ -1,9 +1,9 @@
 #pragma once
-// The simulator's two test floors, after seed 000 §4.3.2 (DISI, University of Bologna): a
+// The simulator's two test floors, after Traini 2017 §4.3.2 (DISI, University of Bologna): a
 // 222.8 m² ground floor walked for ~26 m, and a 452.4 m² basement walked for 52 m whose
 // magnetic field is bent by the iron structure and wrecked near the technical room. The
-// real plans are not in the seed; these layouts keep the areas, walk lengths and the
-// anomaly, and put the RPs on the path as the seed did. The environment (APs, shadowing,
+// real plans are not in the thesis; these layouts keep the areas, walk lengths and the
+// anomaly, and put the RPs on the path as the thesis did. The environment (APs, shadowing,
 // magnetic field) is fixed per scenario; the walk seed changes the person, the phone and
 // every noise draw.
 #include <cstdint>

@@ -61,7 +61,7 @@ Point fuse(Rule rule, const FusionInput& in, const RuleParams& params) {
         case Rule::midpoint:
             return lerp(in.pdr, in.wifi, 0.5);
         case Rule::midpoint_threshold:
-            // Strict as in the seed (δ < λ): at δ == λ the PDR is deemed broken.
+            // Strict as in Traini 2017 (δ < λ, docs/spec.md §6.4): at δ == λ the PDR is deemed broken.
             return distance(in.pdr, in.wifi) < params.lambda_m ? lerp(in.pdr, in.wifi, 0.5) : in.wifi;
         case Rule::proportional: {
             const double alpha = proportional_alpha(distance(in.pdr, prev), distance(in.wifi, prev), in.aps, params);

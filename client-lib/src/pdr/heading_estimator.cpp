@@ -16,7 +16,7 @@ double HeadingEstimator::offset_rad() const {
     return config_.north_offset_deg * std::numbers::pi / 180.0 + calibration_rad_;
 }
 
-void HeadingEstimator::push_accel(double, Vec3 a) {  // time unused: the low-pass is per sample (seed 000)
+void HeadingEstimator::push_accel(double, Vec3 a) {  // time unused: the low-pass is per sample (docs/spec.md §5.4)
     gravity_lp_.push(a);
     if (mag_lp_.ready()) update_compass();
 }

@@ -1,5 +1,5 @@
 #pragma once
-// Floor geometry in the SPEC §2 convention: metres, origin at the floor plan's lower-left
+// Floor geometry in the docs/spec.md §2.1 convention: metres, origin at the floor plan's lower-left
 // corner, x to the right, y up.
 #include <optional>
 #include <string>
@@ -52,7 +52,7 @@ struct FloorPlan {
     bool inside_bounds(Point p) const;
 };
 
-// SPEC §3: RPs needed for a floor of area A with cell side c, ceil(A / c²).
+// docs/spec.md §3.1: RPs needed for a floor of area A with cell side c, ceil(A / c²).
 long long reference_points_needed(double area_m2, double cell_m);
 
 }  // namespace locus

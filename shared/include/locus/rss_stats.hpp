@@ -1,5 +1,5 @@
 #pragma once
-// Per-AP RSS aggregate (SPEC §3): mean, population variance and sample count, merged
+// Per-AP RSS aggregate (docs/spec.md §3.3): mean, population variance and sample count, merged
 // exactly with Chan et al.'s parallel form of Welford's algorithm so that two uploads
 // combine to what a single upload of all their samples would give, in any order.
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// A small typed client for the Locus REST API (SPEC §2–§4): the map hierarchy, RP scan
+// A small typed client for the Locus REST API (docs/spec.md §2–§4): the map hierarchy, RP scan
 // uploads, radio-map export/import and localization.
 //
 // One Client holds one keep-alive connection and is not thread-safe: give each thread its own.

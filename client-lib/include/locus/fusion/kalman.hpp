@@ -1,5 +1,5 @@
 #pragma once
-// Position Kalman filter (SPEC §6 "beyond the seeds", seed 004): state (x, y), the PDR step
+// Position Kalman filter (docs/spec.md §6.9): state (x, y), the PDR step
 // displacement is the control input, a WiFi fix is a direct measurement of the state.
 //   predict: x ← x + u,            P ← P + Q(u)
 //   update:  K = P (P + R)⁻¹,      x ← x + K (z − x),   P ← (I − K) P

@@ -1,6 +1,6 @@
 #pragma once
-// Particle filter over the floor plan (SPEC §6 "beyond the seeds", after seed 002's grid
-// Bayes filter). Each particle carries a position, a heading bias and a step-length scale:
+// Particle filter over the floor plan (docs/spec.md §6.10, after the grid Bayes filter of
+// Le, Saragas and Webb 2009). Each particle carries a position, a heading bias and a step-length scale:
 // the compass error in a magnetically disturbed area is slow and shared by many steps, so
 // it is a state to estimate, not white noise. A PDR step moves every particle with its own
 // bias and noise; a move that would cross a wall or leave the rooms is not made (the

@@ -1,5 +1,5 @@
 #pragma once
-// The five fusion rules of SPEC §6 (seed 000 §2.3.6): one WiFi fix meets the PDR position.
+// The five fusion rules of docs/spec.md §6 (Traini 2017 §2.3.6): one WiFi fix meets the PDR position.
 // Degenerate cases are defined here once and documented in docs/fusion.md.
 #include <optional>
 #include <span>
@@ -16,7 +16,7 @@ std::string_view to_string(Rule r);
 std::span<const Rule> all_rules();
 
 struct RuleParams {
-    double lambda_m = 4.0;  // midpoint_threshold: mean PDR error (seed measured 3.8–4.4 m)
+    double lambda_m = 4.0;  // midpoint_threshold: mean PDR error (Traini 2017 measured 3.8–4.4 m)
     int n_max = 10;         // proportional: APs that give a good fix
     int gamma = 2;          // proportional: exponent, a natural number ≥ 1
 };
@@ -36,8 +36,8 @@ Point fuse(Rule rule, const FusionInput& in, const RuleParams& params = {});
 // The weights themselves, exposed so tests and docs can check them by hand.
 // proportional: α, the weight of the PDR position. Both distances zero → 0.
 double proportional_alpha(double d_pdr, double d_wifi, int aps, const RuleParams& params);
-// proportional2: r, the weight of the WiFi fix, = d_pdr / (d_pdr + d_wifi) (seed eq. 1.18
-// with 1/d cleared). Both distances zero → 0 (the points coincide anyway).
+// proportional2: r, the weight of the WiFi fix, = d_pdr / (d_pdr + d_wifi) (docs/spec.md §6.6,
+// its 1/d form cleared). Both distances zero → 0 (the points coincide anyway).
 double proportional2_r(double d_pdr, double d_wifi);
 
 }  // namespace locus::fusion

@@ -1,6 +1,6 @@
 #pragma once
-// Tilt-compensated compass (SPEC §5): the maths of Android's SensorManager.getRotationMatrix +
-// getOrientation, in the SPEC §2 convention (clockwise from north, radians).
+// Tilt-compensated compass (docs/spec.md §5.4): the maths of Android's SensorManager.getRotationMatrix +
+// getOrientation, in the docs/spec.md §2.2 convention (clockwise from north, radians).
 #include <optional>
 
 #include "locus/pdr/vec3.hpp"
@@ -15,7 +15,7 @@ namespace locus::pdr {
 // gravity).
 std::optional<double> compass_azimuth(Vec3 gravity, Vec3 magnetic);
 
-// The seed-000 low-pass: out += alpha·(in − out), alpha = 0.2 by default; the first sample
+// The docs/spec.md §5.4 low-pass: out += alpha·(in − out), alpha = 0.2 by default; the first sample
 // initialises the output.
 class LowPass3 {
 public:

@@ -1,6 +1,6 @@
 #pragma once
-// Heading (SPEC §5): tilt-compensated compass from low-passed gravity and field, fused with the
-// gyroscope by the seed-001 complementary filter θ = 0.95·(θ + ω·dt) + 0.05·θ_compass (angle
+// Heading (docs/spec.md §5.4): tilt-compensated compass from low-passed gravity and field, fused with the
+// gyroscope by the complementary filter (Bonjorn López 2016) θ = 0.95·(θ + ω·dt) + 0.05·θ_compass (angle
 // wrap handled), then expressed in the floor frame: θ_floor = θ_magnetic − north_offset − local
 // calibration. While the magnetic field is judged disturbed the compass term is dropped and the
 // heading runs on the gyro alone.
@@ -12,10 +12,10 @@
 namespace locus::pdr {
 
 struct HeadingConfig {
-    // Compass weight per 20 ms (the seed's 50 Hz); at other gyro rates the weight is rescaled so
+    // Compass weight per 20 ms (50 Hz, docs/spec.md §5.4); at other gyro rates the weight is rescaled so
     // that the filter's time constant (≈ 0.39 s) does not depend on the rate.
     double compass_weight = 0.05;
-    double input_lowpass_alpha = 0.2;   // seed 000
+    double input_lowpass_alpha = 0.2;   // docs/spec.md §5.4
     // Disturbance: |B| more than this fraction away from the local norm...
     double field_tolerance = 0.15;
     // ...or the compass turned by more than this many radians more/less than the gyro over
@@ -26,7 +26,7 @@ struct HeadingConfig {
     // Local field norm in µT; 0 = learn it from the first learn_s seconds of magnetometer data.
     double expected_field_ut = 0.0;
     double learn_s = 2.0;
-    double north_offset_deg = 0.0;      // per floor, SPEC §2
+    double north_offset_deg = 0.0;      // per floor, docs/spec.md §2.1
 };
 
 class HeadingEstimator {
@@ -37,7 +37,7 @@ public:
     void push_mag(double t_s, Vec3 m);     // µT
     void push_gyro(double t_s, Vec3 w);    // rad/s
 
-    // Floor-frame heading (SPEC §2), once the compass or an explicit set_heading has given one.
+    // Floor-frame heading (docs/spec.md §2.2), once the compass or an explicit set_heading has given one.
     std::optional<double> heading() const;
     // Magnetic azimuth of the last compass reading, before any offset (for calibration UIs).
     std::optional<double> compass_heading() const { return compass_; }

@@ -1,12 +1,12 @@
 #pragma once
-// Streaming step detector (SPEC §5). Feed accelerometer samples (m/s², gravity included, device
+// Streaming step detector (docs/spec.md §5.2). Feed accelerometer samples (m/s², gravity included, device
 // frame) with monotonic timestamps in seconds at any rate from ~50 to ~400 Hz, regular or not;
 // get a StepEvent back on the sample that completes a step.
 //
 // Pipeline: gravity estimate (time-constant low-pass of the raw vector) → signal = component of
 // the acceleration along gravity minus |g| (or |a| − |g|) → box-averaged onto a fixed internal
 // grid (so behaviour does not depend on the input rate, and high-rate noise is not aliased) →
-// moving average → peak/valley detector with hysteresis (seed 001's local-extremum search),
+// moving average → peak/valley detector with hysteresis (Bonjorn López 2016's local-extremum search),
 // an adaptive amplitude threshold and timing gates → cadence gate: a walking bout is confirmed
 // only after a few regularly spaced candidates (then all of them are reported, with their own
 // times), and within a bout a candidate far too soon after the last step is dropped. This is
@@ -35,7 +35,7 @@ enum class StepSignal {
 // Tuned defaults. Chosen by `locus pdr tune-oxford`: a grid search (6,624 settings) scored by the
 // mean absolute step-count error over the 48 Oxford optimisation traces; these are the best
 // setting on all 48 (1.25 %), and leave-one-user-out over the same grid gives 1.69 % (docs/pdr.md).
-// Constants not in the search keep a physical or SPEC §5 value.
+// Constants not in the search keep a physical or docs/spec.md §5.2 value.
 inline constexpr StepSignal kDefaultSignal = StepSignal::magnitude;  // beat vertical by < 0.1 %: no orientation needed
 inline constexpr double kDefaultSmoothingS = 0.06;
 inline constexpr double kDefaultMinThreshold = 0.6;     // m/s²
@@ -44,13 +44,11 @@ inline constexpr double kDefaultHysteresis = 0.25;
 inline constexpr int kDefaultBoutSteps = 6;
 inline constexpr double kDefaultCadenceMinRatio = 0.7;
 inline constexpr double kDefaultCadenceMaxRatio = 1.7;
-inline constexpr double kDefaultMinStepIntervalS = 0.25;  // SPEC §5 (0.30 lost in an earlier, narrower search)
+inline constexpr double kDefaultMinStepIntervalS = 0.25;  // docs/spec.md §5.2 (0.30 lost in an earlier search)
 inline constexpr double kDefaultGridHz = 100.0;           // steps are < 3 Hz; 50 Hz input is interpolated
-inline constexpr double kDefaultGravityTauS = 1.0;        // 0.5 and 2 s, tried by hand on an earlier setting: worse
-inline constexpr double kDefaultRmsTauS = 2.0;            // 1 and 4 s, same trial: within ±0.05 %
-// SPEC §5 quotes 150–400 ms between peak and valley (seed 004). Measured with the other defaults:
-// a 150 ms minimum gives 41.8 % (the heel-strike peak and its valley are often < 100 ms apart
-// once smoothed), a 400 ms maximum 1.75 %, 800 ms 1.41 %; 50 ms and 600 ms give 1.25 %.
+inline constexpr double kDefaultGravityTauS = 1.0;        // other values tried: docs/pdr.md
+inline constexpr double kDefaultRmsTauS = 2.0;            // the same
+// Peak-to-valley window: 50–600 ms, not docs/spec.md §5.2's 150–400 ms (measurements: docs/pdr.md).
 inline constexpr double kDefaultMinPeakToValleyS = 0.05;
 inline constexpr double kDefaultMaxPeakToValleyS = 0.6;
 inline constexpr double kDefaultMaxGapS = 0.5;

@@ -1,5 +1,5 @@
 #pragma once
-// Step length models (SPEC §5): static SSL (α·h), dynamic DSL (Weinberg, K·(Amax−Amin)^¼) and a
+// Step length models (docs/spec.md §5.3): static SSL (α·h), dynamic DSL (Weinberg, K·(Amax−Amin)^¼) and a
 // constant fallback.
 #include <cstddef>
 
@@ -9,8 +9,8 @@ namespace locus::pdr {
 
 inline constexpr double kSslAlphaMale = 0.415;
 inline constexpr double kSslAlphaFemale = 0.413;
-inline constexpr double kWeinbergK = 0.52;            // seed 001
-inline constexpr double kConstantStepLength = 0.70;   // seed 004
+inline constexpr double kWeinbergK = 0.52;            // Bonjorn López 2016 (docs/spec.md §5.3)
+inline constexpr double kConstantStepLength = 0.70;   // docs/spec.md §5.3
 
 enum class Sex { male, female };
 

@@ -1,6 +1,6 @@
 #pragma once
-// Position from steps (SPEC §5): from a known start each step moves (length, heading) in the
-// SPEC §2 convention; after each update the room containing the position and the POIs within
+// Position from steps (docs/spec.md §5.5): from a known start each step moves (length, heading)
+// in the docs/spec.md §2.2 convention; after each update the room containing the position and the POIs within
 // the checkpoint radius are looked up on the floor plan, if one is given. The tracker also
 // carries the magnetic-disturbance flag of the heading used, so fusion can distrust it.
 #include <cstdint>
@@ -28,7 +28,7 @@ public:
                      double checkpoint_radius = kDefaultCheckpointRadius);
 
     TrackPoint on_step(const StepEvent& step, double heading_rad, bool magnetic_disturbance = false);
-    // Moves the track without a step (a fused fix, SPEC §6: the PDR track continues from it).
+    // Moves the track without a step (a fused fix, docs/spec.md §6.8: the PDR track continues from it).
     void set_position(Point p);
 
     Point position() const { return position_; }

@@ -25,7 +25,7 @@ struct IndexedRp {
 
 // Fixed per index because the precomputed per-RP sums depend on them.
 struct IndexParams {
-    // The value an AP heard on one side only stands for (SPEC §4 default -100 dBm); RSS
+    // The value an AP heard on one side only stands for (docs/spec.md §4.7: -100 dBm); RSS
     // below it counts as not heard by knn/wknn.
     double missing_rss = -100.0;
     double exponential_alpha = 24.0;          // exponential representation: exp(pos/α)

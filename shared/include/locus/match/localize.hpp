@@ -1,6 +1,6 @@
 #pragma once
-// The online matchers of SPEC §4 over an Index: bsb, nn, bsbnn (seed 000), knn, wknn and a
-// HORUS-style Gaussian bayes (seed 003). Pure and deterministic: equal scores are broken by
+// The online matchers of docs/spec.md §4 over an Index: bsb, nn, bsbnn (Traini 2017), knn, wknn and
+// a HORUS-style Gaussian bayes (Youssef, Agrawala 2005). Pure and deterministic: equal scores are broken by
 // RP position in the index, tied winners are all reported and their centroid answered.
 #include <optional>
 #include <string>

@@ -7,7 +7,7 @@
 
 namespace locus::match {
 
-// Dynamic subarea (seed 000 §1.4.1): only RPs within `radius` metres of `at` are candidates.
+// Dynamic subarea (docs/spec.md §4.2, Lu et al. 2016): only RPs within `radius` metres of `at` are candidates.
 struct Near {
     Point at;
     double radius = 0.0;
@@ -22,7 +22,7 @@ struct Options {
     // by default.
     int bayes_k = 0;
     // bsb/nn/bsbnn/bayes(map): keep every RP whose score is within tolerance·|best| of the
-    // best and answer their centroid (seed selectBestWithTolerance). 0 = the plain best.
+    // best and answer their centroid (docs/spec.md §4.6). 0 = the plain best.
     double tolerance = 0.0;
     // nn/bsbnn: penalty per AP the RP stores beyond the size of the online scan, in dB.
     double gamma = 5.0;
@@ -54,11 +54,7 @@ struct Options {
     // bayes: the floor vote also counts the `floor_knn` nearest RPs by the knn distance
     // (`representation`, `distance`), each floor scoring
     //   (1 − floor_knn_weight) · its posterior share + floor_knn_weight · its share of them.
-    // 0 = posterior mass alone. Off by default: 5 and 0.7 raised the floor hit rate from
-    // 93.98 to 96.18 % on the tuning users (2, 4, …, 18) of UJIIndoorLoc (bayes_k 20), but
-    // before the outlier cap it left the report users' (1, 3, …, 17) pooled floor rate where
-    // it was (90.92 → 90.99 %) at 0.26 m more error; keeping it off was decided on that look
-    // at the report users (docs/matchers.md).
+    // 0 = posterior mass alone. Off by default: why, docs/matchers.md "Tuning notes moved from the code".
     int floor_knn = 0;
     double floor_knn_weight = 0.7;
     // bayes: the floor vote also counts the query's `floor_aps` strongest known APs, each

@@ -29,7 +29,7 @@ struct ReadingView {
 struct Query {
     std::vector<QueryAp> aps;  // one entry per (type, bssid), first-seen order
 
-    // Averages several online scans per AP (SPEC §4: the seed takes 5). Readings outside
+    // Averages several online scans per AP (docs/spec.md §4.1: nominally 5). Readings outside
     // [kMinRss, kMaxRss] are bad samples and are dropped; BSSIDs are normalised.
     static Query from_scans(const std::vector<Scan>& scans);
     // Already-averaged input ("measurements" in the API); duplicates are averaged.
