@@ -33,44 +33,13 @@ namespace {
     std::abort();
 }
 
-// The handler's body, minus the store: throws ApiError like it.
-store::ScanUpload read_upload(const std::string& text) {
-    const json body = http::parse_object(text);
-    http::only_fields(body, {"upload_id", "scans", "measurements"}, "");
-    const bool has_scans = body.contains("scans"), has_measurements = body.contains("measurements");
-    if (has_scans == has_measurements)
-        throw http::invalid_field("send exactly one of 'scans' (raw readings) or 'measurements' (aggregates)");
-    store::ScanUpload upload;
-    upload.upload_id = http::optional_string(body, "upload_id", "", 200);
-    if (has_scans) {
-        const auto scans = http::parse_scans(body.at("scans"), "scans");
-        upload.measurements = aggregate_scans(scans);
-        upload.scans = static_cast<std::int64_t>(scans.size());
-    } else {
-        auto parsed = http::parse_measurements(body.at("measurements"), "measurements");
-        for (auto& m : parsed) {
-            auto same = std::find_if(upload.measurements.begin(), upload.measurements.end(),
-                                     [&](const Measurement& o) { return o.type == m.type && o.bssid == m.bssid; });
-            if (same == upload.measurements.end()) {
-                upload.measurements.push_back(std::move(m));
-            } else {
-                if (!same->stats.can_merge(m.stats))
-                    throw http::ApiError(422, "out_of_range", "the counts of '" + m.bssid + "' in 'measurements' add up past 2^53");
-                same->stats.merge(m.stats);
-            }
-        }
-        for (const auto& m : upload.measurements) upload.scans = std::max(upload.scans, m.stats.count);
-    }
-    return upload;
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string body(reinterpret_cast<const char*>(data), size);
     store::ScanUpload upload;
     try {
-        upload = read_upload(body);
+        upload = http::parse_scan_upload(body);
     } catch (const http::ApiError& e) {
         if (e.status != 400 && e.status != 422) fail("an ApiError with status", std::to_string(e.status), body);
         return 0;

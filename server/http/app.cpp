@@ -263,34 +263,7 @@ void App::install_radiomap_routes() {
     server_.Post(R"(/v1/rps/(\d+)/scans)", [this](const httplib::Request& req, httplib::Response& res) {
         respond(res, [&] {
             const auto rp_id = parse_id(req.matches[1].str(), "rp");
-            const json body = parse_object(req.body);
-            only_fields(body, {"upload_id", "scans", "measurements"}, "");
-            const bool has_scans = body.contains("scans"), has_measurements = body.contains("measurements");
-            if (has_scans == has_measurements)
-                throw invalid_field("send exactly one of 'scans' (raw readings) or 'measurements' (aggregates)");
-            store::ScanUpload upload;
-            upload.upload_id = optional_string(body, "upload_id", "", 200);
-            if (has_scans) {
-                const auto scans = parse_scans(body.at("scans"), "scans");
-                upload.measurements = aggregate_scans(scans);
-                upload.scans = static_cast<std::int64_t>(scans.size());
-            } else {
-                // Aggregates of one (type, bssid) sent twice combine like two uploads.
-                auto parsed = parse_measurements(body.at("measurements"), "measurements");
-                for (auto& m : parsed) {
-                    auto same = std::find_if(upload.measurements.begin(), upload.measurements.end(),
-                                             [&](const Measurement& o) { return o.type == m.type && o.bssid == m.bssid; });
-                    if (same == upload.measurements.end()) {
-                        upload.measurements.push_back(std::move(m));
-                    } else {
-                        if (!same->stats.can_merge(m.stats))
-                            throw ApiError(422, "out_of_range", "the counts of '" + m.bssid + "' in 'measurements' add up past 2^53");
-                        same->stats.merge(m.stats);
-                    }
-                }
-                // Aggregates carry no scan count; the best lower bound is the most-seen AP's count.
-                for (const auto& m : upload.measurements) upload.scans = std::max(upload.scans, m.stats.count);
-            }
+            const store::ScanUpload upload = parse_scan_upload(req.body);
             auto result = repo_.merge_scans(rp_id, upload);
             if (result.applied) notify(store::kind("rps"), result.rp, false);
             return std::pair{200, json{{"applied", result.applied}, {"rp", result.rp}}};

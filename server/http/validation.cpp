@@ -1,5 +1,6 @@
 #include "http/validation.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -315,6 +316,36 @@ void validate_radiomap_document(const json& doc) {
         }
         if (rp.contains("measurements")) parse_measurements(rp.at("measurements"), where + ".measurements");
     }
+}
+
+store::ScanUpload parse_scan_upload(const std::string& text) {
+    const json body = parse_object(text);
+    only_fields(body, {"upload_id", "scans", "measurements"}, "");
+    const bool has_scans = body.contains("scans"), has_measurements = body.contains("measurements");
+    if (has_scans == has_measurements)
+        throw invalid_field("send exactly one of 'scans' (raw readings) or 'measurements' (aggregates)");
+    store::ScanUpload upload;
+    upload.upload_id = optional_string(body, "upload_id", "", 200);
+    if (has_scans) {
+        const auto scans = parse_scans(body.at("scans"), "scans");
+        upload.measurements = aggregate_scans(scans);
+        upload.scans = static_cast<std::int64_t>(scans.size());
+        return upload;
+    }
+    for (auto& m : parse_measurements(body.at("measurements"), "measurements")) {
+        auto same = std::find_if(upload.measurements.begin(), upload.measurements.end(),
+                                 [&](const Measurement& o) { return o.type == m.type && o.bssid == m.bssid; });
+        if (same == upload.measurements.end()) {
+            upload.measurements.push_back(std::move(m));
+        } else {
+            if (!same->stats.can_merge(m.stats))
+                throw ApiError(422, "out_of_range", "the counts of '" + m.bssid + "' in 'measurements' add up past 2^53");
+            same->stats.merge(m.stats);
+        }
+    }
+    // Aggregates carry no scan count; the best lower bound is the most-seen AP's count.
+    for (const auto& m : upload.measurements) upload.scans = std::max(upload.scans, m.stats.count);
+    return upload;
 }
 
 }  // namespace locus::http

@@ -12,6 +12,7 @@
 #include "locus/radio_map.hpp"
 #include "http/api_error.hpp"
 #include "store/kinds.hpp"
+#include "store/repository.hpp"
 
 namespace locus::http {
 
@@ -44,6 +45,10 @@ Reading parse_reading(const nlohmann::json& j, const std::string& where);
 std::vector<Scan> parse_scans(const nlohmann::json& j, const std::string& where);
 Measurement parse_measurement(const nlohmann::json& j, const std::string& where);
 std::vector<Measurement> parse_measurements(const nlohmann::json& j, const std::string& where);
+
+// The body of POST /v1/rps/{id}/scans: raw scans (aggregated here) or aggregates (two of one AP
+// combine like two uploads). Throws ApiError (400, 422) for anything the store must not see.
+store::ScanUpload parse_scan_upload(const std::string& body);
 
 // A number field that must be finite (and within [min, max] when given).
 double finite_number(const nlohmann::json& obj, std::string_view field, const std::string& where,
