@@ -15,8 +15,6 @@ using nlohmann::json;
 
 namespace {
 
-thread_local std::chrono::steady_clock::time_point request_start = std::chrono::steady_clock::now();
-
 bool is_read(const httplib::Request& req) {
     if (req.method == "GET" || req.method == "HEAD" || req.method == "OPTIONS") return true;
     // Localizing reads the radio map; phones ask without a key.
@@ -75,15 +73,20 @@ void write_storage_unavailable(httplib::Response& res, const store::SqliteError&
                 std::string("storage unavailable: ") + e.what() + "; the request changed nothing, retry later");
 }
 
-void App::respond(httplib::Response& res, const std::function<std::pair<int, json>()>& body) {
-    guarded(res, [&] {
+void App::respond(const httplib::Request& req, httplib::Response& res,
+                  const std::function<std::pair<int, json>()>& body) {
+    guarded(req, res, [&] {
         auto [status, out] = body();
         res.status = status;
         if (status != 204) res.set_content(json_text(out), "application/json");
     });
 }
 
-void App::guarded(httplib::Response& res, const std::function<void()>& body) {
+void App::guarded(const httplib::Request& req, httplib::Response& res, const std::function<void()>& body) {
+    if (Front::body_over_limit(req)) {
+        write_error(res, 413, "payload_too_large", "the request body is larger than the server accepts");
+        return;
+    }
     try {
         body();
     } catch (const ApiError& e) {
@@ -126,23 +129,33 @@ void App::notify(const store::Kind& kind, const json& row, bool deleted) {
     if (listener_) listener_(kind, row, deleted);
 }
 
+bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res) const {
+    if (auto refusal = server_.refusal(req)) {
+        write_error(res, refusal->status, refusal->code, refusal->message);
+        Front::close_after(res);  // what follows the head cannot be told apart from a next request
+        return true;
+    }
+    if (const RequestFraming* f = Front::current(); f && f->close) Front::close_after(res);  // a chunked body
+    if (options_.api_key.empty() || is_read(req)) return false;
+    const std::string auth = req.get_header_value("Authorization");
+    const std::string prefix = "Bearer ";
+    if (!auth.starts_with(prefix) || !same_secret(auth.substr(prefix.size()), options_.api_key)) {
+        res.set_header("WWW-Authenticate", "Bearer");
+        write_error(res, 401, "unauthorized", "writes need 'Authorization: Bearer <api key>'");
+        return true;
+    }
+    return false;
+}
+
 void App::install_middleware() {
+    // Before any body is read: bad framing, then the API key. Also asked for a request that
+    // says `Expect: 100-continue`, so such a client is refused before it sends its body.
     server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-        request_start = std::chrono::steady_clock::now();
-        if (auto refusal = server_.refusal(req)) {
-            write_error(res, refusal->status, refusal->code, refusal->message);
-            Front::close_after(res);  // what follows the head cannot be told apart from a next request
-            return httplib::Server::HandlerResponse::Handled;
-        }
-        if (options_.api_key.empty() || is_read(req)) return httplib::Server::HandlerResponse::Unhandled;
-        const std::string auth = req.get_header_value("Authorization");
-        const std::string prefix = "Bearer ";
-        if (!auth.starts_with(prefix) || !same_secret(auth.substr(prefix.size()), options_.api_key)) {
-            res.set_header("WWW-Authenticate", "Bearer");
-            write_error(res, 401, "unauthorized", "writes need 'Authorization: Bearer <api key>'");
-            return httplib::Server::HandlerResponse::Handled;
-        }
-        return httplib::Server::HandlerResponse::Unhandled;
+        return refuse_before_body(req, res) ? httplib::Server::HandlerResponse::Handled
+                                            : httplib::Server::HandlerResponse::Unhandled;
+    });
+    server_.set_expect_100_continue_handler([this](const httplib::Request& req, httplib::Response& res) {
+        return refuse_before_body(req, res) ? res.status : 100;
     });
 
     // Called for every answer >= 400. httplib answers some failures itself (unknown route, a
@@ -167,9 +180,11 @@ void App::install_middleware() {
 
     if (options_.access_log) {
         server_.set_logger([](const httplib::Request& req, const httplib::Response& res) {
-            const auto us = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() -
-                                                                                   request_start)
-                                .count();
+            const RequestFraming* f = Front::current();
+            const auto us = f ? std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() -
+                                                                                      f->start)
+                                    .count()
+                              : 0;
             const std::string line = json_text(json{{"ts", utc_now()},
                                                     {"method", req.method},
                                                     {"path", req.path},
@@ -208,7 +223,7 @@ void App::install_crud() {
         const std::string parent_singular = nested ? std::string(store::kind(k.parent_kind).singular) : "";
 
         server_.Post(collection, [this, kp, nested, parent_singular](const httplib::Request& req, httplib::Response& res) {
-            respond(res, [&] {
+            respond(req, res, [&] {
                 std::optional<std::int64_t> parent;
                 if (nested) parent = parse_id(req.matches[1].str(), parent_singular);
                 const json values = validated_fields(*kp, parse_object(req.body), true);
@@ -219,7 +234,7 @@ void App::install_crud() {
             });
         });
         server_.Get(collection, [this, kp, nested, parent_singular](const httplib::Request& req, httplib::Response& res) {
-            respond(res, [&] {
+            respond(req, res, [&] {
                 std::optional<std::int64_t> parent;
                 if (nested) parent = parse_id(req.matches[1].str(), parent_singular);
                 auto param = [&](const char* name) -> std::optional<std::string> {
@@ -231,7 +246,7 @@ void App::install_crud() {
             });
         });
         server_.Get(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
-            respond(res, [&] {
+            respond(req, res, [&] {
                 const auto id = parse_id(req.matches[1].str(), kp->singular);
                 // An RP is read with its measurements: that is what a client wants from it.
                 if (kp->name == "rps") return std::pair{200, repo_.rp_with_measurements(id)};
@@ -239,7 +254,7 @@ void App::install_crud() {
             });
         });
         server_.Patch(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
-            respond(res, [&] {
+            respond(req, res, [&] {
                 const auto id = parse_id(req.matches[1].str(), kp->singular);
                 const json values = validated_fields(*kp, parse_object(req.body), false);
                 json row = repo_.update(*kp, id, values);
@@ -248,7 +263,7 @@ void App::install_crud() {
             });
         });
         server_.Delete(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
-            respond(res, [&] {
+            respond(req, res, [&] {
                 const auto id = parse_id(req.matches[1].str(), kp->singular);
                 const json before = repo_.get(*kp, id);
                 repo_.remove(*kp, id);
@@ -261,7 +276,7 @@ void App::install_crud() {
 
 void App::install_radiomap_routes() {
     server_.Post(R"(/v1/rps/(\d+)/scans)", [this](const httplib::Request& req, httplib::Response& res) {
-        respond(res, [&] {
+        respond(req, res, [&] {
             const auto rp_id = parse_id(req.matches[1].str(), "rp");
             const store::ScanUpload upload = parse_scan_upload(req.body);
             auto result = repo_.merge_scans(rp_id, upload);
@@ -271,11 +286,11 @@ void App::install_radiomap_routes() {
     });
 
     server_.Get(R"(/v1/radiomaps/(\d+)/export)", [this](const httplib::Request& req, httplib::Response& res) {
-        respond(res, [&] { return std::pair{200, repo_.export_radiomap(parse_id(req.matches[1].str(), "radiomap"))}; });
+        respond(req, res, [&] { return std::pair{200, repo_.export_radiomap(parse_id(req.matches[1].str(), "radiomap"))}; });
     });
 
     server_.Post(R"(/v1/floors/(\d+)/radiomaps/import)", [this](const httplib::Request& req, httplib::Response& res) {
-        respond(res, [&] {
+        respond(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
             const json doc = parse_object(req.body);
             validate_radiomap_document(doc);

@@ -34,13 +34,17 @@ public:
     void install_store_routes();
     void on_write(WriteListener listener) { listener_ = std::move(listener); }
 
-    // Runs a handler body, turning every failure into the JSON error shape.
-    static void respond(httplib::Response& res, const std::function<std::pair<int, nlohmann::json>()>& body);
+    // Runs a handler body, turning every failure into the JSON error shape (and a chunked body
+    // found over the limit once read into 413).
+    static void respond(const httplib::Request& req, httplib::Response& res,
+                        const std::function<std::pair<int, nlohmann::json>()>& body);
     // The same guard for a handler that writes its own answer into `res`.
-    static void guarded(httplib::Response& res, const std::function<void()>& body);
+    static void guarded(const httplib::Request& req, httplib::Response& res, const std::function<void()>& body);
 
 private:
     void install_middleware();
+    // Answers a request that must be refused before its body is read; false if it may go on.
+    bool refuse_before_body(const httplib::Request& req, httplib::Response& res) const;
     void install_crud();
     void install_radiomap_routes();
     void notify(const store::Kind& kind, const nlohmann::json& row, bool deleted);

@@ -1,5 +1,6 @@
 #include "http/connection_pool.hpp"
 
+#include <system_error>
 #include <thread>
 
 namespace locus::http {
@@ -7,7 +8,7 @@ namespace locus::http {
 ConnectionPool::ConnectionPool(std::size_t min_threads, std::size_t max_threads, std::chrono::milliseconds idle_exit)
     : min_threads_(min_threads), max_threads_(std::max(max_threads, min_threads)), idle_exit_(idle_exit) {
     std::lock_guard lock(mutex_);
-    for (std::size_t i = 0; i < min_threads_; ++i) spawn_locked();
+    for (std::size_t i = 0; i < min_threads_; ++i) spawn_locked();  // fewer if the system refuses
 }
 
 ConnectionPool::~ConnectionPool() { shutdown(); }
@@ -17,14 +18,23 @@ void ConnectionPool::enqueue(std::function<void()> fn) {
     jobs_.push_back(std::move(fn));
     // A queued job stays in jobs_ until a worker takes it, so jobs_ > idle + starting means
     // some job has no worker coming for it.
-    if (jobs_.size() > idle_ + starting_ && threads_ < max_threads_) spawn_locked();
-    else work_ready_.notify_one();
+    if (jobs_.size() > idle_ + starting_ && threads_ < max_threads_ && spawn_locked()) return;
+    // No new worker (at the cap, or the system refused one): the job waits for a busy one.
+    work_ready_.notify_one();
 }
 
-void ConnectionPool::spawn_locked() {
+bool ConnectionPool::spawn_locked() {
+    // The thread is created before it is counted: when the system refuses a thread (a pids
+    // or process limit), the counts stay true and shutdown does not wait for a ghost. The new
+    // thread takes the lock first thing, so it cannot see the counts before they are raised.
+    try {
+        std::thread([this] { work(); }).detach();
+    } catch (const std::system_error&) {
+        return false;
+    }
     ++threads_;
     ++starting_;
-    std::thread([this] { work(); }).detach();
+    return true;
 }
 
 void ConnectionPool::work() {

@@ -38,7 +38,7 @@ public:
     Stats stats() const;
 
 private:
-    void spawn_locked();
+    bool spawn_locked();  // false when the system refuses a thread
     void work();
 
     const std::size_t min_threads_, max_threads_;

@@ -61,8 +61,8 @@ bool ConnectionStream::wait(short events, Clock::time_point until, bool wakeable
 
 bool ConnectionStream::fill() {
     begin_ = end_ = 0;
-    const auto until = phase_ == Phase::head ? head_deadline_ : Clock::now() + read_timeout_;
-    if (!wait(POLLIN, until, phase_ == Phase::head)) return false;
+    const auto until = phase_ == Phase::head ? deadline_ : std::min(deadline_, Clock::now() + read_timeout_);
+    if (!wait(POLLIN, until, true)) return false;
     for (;;) {
         const ssize_t n = ::recv(fd_, buffer_, kBufferSize, 0);
         if (n > 0) {
@@ -92,6 +92,7 @@ ssize_t ConnectionStream::read(char* ptr, size_t size) {
     if (begin_ == end_ && !fill()) return failure_ == Failure::closed ? 0 : -1;
     const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(want, end_ - begin_));
     std::memcpy(ptr, buffer_ + begin_, n);
+    if (phase_ == Phase::head) head_.append(buffer_ + begin_, n);
     begin_ += n;
     consumed_ += n;
     if (remaining_) *remaining_ -= n;
@@ -104,6 +105,7 @@ bool ConnectionStream::is_writable() const {
 }
 
 ssize_t ConnectionStream::write(const char* ptr, size_t size) {
+    // Not woken at shutdown: the answer to a request already served should still reach its client.
     if (!wait(POLLOUT, Clock::now() + write_timeout_, false)) return -1;
     for (;;) {
         const ssize_t n = ::send(fd_, ptr, size, MSG_NOSIGNAL);
@@ -124,14 +126,16 @@ bool ConnectionStream::wait_for_request(std::chrono::milliseconds idle) {
 
 void ConnectionStream::begin_head(Clock::time_point deadline, std::size_t max_bytes) {
     phase_ = Phase::head;
-    head_deadline_ = deadline;
+    deadline_ = deadline;
     remaining_ = max_bytes;
     failure_ = Failure::none;
+    head_.clear();
 }
 
-void ConnectionStream::begin_body(std::uint64_t budget) {
+void ConnectionStream::begin_body(std::uint64_t budget, Clock::time_point deadline) {
     phase_ = Phase::body;
     remaining_ = budget;
+    deadline_ = deadline;
 }
 
 }  // namespace locus::http

@@ -7,10 +7,12 @@
 // in order. It also enforces what the library cannot be configured to enforce:
 // - a deadline for the whole request head (a client trickling a byte a second is cut off
 //   after --header-timeout, not kept forever by a per-read timeout) and a cap on its size;
+//   the head's bytes are kept, so what cpp-httplib's parser skips over can be checked;
+// - a deadline for the whole body, from its size at a slow phone's rate;
 // - a byte budget for the body, counted on the wire, so a chunked body cannot pass
 //   --max-body-bytes (cpp-httplib checks the limit against Content-Length only);
-// - a wake descriptor: when it becomes readable (server shutdown) waits for a next request
-//   or a request head end at once.
+// - a wake descriptor: when it becomes readable (server shutdown), waits for a next request,
+//   a request head or a body end at once (nothing has been written for that request yet).
 // All waits use poll(), so descriptors above FD_SETSIZE are fine.
 #include <httplib.h>
 
@@ -41,11 +43,15 @@ public:
     // False on timeout, close, error or shutdown.
     bool wait_for_request(std::chrono::milliseconds idle);
     // From here on, reads belong to a request head: they end at `deadline`, after `max_bytes`,
-    // or when the wake descriptor fires.
+    // or when the wake descriptor fires. The head's bytes are kept (head()).
     void begin_head(Clock::time_point deadline, std::size_t max_bytes);
     // From here on, reads belong to the body: at most `budget` bytes, each read waiting at most
-    // the read timeout.
-    void begin_body(std::uint64_t budget);
+    // the read timeout and all of them ending at `deadline` (a body trickled a byte at a time
+    // must not hold a worker for ever).
+    void begin_body(std::uint64_t budget, Clock::time_point deadline);
+
+    // The request head as it came on the wire (request line, headers, blank line).
+    const std::string& head() const { return head_; }
 
     std::uint64_t consumed() const { return consumed_; }  // bytes handed to the reader so far
     Failure failure() const { return failure_; }
@@ -58,9 +64,10 @@ private:
     int fd_, wake_fd_;
     std::chrono::milliseconds read_timeout_, write_timeout_;
     Phase phase_ = Phase::head;
-    Clock::time_point head_deadline_ = Clock::time_point::max();
+    Clock::time_point deadline_ = Clock::time_point::max();  // of the head, or of the body
     std::optional<std::uint64_t> remaining_;  // bytes this phase may still read
     std::uint64_t consumed_ = 0;
+    std::string head_;
     Failure failure_ = Failure::none;
     static constexpr std::size_t kBufferSize = 16 * 1024;
     char buffer_[kBufferSize];

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <string_view>
 
 #include "http/connection_pool.hpp"
 #include "http/connection_stream.hpp"
@@ -22,9 +23,58 @@ using Clock = std::chrono::steady_clock;
 
 thread_local RequestFraming* current_framing = nullptr;
 
-// A chunked body is counted on the wire, chunk-size lines and CRLFs included; this much on top
-// of --max-body-bytes covers the framing of chunks of a few hundred bytes and more.
-std::uint64_t chunked_budget(std::uint64_t max_body) { return max_body + max_body / 16 + 1024; }
+void send_all(int fd, const std::string& bytes) {
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+        const ssize_t n = ::send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return;  // a full send buffer on a brand-new connection: the client is gone
+        sent += static_cast<std::size_t>(n);
+    }
+}
+
+// A chunked body's decoded size is checked once read (Front::body_over_limit); on the wire,
+// chunk-size lines and CRLFs included, it may take this much before reading stops: enough
+// for chunks of a few bytes, and a bound on what a client can make the server read.
+std::uint64_t chunked_budget(std::uint64_t max_body) { return 2 * max_body + 64 * 1024; }
+
+// The slowest body accepted: a phone on a poor link still sends 32 KiB/s; past that (and
+// past 10 minutes for any body) a body trickled a byte at a time stops holding a worker.
+std::chrono::milliseconds body_time(std::uint64_t budget, std::chrono::milliseconds read_timeout) {
+    const auto at_slow_rate = std::chrono::milliseconds(budget / 32);  // 32 bytes per ms
+    return std::min<std::chrono::milliseconds>(read_timeout + at_slow_rate, std::chrono::minutes(10));
+}
+
+// What cpp-httplib's head parser would skip or misread without a word: a line not ending in
+// CRLF, whitespace before a header's colon, a folded (obs-fold) line, a line without a name.
+std::optional<std::string> head_problem(const std::string& head) {
+    std::size_t pos = 0;
+    bool request_line = true;
+    while (pos < head.size()) {
+        const std::size_t nl = head.find('\n', pos);
+        if (nl == std::string::npos) break;
+        if (nl == pos || head[nl - 1] != '\r') return "a line of the request head does not end in CRLF";
+        const std::string_view line(head.data() + pos, nl - 1 - pos);
+        pos = nl + 1;
+        if (line.empty()) break;  // the blank line that ends the head
+        if (request_line) {
+            request_line = false;
+            continue;
+        }
+        if (line.front() == ' ' || line.front() == '\t') return "a folded header line (obs-fold) is not accepted";
+        const std::size_t colon = line.find(':');
+        if (colon == std::string_view::npos || colon == 0) return "a header line has no name";
+        if (line[colon - 1] == ' ' || line[colon - 1] == '\t') return "a header name is followed by whitespace before its colon";
+    }
+    return std::nullopt;
+}
+
+void send_status(int fd, int status, const char* reason, const std::string& code, const std::string& message) {
+    const std::string body = R"({"error":{"code":")" + code + R"(","message":")" + message + R"("}})";
+    send_all(fd, "HTTP/1.1 " + std::to_string(status) + " " + reason +
+                     "\r\nContent-Type: application/json\r\nConnection: close\r\nContent-Length: " +
+                     std::to_string(body.size()) + "\r\n\r\n" + body);
+}
 
 bool all_digits(const std::string& s) {
     return !s.empty() && s.size() <= 19 &&
@@ -54,16 +104,6 @@ void close_lingering(int fd, std::chrono::milliseconds linger, std::uint64_t max
         dropped += static_cast<std::size_t>(n);
     }
     ::close(fd);
-}
-
-void send_all(int fd, const std::string& bytes) {
-    std::size_t sent = 0;
-    while (sent < bytes.size()) {
-        const ssize_t n = ::send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return;  // a full send buffer on a brand-new connection: the client is gone
-        sent += static_cast<std::size_t>(n);
-    }
 }
 
 // The answer past the connection cap, written before reading anything: cheap on purpose.
@@ -138,13 +178,25 @@ void Front::shut_down() {
         [[maybe_unused]] const auto n = ::write(wake_[1], &byte, 1);
     }
     stop();
+    // stop() does nothing before the accept loop has started: close the listening socket
+    // here, so that loop ends at once instead of serving for ever.
+    const socket_t sock = svr_sock_.exchange(INVALID_SOCKET);
+    if (sock != INVALID_SOCKET) {
+        ::shutdown(sock, SHUT_RDWR);
+        ::close(sock);
+    }
 }
 
 RequestFraming* Front::current() { return current_framing; }
 
 void Front::close_after(httplib::Response& res) {
     if (current_framing) current_framing->close = true;
-    res.set_header("Connection", "close");
+    if (res.get_header_value("Connection") != "close") res.set_header("Connection", "close");
+}
+
+bool Front::body_over_limit(const httplib::Request& req) {
+    const RequestFraming* f = current_framing;
+    return f && f->chunked && req.body.size() > f->max_body_bytes;
 }
 
 void Front::on_error_answer(httplib::Response& res) {
@@ -172,6 +224,7 @@ void Front::on_error_answer(httplib::Response& res) {
 std::optional<Refusal> Front::refusal(const httplib::Request& req) const {
     const RequestFraming* f = current_framing;
     if (!f) return std::nullopt;
+    if (f->head_problem) return Refusal{400, "bad_request", *f->head_problem};
     if (f->content_length_headers > 1 || !f->valid_content_length)
         return Refusal{400, "bad_request", "Content-Length must be given once, as a decimal number"};
     const bool has_coding = req.has_header("Transfer-Encoding");
@@ -196,6 +249,8 @@ std::optional<Refusal> Front::refusal(const httplib::Request& req) const {
 void Front::start_request(httplib::Request& req, RequestFraming& framing, ConnectionStream& stream) const {
     framing.parsed = true;
     framing.head_end = stream.consumed();
+    framing.head_problem = head_problem(stream.head());
+    framing.max_body_bytes = options_.max_body_bytes;
     framing.content_length_headers = req.get_header_value_count("Content-Length");
     for (std::size_t i = 0; i < framing.content_length_headers; ++i) {
         const std::string value = req.get_header_value("Content-Length", i);
@@ -205,12 +260,13 @@ void Front::start_request(httplib::Request& req, RequestFraming& framing, Connec
     const std::size_t codings = req.get_header_value_count("Transfer-Encoding");
     framing.chunked = codings == 1 && strcasecmp(req.get_header_value("Transfer-Encoding").c_str(), "chunked") == 0;
     framing.other_coding = codings > 0 && !framing.chunked;
+    if (framing.chunked) framing.close = true;
 
     // The body budget: a length is read exactly; a chunked body up to the limit on the wire.
     std::uint64_t budget = 0;
     if (framing.content_length && framing.valid_content_length) budget = *framing.content_length;
     else if (framing.chunked) budget = chunked_budget(options_.max_body_bytes);
-    stream.begin_body(budget);
+    stream.begin_body(budget, Clock::now() + body_time(budget, options_.read_timeout));
 
     // `curl -d` sends JSON as a form; cpp-httplib parses forms and refuses them past 8 KiB.
     // Every body of this API is JSON, whatever the client calls it.
@@ -238,6 +294,7 @@ void Front::serve_connection(int fd) {
     for (std::size_t served = 0; !stopping_; ++served) {
         if (!stream.wait_for_request(served == 0 ? options_.header_timeout : options_.keep_alive_timeout)) break;
         RequestFraming framing;
+        framing.start = Clock::now();
         framing.stream = &stream;
         current_framing = &framing;
         stream.begin_head(Clock::now() + options_.header_timeout, options_.max_header_bytes);
@@ -246,6 +303,14 @@ void Front::serve_connection(int fd) {
         const bool answered =
             process_request(stream, last, client_closes, [&](httplib::Request& req) { start_request(req, framing, stream); });
         current_framing = nullptr;
+        if (!answered && !stream.head().empty()) {
+            // cpp-httplib gives up on a request line without answering; say why.
+            if (stream.failure() == ConnectionStream::Failure::timeout)
+                send_status(fd, 408, "Request Timeout", "request_timeout", "the request did not arrive in time");
+            else if (stream.failure() == ConnectionStream::Failure::head_too_large)
+                send_status(fd, 431, "Request Header Fields Too Large", "header_too_large",
+                            "the request head is larger than the server accepts");
+        }
         const bool body_unread = framing.content_length && stream.consumed() - framing.head_end < *framing.content_length;
         if (!answered || !framing.parsed || framing.close || body_unread || (framing.chunked && framing.failed)) {
             linger = true;

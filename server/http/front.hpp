@@ -14,9 +14,13 @@
 // - Framing checks before any body is read (refusal()): one decimal Content-Length, no
 //   Content-Length together with Transfer-Encoding, only `chunked` as a coding, no body on
 //   GET/HEAD/OPTIONS, nothing over --max-body-bytes. A chunked body is counted on the wire.
-// - A connection whose request body was not read to its end (a refused write, a broken
-//   chunked body) is closed after the answer, which says `Connection: close`: the unread
-//   bytes are never taken for a next request (request smuggling behind a proxy).
+// - Head lines cpp-httplib's parser would skip or misread (a bare LF, space before a colon,
+//   a folded line) are refused: a skipped Content-Length would leave a body to be read as
+//   the next request.
+// - A connection whose request body was not read to its end (a refused write), and every
+//   chunked request (cpp-httplib ends a chunked body early at a malformed chunk and reports
+//   success), is closed after the answer, which says `Connection: close`: unread bytes are
+//   never taken for a next request (request smuggling behind a proxy).
 // - No SO_REUSEPORT: a second server on the same port fails to start instead of splitting
 //   the traffic between two databases. The listen backlog is raised from the library's 5.
 // - Shutdown wakes idle connections at once.
@@ -48,12 +52,15 @@ struct FrontOptions {
 // What the connection layer knows of the request being served; handlers reach it through
 // Front::current() because cpp-httplib's handler signature carries no connection.
 struct RequestFraming {
+    std::chrono::steady_clock::time_point start;  // the request's first byte was awaited from here
     bool parsed = false;                         // the head was read and parsed
+    std::optional<std::string> head_problem;     // a head line cpp-httplib would skip or misread
     std::optional<std::uint64_t> content_length;
     std::size_t content_length_headers = 0;
     bool valid_content_length = true;            // every Content-Length was one decimal number
     bool chunked = false;
     bool other_coding = false;                   // a Transfer-Encoding other than one `chunked`
+    std::uint64_t max_body_bytes = 0;
     std::uint64_t head_end = 0;                  // stream position where the body starts
     bool close = false;                          // end the connection after this answer
     bool failed = false;                         // answered with a status >= 400
@@ -89,6 +96,8 @@ public:
     static RequestFraming* current();
     // Ends the connection after this answer, and says so in the answer.
     static void close_after(httplib::Response& res);
+    // A chunked body, once read, over --max-body-bytes (its length was not known before).
+    static bool body_over_limit(const httplib::Request& req);
     // Called for every answer >= 400: marks it failed and, when the connection layer cut the
     // body or head short, turns cpp-httplib's bare 400 into 413 or 408.
     static void on_error_answer(httplib::Response& res);

@@ -151,7 +151,7 @@ void Service::install(http::App& app) {
         app.server().Post("/v1/" + std::string(collection) + R"(/(\d+)/localize)",
                           // Init-captures: clang before 16 cannot capture structured bindings.
                           [this, what = what, scope = scope](const httplib::Request& req, httplib::Response& res) {
-                              http::App::guarded(res, [&] {
+                              http::App::guarded(req, res, [&] {
                                   const auto id = http::parse_id(req.matches[1].str(), what);
                                   const auto request = parse_localize_request(req.body);
                                   // Moved in: set_content would copy the answer. As set_content
