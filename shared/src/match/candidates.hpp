@@ -40,7 +40,7 @@ inline void rank(std::vector<Scored>& scored, std::size_t n) {
 }
 
 struct Weighted {
-    const Scored* rp;
+    const Scored* scored;
     double weight;
 };
 using Chosen = std::vector<Weighted>;

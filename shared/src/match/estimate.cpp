@@ -12,7 +12,7 @@ Result estimate(const Index& index, Algorithm algorithm, const std::vector<Score
     // Only the winning floor's RPs make the position, so a fix never averages points on
     // different floors.
     FloorVote vote;
-    for (const auto& c : chosen) vote.add(index.rp(c.rp->rp), c.weight);
+    for (const auto& c : chosen) vote.add(index.rp(c.scored->rp), c.weight);
     const FloorVote::Group& win = vote.winner();
 
     const Scored& best = ranked.front();
@@ -24,7 +24,7 @@ Result estimate(const Index& index, Algorithm algorithm, const std::vector<Score
     result.matched_aps = best.shared;
     double wsum = 0.0, x = 0.0, y = 0.0;
     for (const auto& c : chosen) {
-        const RpInfo& info = index.rp(c.rp->rp);
+        const RpInfo& info = index.rp(c.scored->rp);
         if (info.building_id != win.building || info.floor_id != win.floor) continue;
         result.rp_ids.push_back(info.id);
         wsum += c.weight;
