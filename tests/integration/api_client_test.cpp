@@ -197,6 +197,12 @@ TEST(ApiClient, ExportImportAndLocalize) {
     const auto whole = c.localize_map(ch.map.id, q);
     EXPECT_DOUBLE_EQ(whole.x, 18.0);
     EXPECT_EQ(whole.building_id, ch.building.id);
+    // Asked for nothing, the client names no algorithm, so the server's default applies.
+    api::LocalizeRequest plain;
+    plain.scans = q.scans;
+    EXPECT_FALSE(api::to_json(plain).contains("algorithm"));
+    EXPECT_EQ(api::to_json(q).at("algorithm"), "nn");
+    EXPECT_NEAR(c.localize_radiomap(ch.radiomap.id, plain).x, 18.0, 0.5);  // bayes: a weighted estimate
 
     json doc = c.export_radiomap(ch.radiomap.id);
     EXPECT_EQ(doc["rps"].size(), 2u);

@@ -49,7 +49,8 @@ json to_json(const ScanUpload& upload) {
 json to_json(const LocalizeRequest& request) {
     json scans = json::array();
     for (const auto& s : request.scans) scans.push_back(to_json(s));
-    json body = {{"algorithm", request.algorithm}, {"scans", std::move(scans)}};
+    json body = {{"scans", std::move(scans)}};
+    if (request.algorithm) body["algorithm"] = *request.algorithm;
     if (!request.options.empty()) body["options"] = request.options;
     return body;
 }

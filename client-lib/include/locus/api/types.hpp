@@ -80,7 +80,8 @@ struct UploadResult {
 };
 
 struct LocalizeRequest {
-    std::string algorithm = "wknn";
+    // Unset: the body names no algorithm and the server's default applies.
+    std::optional<std::string> algorithm;
     std::vector<Scan> scans;
     nlohmann::json options = nlohmann::json::object();
 };
