@@ -60,11 +60,13 @@ bool ConnectionStream::wait(short events, Clock::time_point until, bool wakeable
 }
 
 bool ConnectionStream::fill() {
-    begin_ = end_ = 0;
+    if (phase_ == Phase::head) head_.append(buffer_ + head_from_, end_ - head_from_);  // all of it was read
+    begin_ = end_ = head_from_ = 0;
     const auto until = phase_ == Phase::head ? deadline_ : std::min(deadline_, Clock::now() + read_timeout_);
-    if (!wait(POLLIN, until, true)) return false;
+    // Read first, wait only when nothing is there: on a busy kept-alive connection the next
+    // request has usually arrived, and a poll() before every recv() would double the calls.
     for (;;) {
-        const ssize_t n = ::recv(fd_, buffer_, kBufferSize, 0);
+        const ssize_t n = ::recv(fd_, buffer_, kBufferSize, MSG_DONTWAIT);
         if (n > 0) {
             end_ = static_cast<std::size_t>(n);
             return true;
@@ -74,8 +76,11 @@ bool ConnectionStream::fill() {
             return false;
         }
         if (errno == EINTR) continue;
-        failure_ = (errno == EAGAIN || errno == EWOULDBLOCK) ? Failure::timeout : Failure::error;
-        return false;
+        if (errno != EAGAIN && errno != EWOULDBLOCK) {
+            failure_ = Failure::error;
+            return false;
+        }
+        if (!wait(POLLIN, until, true)) return false;
     }
 }
 
@@ -92,7 +97,6 @@ ssize_t ConnectionStream::read(char* ptr, size_t size) {
     if (begin_ == end_ && !fill()) return failure_ == Failure::closed ? 0 : -1;
     const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(want, end_ - begin_));
     std::memcpy(ptr, buffer_ + begin_, n);
-    if (phase_ == Phase::head) head_.append(buffer_ + begin_, n);
     begin_ += n;
     consumed_ += n;
     if (remaining_) *remaining_ -= n;
@@ -105,13 +109,18 @@ bool ConnectionStream::is_writable() const {
 }
 
 ssize_t ConnectionStream::write(const char* ptr, size_t size) {
+    // Send first, wait only when the socket's buffer is full (as fill() reads first).
     // Not woken at shutdown: the answer to a request already served should still reach its client.
-    if (!wait(POLLOUT, Clock::now() + write_timeout_, false)) return -1;
+    const auto until = Clock::now() + write_timeout_;
     for (;;) {
-        const ssize_t n = ::send(fd_, ptr, size, MSG_NOSIGNAL);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) failure_ = Failure::error;
-        return n;
+        const ssize_t n = ::send(fd_, ptr, size, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n >= 0) return n;
+        if (errno == EINTR) continue;
+        if (errno != EAGAIN && errno != EWOULDBLOCK) {
+            failure_ = Failure::error;
+            return -1;
+        }
+        if (!wait(POLLOUT, until, false)) return -1;
     }
 }
 
@@ -130,9 +139,19 @@ void ConnectionStream::begin_head(Clock::time_point deadline, std::size_t max_by
     remaining_ = max_bytes;
     failure_ = Failure::none;
     head_.clear();
+    head_from_ = begin_;
+}
+
+const std::string& ConnectionStream::head() {
+    if (phase_ == Phase::head) {
+        head_.append(buffer_ + head_from_, begin_ - head_from_);
+        head_from_ = begin_;
+    }
+    return head_;
 }
 
 void ConnectionStream::begin_body(std::uint64_t budget, Clock::time_point deadline) {
+    head();  // the head's last bytes are in the buffer still
     phase_ = Phase::body;
     remaining_ = budget;
     deadline_ = deadline;

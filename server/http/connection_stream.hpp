@@ -50,8 +50,8 @@ public:
     // must not hold a worker for ever).
     void begin_body(std::uint64_t budget, Clock::time_point deadline);
 
-    // The request head as it came on the wire (request line, headers, blank line).
-    const std::string& head() const { return head_; }
+    // The request head as it came on the wire (request line, headers, blank line), so far.
+    const std::string& head();
 
     std::uint64_t consumed() const { return consumed_; }  // bytes handed to the reader so far
     Failure failure() const { return failure_; }
@@ -67,7 +67,8 @@ private:
     Clock::time_point deadline_ = Clock::time_point::max();  // of the head, or of the body
     std::optional<std::uint64_t> remaining_;  // bytes this phase may still read
     std::uint64_t consumed_ = 0;
-    std::string head_;
+    std::string head_;          // the head's bytes that have left the buffer
+    std::size_t head_from_ = 0;  // where the head's bytes not yet in head_ start in buffer_
     Failure failure_ = Failure::none;
     static constexpr std::size_t kBufferSize = 16 * 1024;
     char buffer_[kBufferSize];

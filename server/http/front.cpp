@@ -249,7 +249,7 @@ std::optional<Refusal> Front::refusal(const httplib::Request& req) const {
 void Front::start_request(httplib::Request& req, RequestFraming& framing, ConnectionStream& stream) const {
     framing.parsed = true;
     framing.head_end = stream.consumed();
-    framing.head_problem = head_problem(stream.head());
+    framing.head_problem = head_problem(stream.head());  // before begin_body, which keeps the head
     framing.max_body_bytes = options_.max_body_bytes;
     framing.content_length_headers = req.get_header_value_count("Content-Length");
     for (std::size_t i = 0; i < framing.content_length_headers; ++i) {
