@@ -83,8 +83,8 @@ void App::respond(const httplib::Request& req, httplib::Response& res,
 }
 
 void App::guarded(const httplib::Request& req, httplib::Response& res, const std::function<void()>& body) {
-    if (Front::body_over_limit(req)) {
-        write_error(res, 413, "payload_too_large", "the request body is larger than the server accepts");
+    if (auto refusal = Front::body_over_limit(req)) {
+        write_error(res, refusal->status, refusal->code, refusal->message);
         return;
     }
     try {
@@ -165,9 +165,7 @@ void App::install_middleware() {
         if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
         std::string message = "request failed with status " + std::to_string(res.status);
         if (res.status == 404) message = "no route for " + req.method + " " + req.path;
-        if (res.status == 413)
-            message = "the request body is larger than the server accepts (" +
-                      std::to_string(server_.options().max_body_bytes) + " bytes)";
+        if (res.status == 413) message = body_too_large(server_.options().max_body_bytes).message;
         if (res.status == 408) message = "the request did not arrive in time";
         if (res.status == 431) message = "the request head is larger than the server accepts";
         write_error(res, res.status, code_for_status(res.status), message);

@@ -69,11 +69,13 @@ std::optional<std::string> head_problem(const std::string& head) {
     return std::nullopt;
 }
 
-void send_status(int fd, int status, const char* reason, const std::string& code, const std::string& message) {
+// An answer written straight to the socket, where cpp-httplib gives none (the connection cap,
+// a request line it gave up on); the connection closes after it.
+std::string canned_answer(int status, const char* reason, const std::string& extra_headers, const std::string& code,
+                          const std::string& message) {
     const std::string body = R"({"error":{"code":")" + code + R"(","message":")" + message + R"("}})";
-    send_all(fd, "HTTP/1.1 " + std::to_string(status) + " " + reason +
-                     "\r\nContent-Type: application/json\r\nConnection: close\r\nContent-Length: " +
-                     std::to_string(body.size()) + "\r\n\r\n" + body);
+    return "HTTP/1.1 " + std::to_string(status) + " " + reason + "\r\nContent-Type: application/json\r\n" +
+           extra_headers + "Connection: close\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
 }
 
 bool all_digits(const std::string& s) {
@@ -104,15 +106,6 @@ void close_lingering(int fd, std::chrono::milliseconds linger, std::uint64_t max
         dropped += static_cast<std::size_t>(n);
     }
     ::close(fd);
-}
-
-// The answer past the connection cap, written before reading anything: cheap on purpose.
-std::string busy_answer(std::size_t cap) {
-    const std::string body = R"({"error":{"code":"server_busy","message":"the server is serving its limit of )" +
-                             std::to_string(cap) + R"( connections; retry shortly"}})";
-    return "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\nRetry-After: 1\r\n"
-           "Connection: close\r\nContent-Length: " +
-           std::to_string(body.size()) + "\r\n\r\n" + body;
 }
 
 // Soft descriptor limit up to the hard one: each connection is a descriptor, and the usual
@@ -194,15 +187,24 @@ void Front::close_after(httplib::Response& res) {
     if (res.get_header_value("Connection") != "close") res.set_header("Connection", "close");
 }
 
-bool Front::body_over_limit(const httplib::Request& req) {
+std::optional<Refusal> Front::body_over_limit(const httplib::Request& req) {
     const RequestFraming* f = current_framing;
-    return f && f->chunked && req.body.size() > f->max_body_bytes;
+    if (f && f->chunked && req.body.size() > f->max_body_bytes) return body_too_large(f->max_body_bytes);
+    return std::nullopt;
+}
+
+Refusal body_too_large(std::uint64_t max_body_bytes) {
+    return {413, "payload_too_large",
+            "the request body is larger than the server accepts (" + std::to_string(max_body_bytes) + " bytes)"};
+}
+
+bool RequestFraming::body_left_unread() const {
+    return content_length && stream && stream->consumed() - head_end < *content_length;
 }
 
 void Front::on_error_answer(httplib::Response& res) {
     RequestFraming* f = current_framing;
     if (!f) return;
-    f->failed = true;
     if (f->stream && res.status == 400 && res.body.empty()) {
         switch (f->stream->failure()) {
             case ConnectionStream::Failure::body_too_large: res.status = 413; break;
@@ -211,14 +213,10 @@ void Front::on_error_answer(httplib::Response& res) {
             default: break;
         }
     }
-    // Whatever was not read of this request would be taken for the next one.
-    const bool body_unread = f->chunked || (f->content_length && *f->content_length > 0 && f->stream &&
-                                            f->stream->consumed() - f->head_end < *f->content_length);
     // cpp-httplib's own failures (an empty body) mean it lost its place in the stream.
     const bool framing_lost = res.body.empty() && (res.status == 400 || res.status == 408 || res.status == 411 ||
                                                    res.status == 413 || res.status == 431);
-    if (!f->parsed || body_unread || framing_lost)
-        close_after(res);
+    if (!f->parsed || f->close || f->body_left_unread() || framing_lost) close_after(res);
 }
 
 std::optional<Refusal> Front::refusal(const httplib::Request& req) const {
@@ -239,10 +237,7 @@ std::optional<Refusal> Front::refusal(const httplib::Request& req) const {
     // closes the connection: the request would wait out the read timeout and get a bare 400.
     if (f->other_coding || (!f->content_length && !f->chunked))
         return Refusal{411, "length_required", "a " + req.method + " needs a Content-Length (or a chunked body)"};
-    if (f->content_length && *f->content_length > options_.max_body_bytes)
-        return Refusal{413, "payload_too_large",
-                       "the request body is larger than the server accepts (" + std::to_string(options_.max_body_bytes) +
-                           " bytes)"};
+    if (f->content_length && *f->content_length > options_.max_body_bytes) return body_too_large(options_.max_body_bytes);
     return std::nullopt;
 }
 
@@ -278,7 +273,10 @@ void Front::start_request(httplib::Request& req, RequestFraming& framing, Connec
 bool Front::process_and_close_socket(socket_t sock) {
     const std::size_t open = ++open_;
     if (open > options_.max_connections || stopping_) {
-        send_all(sock, busy_answer(options_.max_connections));
+        // Written before reading anything: cheap on purpose.
+        send_all(sock, canned_answer(503, "Service Unavailable", "Retry-After: 1\r\n", "server_busy",
+                                     "the server is serving its limit of " + std::to_string(options_.max_connections) +
+                                         " connections; retry shortly"));
         --open_;
         close_lingering(sock, std::chrono::milliseconds(200), 64 * 1024);
         return true;
@@ -306,13 +304,13 @@ void Front::serve_connection(int fd) {
         if (!answered && !stream.head().empty()) {
             // cpp-httplib gives up on a request line without answering; say why.
             if (stream.failure() == ConnectionStream::Failure::timeout)
-                send_status(fd, 408, "Request Timeout", "request_timeout", "the request did not arrive in time");
+                send_all(fd, canned_answer(408, "Request Timeout", "", "request_timeout", "the request did not arrive in time"));
             else if (stream.failure() == ConnectionStream::Failure::head_too_large)
-                send_status(fd, 431, "Request Header Fields Too Large", "header_too_large",
-                            "the request head is larger than the server accepts");
+                send_all(fd, canned_answer(431, "Request Header Fields Too Large", "", "header_too_large",
+                                           "the request head is larger than the server accepts"));
         }
-        const bool body_unread = framing.content_length && stream.consumed() - framing.head_end < *framing.content_length;
-        if (!answered || !framing.parsed || framing.close || body_unread || (framing.chunked && framing.failed)) {
+        // Every chunked request has framing.close set (start_request).
+        if (!answered || !framing.parsed || framing.close || framing.body_left_unread()) {
             linger = true;
             break;
         }

@@ -63,14 +63,19 @@ struct RequestFraming {
     std::uint64_t max_body_bytes = 0;
     std::uint64_t head_end = 0;                  // stream position where the body starts
     bool close = false;                          // end the connection after this answer
-    bool failed = false;                         // answered with a status >= 400
     const ConnectionStream* stream = nullptr;
+
+    // A Content-Length body not read to its end: its rest would be taken for a next request.
+    bool body_left_unread() const;
 };
 
 struct Refusal {
     int status;
     std::string code, message;
 };
+
+// The 413 refusal of a body over `max_body_bytes`, known before or after reading it.
+Refusal body_too_large(std::uint64_t max_body_bytes);
 
 class Front : public httplib::Server {
 public:
@@ -97,9 +102,10 @@ public:
     // Ends the connection after this answer, and says so in the answer.
     static void close_after(httplib::Response& res);
     // A chunked body, once read, over --max-body-bytes (its length was not known before).
-    static bool body_over_limit(const httplib::Request& req);
-    // Called for every answer >= 400: marks it failed and, when the connection layer cut the
-    // body or head short, turns cpp-httplib's bare 400 into 413 or 408.
+    static std::optional<Refusal> body_over_limit(const httplib::Request& req);
+    // Called for every answer >= 400: when the connection layer cut the body or head short,
+    // turns cpp-httplib's bare 400 into 413, 408 or 431, and ends the connection when its
+    // place in the stream is lost.
     static void on_error_answer(httplib::Response& res);
 
 private:
