@@ -216,3 +216,48 @@ TEST_F(Bench, RefusesAnUnknownRadioMapAndARemoteServer) {
     EXPECT_NE(bad_port.status, 0);
     EXPECT_NE(bad_port.err.find("port"), std::string::npos) << bad_port.err;
 }
+
+// `locus bench connections`: a short, small run of every kind of client.
+TEST_F(Bench, ConnectionsReportsEveryKindOfClient) {
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "connections", "--server", s.url(), "--radiomap", std::to_string(rm),
+                                "--active", "2", "--idle", "3", "--slowloris", "1", "--seconds", "2", "--idle-interval",
+                                "0.5", "--probe-interval", "0.1", "--algorithm", "nn"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json out = json::parse(r.out);
+    EXPECT_EQ(out.at("connections"), 6);
+    EXPECT_EQ(out.at("localize").at("errors"), 0);
+    EXPECT_GT(out.at("localize").at("requests").get<int>(), 0);
+    EXPECT_LE(out.at("localize").at("p50_ms").get<double>(), out.at("localize").at("p99_ms").get<double>());
+    EXPECT_EQ(out.at("fresh_health").at("failures"), 0);
+    EXPECT_GT(out.at("fresh_health").at("probes").get<int>(), 5);
+    EXPECT_EQ(out.at("idle").at("errors"), 0);
+    EXPECT_EQ(out.at("idle").at("failed_to_open"), 0);
+    EXPECT_GT(out.at("idle").at("requests").get<int>(), 0);
+    EXPECT_EQ(out.at("slowloris").at("clients"), 1);
+}
+
+// Past the server's connection cap the idle clients are refused (503): counted, and the
+// command fails after printing its figures.
+TEST(BenchFailures, ConnectionsPastTheServersCapFailTheCommand) {
+    ServerProcess s({"--max-connections", "3"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const auto r = s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import",
+                          {{"name", "corridor"}, {"rps", {rp("west", 2, -40, -70), rp("east", 18, -70, -40)}}});
+    ASSERT_EQ(r.status, 201) << r.raw;
+    const auto run = run_command({LOCUS_CLI_BIN, "bench", "connections", "--server", s.url(), "--radiomap",
+                                  std::to_string(r.body.at("id").get<std::int64_t>()), "--active", "1", "--idle", "4",
+                                  "--slowloris", "0", "--seconds", "1"});
+    EXPECT_NE(run.status, 0);
+    EXPECT_NE(run.err.find("failed or timed out"), std::string::npos) << run.err;
+    const json out = json::parse(run.out);
+    EXPECT_GE(out.at("idle").at("failed_to_open").get<int>(), 1);
+}
+
+TEST_F(Bench, ConnectionsRefusesAnUnknownRadioMapAndARemoteServer) {
+    const auto unknown = run_command({LOCUS_CLI_BIN, "bench", "connections", "--server", s.url(), "--radiomap", "999999"});
+    EXPECT_NE(unknown.status, 0);
+    EXPECT_NE(unknown.err.find("999999"), std::string::npos) << unknown.err;
+    const auto remote = run_command({LOCUS_CLI_BIN, "bench", "connections", "--server", "http://192.0.2.1:80", "--radiomap", "1"});
+    EXPECT_NE(remote.status, 0);
+    EXPECT_NE(remote.err.find("loopback"), std::string::npos) << remote.err;
+}
