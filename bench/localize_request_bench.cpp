@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "localize/request.hpp"
+#include "http/localize_answer.hpp"
 #include "localize_body.hpp"
 #include "uji_csv.hpp"
 
@@ -40,8 +40,8 @@ const Fixture* fixture(const char* algorithm) {
         if (rp.floor_id == uji::floor_id(1, 0)) floor_rps.push_back(rp);
     out->snapshot.index = match::Index::build(rps);
     out->one_floor.index = match::Index::build(floor_rps);
-    localize::prepare_answers(out->snapshot);
-    localize::prepare_answers(out->one_floor);
+    http::prepare_answers(out->snapshot);
+    http::prepare_answers(out->one_floor);
     for (std::size_t i = 0; i < data.rows.size(); i += 10)
         if (!data.rows[i].heard.empty()) out->bodies.push_back(tools::localize_body({uji::scan_of(data, data.rows[i])}, algorithm));
     slot = std::move(out);
@@ -54,7 +54,7 @@ void parse_bench(benchmark::State& state, const char* algorithm) {
     std::size_t i = 0, bytes = 0;
     for (auto _ : state) {
         const std::string& body = f->bodies[i];
-        auto request = localize::parse_localize_request(body);
+        auto request = http::parse_localize_request(body);
         benchmark::DoNotOptimize(request);
         bytes += body.size();
         if (++i == f->bodies.size()) i = 0;
@@ -72,7 +72,7 @@ void request_bench(benchmark::State& state, const char* algorithm, bool one_floo
     std::vector<const std::string*> bodies;
     for (const auto& b : f->bodies) {
         try {
-            (void)localize::answer(snapshot, localize::parse_localize_request(b));
+            (void)http::answer(snapshot, http::parse_localize_request(b));
             bodies.push_back(&b);
         } catch (const std::exception&) {
         }
@@ -80,7 +80,7 @@ void request_bench(benchmark::State& state, const char* algorithm, bool one_floo
     if (bodies.empty()) return state.SkipWithError("no scan shares an access point with the radio map");
     std::size_t i = 0;
     for (auto _ : state) {
-        auto text = localize::answer(snapshot, localize::parse_localize_request(*bodies[i]));
+        auto text = http::answer(snapshot, http::parse_localize_request(*bodies[i]));
         benchmark::DoNotOptimize(text);
         if (++i == bodies.size()) i = 0;
     }

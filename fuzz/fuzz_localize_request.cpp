@@ -1,6 +1,6 @@
 // The localize request body (POST /v1/radiomaps/{id}/localize, /v1/maps/{id}/localize):
-// the fast plain parser (server/localize/plain_request.*) and the full streaming parser
-// (server/localize/request.*).
+// the fast plain parser (server/http/plain_localize_request.*) and the full streaming parser
+// (server/http/localize_request.*).
 //
 // Checks: neither parser throws anything but http::ApiError (400 or 422); whatever the plain
 // parser accepts, the full parser accepts too and reads the same (algorithm, every AP's type,
@@ -15,12 +15,12 @@
 #include <string>
 
 #include "http/api_error.hpp"
-#include "localize/plain_request.hpp"
-#include "localize/request.hpp"
+#include "http/localize_request.hpp"
+#include "http/plain_localize_request.hpp"
 #include "json_mutator.hpp"
 
 using namespace locus;
-using namespace locus::localize;
+using namespace locus::http;
 
 namespace {
 

@@ -1,6 +1,6 @@
 // The radio-map import (POST /v1/floors/{id}/radiomaps/import): parse_object,
-// validate_radiomap_document, then Repository::import_radiomap into an in-memory SQLite
-// repository, as the handler in server/http/app.cpp does.
+// parse_radiomap_document, then SqliteStore::import_radiomap into an in-memory SQLite
+// store, as the handler in server/http/radiomap_routes.cpp does.
 //
 // Checks: validation throws nothing but http::ApiError (400/422) and the import nothing but the
 // store's documented refusals (NotFound, Conflict, OutOfRange, a constraint SqliteError: the
@@ -15,7 +15,8 @@
 #include "http/api_error.hpp"
 #include "http/json_text.hpp"
 #include "http/validation.hpp"
-#include "store/repository.hpp"
+#include "http/store_json.hpp"
+#include "store/sqlite_store.hpp"
 #include "json_mutator.hpp"
 
 using namespace locus;
@@ -25,18 +26,18 @@ using store::kind;
 namespace {
 
 struct Fixture {
-    store::Repository repo{":memory:"};
+    store::SqliteStore repo{":memory:"};
     std::int64_t floor = 0, other_floor = 0;
 
     Fixture() {
-        const auto map = repo.create(kind("maps"), std::nullopt, {{"name", "fuzz"}}).at("id").get<std::int64_t>();
+        const auto map = repo.create(kind("maps"), std::nullopt, {{"name", "fuzz"}}).id;
         const auto building =
-            repo.create(kind("buildings"), map, {{"name", "b"}}).at("id").get<std::int64_t>();
-        const json floor_values = {{"name", "f0"}, {"level", 0}, {"width", 10.0}, {"height", 10.0}};
-        floor = repo.create(kind("floors"), building, floor_values).at("id").get<std::int64_t>();
-        json other = floor_values;
-        other["name"] = "f1";
-        other_floor = repo.create(kind("floors"), building, other).at("id").get<std::int64_t>();
+            repo.create(kind("buildings"), map, {{"name", "b"}}).id;
+        const store::Fields floor_values = {{"name", "f0"}, {"level", 0}, {"width", 10.0}, {"height", 10.0}};
+        floor = repo.create(kind("floors"), building, floor_values).id;
+        store::Fields other = floor_values;
+        other.values["name"] = std::string("f1");
+        other_floor = repo.create(kind("floors"), building, other).id;
     }
 };
 
@@ -53,9 +54,9 @@ Fixture& fixture() {
 std::string text(const json& j) { return http::json_text(j); }
 
 // Runs the import; returns the new radio map's row, or null when the store refused it.
-json import(std::int64_t floor, const json& doc, const std::string& body) {
+json import(std::int64_t floor, const store::RadioMapDocument& doc, const std::string& body) {
     try {
-        return fixture().repo.import_radiomap(floor, doc);
+        return http::imported_json(fixture().repo.import_radiomap(floor, doc));
     } catch (const store::Conflict&) {
     } catch (const store::OutOfRange&) {
     } catch (const store::SqliteError& e) {
@@ -73,10 +74,9 @@ void expect_empty(const std::string& when, const std::string& body) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string body(reinterpret_cast<const char*>(data), size);
     auto& f = fixture();
-    json doc;
+    store::RadioMapDocument doc;
     try {
-        doc = http::parse_object(body);
-        http::validate_radiomap_document(doc);
+        doc = http::parse_radiomap_document(http::parse_object(body));
     } catch (const http::ApiError& e) {
         if (e.status != 400 && e.status != 422) fail("an ApiError with status " + std::to_string(e.status), body);
         return 0;
@@ -88,20 +88,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         return 0;
     }
     const auto id = row.at("id").get<std::int64_t>();
-    if (row.at("rp_count").get<std::size_t>() != doc.at("rps").size()) fail("rp_count is not the number of RPs", body);
+    if (row.at("rp_count").get<std::size_t>() != doc.rps.size()) fail("rp_count is not the number of RPs", body);
 
     // What was stored exports, and the export validates and imports again to the same export.
-    json exported = f.repo.export_radiomap(id);
-    json again;
+    json exported = http::export_json(f.repo.export_radiomap(id));
+    store::RadioMapDocument again;
     try {
-        again = http::parse_object(http::json_text(exported));  // as the server writes it
-        http::validate_radiomap_document(again);
+        again = http::parse_radiomap_document(http::parse_object(http::json_text(exported)));  // as the server writes it
     } catch (const http::ApiError& e) {
         fail(std::string("the export of an accepted document does not validate: ") + e.what() + "\nexport: " + text(exported), body);
     }
     const json copy = import(f.other_floor, again, body);
     if (copy.is_null()) fail("the export of an accepted document does not import: " + text(exported), body);
-    json reexported = f.repo.export_radiomap(copy.at("id").get<std::int64_t>());
+    json reexported = http::export_json(f.repo.export_radiomap(copy.at("id").get<std::int64_t>()));
     exported.erase("floor_id");
     reexported.erase("floor_id");
     if (exported != reexported) fail("export, import, export changed the radio map:\n" + text(exported) + "\n" + text(reexported), body);

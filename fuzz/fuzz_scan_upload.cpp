@@ -1,6 +1,6 @@
 // The scan upload body (POST /v1/rps/{id}/scans): parse_object, then parse_scans +
 // aggregate_scans for raw scans or parse_measurements (+ merging an AP sent twice) for
-// aggregates, as the handler in server/http/app.cpp does (kept in step with it by hand).
+// aggregates, as the handler in server/http/radiomap_routes.cpp does (kept in step with it by hand).
 //
 // Checks: nothing but http::ApiError (400/422) escapes; an accepted upload holds each
 // (type, bssid) once, normalised, with counts in [1, 2^53] and a scan count of at most 2^53; and
@@ -19,7 +19,8 @@
 
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
-#include "store/repository.hpp"
+#include "http/store_json.hpp"
+#include "store/documents.hpp"
 #include "json_mutator.hpp"
 
 using namespace locus;
@@ -37,7 +38,7 @@ namespace {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string body(reinterpret_cast<const char*>(data), size);
-    store::ScanUpload upload;
+    store::ScanBatch upload;
     try {
         upload = http::parse_scan_upload(body);
     } catch (const http::ApiError& e) {
@@ -54,8 +55,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (normalise_bssid(m.bssid) != m.bssid) fail("a bssid not normalised:", m.bssid, body);
         if (m.stats.count < 1 || m.stats.count > kMaxCount) fail("a count of", std::to_string(m.stats.count), body);
         // What the store would keep for a fresh RP, as an export writes it and an import reads it.
-        const json exported = {{"type", m.type}, {"bssid", m.bssid}, {"mean", m.stats.mean},
-                               {"variance", m.stats.variance}, {"count", m.stats.count}};
+        const json exported = http::measurement_json(m);
         try {
             http::parse_measurement(exported, "m");
         } catch (const http::ApiError& e) {

@@ -1,4 +1,4 @@
-// locus-server: flags, wiring and signals. Everything else lives in store/, http/ and localize/.
+// locus-server: flags, wiring and signals. Everything else lives in store/, localize/ and http/.
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
@@ -10,9 +10,11 @@
 
 #include "http/app.hpp"
 #include "http/json_text.hpp"
+#include "http/localize_answer.hpp"
+#include "http/store_json.hpp"
 #include "localize/service.hpp"
 #include "store/migrations.hpp"
-#include "store/repository.hpp"
+#include "store/sqlite_store.hpp"
 
 namespace {
 void log_event(const nlohmann::json& event) {
@@ -70,15 +72,13 @@ int main(int argc, char** argv) {
     front.read_timeout = ms(read_s);
 
     try {
-        locus::store::Repository repo(db_path);
-        if (demo && !repo.has_maps()) {
-            const auto map = repo.import_map_bundle(nlohmann::json::parse(locus::server::demo_map_json()));
-            log_event({{"event", "demo_map_created"}, {"map_id", map.at("id")}});
+        locus::store::SqliteStore store(db_path);
+        if (demo && !store.has_maps()) {
+            const auto bundle = locus::http::parse_map_bundle(nlohmann::json::parse(locus::server::demo_map_json()));
+            log_event({{"event", "demo_map_created"}, {"map_id", store.import_map_bundle(bundle).id}});
         }
-        locus::localize::Service localizer(repo);
-        locus::http::App app(repo, {api_key, !quiet, front});
-        localizer.install(app);  // before the store routes: see install_store_routes
-        app.install_store_routes();
+        locus::localize::Service localizer(store, locus::http::prepare_answers);
+        locus::http::App app(store, localizer, {api_key, !quiet, front});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);

@@ -7,7 +7,6 @@
 #include "http/api_error.hpp"
 #include "http/json_text.hpp"
 #include "http/validation.hpp"
-#include "store/migrations.hpp"
 
 namespace locus::http {
 
@@ -51,11 +50,6 @@ const char* code_for_status(int status) {
         case 431: return "header_too_large";
         default: return status >= 500 ? "internal" : "error";
     }
-}
-
-std::string parent_path(const store::Kind& k) {
-    return k.parent_column.empty() ? "/v1/" + std::string(k.name)
-                                   : "/v1/" + std::string(k.parent_kind) + R"(/(\d+)/)" + std::string(k.name);
 }
 
 }  // namespace
@@ -107,26 +101,21 @@ void App::guarded(const httplib::Request& req, httplib::Response& res, const std
                          json_text(e.what()).c_str());
         else
             std::fprintf(stderr, "{\"event\":\"sqlite_error\",\"message\":%s}\n", json_text(e.what()).c_str());
-    } catch (const json::exception& e) {
-        write_error(res, 422, "invalid_field", e.what());
     } catch (const std::exception& e) {
+        // Input problems were refused above as ApiError; anything else (a JSON type error
+        // included) is a server bug, and the client is told so rather than blamed.
         write_error(res, 500, "internal", "internal error");
         std::fprintf(stderr, "{\"event\":\"internal_error\",\"message\":%s}\n", json_text(e.what()).c_str());
     }
 }
 
-App::App(store::Repository& repo, AppOptions options)
-    : repo_(repo), options_(std::move(options)), server_(options_.front) {
+App::App(store::Store& store, localize::Service& localizer, AppOptions options)
+    : store_(store), localizer_(localizer), options_(std::move(options)), server_(options_.front) {
     install_middleware();
-}
-
-void App::install_store_routes() {
+    install_health();
+    install_localize();
     install_crud();
     install_radiomap_routes();
-}
-
-void App::notify(const store::Kind& kind, const json& row, bool deleted) {
-    if (listener_) listener_(kind, row, deleted);
 }
 
 bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res) const {
@@ -193,7 +182,9 @@ void App::install_middleware() {
             std::fwrite(line.data(), 1, line.size(), stderr);
         });
     }
+}
 
+void App::install_health() {
     server_.Get("/health", [](const httplib::Request&, httplib::Response& res) {
         res.set_content(R"({"status":"ok"})", "application/json");
     });
@@ -201,101 +192,14 @@ void App::install_middleware() {
     // so a full disk, a read-only, corrupt or locked database turns it 503.
     server_.Get("/ready", [this](const httplib::Request&, httplib::Response& res) {
         try {
-            repo_.probe_write();
+            store_.probe_write();
             res.set_content(R"({"status":"ready"})", "application/json");
         } catch (const std::exception& e) {
             res.set_header("Retry-After", "1");
-            write_error(res, 503, "storage_unavailable", "database '" + repo_.path() + "' cannot be written: " + e.what());
-            std::fprintf(stderr, "{\"event\":\"not_ready\",\"db\":%s,\"message\":%s}\n", json_text(repo_.path()).c_str(),
+            write_error(res, 503, "storage_unavailable", "database '" + store_.location() + "' cannot be written: " + e.what());
+            std::fprintf(stderr, "{\"event\":\"not_ready\",\"db\":%s,\"message\":%s}\n", json_text(store_.location()).c_str(),
                          json_text(e.what()).c_str());
         }
-    });
-}
-
-void App::install_crud() {
-    for (const auto& k : store::kinds()) {
-        const store::Kind* kp = &k;
-        const std::string collection = parent_path(k);
-        const std::string item = "/v1/" + std::string(k.name) + R"(/(\d+))";
-        const bool nested = !k.parent_column.empty();
-        const std::string parent_singular = nested ? std::string(store::kind(k.parent_kind).singular) : "";
-
-        server_.Post(collection, [this, kp, nested, parent_singular](const httplib::Request& req, httplib::Response& res) {
-            respond(req, res, [&] {
-                std::optional<std::int64_t> parent;
-                if (nested) parent = parse_id(req.matches[1].str(), parent_singular);
-                const json values = validated_fields(*kp, parse_object(req.body), true);
-                json row = repo_.create(*kp, parent, values);
-                notify(*kp, row, false);
-                res.set_header("Location", "/v1/" + std::string(kp->name) + "/" + std::to_string(row.at("id").get<std::int64_t>()));
-                return std::pair{201, row};
-            });
-        });
-        server_.Get(collection, [this, kp, nested, parent_singular](const httplib::Request& req, httplib::Response& res) {
-            respond(req, res, [&] {
-                std::optional<std::int64_t> parent;
-                if (nested) parent = parse_id(req.matches[1].str(), parent_singular);
-                auto param = [&](const char* name) -> std::optional<std::string> {
-                    if (!req.has_param(name)) return std::nullopt;
-                    return req.get_param_value(name);
-                };
-                const Page page = parse_page(param("limit"), param("offset"));
-                return std::pair{200, repo_.list(*kp, parent, page.limit, page.offset)};
-            });
-        });
-        server_.Get(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
-            respond(req, res, [&] {
-                const auto id = parse_id(req.matches[1].str(), kp->singular);
-                // An RP is read with its measurements: that is what a client wants from it.
-                if (kp->name == "rps") return std::pair{200, repo_.rp_with_measurements(id)};
-                return std::pair{200, repo_.get(*kp, id)};
-            });
-        });
-        server_.Patch(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
-            respond(req, res, [&] {
-                const auto id = parse_id(req.matches[1].str(), kp->singular);
-                const json values = validated_fields(*kp, parse_object(req.body), false);
-                json row = repo_.update(*kp, id, values);
-                notify(*kp, row, false);
-                return std::pair{200, row};
-            });
-        });
-        server_.Delete(item, [this, kp](const httplib::Request& req, httplib::Response& res) {
-            respond(req, res, [&] {
-                const auto id = parse_id(req.matches[1].str(), kp->singular);
-                const json before = repo_.get(*kp, id);
-                repo_.remove(*kp, id);
-                notify(*kp, before, true);
-                return std::pair{204, json()};
-            });
-        });
-    }
-}
-
-void App::install_radiomap_routes() {
-    server_.Post(R"(/v1/rps/(\d+)/scans)", [this](const httplib::Request& req, httplib::Response& res) {
-        respond(req, res, [&] {
-            const auto rp_id = parse_id(req.matches[1].str(), "rp");
-            const store::ScanUpload upload = parse_scan_upload(req.body);
-            auto result = repo_.merge_scans(rp_id, upload);
-            if (result.applied) notify(store::kind("rps"), result.rp, false);
-            return std::pair{200, json{{"applied", result.applied}, {"rp", result.rp}}};
-        });
-    });
-
-    server_.Get(R"(/v1/radiomaps/(\d+)/export)", [this](const httplib::Request& req, httplib::Response& res) {
-        respond(req, res, [&] { return std::pair{200, repo_.export_radiomap(parse_id(req.matches[1].str(), "radiomap"))}; });
-    });
-
-    server_.Post(R"(/v1/floors/(\d+)/radiomaps/import)", [this](const httplib::Request& req, httplib::Response& res) {
-        respond(req, res, [&] {
-            const auto floor_id = parse_id(req.matches[1].str(), "floor");
-            const json doc = parse_object(req.body);
-            validate_radiomap_document(doc);
-            json row = repo_.import_radiomap(floor_id, doc);
-            notify(store::kind("radiomaps"), row, false);
-            return std::pair{201, row};
-        });
     });
 }
 

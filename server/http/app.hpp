@@ -1,6 +1,7 @@
 #pragma once
 // The HTTP layer: routes, authentication, request limits, error bodies and the access log.
-// Handlers parse and validate, call the repository (or the localizer), and serialise.
+// Handlers parse and validate, call the store (store::Store) or the localizer
+// (localize::Service), and serialise. Every route of the server is added here, in one place.
 #include <httplib.h>
 
 #include <cstddef>
@@ -9,8 +10,10 @@
 #include <string>
 
 #include "http/front.hpp"
+#include "localize/service.hpp"
 #include "store/kinds.hpp"
-#include "store/repository.hpp"
+#include "store/sqlite.hpp"
+#include "store/store.hpp"
 
 namespace locus::http {
 
@@ -20,19 +23,14 @@ struct AppOptions {
     FrontOptions front;   // connections, timeouts, body limit
 };
 
-// Told after every committed write, so in-memory indexes can follow (kind, the row as it was
-// written or, for a delete, as it was before, and whether it was deleted).
-using WriteListener = std::function<void(const store::Kind& kind, const nlohmann::json& row, bool deleted)>;
-
 class App {
 public:
-    App(store::Repository& repo, AppOptions options);
+    // Adds every route: health and readiness, localize, then the CRUD, scan and radio-map
+    // routes. httplib tries a method's routes in the order they were added, one regex match
+    // each, so localize (the request a phone repeats) is found without failing a match per
+    // store route first.
+    App(store::Store& store, localize::Service& localizer, AppOptions options);
     Front& server() { return server_; }
-    // The CRUD, scan and radio-map routes. httplib tries a method's routes in the order they
-    // were added, one regex match each, so routes added before these (localize, the request
-    // a phone repeats) are found without failing a match per store route first.
-    void install_store_routes();
-    void on_write(WriteListener listener) { listener_ = std::move(listener); }
 
     // Runs a handler body, turning every failure into the JSON error shape (and a chunked body
     // found over the limit once read into 413).
@@ -43,16 +41,17 @@ public:
 
 private:
     void install_middleware();
+    void install_health();
     // Answers a request that must be refused before its body is read; false if it may go on.
     bool refuse_before_body(const httplib::Request& req, httplib::Response& res) const;
-    void install_crud();
-    void install_radiomap_routes();
-    void notify(const store::Kind& kind, const nlohmann::json& row, bool deleted);
+    void install_localize();         // localize_routes.cpp
+    void install_crud();             // crud_routes.cpp
+    void install_radiomap_routes();  // radiomap_routes.cpp
 
-    store::Repository& repo_;
+    store::Store& store_;
+    localize::Service& localizer_;
     AppOptions options_;
     Front server_;
-    WriteListener listener_;
 };
 
 void write_error(httplib::Response& res, int status, const std::string& code, const std::string& message);

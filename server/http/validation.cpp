@@ -37,7 +37,7 @@ std::optional<std::int64_t> as_integer(const json& v) {
     return std::nullopt;
 }
 
-json check_field(const store::Field& f, const json& v, const std::string& where) {
+store::Value check_field(const store::Field& f, const json& v, const std::string& where) {
     const std::string name = at(where, f.name);
     switch (f.type) {
         case store::FieldType::Text: {
@@ -46,7 +46,7 @@ json check_field(const store::Field& f, const json& v, const std::string& where)
             if (f.required && s.empty()) throw invalid_field("'" + name + "' must not be empty");
             if (s.size() > f.max_length)
                 throw invalid_field("'" + name + "' is longer than " + std::to_string(f.max_length) + " characters");
-            return v;
+            return s;
         }
         case store::FieldType::Real:
         case store::FieldType::Integer: {
@@ -63,14 +63,14 @@ json check_field(const store::Field& f, const json& v, const std::string& where)
             return d;
         }
     }
-    return v;
+    return {};
 }
 
-json check_rects(const json& v, bool create) {
+std::vector<Rect> check_rects(const json& v, bool create) {
     if (!v.is_array()) throw invalid_field("'rects' must be an array of {xmin, ymin, xmax, ymax}");
     if (create && v.empty()) throw invalid_field("'rects' must hold at least one rectangle");
     if (v.size() > 1000) throw invalid_field("'rects' holds more than 1000 rectangles");
-    json out = json::array();
+    std::vector<Rect> out;
     for (std::size_t i = 0; i < v.size(); ++i) {
         const std::string where = "rects[" + std::to_string(i) + "]";
         if (!v[i].is_object()) throw invalid_field("'" + where + "' must be an object");
@@ -84,7 +84,7 @@ json check_rects(const json& v, bool create) {
         const double xmin = coordinate("xmin"), ymin = coordinate("ymin");
         const double xmax = coordinate("xmax"), ymax = coordinate("ymax");
         if (xmin > xmax || ymin > ymax) throw invalid_field("'" + where + "' needs xmin <= xmax and ymin <= ymax");
-        out.push_back({{"xmin", xmin}, {"ymin", ymin}, {"xmax", xmax}, {"ymax", ymax}});
+        out.push_back({xmin, ymin, xmax, ymax});
     }
     return out;
 }
@@ -104,8 +104,8 @@ json parse_object(const std::string& body) {
     return j;
 }
 
-json validated_fields(const store::Kind& kind, const json& body, bool create) {
-    json out = json::object();
+store::Fields validated_fields(const store::Kind& kind, const json& body, bool create) {
+    store::Fields out;
     std::set<std::string, std::less<>> known{"id"};
     if (!kind.parent_column.empty()) known.emplace(kind.parent_column);
     for (const auto& f : kind.fields) {
@@ -116,11 +116,11 @@ json validated_fields(const store::Kind& kind, const json& body, bool create) {
             if (create && f.required) throw invalid_field("missing field '" + std::string(f.name) + "'");
             continue;
         }
-        out[std::string(f.name)] = check_field(f, *it, "");
+        out.values[std::string(f.name)] = check_field(f, *it, "");
     }
     if (kind.has_rects) {
         known.emplace("rects");
-        if (body.contains("rects")) out["rects"] = check_rects(body.at("rects"), create);
+        if (body.contains("rects")) out.rects = check_rects(body.at("rects"), create);
         else if (create) throw invalid_field("missing field 'rects'");
     }
     for (const auto& [key, value] : body.items())
@@ -287,15 +287,18 @@ std::vector<Measurement> parse_measurements(const json& j, const std::string& wh
     return out;
 }
 
-void validate_radiomap_document(const json& doc) {
+store::RadioMapDocument parse_radiomap_document(const json& doc) {
+    if (!doc.is_object()) throw invalid_field("a radio map must be an object {name, description, rps}");
     if (doc.contains("format") && doc.at("format") != "locus-radiomap/1")
         throw invalid_field("'format' must be \"locus-radiomap/1\"");
+    store::RadioMapDocument out;
     json meta = json::object();
     for (const char* key : {"name", "description"})
         if (doc.contains(key)) meta[key] = doc.at(key);
-    validated_fields(store::kind("radiomaps"), meta, true);
+    out.fields = validated_fields(store::kind("radiomaps"), meta, true);
     if (!doc.contains("rps") || !doc.at("rps").is_array()) throw invalid_field("'rps' must be an array");
     const auto& rps = doc.at("rps");
+    out.rps.reserve(rps.size());
     for (std::size_t i = 0; i < rps.size(); ++i) {
         const std::string where = "rps[" + std::to_string(i) + "]";
         const auto& rp = rps[i];
@@ -304,8 +307,11 @@ void validate_radiomap_document(const json& doc) {
         json fields = json::object();
         for (const char* key : {"name", "x", "y"})
             if (rp.contains(key)) fields[key] = rp.at(key);
+        store::RpDocument typed;
         try {
-            validated_fields(store::kind("rps"), fields, true);
+            const store::Fields f = validated_fields(store::kind("rps"), fields, true);
+            typed.name = f.get<std::string>("name");
+            typed.at = {f.get<double>("x"), f.get<double>("y")};
         } catch (const ApiError& e) {
             throw ApiError(e.status, e.code, where + ": " + e.what());
         }
@@ -313,39 +319,35 @@ void validate_radiomap_document(const json& doc) {
             const auto s = as_integer(rp.at("scans"));
             if (!s || *s < 0) throw invalid_field("'" + where + ".scans' must be a non-negative integer");
             if (*s > kMaxCount) throw ApiError(422, "out_of_range", "'" + where + ".scans' must be at most 2^53");
+            typed.scans = *s;
         }
-        if (rp.contains("measurements")) parse_measurements(rp.at("measurements"), where + ".measurements");
+        if (rp.contains("measurements")) typed.measurements = parse_measurements(rp.at("measurements"), where + ".measurements");
+        out.rps.push_back(std::move(typed));
     }
+    return out;
 }
 
-store::ScanUpload parse_scan_upload(const std::string& text) {
+store::ScanBatch parse_scan_upload(const std::string& text) {
     const json body = parse_object(text);
     only_fields(body, {"upload_id", "scans", "measurements"}, "");
     const bool has_scans = body.contains("scans"), has_measurements = body.contains("measurements");
     if (has_scans == has_measurements)
         throw invalid_field("send exactly one of 'scans' (raw readings) or 'measurements' (aggregates)");
-    store::ScanUpload upload;
-    upload.upload_id = optional_string(body, "upload_id", "", 200);
+    store::ScanBatch batch;
+    batch.upload_id = optional_string(body, "upload_id", "", 200);
     if (has_scans) {
         const auto scans = parse_scans(body.at("scans"), "scans");
-        upload.measurements = aggregate_scans(scans);
-        upload.scans = static_cast<std::int64_t>(scans.size());
-        return upload;
+        batch.measurements = aggregate_scans(scans);
+        batch.scans = static_cast<std::int64_t>(scans.size());
+        return batch;
     }
-    for (auto& m : parse_measurements(body.at("measurements"), "measurements")) {
-        auto same = std::find_if(upload.measurements.begin(), upload.measurements.end(),
-                                 [&](const Measurement& o) { return o.type == m.type && o.bssid == m.bssid; });
-        if (same == upload.measurements.end()) {
-            upload.measurements.push_back(std::move(m));
-        } else {
-            if (!same->stats.can_merge(m.stats))
-                throw ApiError(422, "out_of_range", "the counts of '" + m.bssid + "' in 'measurements' add up past 2^53");
-            same->stats.merge(m.stats);
-        }
-    }
+    batch.measurements = parse_measurements(body.at("measurements"), "measurements");
+    std::string overflow;
+    if (!combine_aggregates(batch.measurements, &overflow))
+        throw ApiError(422, "out_of_range", "the counts of '" + overflow + "' in 'measurements' add up past 2^53");
     // Aggregates carry no scan count; the best lower bound is the most-seen AP's count.
-    for (const auto& m : upload.measurements) upload.scans = std::max(upload.scans, m.stats.count);
-    return upload;
+    for (const auto& m : batch.measurements) batch.scans = std::max(batch.scans, m.stats.count);
+    return batch;
 }
 
 }  // namespace locus::http

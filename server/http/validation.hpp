@@ -11,8 +11,8 @@
 
 #include "locus/radio_map.hpp"
 #include "http/api_error.hpp"
+#include "store/documents.hpp"
 #include "store/kinds.hpp"
-#include "store/repository.hpp"
 
 namespace locus::http {
 
@@ -24,8 +24,8 @@ void reject_nul(std::string_view body);
 
 // Checks a create (all required fields present) or a patch (any subset) against the kind's
 // fields; unknown fields are refused so that a typo never silently drops data. Returns the
-// accepted values (with "rects" for rooms).
-nlohmann::json validated_fields(const store::Kind& kind, const nlohmann::json& body, bool create);
+// accepted values, typed (with the rectangles for rooms).
+store::Fields validated_fields(const store::Kind& kind, const nlohmann::json& body, bool create);
 
 // Path ids: a positive 64-bit integer, else 404 (no such resource can exist).
 std::int64_t parse_id(std::string_view text, std::string_view what);
@@ -48,7 +48,7 @@ std::vector<Measurement> parse_measurements(const nlohmann::json& j, const std::
 
 // The body of POST /v1/rps/{id}/scans: raw scans (aggregated here) or aggregates (two of one AP
 // combine like two uploads). Throws ApiError (400, 422) for anything the store must not see.
-store::ScanUpload parse_scan_upload(const std::string& body);
+store::ScanBatch parse_scan_upload(const std::string& body);
 
 // A number field that must be finite (and within [min, max] when given).
 double finite_number(const nlohmann::json& obj, std::string_view field, const std::string& where,
@@ -64,7 +64,8 @@ const char* bssid_problem(std::string_view raw);  // the raw value, before norma
 // 422 out_of_range naming the field, its value and the bounds.
 ApiError out_of_range(const std::string& name, double value, std::optional<double> min, std::optional<double> max);
 
-// The radio-map exchange document accepted by import (and produced by export).
-void validate_radiomap_document(const nlohmann::json& doc);
+// The radio-map exchange document accepted by import (and produced by export), validated and
+// typed; its BSSIDs normalised.
+store::RadioMapDocument parse_radiomap_document(const nlohmann::json& doc);
 
 }  // namespace locus::http

@@ -2,28 +2,22 @@
 
 #include <chrono>
 #include <string>
-#include <tuple>
-
-#include "http/api_error.hpp"
-#include "http/app.hpp"
-#include "http/validation.hpp"
-#include "localize/request.hpp"
 
 namespace locus::localize {
 
-using nlohmann::json;
-
-Service::Service(store::Repository& repo) : repo_(repo) {
+Service::Service(store::Store& store, Prepare prepare) : store_(store), prepare_(std::move(prepare)) {
+    subscription_ = store_.subscribe([this](const store::Change& change) { on_change(change); });
     std::unordered_set<std::int64_t> maps;
-    for (const auto id : repo_.radiomap_ids()) {
+    for (const auto id : store_.radiomap_ids()) {
         rebuild(Scope::radiomap, id);
-        maps.insert(repo_.map_of_radiomap(id));
+        maps.insert(store_.map_of_radiomap(id));
     }
     for (const auto id : maps) rebuild(Scope::map, id);
     worker_ = std::thread([this] { refresher(); });
 }
 
 Service::~Service() {
+    store_.unsubscribe(subscription_);
     {
         std::lock_guard lock(mu_);
         stopping_ = true;
@@ -52,11 +46,11 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
     std::vector<store::StoredRp> stored;
     try {
         if (scope == Scope::radiomap) {
-            repo_.get(store::kind("radiomaps"), id);  // NotFound for an unknown id
-            stored = repo_.rps_of_radiomap(id);
+            store_.get(store::kind("radiomaps"), id);  // NotFound for an unknown id
+            stored = store_.rps_of_radiomap(id);
         } else {
-            repo_.get(store::kind("maps"), id);
-            stored = repo_.rps_of_map(id);
+            store_.get(store::kind("maps"), id);
+            stored = store_.rps_of_map(id);
         }
     } catch (const store::NotFound&) {
         std::lock_guard lock(mu_);
@@ -67,11 +61,11 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
     std::vector<match::IndexedRp> rps;
     rps.reserve(stored.size());
     for (auto& s : stored) {
-        if (!snap->rooms_by_floor.count(s.floor_id)) snap->rooms_by_floor[s.floor_id] = repo_.rooms_of_floor(s.floor_id);
+        if (!snap->rooms_by_floor.count(s.floor_id)) snap->rooms_by_floor[s.floor_id] = store_.rooms_of_floor(s.floor_id);
         rps.push_back({std::move(s.rp), s.floor_id, s.building_id});
     }
     snap->index = match::Index::build(rps);
-    prepare_answers(*snap);
+    if (prepare_) prepare_(*snap);
     std::shared_ptr<const Snapshot> out = snap;
     std::lock_guard lock(mu_);
     table(scope)[id] = out;
@@ -95,24 +89,15 @@ void Service::mark_all_dirty() {
     wake_.notify_one();
 }
 
-void Service::on_write(std::string_view kind, const json& row, bool deleted) {
-    try {
-        if (kind == "rps") {
-            const auto rm = row.at("radiomap_id").get<std::int64_t>();
-            mark_dirty(Scope::radiomap, rm);
-            mark_dirty(Scope::map, repo_.map_of_radiomap(rm));
-        } else if (kind == "radiomaps") {
-            const auto id = row.at("id").get<std::int64_t>();
-            mark_dirty(Scope::radiomap, id);
-            if (deleted) mark_all_dirty();  // its map lost RPs; which map is gone with the row
-            else mark_dirty(Scope::map, repo_.map_of_radiomap(id));
-        } else if (kind == "rooms" || deleted) {
-            // Rooms change symbolic locations; deleting a floor, building or map cascades.
-            mark_all_dirty();
-        }
-    } catch (const std::exception&) {
-        // The row's map could not be read (gone, or a storage fault after the write committed):
-        // the write stands, so rebuild everything rather than answer the client with an error.
+void Service::on_change(const store::Change& change) {
+    const std::string_view kind = change.kind->name;
+    if (kind == "rps" || kind == "radiomaps") {
+        if (change.radiomap_id) mark_dirty(Scope::radiomap, *change.radiomap_id);
+        // Without its map (the write raced a delete of the hierarchy), any map may hold it.
+        if (change.map_id) mark_dirty(Scope::map, *change.map_id);
+        else mark_all_dirty();
+    } else if (kind == "rooms" || change.deleted) {
+        // Rooms change symbolic locations; deleting a floor, building or map cascades.
         mark_all_dirty();
     }
 }
@@ -141,26 +126,6 @@ void Service::refresher() {
             }
         }
         lock.lock();
-    }
-}
-
-void Service::install(http::App& app) {
-    app.on_write([this](const store::Kind& kind, const json& row, bool deleted) { on_write(kind.name, row, deleted); });
-    for (const auto& [collection, what, scope] : {std::tuple{"radiomaps", "radiomap", Scope::radiomap},
-                                                  std::tuple{"maps", "map", Scope::map}}) {
-        app.server().Post("/v1/" + std::string(collection) + R"(/(\d+)/localize)",
-                          // Init-captures: clang before 16 cannot capture structured bindings.
-                          [this, what = what, scope = scope](const httplib::Request& req, httplib::Response& res) {
-                              http::App::guarded(req, res, [&] {
-                                  const auto id = http::parse_id(req.matches[1].str(), what);
-                                  const auto request = parse_localize_request(req.body);
-                                  // Moved in: set_content would copy the answer. As set_content
-                                  // does, any earlier Content-Type goes.
-                                  res.body = answer(*lookup(scope, id), request);
-                                  res.headers.erase("Content-Type");
-                                  res.set_header("Content-Type", "application/json");
-                              });
-                          });
     }
 }
 

@@ -6,9 +6,9 @@
 // run on an immutable index with no lock held and never touch SQLite.
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -17,16 +17,13 @@
 
 #include "locus/geometry.hpp"
 #include "locus/match/index.hpp"
-#include "store/repository.hpp"
-
-namespace locus::http {
-class App;
-}
+#include "store/store.hpp"
 
 namespace locus::localize {
 
 // An index with the rooms of the floors it covers (for the symbolic location), and each RP's
-// part of a candidate in the JSON answer, written once per snapshot (request.hpp).
+// part of a candidate in the JSON answer, written once per snapshot by the answer writer
+// (http/localize_answer.hpp) through the Prepare hook; this layer only keeps the text.
 struct Snapshot {
     match::Index index;
     std::unordered_map<long long, std::vector<Room>> rooms_by_floor;
@@ -39,31 +36,36 @@ struct Snapshot {
 
 class Service {
 public:
-    explicit Service(store::Repository& repo);
+    enum class Scope { radiomap, map };
+    // Called on each new snapshot before it is published, to add what answers need.
+    using Prepare = std::function<void(Snapshot&)>;
+
+    // Builds every radio map's and map's index, and subscribes to the store's change feed:
+    // construct it before the server serves.
+    Service(store::Store& store, Prepare prepare = {});
     ~Service();
     Service(const Service&) = delete;
     Service& operator=(const Service&) = delete;
 
-    // Adds POST /v1/radiomaps/{id}/localize and POST /v1/maps/{id}/localize, and follows writes.
-    void install(http::App& app);
-
-
-    // Marks what a write touched as stale (called by the HTTP layer after each commit).
-    void on_write(std::string_view kind, const nlohmann::json& row, bool deleted);
+    // The current snapshot of a radio map's or a map's index, rebuilt first if a committed
+    // write made it stale; throws store::NotFound for an unknown id.
+    std::shared_ptr<const Snapshot> lookup(Scope scope, std::int64_t id);
 
 private:
-    enum class Scope { radiomap, map };
     using Table = std::unordered_map<std::int64_t, std::shared_ptr<const Snapshot>>;
     Table& table(Scope scope) { return scope == Scope::radiomap ? radiomaps_ : maps_; }
     std::unordered_set<std::int64_t>& dirty(Scope scope) { return scope == Scope::radiomap ? dirty_radiomaps_ : dirty_maps_; }
     // The current snapshot; throws store::NotFound for an unknown id.
-    std::shared_ptr<const Snapshot> lookup(Scope scope, std::int64_t id);
     std::shared_ptr<const Snapshot> rebuild(Scope scope, std::int64_t id);
     void mark_dirty(Scope scope, std::int64_t id);
     void mark_all_dirty();
     void refresher();
+    // Marks what a committed write touched as stale.
+    void on_change(const store::Change& change);
 
-    store::Repository& repo_;
+    store::Store& store_;
+    Prepare prepare_;
+    std::size_t subscription_ = 0;
     std::mutex mu_;  // guards the tables below, never held while building
     Table radiomaps_, maps_;
     std::unordered_set<std::int64_t> dirty_radiomaps_, dirty_maps_;

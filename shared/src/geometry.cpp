@@ -40,11 +40,13 @@ Point Room::centre() const {
     return {cx / a, cy / a};
 }
 
-const Room* FloorPlan::room_at(Point p) const {
+const Room* room_at(const std::vector<Room>& rooms, Point p) {
     for (const auto& room : rooms)
         if (room.contains(p)) return &room;
     return nullptr;
 }
+
+const Room* FloorPlan::room_at(Point p) const { return locus::room_at(rooms, p); }
 
 std::vector<const Poi*> FloorPlan::pois_near(Point p, double radius) const {
     std::vector<const Poi*> out;

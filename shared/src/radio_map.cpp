@@ -46,4 +46,24 @@ std::vector<Measurement> aggregate_scans(const std::vector<Scan>& scans) {
     return out;
 }
 
+bool combine_aggregates(std::vector<Measurement>& ms, std::string* overflow) {
+    std::vector<Measurement> out;
+    std::map<std::pair<std::string, std::string>, std::size_t> index;
+    for (auto& m : ms) {
+        const auto [it, inserted] = index.try_emplace({m.type, m.bssid}, out.size());
+        if (inserted) {
+            out.push_back(std::move(m));
+            continue;
+        }
+        auto& into = out[it->second].stats;
+        if (!into.can_merge(m.stats)) {
+            if (overflow) *overflow = m.bssid;
+            return false;
+        }
+        into.merge(m.stats);
+    }
+    ms = std::move(out);
+    return true;
+}
+
 }  // namespace locus

@@ -7,8 +7,9 @@
 
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
-#include "localize/request.hpp"
-#include "store/repository.hpp"
+#include "http/localize_request.hpp"
+#include "http/store_json.hpp"
+#include "store/sqlite_store.hpp"
 
 using namespace locus;
 
@@ -16,7 +17,7 @@ namespace {
 
 int status_of(const std::string& body) {
     try {
-        localize::parse_localize_request(body);
+        http::parse_localize_request(body);
         return 200;
     } catch (const http::ApiError& e) {
         return e.status;
@@ -40,16 +41,14 @@ TEST(FuzzRegressions, AReadingOutsideAScanIsRefusedWithoutTouchingMemory) {
 // (fuzz/corpus/fuzz_radiomap_import/crash_null_type.json).
 TEST(FuzzRegressions, AnImportedMeasurementWithANullTypeIsWifi) {
     using locus::store::kind;
-    locus::store::Repository repo(":memory:");
-    const auto map = repo.create(kind("maps"), std::nullopt, {{"name", "m"}}).at("id").get<std::int64_t>();
-    const auto building = repo.create(kind("buildings"), map, {{"name", "b"}}).at("id").get<std::int64_t>();
+    locus::store::SqliteStore repo(":memory:");
+    const auto map = repo.create(kind("maps"), std::nullopt, {{"name", "m"}}).id;
+    const auto building = repo.create(kind("buildings"), map, {{"name", "b"}}).id;
     const auto floor = repo.create(kind("floors"), building, {{"name", "f"}, {"level", 0}, {"width", 10.0}, {"height", 10.0}})
-                           .at("id")
-                           .get<std::int64_t>();
+                           .id;
     const auto doc = nlohmann::json::parse(
         R"({"name":"n","rps":[{"name":"r","x":0,"y":0,"measurements":[{"type":null,"bssid":"a","mean":-50,"variance":1,"count":1}]}]})");
-    http::validate_radiomap_document(doc);
-    const auto row = repo.import_radiomap(floor, doc);
-    const auto exported = repo.export_radiomap(row.at("id").get<std::int64_t>());
+    const auto row = repo.import_radiomap(floor, http::parse_radiomap_document(doc));
+    const auto exported = http::export_json(repo.export_radiomap(row.radiomap.id));
     EXPECT_EQ(exported.at("rps").at(0).at("measurements").at(0).at("type"), "wifi");
 }

@@ -1,15 +1,16 @@
-// The localize answer (server/localize/request.hpp): written with the snapshot's pre-rendered
+// The localize answer (server/http/localize_answer.hpp): written with the snapshot's pre-rendered
 // candidate parts it is byte for byte the answer written field by field, and it is valid JSON
 // holding what the matcher found.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
-#include "localize/request.hpp"
+#include "http/localize_answer.hpp"
 #include "match_fixture.hpp"
 
 using namespace locus;
-using namespace locus::localize;
+using namespace locus::http;
+using locus::localize::Snapshot;
 using locus::match::testing::m;
 using locus::match::testing::rp;
 

@@ -1,4 +1,4 @@
-// The localize fast path (server/localize/plain_request.hpp): for every body it accepts, the
+// The localize fast path (server/http/plain_localize_request.hpp): for every body it accepts, the
 // result must be exactly what the full parser gives; everything unusual must be declined.
 #include <gtest/gtest.h>
 
@@ -7,11 +7,13 @@
 #include <random>
 
 #include "http/api_error.hpp"
-#include "localize/plain_request.hpp"
+#include <nlohmann/json.hpp>
+
+#include "http/plain_localize_request.hpp"
 #include "uji_csv.hpp"
 
 using namespace locus;
-using namespace locus::localize;
+using namespace locus::http;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The SQLite repository on a real file: migrations, CRUD, merge, cascade, snapshots.
+// The SQLite store on a real file: migrations, CRUD, merge, cascade, snapshots.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -6,9 +6,11 @@
 #include <filesystem>
 
 #include "store/migrations.hpp"
-#include "store/repository.hpp"
+#include "http/store_json.hpp"
+#include "store/sqlite_store.hpp"
 
-using locus::store::Repository;
+using locus::store::SqliteStore;
+using locus::store::Fields;
 using locus::store::kind;
 using nlohmann::json;
 
@@ -27,13 +29,13 @@ struct Chain {
     long long map, building, floor, radiomap, rp;
 };
 
-Chain make_chain(Repository& repo) {
+Chain make_chain(SqliteStore& repo) {
     Chain c{};
-    c.map = repo.create(kind("maps"), std::nullopt, {{"name", "M"}}).at("id");
-    c.building = repo.create(kind("buildings"), c.map, {{"name", "B"}}).at("id");
-    c.floor = repo.create(kind("floors"), c.building, {{"name", "F"}, {"level", 0}, {"width", 10.0}, {"height", 5.0}}).at("id");
-    c.radiomap = repo.create(kind("radiomaps"), c.floor, {{"name", "R"}}).at("id");
-    c.rp = repo.create(kind("rps"), c.radiomap, {{"name", "p"}, {"x", 1.0}, {"y", 2.0}}).at("id");
+    c.map = repo.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
+    c.building = repo.create(kind("buildings"), c.map, {{"name", "B"}}).id;
+    c.floor = repo.create(kind("floors"), c.building, {{"name", "F"}, {"level", 0}, {"width", 10.0}, {"height", 5.0}}).id;
+    c.radiomap = repo.create(kind("radiomaps"), c.floor, {{"name", "R"}}).id;
+    c.rp = repo.create(kind("rps"), c.radiomap, {{"name", "p"}, {"x", 1.0}, {"y", 2.0}}).id;
     return c;
 }
 }  // namespace
@@ -41,13 +43,13 @@ Chain make_chain(Repository& repo) {
 TEST(Store, MigratesToTheLatestVersionOnceAndKeepsData) {
     TempDb t;
     {
-        Repository repo(t.path());
+        SqliteStore repo(t.path());
         repo.create(kind("maps"), std::nullopt, {{"name", "kept"}});
     }
     locus::store::Db db(t.path());
     EXPECT_EQ(locus::store::migrate(db), static_cast<int>(locus::server::migrations().size()));
-    Repository again(t.path());
-    EXPECT_EQ(again.list(kind("maps"), std::nullopt, 10, 0).at("total"), 1);
+    SqliteStore again(t.path());
+    EXPECT_EQ(again.list(kind("maps"), std::nullopt, 10, 0).total, 1);
 }
 
 TEST(Store, RefusesADatabaseFromANewerVersion) {
@@ -56,16 +58,16 @@ TEST(Store, RefusesADatabaseFromANewerVersion) {
         locus::store::Db db(t.path());
         db.exec("PRAGMA user_version = 999");
     }
-    EXPECT_THROW(Repository repo(t.path()), locus::store::SqliteError);
+    EXPECT_THROW(SqliteStore repo(t.path()), locus::store::SqliteError);
 }
 
 TEST(Store, CreateGetUpdateRemove) {
     TempDb t;
-    Repository repo(t.path());
+    SqliteStore repo(t.path());
     const auto c = make_chain(repo);
-    EXPECT_EQ(repo.get(kind("floors"), c.floor).at("width"), 10.0);
+    EXPECT_EQ(repo.get(kind("floors"), c.floor).fields.get<double>("width"), 10.0);
     repo.update(kind("floors"), c.floor, {{"width", 12.5}});
-    EXPECT_EQ(repo.get(kind("floors"), c.floor).at("width"), 12.5);
+    EXPECT_EQ(repo.get(kind("floors"), c.floor).fields.get<double>("width"), 12.5);
     EXPECT_THROW(repo.create(kind("floors"), c.building, {{"name", "F"}, {"level", 1}, {"width", 1.0}, {"height", 1.0}}),
                  locus::store::Conflict);
     EXPECT_THROW(repo.create(kind("floors"), 999, {{"name", "G"}, {"level", 1}, {"width", 1.0}, {"height", 1.0}}),
@@ -76,31 +78,31 @@ TEST(Store, CreateGetUpdateRemove) {
 
 TEST(Store, MergeScansIsExactAndIdempotentPerRp) {
     TempDb t;
-    Repository repo(t.path());
+    SqliteStore repo(t.path());
     const auto c = make_chain(repo);
     // {-60, -62} then {-64}: mean -62, population variance 8/3.
-    locus::store::ScanUpload a{"u", {{"wifi", "ap", locus::RssStats{-61.0, 1.0, 2}}}, 2};
-    locus::store::ScanUpload b{"v", {{"wifi", "ap", locus::RssStats{-64.0, 0.0, 1}}}, 1};
+    locus::store::ScanBatch a{"u", {{"wifi", "ap", locus::RssStats{-61.0, 1.0, 2}}}, 2};
+    locus::store::ScanBatch b{"v", {{"wifi", "ap", locus::RssStats{-64.0, 0.0, 1}}}, 1};
     EXPECT_TRUE(repo.merge_scans(c.rp, a).applied);
     EXPECT_FALSE(repo.merge_scans(c.rp, a).applied);
     const auto r = repo.merge_scans(c.rp, b);
     EXPECT_TRUE(r.applied);
-    const auto m = r.rp.at("measurements").at(0);
-    EXPECT_EQ(m.at("count"), 3);
-    EXPECT_NEAR(m.at("mean").get<double>(), -62.0, 1e-12);
-    EXPECT_NEAR(m.at("variance").get<double>(), 8.0 / 3.0, 1e-12);
-    EXPECT_EQ(r.rp.at("scans"), 3);
+    const auto m = r.rp.measurements.at(0);
+    EXPECT_EQ(m.stats.count, 3);
+    EXPECT_NEAR(m.stats.mean, -62.0, 1e-12);
+    EXPECT_NEAR(m.stats.variance, 8.0 / 3.0, 1e-12);
+    EXPECT_EQ(r.rp.rp.fields.get<std::int64_t>("scans"), 3);
     // The same upload id on another RP is a different upload.
-    const long long rp2 = repo.create(kind("rps"), c.radiomap, {{"name", "q"}, {"x", 0.0}, {"y", 0.0}}).at("id");
+    const long long rp2 = repo.create(kind("rps"), c.radiomap, {{"name", "q"}, {"x", 0.0}, {"y", 0.0}}).id;
     EXPECT_TRUE(repo.merge_scans(rp2, a).applied);
 }
 
 TEST(Store, SnapshotsForTheIndexCarryTheHierarchy) {
     TempDb t;
-    Repository repo(t.path());
+    SqliteStore repo(t.path());
     const auto c = make_chain(repo);
     repo.merge_scans(c.rp, {std::nullopt, {{"wifi", "ap", locus::RssStats{-60.0, 1.0, 2}}}, 2});
-    repo.create(kind("rooms"), c.floor, {{"name", "Hall"}, {"rects", {{{"xmin", 0}, {"ymin", 0}, {"xmax", 2}, {"ymax", 3}}}}});
+    repo.create(kind("rooms"), c.floor, Fields({{"name", "Hall"}}, std::vector<locus::Rect>{{0, 0, 2, 3}}));
     const auto rps = repo.rps_of_map(c.map);
     ASSERT_EQ(rps.size(), 1u);
     EXPECT_EQ(rps[0].floor_id, c.floor);
@@ -116,18 +118,18 @@ TEST(Store, SnapshotsForTheIndexCarryTheHierarchy) {
 
 TEST(Store, AFailedImportLeavesNoTrace) {
     TempDb t;
-    Repository repo(t.path());
+    SqliteStore repo(t.path());
     const auto c = make_chain(repo);
-    const json doc = {{"name", "dup"}, {"rps", {{{"name", "a"}, {"x", 0}, {"y", 0}}, {{"name", "a"}, {"x", 1}, {"y", 1}}}}};
+    const locus::store::RadioMapDocument doc{{{"name", "dup"}}, {{"a", {0, 0}, 0, {}}, {"a", {1, 1}, 0, {}}}};
     EXPECT_THROW(repo.import_radiomap(c.floor, doc), locus::store::Conflict);
-    EXPECT_EQ(repo.list(kind("radiomaps"), c.floor, 10, 0).at("total"), 1);
+    EXPECT_EQ(repo.list(kind("radiomaps"), c.floor, 10, 0).total, 1);
 }
 
 TEST(Store, DemoBundleImports) {
     TempDb t;
-    Repository repo(t.path());
+    SqliteStore repo(t.path());
     EXPECT_FALSE(repo.has_maps());
-    repo.import_map_bundle(json::parse(locus::server::demo_map_json()));
+    repo.import_map_bundle(locus::http::parse_map_bundle(json::parse(locus::server::demo_map_json())));
     EXPECT_TRUE(repo.has_maps());
     const auto ids = repo.radiomap_ids();
     ASSERT_EQ(ids.size(), 2u);
@@ -146,14 +148,14 @@ std::int64_t count_rows(locus::store::Db& db, const std::string& table) {
 // id read another object. Every kind the API exposes: create two, delete the newer, create.
 TEST(Store, AnIdIsNeverHandedOutTwice) {
     TempDb t;
-    Repository repo(t.path());
+    SqliteStore repo(t.path());
     const auto c = make_chain(repo);
     struct Case {
         const char* kind;
         std::optional<long long> parent;
-        json a, b;
+        Fields a, b;
     };
-    const json floor_b = {{"name", "F2"}, {"level", 1}, {"width", 10.0}, {"height", 5.0}};
+    const Fields floor_b = {{"name", "F2"}, {"level", 1}, {"width", 10.0}, {"height", 5.0}};
     const std::vector<Case> cases = {
         {"maps", std::nullopt, {{"name", "M2"}}, {{"name", "M3"}}},
         {"buildings", c.map, {{"name", "B2"}}, {{"name", "B3"}}},
@@ -165,17 +167,17 @@ TEST(Store, AnIdIsNeverHandedOutTwice) {
     };
     for (const auto& k : cases) {
         SCOPED_TRACE(k.kind);
-        const auto newest = repo.create(kind(k.kind), k.parent, k.a).at("id").get<long long>();
+        const auto newest = repo.create(kind(k.kind), k.parent, k.a).id;
         repo.remove(kind(k.kind), newest);
-        const auto next = repo.create(kind(k.kind), k.parent, k.b).at("id").get<long long>();
+        const auto next = repo.create(kind(k.kind), k.parent, k.b).id;
         EXPECT_GT(next, newest) << "id " << newest << " was reused";
         EXPECT_THROW(repo.get(kind(k.kind), newest), locus::store::NotFound);
     }
     // Also across a reopen: the high-water mark is stored, not kept in memory.
-    const auto rp = repo.create(kind("rps"), c.radiomap, {{"name", "last"}, {"x", 0.0}, {"y", 0.0}}).at("id").get<long long>();
+    const auto rp = repo.create(kind("rps"), c.radiomap, {{"name", "last"}, {"x", 0.0}, {"y", 0.0}}).id;
     repo.remove(kind("rps"), rp);
-    Repository reopened(t.path());
-    EXPECT_GT(reopened.create(kind("rps"), c.radiomap, {{"name", "again"}, {"x", 0.0}, {"y", 0.0}}).at("id").get<long long>(), rp);
+    SqliteStore reopened(t.path());
+    EXPECT_GT(reopened.create(kind("rps"), c.radiomap, {{"name", "again"}, {"x", 0.0}, {"y", 0.0}}).id, rp);
 }
 
 // A database written by schema version 1 (plain INTEGER PRIMARY KEY) moves to AUTOINCREMENT
@@ -201,7 +203,7 @@ TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
             INSERT INTO uploads (rp_id, upload_id) VALUES (25, 'u1');
         )sql");
     }
-    Repository repo(t.path());
+    SqliteStore repo(t.path());
     {
         locus::store::Db db(t.path());
         locus::store::Stmt v(db, "PRAGMA user_version");
@@ -217,14 +219,14 @@ TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
         EXPECT_EQ(count_rows(db, "uploads"), 1);
         EXPECT_EQ(count_rows(db, "sqlite_schema WHERE name LIKE '%_v2'"), 0);
     }
-    EXPECT_EQ(repo.get(kind("maps"), 1).at("name"), "kept");
-    EXPECT_EQ(repo.get(kind("floors"), 1).at("width"), 30.0);
-    EXPECT_EQ(repo.get(kind("rooms"), 4).at("rects").size(), 2u);
-    EXPECT_EQ(repo.get(kind("pois"), 3).at("kind"), "exit");
+    EXPECT_EQ(repo.get(kind("maps"), 1).fields.get<std::string>("name"), "kept");
+    EXPECT_EQ(repo.get(kind("floors"), 1).fields.get<double>("width"), 30.0);
+    EXPECT_EQ(repo.get(kind("rooms"), 4).fields.rects.value().size(), 2u);
+    EXPECT_EQ(repo.get(kind("pois"), 3).fields.get<std::string>("kind"), "exit");
     const auto rp = repo.rp_with_measurements(25);
-    EXPECT_EQ(rp.at("scans"), 3);
-    ASSERT_EQ(rp.at("measurements").size(), 1u);
-    EXPECT_EQ(rp.at("measurements")[0].at("count"), 3);
+    EXPECT_EQ(rp.rp.fields.get<std::int64_t>("scans"), 3);
+    ASSERT_EQ(rp.measurements.size(), 1u);
+    EXPECT_EQ(rp.measurements[0].stats.count, 3);
     // The upload ids survive: a repeated upload is still ignored.
     EXPECT_FALSE(repo.merge_scans(25, {std::string("u1"), {{"wifi", "aa:bb", locus::RssStats{-40.0, 0.0, 1}}}, 1}).applied);
     // Foreign keys are enforced again, and a delete still cascades to the bottom.
@@ -239,6 +241,46 @@ TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
     }
     // The migrated ids are the high-water mark: new rows never take an old id.
     repo.remove(kind("rps"), 26);
-    EXPECT_GT(repo.create(kind("rps"), 1, {{"name", "new"}, {"x", 0.0}, {"y", 0.0}}).at("id").get<long long>(), 27);
-    EXPECT_GT(repo.create(kind("maps"), std::nullopt, {{"name", "new"}}).at("id").get<long long>(), 2);
+    EXPECT_GT(repo.create(kind("rps"), 1, {{"name", "new"}, {"x", 0.0}, {"y", 0.0}}).id, 27);
+    EXPECT_GT(repo.create(kind("maps"), std::nullopt, {{"name", "new"}}).id, 2);
+}
+
+// The change feed: one typed change per committed write, with where the row sits for the
+// kinds an index depends on; nothing for a refused write or a repeated upload.
+TEST(Store, EveryCommittedWriteIsPublishedOnceAndARefusedOneNever) {
+    TempDb t;
+    SqliteStore repo(t.path());
+    std::vector<locus::store::Change> seen;
+    const auto token = repo.subscribe([&](const locus::store::Change& c) { seen.push_back(c); });
+    const auto c = make_chain(repo);
+    ASSERT_EQ(seen.size(), 5u);
+    EXPECT_EQ(seen[0].kind->name, "maps");
+    EXPECT_EQ(seen[4].kind->name, "rps");
+    EXPECT_EQ(seen[4].id, c.rp);
+    EXPECT_EQ(seen[4].radiomap_id, c.radiomap);
+    EXPECT_EQ(seen[4].map_id, c.map);
+    EXPECT_FALSE(seen[4].deleted);
+    EXPECT_EQ(seen[3].radiomap_id, c.radiomap);
+    EXPECT_EQ(seen[3].map_id, c.map);
+    EXPECT_FALSE(seen[0].map_id.has_value());  // only where an index needs it
+
+    seen.clear();
+    const locus::store::ScanBatch batch{"once", {{"wifi", "ap", locus::RssStats{-60.0, 0.0, 1}}}, 1};
+    repo.merge_scans(c.rp, batch);
+    repo.merge_scans(c.rp, batch);  // a repeat changes nothing, so it says nothing
+    EXPECT_THROW(repo.create(kind("buildings"), c.map, {{"name", "B"}}), locus::store::Conflict);
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_EQ(seen[0].kind->name, "rps");
+    EXPECT_EQ(seen[0].radiomap_id, c.radiomap);
+
+    // A delete names the place the row had, read before it went.
+    seen.clear();
+    repo.remove(kind("radiomaps"), c.radiomap);
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_TRUE(seen[0].deleted);
+    EXPECT_EQ(seen[0].map_id, c.map);
+
+    repo.unsubscribe(token);
+    repo.remove(kind("maps"), c.map);
+    EXPECT_EQ(seen.size(), 1u);
 }

@@ -30,23 +30,24 @@ TEST(Validation, ParseObjectRefusesAnythingButAnObject) {
 TEST(Validation, CreateNeedsRequiredFieldsPatchDoesNot) {
     const json full = {{"name", "F"}, {"level", 2}, {"width", 10.5}, {"height", 3}};
     const auto v = http::validated_fields(floors(), full, true);
-    EXPECT_EQ(v.at("level").get<long long>(), 2);
-    EXPECT_DOUBLE_EQ(v.at("height").get<double>(), 3.0);
-    EXPECT_FALSE(v.contains("north_offset_deg"));
+    EXPECT_EQ(v.get<std::int64_t>("level"), 2);
+    EXPECT_DOUBLE_EQ(v.get<double>("height"), 3.0);
+    EXPECT_FALSE(v.has("north_offset_deg"));
     EXPECT_EQ(code_of([] { http::validated_fields(floors(), {{"name", "F"}}, true); }), "422 invalid_field");
     EXPECT_EQ(code_of([] { http::validated_fields(floors(), {{"name", "F"}}, false); }), "ok");
 }
 
 TEST(Validation, IntegersMayBeWrittenAsIntegralFloats) {
     const auto v = http::validated_fields(floors(), {{"level", 2.0}}, false);
-    EXPECT_TRUE(v.at("level").is_number_integer());
+    EXPECT_TRUE(std::holds_alternative<std::int64_t>(v.values.at("level")));
     EXPECT_EQ(code_of([] { http::validated_fields(floors(), {{"level", 2.5}}, false); }), "422 invalid_field");
 }
 
 TEST(Validation, ReadOnlyAndIdFieldsAreIgnoredUnknownOnesRefused) {
     const auto& rps = locus::store::kind("rps");
     const auto v = http::validated_fields(rps, {{"id", 3}, {"radiomap_id", 9}, {"scans", 100}, {"name", "a"}}, false);
-    EXPECT_EQ(v, json({{"name", "a"}}));
+    EXPECT_EQ(v.values.size(), 1u);
+    EXPECT_EQ(v.get<std::string>("name"), "a");
     EXPECT_EQ(code_of([&] { http::validated_fields(rps, {{"nmae", "a"}}, false); }), "422 invalid_field");
 }
 

@@ -38,6 +38,9 @@ struct Poi {
     Point at;
 };
 
+// First room (in order) whose rectangles contain p; nullptr when none does.
+const Room* room_at(const std::vector<Room>& rooms, Point p);
+
 inline constexpr double kDefaultCheckpointRadius = 1.5;
 
 struct FloorPlan {

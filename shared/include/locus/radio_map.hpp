@@ -46,4 +46,10 @@ using Scan = std::vector<Reading>;
 // Per (type, bssid) aggregate of several scans, in first-seen order.
 std::vector<Measurement> aggregate_scans(const std::vector<Scan>& scans);
 
+// Combines the aggregates of one (type, bssid) into one (RssStats::merge), in first-seen
+// order: what merging them one after another into a stored RP gives. BSSIDs must already be
+// normalised. Returns false, leaving `ms` unspecified, when an AP's counts add up past
+// kMaxCount; `overflow` then names it.
+bool combine_aggregates(std::vector<Measurement>& ms, std::string* overflow = nullptr);
+
 }  // namespace locus

@@ -10,16 +10,16 @@
 // It is not a second parser with its own rules: it accepts only bodies it can read with
 // certainty and declines everything else (escapes, non-ASCII text, "options", "measurements",
 // null, duplicate keys, any value out of range, any syntax it does not expect), and a declined
-// body goes through the full parser (request.cpp), which owns every error message. So for a
+// body goes through the full parser (localize_request.cpp), which owns every error message. So for a
 // body it accepts, the result is what the full parser gives (tests/unit/plain_request_test.cpp
 // checks this on real scans and on thousands of mutated bodies).
 #include <optional>
 #include <string_view>
 
-#include "localize/request.hpp"
+#include "http/localize_request.hpp"
 
-namespace locus::localize {
+namespace locus::http {
 
 std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view body);
 
-}  // namespace locus::localize
+}  // namespace locus::http

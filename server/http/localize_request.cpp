@@ -1,4 +1,4 @@
-#include "localize/request.hpp"
+#include "http/localize_request.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -6,22 +6,18 @@
 #include <vector>
 
 #include "http/api_error.hpp"
-#include "http/json_text.hpp"
 #include "http/validation.hpp"
-#include "locus/match/localize.hpp"
-#include "localize/plain_request.hpp"
+#include "http/plain_localize_request.hpp"
 
-namespace locus::localize {
+namespace locus::http {
 
 using nlohmann::json;
-using http::ApiError;
-using http::invalid_field;
 
 namespace {
 
 template <typename T, typename Parse>
 T parse_enum(const json& options, const char* field, Parse parse, T fallback) {
-    const auto s = http::optional_string(options, field, "options", 32);
+    const auto s = optional_string(options, field, "options", 32);
     if (!s) return fallback;
     const auto v = parse(*s);
     if (!v) throw invalid_field("'options." + std::string(field) + "' has no value \"" + *s + "\"");
@@ -41,13 +37,13 @@ int bounded_int(const json& options, const char* field, int lo, int hi, int fall
 
 double bounded_number(const json& options, const char* field, double lo, double hi, double fallback) {
     if (!options.contains(field)) return fallback;
-    return http::finite_number(options, field, "options", lo, hi);
+    return finite_number(options, field, "options", lo, hi);
 }
 
 match::Options parse_options(const json& j) {
     match::Options o;
     if (!j.is_object()) throw invalid_field("'options' must be an object");
-    http::only_fields(j, {"k", "tolerance", "gamma", "near", "representation", "distance", "sigma_floor", "estimate",
+    only_fields(j, {"k", "tolerance", "gamma", "near", "representation", "distance", "sigma_floor", "estimate",
                           "candidates", "temperature", "offset_sigma", "bayes_k", "floor_temperature", "floor_knn",
                           "floor_knn_weight", "floor_aps", "floor_ap_weight", "outlier_sigmas"},
                       "options");
@@ -72,9 +68,9 @@ match::Options parse_options(const json& j) {
         const json& n = j.at("near");
         if (!n.is_object()) throw invalid_field("'options.near' must be an object {x, y, radius}");
         match::Near near;
-        near.at.x = http::finite_number(n, "x", "options.near");
-        near.at.y = http::finite_number(n, "y", "options.near");
-        near.radius = http::finite_number(n, "radius", "options.near", 0.0);
+        near.at.x = finite_number(n, "x", "options.near");
+        near.at.y = finite_number(n, "y", "options.near");
+        near.radius = finite_number(n, "radius", "options.near", 0.0);
         if (!(near.radius > 0.0)) throw ApiError(422, "out_of_range", "'options.near.radius' must be greater than 0");
         o.near = near;
     }
@@ -95,7 +91,7 @@ public:
     bool has_options = false;
 
     LocalizeRequest finish(const std::string& body) {
-        http::reject_nul(body);
+        reject_nul(body);
         if (!json::sax_parse(body, this) || syntax_error_) throw ApiError(400, "invalid_json", "the request body is not valid JSON");
         if (error_) throw *error_;
         LocalizeRequest r;
@@ -264,15 +260,15 @@ private:
         reading_open_ = false;
         Reading r;
         if (pending_.has_type) {
-            if (const char* problem = http::type_problem(pending_.type)) return fail(invalid_field("'" + where() + ".type' " + problem));
+            if (const char* problem = type_problem(pending_.type)) return fail(invalid_field("'" + where() + ".type' " + problem));
             r.type = pending_.type;
         }
         if (!pending_.has_bssid) return fail(invalid_field("missing field '" + where() + ".bssid'"));
-        if (const char* problem = http::bssid_problem(pending_.bssid)) return fail(invalid_field("'" + where() + ".bssid' " + problem));
+        if (const char* problem = bssid_problem(pending_.bssid)) return fail(invalid_field("'" + where() + ".bssid' " + problem));
         r.bssid = pending_.bssid;  // normalised with the query (match::Query)
         if (!pending_.has_rss) return fail(invalid_field("missing field '" + where() + ".rss'"));
         if (!std::isfinite(pending_.rss)) return fail(invalid_field("'" + where() + ".rss' must be finite"));
-        if (!valid_rss(pending_.rss)) return fail(http::out_of_range(where() + ".rss", pending_.rss, kMinRss, kMaxRss));
+        if (!valid_rss(pending_.rss)) return fail(out_of_range(where() + ".rss", pending_.rss, kMinRss, kMaxRss));
         r.rss = pending_.rss;
         if (top_ == Top::scans) scans.back().push_back(std::move(r));
         else means.push_back(std::move(r));
@@ -352,106 +348,4 @@ LocalizeRequest parse_localize_request_in_full(const std::string& body) {
     return parser.finish(body);
 }
 
-namespace {
-// The answer is written directly: it is the other half of every localize request, and a
-// JSON tree of ten candidates costs more than the match itself.
-class Writer {
-public:
-    std::string out;
-    Writer& raw(std::string_view s) {
-        out.append(s);
-        return *this;
-    }
-    Writer& key(std::string_view k) {
-        if (!out.empty() && out.back() != '{' && out.back() != '[') out.push_back(',');
-        out.push_back('"');
-        out.append(k);
-        out.append("\":");
-        return *this;
-    }
-    Writer& number(double v) {
-        if (!std::isfinite(v)) return raw("null");  // as nlohmann writes it
-        char buf[32];
-        const auto r = std::to_chars(buf, buf + sizeof buf, v);
-        out.append(buf, r.ptr);
-        return *this;
-    }
-    Writer& integer(long long v) {
-        char buf[24];
-        const auto r = std::to_chars(buf, buf + sizeof buf, v);
-        out.append(buf, r.ptr);
-        return *this;
-    }
-    Writer& text(const std::string& s) { return raw(http::json_text(s)); }
-};
-
-// A candidate is head, score, tail, matched APs, "}". The head and tail depend on the RP
-// only, so a snapshot writes them once (prepare_answers).
-Writer& candidate_head(Writer& w, long long rp_id, Point at) {
-    return w.raw("{").key("rp_id").integer(rp_id).key("x").number(at.x).key("y").number(at.y).key("score");
-}
-Writer& candidate_tail(Writer& w, long long floor_id, long long building_id) {
-    // The comma by hand: key() cannot see the score before it when the tail is written alone.
-    return w.raw(",\"floor_id\":").integer(floor_id).key("building_id").integer(building_id).key("matched_aps");
-}
-}  // namespace
-
-std::string answer(const Snapshot& snapshot, const LocalizeRequest& request) {
-    const auto result = match::localize(snapshot.index, request.query, request.algorithm, request.options);
-    if (!result)
-        throw ApiError(422, "no_match",
-                       "no reference point shares an access point with the scan" +
-                           std::string(request.options.near ? " within the 'near' subarea" : ""));
-    const Room* room = nullptr;
-    if (auto it = snapshot.rooms_by_floor.find(result->floor_id); it != snapshot.rooms_by_floor.end())
-        for (const auto& r : it->second)
-            if (r.contains(result->at)) {
-                room = &r;
-                break;
-            }
-    Writer w;
-    w.out.reserve(256 + 160 * result->candidates.size());
-    w.raw("{");
-    w.key("x").number(result->at.x).key("y").number(result->at.y);
-    w.key("floor_id").integer(result->floor_id).key("building_id").integer(result->building_id);
-    w.key("room");
-    if (room) w.raw("{").key("id").integer(room->id).key("name").text(room->name).raw("}");
-    else w.raw("null");
-    w.key("rps").raw("[");
-    for (std::size_t i = 0; i < result->rp_ids.size(); ++i) {
-        if (i) w.raw(",");
-        w.integer(result->rp_ids[i]);
-    }
-    w.raw("]");
-    w.key("score").number(result->score).key("matched_aps").integer(result->matched_aps);
-    w.key("algorithm").raw("\"").raw(result->algorithm).raw("\"");  // one of our own plain names
-    w.key("candidates").raw("[");
-    for (std::size_t i = 0; i < result->candidates.size(); ++i) {
-        const auto& c = result->candidates[i];
-        if (i) w.raw(",");
-        if (auto it = snapshot.candidate_json.find(c.rp_id); it != snapshot.candidate_json.end()) {
-            w.raw(it->second.head);
-            w.number(c.score).raw(it->second.tail);
-        } else {
-            candidate_head(w, c.rp_id, c.at).number(c.score);
-            candidate_tail(w, c.floor_id, c.building_id);
-        }
-        w.integer(c.matched_aps).raw("}");
-    }
-    w.raw("]}");
-    return std::move(w.out);
-}
-
-void prepare_answers(Snapshot& snapshot) {
-    snapshot.candidate_json.clear();
-    snapshot.candidate_json.reserve(snapshot.index.size());
-    for (std::size_t i = 0; i < snapshot.index.size(); ++i) {
-        const auto& rp = snapshot.index.rp(i);
-        Writer head, tail;
-        candidate_head(head, rp.id, rp.at);
-        candidate_tail(tail, rp.floor_id, rp.building_id);
-        snapshot.candidate_json[rp.id] = {std::move(head.out), std::move(tail.out)};
-    }
-}
-
-}  // namespace locus::localize
+}  // namespace locus::http

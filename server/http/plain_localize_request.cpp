@@ -1,4 +1,4 @@
-#include "localize/plain_request.hpp"
+#include "http/plain_localize_request.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "http/validation.hpp"
 
-namespace locus::localize {
+namespace locus::http {
 
 namespace {
 
@@ -115,7 +115,7 @@ bool reading(Reader& in, match::ReadingView& out) {
         }
     } while (in.take(','));
     if (!in.take('}') || !has_bssid || !has_rss) return false;
-    if (http::bssid_problem(out.bssid) || (has_type && http::type_problem(out.type))) return false;
+    if (bssid_problem(out.bssid) || (has_type && type_problem(out.type))) return false;
     return std::isfinite(out.rss) && valid_rss(out.rss);
 }
 
@@ -185,4 +185,4 @@ std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view bod
     return r;
 }
 
-}  // namespace locus::localize
+}  // namespace locus::http

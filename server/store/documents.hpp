@@ -1,0 +1,125 @@
+#pragma once
+// What the store takes and gives back: typed documents, parsed and validated once at the edge
+// (the HTTP layer, or the demo-map file), never JSON. A second backend implements the same
+// Store interface (store.hpp) over these types.
+#include <cstdint>
+#include <initializer_list>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "locus/geometry.hpp"
+#include "locus/radio_map.hpp"
+#include "store/kinds.hpp"
+
+namespace locus::store {
+
+// One column's value; std::monostate is SQL NULL. Which alternative a field holds follows
+// its Field::type (kinds.hpp): Text → string, Real → double, Integer → int64.
+using Value = std::variant<std::monostate, std::string, double, std::int64_t>;
+
+// The writable fields of one row of a Kind, by name, as a create or a patch gives them (a
+// patch holds only what changes). Rooms carry their rectangles beside the columns.
+struct Fields {
+    std::map<std::string, Value, std::less<>> values;
+    std::optional<std::vector<Rect>> rects;  // rooms only; absent: unchanged (patch) or none
+
+    Fields() = default;
+    Fields(std::initializer_list<std::pair<const std::string, Value>> init,
+           std::optional<std::vector<Rect>> room_rects = std::nullopt)
+        : values(init), rects(std::move(room_rects)) {}
+
+    bool has(std::string_view name) const { return values.find(name) != values.end(); }
+    // The value of a field known to be set and of type T (throws std::bad_variant_access or
+    // std::out_of_range otherwise: a caller's bug, not a client's).
+    template <typename T>
+    const T& get(std::string_view name) const {
+        const auto it = values.find(name);
+        if (it == values.end()) throw std::out_of_range("no field '" + std::string(name) + "'");
+        return std::get<T>(it->second);
+    }
+};
+
+// A stored row: its id, its parent's id (none for maps) and every field (null ones included).
+struct Record {
+    std::int64_t id = 0;
+    std::optional<std::int64_t> parent_id;
+    Fields fields;
+};
+
+struct RecordPage {
+    std::vector<Record> items;
+    std::int64_t total = 0, limit = 0, offset = 0;
+};
+
+// An RP as a client reads it: the row and its per-AP aggregates, ordered by (type, bssid).
+struct RpRecord {
+    Record rp;
+    std::vector<Measurement> measurements;
+};
+
+// POST /v1/rps/{id}/scans: aggregates to merge into one RP, each (type, bssid) once.
+struct ScanBatch {
+    std::optional<std::string> upload_id;   // a repeat of an applied id changes nothing
+    std::vector<Measurement> measurements;  // normalised BSSIDs, counts >= 1
+    std::int64_t scans = 0;                 // raw scans these measurements summarise
+};
+
+struct UploadResult {
+    bool applied = false;  // false: the upload_id had been applied before; nothing changed
+    RpRecord rp;           // the RP after the call
+};
+
+// The radio-map exchange document ("locus-radiomap/1"): what export gives and import takes.
+struct RpDocument {
+    std::string name;
+    Point at;
+    std::int64_t scans = 0;
+    std::vector<Measurement> measurements;
+};
+struct RadioMapDocument {
+    Fields fields;  // the radiomap's own: name, description
+    std::vector<RpDocument> rps;
+};
+struct RadioMapExport {
+    Record radiomap;
+    std::vector<RpDocument> rps;
+};
+struct ImportedRadioMap {
+    Record radiomap;
+    std::int64_t rp_count = 0, measurement_count = 0;
+};
+
+// A whole map with its hierarchy (the demo map's format).
+struct FloorBundle {
+    Fields fields;
+    std::vector<Fields> rooms, pois;
+    std::vector<RadioMapDocument> radiomaps;
+};
+struct BuildingBundle {
+    Fields fields;
+    std::vector<FloorBundle> floors;
+};
+struct MapBundle {
+    Fields fields;
+    std::vector<BuildingBundle> buildings;
+};
+
+// Told to subscribers after each committed write (Store::subscribe), so in-memory indexes can
+// follow whichever code path wrote. Where the row sits in the hierarchy is filled in for the
+// kinds an index depends on (an RP: its radio map; an RP or a radio map: its map), read inside
+// the write's own transaction, so a subscriber never has to read the store back.
+struct Change {
+    const Kind* kind = nullptr;
+    std::int64_t id = 0;
+    bool deleted = false;
+    std::optional<std::int64_t> radiomap_id;
+    std::optional<std::int64_t> map_id;
+};
+
+}  // namespace locus::store

@@ -1,0 +1,469 @@
+#include "store/sqlite_store.hpp"
+
+#include <map>
+#include <utility>
+
+#include "store/migrations.hpp"
+
+namespace locus::store {
+
+namespace {
+
+std::string column_list(const Kind& k) {
+    std::string cols = "id";
+    if (!k.parent_column.empty()) cols += ", " + std::string(k.parent_column);
+    for (const auto& f : k.fields) cols += ", " + std::string(f.name);
+    return cols;
+}
+
+void bind_value(Stmt& s, int i, const Value& v) {
+    std::visit(
+        [&](const auto& x) {
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, std::monostate>) s.bind_null(i);
+            else if constexpr (std::is_same_v<T, std::string>) s.bind(i, std::string_view(x));
+            else if constexpr (std::is_same_v<T, double>) s.bind(i, x);
+            else s.bind_int64(i, x);
+        },
+        v);
+}
+
+template <typename F>
+auto translate_constraints(const Kind& k, F&& body) {
+    try {
+        return body();
+    } catch (const SqliteError& e) {
+        if (e.is_unique())
+            throw Conflict("a " + std::string(k.singular) + " with that name already exists here");
+        throw;
+    }
+}
+
+}  // namespace
+
+SqliteStore::SqliteStore(const std::string& path) : db_(path) {
+    try {
+        migrate(db_);
+    } catch (const SqliteError& e) {
+        throw SqliteError(e.code, "database '" + path + "': " + e.what(), path);
+    }
+}
+
+void SqliteStore::probe_write() {
+    std::lock_guard lock(mu_);
+    Transaction tx(db_);
+    Stmt s(db_, "INSERT INTO ready_probe (id, writes) VALUES (1, 1) ON CONFLICT (id) DO UPDATE SET writes = writes + 1");
+    s.run();
+    tx.commit();
+}
+
+Record SqliteStore::row(const Kind& k, Stmt& s) {
+    Record r;
+    r.id = s.int64(0);
+    int col = 1;
+    if (!k.parent_column.empty()) r.parent_id = s.int64(col++);
+    for (const auto& f : k.fields) {
+        Value v;
+        if (!s.is_null(col)) {
+            switch (f.type) {
+                case FieldType::Text: v = s.text(col); break;
+                case FieldType::Real: v = s.real(col); break;
+                case FieldType::Integer: v = s.int64(col); break;
+            }
+        }
+        r.fields.values.emplace(std::string(f.name), std::move(v));
+        ++col;
+    }
+    if (k.has_rects) r.fields.rects = rects_of(r.id);
+    return r;
+}
+
+std::vector<Rect> SqliteStore::rects_of(std::int64_t room_id) {
+    Stmt s(db_, "SELECT xmin, ymin, xmax, ymax FROM room_rects WHERE room_id = ? ORDER BY id");
+    s.bind(1, room_id);
+    std::vector<Rect> out;
+    while (s.step()) out.push_back({s.real(0), s.real(1), s.real(2), s.real(3)});
+    return out;
+}
+
+void SqliteStore::replace_rects(std::int64_t room_id, const std::vector<Rect>& rects) {
+    Stmt del(db_, "DELETE FROM room_rects WHERE room_id = ?");
+    del.bind(1, room_id).run();
+    Stmt ins(db_, "INSERT INTO room_rects (room_id, xmin, ymin, xmax, ymax) VALUES (?, ?, ?, ?, ?)");
+    for (const auto& r : rects) {
+        ins.reset();
+        ins.bind(1, room_id).bind(2, r.xmin).bind(3, r.ymin).bind(4, r.xmax).bind(5, r.ymax).run();
+    }
+}
+
+void SqliteStore::require_exists(const Kind& k, std::int64_t id) {
+    Stmt s(db_, "SELECT 1 FROM " + std::string(k.name) + " WHERE id = ?");
+    s.bind(1, id);
+    if (!s.step()) throw NotFound(std::string(k.singular) + " " + std::to_string(id) + " not found");
+}
+
+Record SqliteStore::get_locked(const Kind& k, std::int64_t id) {
+    Stmt s(db_, "SELECT " + column_list(k) + " FROM " + std::string(k.name) + " WHERE id = ?");
+    s.bind(1, id);
+    if (!s.step()) throw NotFound(std::string(k.singular) + " " + std::to_string(id) + " not found");
+    return row(k, s);
+}
+
+std::optional<std::int64_t> SqliteStore::map_of_radiomap_locked(std::int64_t radiomap_id) {
+    Stmt s(db_, "SELECT b.map_id FROM radiomaps rm JOIN floors f ON f.id = rm.floor_id "
+                "JOIN buildings b ON b.id = f.building_id WHERE rm.id = ?");
+    s.bind(1, radiomap_id);
+    if (!s.step()) return std::nullopt;
+    return s.int64(0);
+}
+
+Change SqliteStore::change_of(const Kind& k, std::int64_t id, bool deleted) {
+    Change c{&k, id, deleted, std::nullopt, std::nullopt};
+    if (k.name == "rps") {
+        Stmt s(db_, "SELECT radiomap_id FROM rps WHERE id = ?");
+        s.bind(1, id);
+        if (s.step()) c.radiomap_id = s.int64(0);
+        if (c.radiomap_id) c.map_id = map_of_radiomap_locked(*c.radiomap_id);
+    } else if (k.name == "radiomaps") {
+        c.radiomap_id = id;
+        c.map_id = map_of_radiomap_locked(id);
+    }
+    return c;
+}
+
+std::int64_t SqliteStore::insert_row(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
+    if (!k.parent_column.empty()) require_exists(kind(k.parent_kind), parent_id.value());
+    std::string cols, marks;
+    std::vector<const Value*> bound;
+    if (!k.parent_column.empty()) {
+        cols = std::string(k.parent_column);
+        marks = "?";
+    }
+    for (const auto& f : k.fields) {
+        const auto it = values.values.find(f.name);
+        if (!f.writable || it == values.values.end()) continue;
+        if (!cols.empty()) {
+            cols += ", ";
+            marks += ", ";
+        }
+        cols += std::string(f.name);
+        marks += "?";
+        bound.push_back(&it->second);
+    }
+    Stmt s(db_, "INSERT INTO " + std::string(k.name) + " (" + cols + ") VALUES (" + marks + ")");
+    int i = 1;
+    if (!k.parent_column.empty()) s.bind(i++, *parent_id);
+    for (const Value* v : bound) bind_value(s, i++, *v);
+    translate_constraints(k, [&] {
+        s.run();
+        return 0;
+    });
+    const std::int64_t id = db_.last_insert_id();
+    if (k.has_rects) replace_rects(id, values.rects.value_or(std::vector<Rect>{}));
+    return id;
+}
+
+Record SqliteStore::create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
+    Record out;
+    Change change;
+    {
+        std::lock_guard lock(mu_);
+        Transaction tx(db_);
+        const std::int64_t id = insert_row(k, parent_id, values);
+        out = get_locked(k, id);
+        change = change_of(k, id, false);
+        tx.commit();
+    }
+    publish({change});
+    return out;
+}
+
+Record SqliteStore::get(const Kind& k, std::int64_t id) {
+    std::lock_guard lock(mu_);
+    return get_locked(k, id);
+}
+
+RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_id, std::int64_t limit,
+                             std::int64_t offset) {
+    std::lock_guard lock(mu_);
+    Transaction tx(db_);  // count and page from one snapshot
+    const std::string table(k.name);
+    std::string where;
+    if (!k.parent_column.empty()) {
+        require_exists(kind(k.parent_kind), parent_id.value());
+        where = " WHERE " + std::string(k.parent_column) + " = ?1";
+    }
+    RecordPage page;
+    page.limit = limit;
+    page.offset = offset;
+    Stmt count(db_, "SELECT COUNT(*) FROM " + table + where);
+    if (!where.empty()) count.bind(1, *parent_id);
+    count.step();
+    page.total = count.int64(0);
+
+    Stmt s(db_, "SELECT " + column_list(k) + " FROM " + table + where + " ORDER BY id LIMIT ?2 OFFSET ?3");
+    if (!where.empty()) s.bind(1, *parent_id);
+    s.bind(2, limit).bind(3, offset);
+    while (s.step()) page.items.push_back(row(k, s));
+    tx.commit();
+    return page;
+}
+
+Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values) {
+    Record out;
+    Change change;
+    {
+        std::lock_guard lock(mu_);
+        Transaction tx(db_);
+        require_exists(k, id);
+        std::string sets;
+        std::vector<const Value*> bound;
+        for (const auto& f : k.fields) {
+            const auto it = values.values.find(f.name);
+            if (!f.writable || it == values.values.end()) continue;
+            if (!sets.empty()) sets += ", ";
+            sets += std::string(f.name) + " = ?";
+            bound.push_back(&it->second);
+        }
+        if (!bound.empty()) {
+            Stmt s(db_, "UPDATE " + std::string(k.name) + " SET " + sets + " WHERE id = ?");
+            int i = 1;
+            for (const Value* v : bound) bind_value(s, i++, *v);
+            s.bind(i, id);
+            translate_constraints(k, [&] {
+                s.run();
+                return 0;
+            });
+        }
+        if (k.has_rects && values.rects) replace_rects(id, *values.rects);
+        out = get_locked(k, id);
+        change = change_of(k, id, false);
+        tx.commit();
+    }
+    publish({change});
+    return out;
+}
+
+void SqliteStore::remove(const Kind& k, std::int64_t id) {
+    Change change;
+    {
+        std::lock_guard lock(mu_);
+        Transaction tx(db_);
+        require_exists(k, id);
+        change = change_of(k, id, true);  // before the row, and its place, are gone
+        Stmt s(db_, "DELETE FROM " + std::string(k.name) + " WHERE id = ?");
+        s.bind(1, id).run();
+        tx.commit();
+    }
+    publish({change});
+}
+
+std::vector<Measurement> SqliteStore::measurements_of(std::int64_t rp_id) {
+    Stmt s(db_,
+           "SELECT type, bssid, mean, variance, count FROM measurements WHERE rp_id = ? ORDER BY type, bssid");
+    s.bind(1, rp_id);
+    std::vector<Measurement> out;
+    while (s.step()) out.push_back({s.text(0), s.text(1), RssStats{s.real(2), s.real(3), s.int64(4)}});
+    return out;
+}
+
+RpRecord SqliteStore::rp_with_measurements(std::int64_t rp_id) {
+    std::lock_guard lock(mu_);
+    Transaction tx(db_);
+    RpRecord out{get_locked(kind("rps"), rp_id), measurements_of(rp_id)};
+    tx.commit();
+    return out;
+}
+
+void SqliteStore::merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans) {
+    Stmt sel(db_, "SELECT mean, variance, count FROM measurements WHERE rp_id = ? AND type = ? AND bssid = ?");
+    Stmt put(db_,
+             "INSERT INTO measurements (rp_id, type, bssid, mean, variance, count) VALUES (?, ?, ?, ?, ?, ?) "
+             "ON CONFLICT (rp_id, type, bssid) DO UPDATE SET mean = excluded.mean, "
+             "variance = excluded.variance, count = excluded.count");
+    for (const auto& m : ms) {
+        sel.reset();
+        sel.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid);
+        RssStats stats;
+        if (sel.step()) stats = RssStats{sel.real(0), sel.real(1), sel.int64(2)};
+        if (m.stats.count < 1 || !stats.can_merge(m.stats))
+            throw OutOfRange("the count of " + m.bssid + " at this RP would pass 2^53");
+        stats.merge(m.stats);
+        put.reset();
+        put.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid).bind(4, stats.mean).bind(5, stats.variance).bind(6, stats.count);
+        put.run();
+    }
+    Stmt cur(db_, "SELECT scans FROM rps WHERE id = ?");
+    cur.bind(1, rp_id);
+    if (scans < 0 || scans > kMaxCount || (cur.step() && cur.int64(0) > kMaxCount - scans))
+        throw OutOfRange("the RP's scan count would pass 2^53");
+    Stmt upd(db_, "UPDATE rps SET scans = scans + ? WHERE id = ?");
+    upd.bind(1, scans).bind(2, rp_id).run();
+}
+
+UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch) {
+    UploadResult result;
+    Change change;
+    {
+        std::lock_guard lock(mu_);
+        Transaction tx(db_);
+        require_exists(kind("rps"), rp_id);
+        bool fresh = true;
+        if (batch.upload_id) {
+            Stmt s(db_, "INSERT OR IGNORE INTO uploads (rp_id, upload_id) VALUES (?, ?)");
+            s.bind(1, rp_id).bind(2, *batch.upload_id).run();
+            fresh = db_.changes() > 0;
+        }
+        if (fresh) merge_measurements(rp_id, batch.measurements, batch.scans);
+        result.applied = fresh;
+        result.rp = {get_locked(kind("rps"), rp_id), measurements_of(rp_id)};
+        change = change_of(kind("rps"), rp_id, false);
+        tx.commit();
+    }
+    if (result.applied) publish({change});
+    return result;
+}
+
+RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
+    std::lock_guard lock(mu_);
+    Transaction tx(db_);
+    RadioMapExport out{get_locked(kind("radiomaps"), radiomap_id), {}};
+    Stmt s(db_, "SELECT id, name, x, y, scans FROM rps WHERE radiomap_id = ? ORDER BY id");
+    s.bind(1, radiomap_id);
+    while (s.step()) out.rps.push_back({s.text(1), {s.real(2), s.real(3)}, s.int64(4), measurements_of(s.int64(0))});
+    tx.commit();
+    return out;
+}
+
+std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements) {
+    const std::int64_t rm_id = insert_row(kind("radiomaps"), floor_id, doc.fields);
+    for (const auto& rp : doc.rps) {
+        Fields f;
+        f.values = {{"name", rp.name}, {"x", rp.at.x}, {"y", rp.at.y}};
+        const std::int64_t rp_id = insert_row(kind("rps"), rm_id, f);
+        merge_measurements(rp_id, rp.measurements, rp.scans);
+        if (measurements) *measurements += static_cast<std::int64_t>(rp.measurements.size());
+    }
+    return rm_id;
+}
+
+ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) {
+    ImportedRadioMap out;
+    Change change;
+    {
+        std::lock_guard lock(mu_);
+        Transaction tx(db_);
+        const std::int64_t rm_id = insert_radiomap(floor_id, doc, &out.measurement_count);
+        out.radiomap = get_locked(kind("radiomaps"), rm_id);
+        out.rp_count = static_cast<std::int64_t>(doc.rps.size());
+        change = change_of(kind("radiomaps"), rm_id, false);
+        tx.commit();
+    }
+    publish({change});
+    return out;
+}
+
+Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
+    Record out;
+    std::vector<Change> changes;
+    {
+        std::lock_guard lock(mu_);
+        Transaction tx(db_);
+        const std::int64_t map_id = insert_row(kind("maps"), std::nullopt, bundle.fields);
+        for (const auto& b : bundle.buildings) {
+            const std::int64_t b_id = insert_row(kind("buildings"), map_id, b.fields);
+            for (const auto& f : b.floors) {
+                const std::int64_t f_id = insert_row(kind("floors"), b_id, f.fields);
+                for (const auto& r : f.rooms) insert_row(kind("rooms"), f_id, r);
+                for (const auto& p : f.pois) insert_row(kind("pois"), f_id, p);
+                for (const auto& rm : f.radiomaps)
+                    changes.push_back(change_of(kind("radiomaps"), insert_radiomap(f_id, rm, nullptr), false));
+            }
+        }
+        out = get_locked(kind("maps"), map_id);
+        changes.insert(changes.begin(), change_of(kind("maps"), map_id, false));
+        tx.commit();
+    }
+    publish(changes);
+    return out;
+}
+
+bool SqliteStore::has_maps() {
+    std::lock_guard lock(mu_);
+    Stmt s(db_, "SELECT EXISTS (SELECT 1 FROM maps)");
+    s.step();
+    return s.int64(0) != 0;
+}
+
+std::vector<StoredRp> SqliteStore::load_rps(std::string_view where, std::int64_t id) {
+    std::lock_guard lock(mu_);
+    Transaction tx(db_);
+    const std::string from =
+        " FROM rps r JOIN radiomaps rm ON rm.id = r.radiomap_id JOIN floors f ON f.id = rm.floor_id "
+        "JOIN buildings b ON b.id = f.building_id WHERE " + std::string(where) + " = ?";
+    std::vector<StoredRp> out;
+    std::map<std::int64_t, std::size_t> by_id;
+    Stmt s(db_, "SELECT r.id, r.name, r.x, r.y, r.scans, r.radiomap_id, f.id, b.id" + from + " ORDER BY r.id");
+    s.bind(1, id);
+    while (s.step()) {
+        StoredRp rp;
+        rp.rp.id = s.int64(0);
+        rp.rp.name = s.text(1);
+        rp.rp.at = {s.real(2), s.real(3)};
+        rp.rp.scans = s.int64(4);
+        rp.radiomap_id = s.int64(5);
+        rp.floor_id = s.int64(6);
+        rp.building_id = s.int64(7);
+        by_id[rp.rp.id] = out.size();
+        out.push_back(std::move(rp));
+    }
+    Stmt m(db_, "SELECT m.rp_id, m.type, m.bssid, m.mean, m.variance, m.count FROM measurements m "
+                "JOIN rps r ON r.id = m.rp_id JOIN radiomaps rm ON rm.id = r.radiomap_id "
+                "JOIN floors f ON f.id = rm.floor_id JOIN buildings b ON b.id = f.building_id WHERE " +
+                    std::string(where) + " = ? ORDER BY m.rp_id, m.type, m.bssid");
+    m.bind(1, id);
+    while (m.step()) {
+        auto it = by_id.find(m.int64(0));
+        if (it == by_id.end()) continue;
+        out[it->second].rp.measurements.push_back(
+            {m.text(1), m.text(2), RssStats{m.real(3), m.real(4), m.int64(5)}});
+    }
+    tx.commit();
+    return out;
+}
+
+std::vector<StoredRp> SqliteStore::rps_of_radiomap(std::int64_t radiomap_id) { return load_rps("rm.id", radiomap_id); }
+std::vector<StoredRp> SqliteStore::rps_of_map(std::int64_t map_id) { return load_rps("b.map_id", map_id); }
+
+std::vector<Room> SqliteStore::rooms_of_floor(std::int64_t floor_id) {
+    std::lock_guard lock(mu_);
+    Transaction tx(db_);
+    std::vector<Room> rooms;
+    Stmt s(db_, "SELECT id, name FROM rooms WHERE floor_id = ? ORDER BY id");
+    s.bind(1, floor_id);
+    while (s.step()) rooms.push_back({s.int64(0), s.text(1), {}});
+    Stmt r(db_, "SELECT xmin, ymin, xmax, ymax FROM room_rects WHERE room_id = ? ORDER BY id");
+    for (auto& room : rooms) {
+        r.reset();
+        r.bind(1, room.id);
+        while (r.step()) room.rects.push_back({r.real(0), r.real(1), r.real(2), r.real(3)});
+    }
+    tx.commit();
+    return rooms;
+}
+
+std::int64_t SqliteStore::map_of_radiomap(std::int64_t radiomap_id) {
+    std::lock_guard lock(mu_);
+    if (auto map = map_of_radiomap_locked(radiomap_id)) return *map;
+    throw NotFound("radiomap " + std::to_string(radiomap_id) + " not found");
+}
+
+std::vector<std::int64_t> SqliteStore::radiomap_ids() {
+    std::lock_guard lock(mu_);
+    Stmt s(db_, "SELECT id FROM radiomaps ORDER BY id");
+    std::vector<std::int64_t> ids;
+    while (s.step()) ids.push_back(s.int64(0));
+    return ids;
+}
+
+}  // namespace locus::store

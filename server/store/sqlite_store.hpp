@@ -1,0 +1,65 @@
+#pragma once
+// The embedded backend: one SQLite connection, every public call one transaction (BEGIN
+// IMMEDIATE) serialised by a mutex. Reads of one call see one snapshot; the SQL is built from
+// the kind descriptors, so a new field in kinds.cpp needs a migration and nothing here.
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "store/sqlite.hpp"
+#include "store/store.hpp"
+
+namespace locus::store {
+
+class SqliteStore final : public Store {
+public:
+    // Opens (creating if missing) and migrates the database file.
+    explicit SqliteStore(const std::string& path);
+
+    const std::string& location() const override { return db_.path(); }
+    void probe_write() override;
+
+    Record create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) override;
+    Record get(const Kind& k, std::int64_t id) override;
+    RecordPage list(const Kind& k, std::optional<std::int64_t> parent_id, std::int64_t limit,
+                    std::int64_t offset) override;
+    Record update(const Kind& k, std::int64_t id, const Fields& values) override;
+    void remove(const Kind& k, std::int64_t id) override;
+
+    RpRecord rp_with_measurements(std::int64_t rp_id) override;
+    UploadResult merge_scans(std::int64_t rp_id, const ScanBatch& batch) override;
+
+    RadioMapExport export_radiomap(std::int64_t radiomap_id) override;
+    ImportedRadioMap import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) override;
+    Record import_map_bundle(const MapBundle& bundle) override;
+    bool has_maps() override;
+
+    std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) override;
+    std::vector<StoredRp> rps_of_map(std::int64_t map_id) override;
+    std::vector<Room> rooms_of_floor(std::int64_t floor_id) override;
+    std::int64_t map_of_radiomap(std::int64_t radiomap_id) override;
+    std::vector<std::int64_t> radiomap_ids() override;
+
+private:
+    Record row(const Kind& k, Stmt& s);
+    Record get_locked(const Kind& k, std::int64_t id);
+    void require_exists(const Kind& k, std::int64_t id);
+    void replace_rects(std::int64_t room_id, const std::vector<Rect>& rects);
+    std::vector<Rect> rects_of(std::int64_t room_id);
+    std::int64_t insert_row(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values);
+    std::int64_t insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements);
+    void merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans);
+    std::vector<Measurement> measurements_of(std::int64_t rp_id);
+    std::vector<StoredRp> load_rps(std::string_view where, std::int64_t id);
+    std::optional<std::int64_t> map_of_radiomap_locked(std::int64_t radiomap_id);
+    // Where a row of `k` sits, for its Change (documents.hpp).
+    Change change_of(const Kind& k, std::int64_t id, bool deleted);
+
+    std::mutex mu_;
+    Db db_;
+};
+
+}  // namespace locus::store

@@ -1,0 +1,90 @@
+#pragma once
+// The storage interface the services and routes use. Every call is one transaction: it either
+// commits in full or changes nothing. Inputs are typed documents (documents.hpp) that the edge
+// has already validated against the kind descriptors (kinds.hpp); a backend checks only what
+// needs the stored data (existence, uniqueness, count bounds). SqliteStore (sqlite_store.hpp)
+// is the embedded backend.
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "locus/geometry.hpp"
+#include "store/documents.hpp"
+
+namespace locus::store {
+
+struct NotFound : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+struct Conflict : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+// A write that would take a stored count past kMaxCount (the API answers 422 out_of_range).
+struct OutOfRange : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// One RP as the localization index needs it, with its place in the hierarchy.
+struct StoredRp {
+    ReferencePoint rp;
+    std::int64_t radiomap_id = 0;
+    std::int64_t floor_id = 0;
+    std::int64_t building_id = 0;
+};
+
+using ChangeListener = std::function<void(const Change&)>;
+
+class Store {
+public:
+    virtual ~Store() = default;
+
+    // Where the data lives, for logs and /ready messages.
+    virtual const std::string& location() const = 0;
+    // Commits a one-row change, so that it has to reach durable storage: throws when the
+    // database cannot really be written (GET /ready).
+    virtual void probe_write() = 0;
+
+    virtual Record create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) = 0;
+    virtual Record get(const Kind& k, std::int64_t id) = 0;
+    virtual RecordPage list(const Kind& k, std::optional<std::int64_t> parent_id, std::int64_t limit,
+                            std::int64_t offset) = 0;
+    virtual Record update(const Kind& k, std::int64_t id, const Fields& values) = 0;
+    virtual void remove(const Kind& k, std::int64_t id) = 0;
+
+    virtual RpRecord rp_with_measurements(std::int64_t rp_id) = 0;
+    // Welford-merges each aggregate into the RP's stored one (RssStats::merge).
+    virtual UploadResult merge_scans(std::int64_t rp_id, const ScanBatch& batch) = 0;
+
+    virtual RadioMapExport export_radiomap(std::int64_t radiomap_id) = 0;
+    virtual ImportedRadioMap import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) = 0;
+    virtual Record import_map_bundle(const MapBundle& bundle) = 0;
+    virtual bool has_maps() = 0;
+
+    // For the localization index. Each is a consistent snapshot.
+    virtual std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) = 0;
+    virtual std::vector<StoredRp> rps_of_map(std::int64_t map_id) = 0;
+    virtual std::vector<Room> rooms_of_floor(std::int64_t floor_id) = 0;
+    virtual std::int64_t map_of_radiomap(std::int64_t radiomap_id) = 0;
+    virtual std::vector<std::int64_t> radiomap_ids() = 0;
+
+    // The change feed: `listener` is called after every committed write, on the writing
+    // thread, with no transaction open (it may read the store, never subscribe). Returns the
+    // token for unsubscribe, after which the listener is never called again.
+    std::size_t subscribe(ChangeListener listener);
+    void unsubscribe(std::size_t token);
+
+protected:
+    void publish(const std::vector<Change>& changes);
+
+private:
+    std::mutex listeners_mu_;
+    std::vector<std::pair<std::size_t, ChangeListener>> listeners_;
+    std::size_t next_token_ = 1;
+};
+
+}  // namespace locus::store
