@@ -1,11 +1,46 @@
 #include "locus/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace locus {
 
 double distance(Point a, Point b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+namespace {
+
+double cross(Point o, Point a, Point b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
+
+bool on_segment(Point p, Point a, Point b) {
+    return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+           p.y <= std::max(a.y, b.y);
+}
+
+int sign(double v) { return (v > 0.0) - (v < 0.0); }
+
+}  // namespace
+
+bool segments_intersect(Point p, Point q, Point a, Point b) {
+    const int d1 = sign(cross(a, b, p));
+    const int d2 = sign(cross(a, b, q));
+    const int d3 = sign(cross(p, q, a));
+    const int d4 = sign(cross(p, q, b));
+    if (d1 * d2 < 0 && d3 * d4 < 0) return true;
+    if (d1 == 0 && on_segment(p, a, b)) return true;
+    if (d2 == 0 && on_segment(q, a, b)) return true;
+    if (d3 == 0 && on_segment(a, p, q)) return true;
+    if (d4 == 0 && on_segment(b, p, q)) return true;
+    return false;
+}
+
+double distance_to_segment(Point p, Point a, Point b) {
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const double len2 = dx * dx + dy * dy;
+    if (len2 == 0.0) return distance(p, a);
+    const double t = std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0);
+    return distance(p, {a.x + t * dx, a.y + t * dy});
+}
 
 bool Rect::contains(Point p) const {
     return p.x >= xmin && p.x <= xmax && p.y >= ymin && p.y <= ymax;

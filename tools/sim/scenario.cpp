@@ -19,7 +19,7 @@ std::string bssid(int floor, int i) {
 Room room(long long id, const std::string& name, Rect r) { return Room{id, name, {r}}; }
 
 // A horizontal door on the wall y = y0 spanning x ∈ [x0, x1], or a vertical one.
-fusion::Segment hdoor(double x0, double x1, double y0) { return {{x0, y0}, {x1, y0}}; }
+Segment hdoor(double x0, double x1, double y0) { return {{x0, y0}, {x1, y0}}; }
 
 Scenario make_ground() {
     Scenario s;

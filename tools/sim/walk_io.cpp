@@ -37,7 +37,7 @@ json floor_json(const fusion::Walkable& w) {
         rooms.push_back({{"id", r.id}, {"name", r.name}, {"rects", rects}});
     }
     json doors = json::array();
-    for (const fusion::Segment& d : w.doors) doors.push_back({d.a.x, d.a.y, d.b.x, d.b.y});
+    for (const Segment& d : w.doors) doors.push_back({d.a.x, d.a.y, d.b.x, d.b.y});
     return {{"width", w.plan.width}, {"height", w.plan.height}, {"rooms", rooms}, {"doors", doors},
             {"walls_between_rooms", w.walls_between_rooms}};
 }

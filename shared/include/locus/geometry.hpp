@@ -14,6 +14,17 @@ struct Point {
 
 double distance(Point a, Point b);
 
+struct Segment {
+    Point a;
+    Point b;
+};
+
+// True when segments pq and ab share a point (touching counts).
+bool segments_intersect(Point p, Point q, Point a, Point b);
+
+// Distance from p to the closed segment ab (to a itself when a == b).
+double distance_to_segment(Point p, Point a, Point b);
+
 struct Rect {
     double xmin = 0.0, ymin = 0.0, xmax = 0.0, ymax = 0.0;
     // Closed on all sides so a point on a shared wall belongs to a room rather than to none.

@@ -9,14 +9,6 @@
 
 namespace locus::fusion {
 
-struct Segment {
-    Point a;
-    Point b;
-};
-
-// True when segments pq and ab share a point (touching counts).
-bool segments_intersect(Point p, Point q, Point a, Point b);
-
 struct Walkable {
     FloorPlan plan;
     std::vector<Segment> doors;

@@ -1,0 +1,34 @@
+#pragma once
+// Validation of plans before they are routed on: the grid and the router assume what these
+// checks establish (finite, closed, simple rings; doors on walls; connectors that pair up),
+// so a plan that fails them gives routes that are wrong in ways nobody would notice.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "locus/plan/plan.hpp"
+
+namespace locus::plan {
+
+struct PlanProblem {
+    std::string feature;  // "spaces[3] 'Lab'", "walls[2]", "doors[0] 'D1'", "connectors[1] 's1'"
+    std::string problem;  // what is wrong, in words
+};
+
+// A door farther than this from every wall opens nothing: it is a drawing mistake.
+inline constexpr double kDoorWallTolerance = 0.5;
+
+// One plan on its own: every coordinate finite and within ±kMaxPlanCoordinate; rings closed
+// (first == last), ≥ 4 points, non-zero area and not self-intersecting; holes inside their
+// outer ring; walls with ≥ 2 distinct points; doors within kDoorWallTolerance of a wall;
+// connector ids non-empty and unique, links naming a connector. The self-intersection test
+// compares every pair of edges of a ring, O(n²): fine up to a few thousand points per ring.
+std::vector<PlanProblem> check_plan(const Plan& plan);
+
+// The links between floors, which no single plan can check: every link names a known floor
+// other than its own and a connector on it, and that connector links back. Features are
+// prefixed with the floor: "floor 2 connectors[0] 's1'". A floor id given twice is a problem.
+std::vector<PlanProblem> check_links(const std::vector<std::pair<std::int64_t, const Plan*>>& floors);
+
+}  // namespace locus::plan

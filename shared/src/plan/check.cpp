@@ -1,0 +1,180 @@
+#include "locus/plan/check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "locus/plan/ring.hpp"
+
+namespace locus::plan {
+
+namespace {
+
+bool same(Point a, Point b) { return a.x == b.x && a.y == b.y; }
+
+bool coordinate_ok(Point p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::abs(p.x) <= kMaxPlanCoordinate &&
+           std::abs(p.y) <= kMaxPlanCoordinate;
+}
+
+std::string quoted(const std::string& what, std::size_t i, const std::string& name) {
+    std::string s = what + "[" + std::to_string(i) + "]";
+    if (!name.empty()) s += " '" + name + "'";
+    return s;
+}
+
+// Reports the first bad coordinate only: one NaN tends to come with many.
+bool check_points(const std::vector<Point>& points, const std::string& feature, std::vector<PlanProblem>& out) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+        if (!coordinate_ok(points[i])) {
+            out.push_back({feature, "point " + std::to_string(i) + " is not finite or beyond ±" +
+                                        std::to_string(static_cast<long long>(kMaxPlanCoordinate)) + " m"});
+            return false;
+        }
+    return true;
+}
+
+double cross(Point o, Point a, Point b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
+
+// Edges i and j of a closed ring (edge k runs from ring[k] to ring[k+1]).
+bool ring_self_intersects(const Ring& r) {
+    const std::size_t edges = r.size() - 1;
+    for (std::size_t i = 0; i < edges; ++i) {
+        // Neighbouring edges share a vertex; they only go wrong by folding back on each other.
+        const std::size_t next = (i + 1) % edges;
+        const Point a = r[i], b = r[i + 1], c = r[next + 1];
+        if (cross(a, b, c) == 0.0 && (c.x - b.x) * (a.x - b.x) + (c.y - b.y) * (a.y - b.y) > 0.0) return true;
+        for (std::size_t j = i + 2; j < edges; ++j) {
+            if (i == 0 && j == edges - 1) continue;
+            if (segments_intersect(r[i], r[i + 1], r[j], r[j + 1])) return true;
+        }
+    }
+    return false;
+}
+
+// Returns whether the ring is usable for further checks (hole containment).
+bool check_ring(const Ring& r, const std::string& feature, std::vector<PlanProblem>& out) {
+    if (!check_points(r, feature, out)) return false;
+    if (r.size() < 4) {
+        out.push_back({feature, "ring has " + std::to_string(r.size()) + " points; a closed ring needs at least 4"});
+        return false;
+    }
+    if (!same(r.front(), r.back())) {
+        out.push_back({feature, "ring is not closed: its last point differs from its first"});
+        return false;
+    }
+    if (signed_area(r) == 0.0) {
+        out.push_back({feature, "ring has zero area"});
+        return false;
+    }
+    if (ring_self_intersects(r)) {
+        out.push_back({feature, "ring intersects itself"});
+        return false;
+    }
+    return true;
+}
+
+void check_space(const Space& s, std::size_t index, std::vector<PlanProblem>& out) {
+    const std::string feature = quoted("spaces", index, s.name);
+    const bool outer_ok = check_ring(s.shape.outer, feature + " outer ring", out);
+    for (std::size_t h = 0; h < s.shape.holes.size(); ++h) {
+        const Ring& hole = s.shape.holes[h];
+        const std::string hf = feature + " holes[" + std::to_string(h) + "]";
+        if (!check_ring(hole, hf, out) || !outer_ok) continue;
+        const bool vertices_inside = std::all_of(hole.begin(), hole.end(), [&](Point p) { return ring_contains(s.shape.outer, p); });
+        bool edges_cross = false;
+        for (std::size_t i = 0; i + 1 < hole.size() && !edges_cross; ++i)
+            for (std::size_t j = 0; j + 1 < s.shape.outer.size() && !edges_cross; ++j)
+                edges_cross = segments_intersect(hole[i], hole[i + 1], s.shape.outer[j], s.shape.outer[j + 1]);
+        if (!vertices_inside || edges_cross) out.push_back({hf, "hole is not inside the outer ring"});
+    }
+}
+
+double distance_to_walls(Point p, const std::vector<Wall>& walls) {
+    double best = INFINITY;
+    for (const Wall& w : walls)
+        for (std::size_t i = 0; i + 1 < w.line.size(); ++i) best = std::min(best, distance_to_segment(p, w.line[i], w.line[i + 1]));
+    return best;
+}
+
+}  // namespace
+
+std::vector<PlanProblem> check_plan(const Plan& plan) {
+    std::vector<PlanProblem> out;
+    for (std::size_t i = 0; i < plan.spaces.size(); ++i) check_space(plan.spaces[i], i, out);
+
+    for (std::size_t i = 0; i < plan.walls.size(); ++i) {
+        const std::string feature = quoted("walls", i, "");
+        const auto& line = plan.walls[i].line;
+        if (!check_points(line, feature, out)) continue;
+        const bool distinct = std::any_of(line.begin(), line.end(), [&](Point p) { return !same(p, line.front()); });
+        if (!distinct) out.push_back({feature, "a wall needs at least 2 distinct points"});
+    }
+
+    for (std::size_t i = 0; i < plan.doors.size(); ++i) {
+        const Door& d = plan.doors[i];
+        const std::string feature = quoted("doors", i, d.name);
+        if (!check_points({d.a, d.b}, feature, out)) continue;
+        const Point mid{(d.a.x + d.b.x) / 2.0, (d.a.y + d.b.y) / 2.0};
+        if (distance_to_walls(mid, plan.walls) > kDoorWallTolerance)
+            out.push_back({feature, "door is not on any wall (none within 0.5 m)"});
+    }
+
+    std::set<std::string> ids;
+    for (std::size_t i = 0; i < plan.connectors.size(); ++i) {
+        const Connector& c = plan.connectors[i];
+        const std::string feature = quoted("connectors", i, c.id);
+        check_points({c.at}, feature, out);
+        if (c.id.empty()) out.push_back({feature, "connector id is empty"});
+        else if (!ids.insert(c.id).second) out.push_back({feature, "connector id '" + c.id + "' is used twice"});
+        if (c.seconds_per_level && !(std::isfinite(*c.seconds_per_level) && *c.seconds_per_level > 0.0))
+            out.push_back({feature, "seconds_per_level must be a positive number"});
+        for (const ConnectorLink& link : c.links)
+            if (link.connector.empty()) out.push_back({feature, "a link names no connector"});
+    }
+    return out;
+}
+
+std::vector<PlanProblem> check_links(const std::vector<std::pair<std::int64_t, const Plan*>>& floors) {
+    std::vector<PlanProblem> out;
+    std::map<std::int64_t, const Plan*> by_id;
+    for (const auto& [id, plan] : floors)
+        if (!by_id.emplace(id, plan).second) out.push_back({"floor " + std::to_string(id), "floor id given twice"});
+
+    const auto find = [](const Plan* plan, const std::string& id) -> const Connector* {
+        for (const Connector& c : plan->connectors)
+            if (c.id == id) return &c;
+        return nullptr;
+    };
+    for (const auto& [floor_id, plan] : floors) {
+        for (std::size_t i = 0; i < plan->connectors.size(); ++i) {
+            const Connector& c = plan->connectors[i];
+            const std::string feature = "floor " + std::to_string(floor_id) + " " + quoted("connectors", i, c.id);
+            for (const ConnectorLink& link : c.links) {
+                const std::string target = "'" + link.connector + "' on floor " + std::to_string(link.floor_id);
+                if (link.floor_id == floor_id) {
+                    out.push_back({feature, "links to its own floor (" + target + ")"});
+                    continue;
+                }
+                const auto other = by_id.find(link.floor_id);
+                if (other == by_id.end()) {
+                    out.push_back({feature, "links to unknown floor " + std::to_string(link.floor_id)});
+                    continue;
+                }
+                const Connector* peer = find(other->second, link.connector);
+                if (!peer) {
+                    out.push_back({feature, "links to unknown connector " + target});
+                    continue;
+                }
+                const bool returned = std::any_of(peer->links.begin(), peer->links.end(), [&](const ConnectorLink& back) {
+                    return back.floor_id == floor_id && back.connector == c.id;
+                });
+                if (!returned) out.push_back({feature, "links to " + target + ", which does not link back"});
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace locus::plan
