@@ -25,7 +25,7 @@ inline Space space(std::string name, Ring outer, std::vector<Ring> holes = {}) {
 inline Wall wall(std::vector<Point> line) { return Wall{std::move(line)}; }
 
 inline Door door(Point at, std::string name = "") { return Door{at, at, std::move(name)}; }
-inline Door door(Point a, Point b, std::string name = "") { return Door{a, b, std::move(name)}; }
+inline Door door_between(Point a, Point b, std::string name = "") { return Door{a, b, std::move(name)}; }
 
 inline Connector connector(std::string id, ConnectorKind kind, Point at, std::vector<ConnectorLink> links) {
     Connector c;

@@ -219,8 +219,48 @@ int WalkGrid::cell_at(Point p) const {
     return static_cast<int>(fr) * cols + static_cast<int>(fc);
 }
 
+std::vector<std::uint32_t> WalkGrid::barriers_near(Point a, Point b) const {
+    std::vector<std::uint32_t> out;
+    // Samples every half bucket; the 3 × 3 buckets round each reach past bucket_m / 2 of the segment.
+    const int n = std::max(1, static_cast<int>(std::ceil(distance(a, b) / (bucket_m / 2.0))));
+    int last_bc = -1000, last_br = -1000;
+    for (int i = 0; i <= n; ++i) {
+        const double t = static_cast<double>(i) / n;
+        const int bc = static_cast<int>(std::floor((a.x + t * (b.x - a.x) - origin.x) / bucket_m));
+        const int br = static_cast<int>(std::floor((a.y + t * (b.y - a.y) - origin.y) / bucket_m));
+        if (bc == last_bc && br == last_br) continue;
+        last_bc = bc;
+        last_br = br;
+        for (int r = std::max(0, br - 1); r <= std::min(bucket_rows - 1, br + 1); ++r)
+            for (int c = std::max(0, bc - 1); c <= std::min(bucket_cols - 1, bc + 1); ++c) {
+                const auto& list = buckets[static_cast<std::size_t>(r * bucket_cols + c)];
+                out.insert(out.end(), list.begin(), list.end());
+            }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
 bool WalkGrid::crosses_barrier(Point a, Point b) const {
-    return std::any_of(barriers.begin(), barriers.end(), [&](const Segment& s) { return segments_intersect(a, b, s.a, s.b); });
+    for (std::uint32_t i : barriers_near(a, b)) {
+        const Segment& s = i < walls.size() ? walls[i] : jambs[i - walls.size()];
+        if (segments_intersect(a, b, s.a, s.b)) return true;
+    }
+    return false;
+}
+
+bool WalkGrid::keeps_clearance(Point a, Point b) const {
+    for (std::uint32_t i : barriers_near(a, b)) {
+        const bool jamb = i >= walls.size();
+        const Segment& s = jamb ? jambs[i - walls.size()] : walls[i];
+        if (segments_intersect(a, b, s.a, s.b)) return false;
+        if (jamb) continue;
+        const double d = std::min(std::min(distance_to_segment(a, s.a, s.b), distance_to_segment(b, s.a, s.b)),
+                                  std::min(distance_to_segment(s.a, a, b), distance_to_segment(s.b, a, b)));
+        if (d < options.clearance) return false;
+    }
+    return true;
 }
 
 int WalkGrid::snap(Point p, const std::vector<std::uint8_t>* blocked, bool straight_line) const {
@@ -263,7 +303,7 @@ WalkGrid build_walk_grid(const Plan& plan, const GridOptions& options) {
 
     // Walls, cut twice: at the real door gaps (what may not be crossed) and at the widened
     // gaps (what clearance is measured from); the difference is the jambs.
-    std::vector<Segment> clearance_barriers;
+    std::vector<Segment>& clearance_barriers = g.walls;
     const std::vector<DoorGap> gaps = door_gaps(plan);
     const double widened = g.door_clear_radius();
     for (std::size_t w = 0; w < plan.walls.size(); ++w) {
@@ -284,20 +324,30 @@ WalkGrid build_walk_grid(const Plan& plan, const GridOptions& options) {
     }
     const SpaceIndex index(plan, all);
     add_outline(plan, index, options.cell, clearance_barriers);
-    g.barriers = clearance_barriers;
-    g.barriers.insert(g.barriers.end(), g.jambs.begin(), g.jambs.end());
 
-    // Clearance is only ever compared with values below the cap, so farther cells keep it.
-    const double cap = options.clearance + 2.0 * options.cell;
-    g.clearance_m.assign(n, static_cast<float>(cap));
+    g.bucket_m = std::max(2.0, 4.0 * options.clearance);
+    g.bucket_cols = static_cast<int>(std::ceil(g.cols * options.cell / g.bucket_m)) + 1;
+    g.bucket_rows = static_cast<int>(std::ceil(g.rows * options.cell / g.bucket_m)) + 1;
+    g.buckets.resize(static_cast<std::size_t>(g.bucket_cols) * static_cast<std::size_t>(g.bucket_rows));
+    for (std::size_t i = 0; i < g.walls.size() + g.jambs.size(); ++i) {
+        const Segment& s = i < g.walls.size() ? g.walls[i] : g.jambs[i - g.walls.size()];
+        const auto bucket = [&](double v, double o, int count) { return std::clamp(static_cast<int>(std::floor((v - o) / g.bucket_m)), 0, count - 1); };
+        for (int r = bucket(std::min(s.a.y, s.b.y), g.origin.y, g.bucket_rows); r <= bucket(std::max(s.a.y, s.b.y), g.origin.y, g.bucket_rows); ++r)
+            for (int c = bucket(std::min(s.a.x, s.b.x), g.origin.x, g.bucket_cols); c <= bucket(std::max(s.a.x, s.b.x), g.origin.x, g.bucket_cols); ++c)
+                g.buckets[static_cast<std::size_t>(r * g.bucket_cols + c)].push_back(static_cast<std::uint32_t>(i));
+    }
+
+    // Distance from each centre to the nearest wall, only needed up to the threshold.
+    const double threshold = g.clearance_threshold();
+    const double cap = threshold + options.cell;
+    std::vector<float> clearance(n, static_cast<float>(cap));
     for (const Segment& s : clearance_barriers)
         cells_near(g, s, cap, [&](int c) {
-            auto& d = g.clearance_m[static_cast<std::size_t>(c)];
+            auto& d = clearance[static_cast<std::size_t>(c)];
             d = std::min(d, static_cast<float>(distance_to_segment(g.centre(c), s.a, s.b)));
         });
-    const double threshold = g.clearance_threshold();
     for (std::size_t c = 0; c < n; ++c)
-        if (g.space[c] >= 0 && g.clearance_m[c] >= threshold) g.flags[c] |= WalkGrid::kFree;
+        if (g.space[c] >= 0 && clearance[c] >= threshold) g.flags[c] |= WalkGrid::kFree;
     for (const Segment& j : g.jambs) cells_near(g, j, options.cell, [&](int c) { g.flags[static_cast<std::size_t>(c)] |= WalkGrid::kNearJamb; });
 
     for (int r = 0; r < g.rows; ++r)

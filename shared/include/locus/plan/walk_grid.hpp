@@ -40,18 +40,26 @@ struct WalkGrid {
     int rows = 0;
     std::vector<std::uint8_t> flags;        // Flag bits per cell
     std::vector<std::uint8_t> moves;        // bit d: the step in direction d stays legal
-    std::vector<float> clearance_m;         // centre to nearest barrier (jambs aside), capped
     std::vector<std::int32_t> space;        // first space whose polygon holds the centre, −1: none
-    std::vector<Segment> barriers;          // what no path crosses (jambs included)
+    std::vector<Segment> walls;             // walls cut at the widened door gaps, and the outline
     std::vector<Segment> jambs;             // wall next to a door that clearance ignores
     std::vector<std::int32_t> connector_cell;  // per plan connector: its free cell, −1: none within kSnapRadius
+    // Square buckets of bucket_m listing the walls (index i) and jambs (walls.size() + j) near
+    // them, for the exact tests below.
+    double bucket_m = 2.0;
+    int bucket_cols = 0, bucket_rows = 0;
+    std::vector<std::vector<std::uint32_t>> buckets;
 
     int cell_count() const { return cols * rows; }
     bool free(int cell) const { return (flags[static_cast<std::size_t>(cell)] & kFree) != 0; }
     Point centre(int cell) const;
     int cell_at(Point p) const;  // −1 outside the grid
-    // Whether ab crosses a barrier (exact; for short segments such as snapping an endpoint).
+    // Whether ab crosses a wall or a jamb (exact).
     bool crosses_barrier(Point a, Point b) const;
+    // Whether ab crosses no jamb and stays at least options.clearance from every wall (exact).
+    bool keeps_clearance(Point a, Point b) const;
+    // Indices (as in buckets) of every wall and jamb within bucket_m / 2 of ab, sorted, once each.
+    std::vector<std::uint32_t> barriers_near(Point a, Point b) const;
     // The free cell nearest p within kSnapRadius, skipping cells flagged in `blocked` (when
     // given) and, with straight_line, cells whose centre p cannot see past a barrier; −1: none.
     int snap(Point p, const std::vector<std::uint8_t>* blocked, bool straight_line) const;
