@@ -31,6 +31,13 @@ double seconds_between(const Connector& c, int from_level, int to_level, const C
     return c.seconds_per_level.value_or(per_level) * std::max(1, std::abs(to_level - from_level));
 }
 
+// Shortest 8-connected grid distance between two points when nothing is in the way: a lower
+// bound of any grid path, and a metric, so the heuristic built on it stays consistent.
+double octile(Point a, Point b) {
+    const double dx = std::abs(a.x - b.x), dy = std::abs(a.y - b.y);
+    return std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy);
+}
+
 std::size_t floor_of_node(const Building& b, std::size_t node) {
     std::size_t f = 0;
     while (f + 1 < b.floors.size() && b.floors[f + 1].first_node <= node) ++f;
@@ -65,26 +72,31 @@ Constraints constraints_for(const Building& b, bool step_free, const std::vector
     return c;
 }
 
-// Lower bound of the seconds from each point of each floor to the goal, for A*: straight
-// lines at walking speed, and connectors at their own time. Consistent, so closed nodes stay closed.
+// Lower bound of the seconds from each cell of each floor to the goal, for A*. On the goal's
+// floor: the landmark (triangle inequality) bound, or octile distance where that is larger.
+// Elsewhere, and on the goal's floor for ways that leave it: the exact walk to a connector
+// plus a lower bound of the time from that connector on. All are consistent, so closed nodes
+// stay closed, and all hold under avoid and step_free, which only make routes longer.
 class Heuristic {
 public:
-    Heuristic(const Building& b, const Constraints& cons, std::size_t goal_floor, Point goal, const RouteOptions& o)
-        : goal_floor_(goal_floor), goal_(goal), speed_(o.walking_speed), per_floor_(b.floors.size()) {
+    Heuristic(const Building& b, const Constraints& cons, std::size_t goal_floor, int goal_cell, const RouteOptions& o)
+        : b_(b), goal_floor_(goal_floor), goal_cell_(goal_cell), speed_(o.walking_speed), via_(b.floors.size()) {
+        const Floor& gf = b.floors[goal_floor];
+        goal_at_ = gf.grid.centre(goal_cell);
+        for (const Landmark& l : gf.landmarks) goal_metres_.push_back(l.metres[static_cast<std::size_t>(goal_cell)]);
+
         struct Node {
             std::size_t floor, connector;
-            Point at;
+            int cell;
             double bound;
         };
         std::vector<Node> nodes;
-        std::map<std::pair<std::size_t, std::size_t>, std::size_t> index;
         for (std::size_t f = 0; f < b.floors.size(); ++f)
             for (std::size_t k = 0; k < b.floors[f].plan.connectors.size(); ++k) {
                 const int cell = b.floors[f].grid.connector_cell[k];
                 if (cell < 0 || !usable(b.floors[f].plan.connectors[k], cons.step_free)) continue;
-                const Point at = b.floors[f].grid.centre(cell);
-                index[{f, k}] = nodes.size();
-                nodes.push_back({f, k, at, f == goal_floor ? distance(at, goal) / speed_ : INFINITY});
+                const double to_goal = f == goal_floor ? b.floors[f].landmarks[k].metres[static_cast<std::size_t>(goal_cell)] / speed_ : INFINITY;
+                nodes.push_back({f, k, cell, to_goal});
             }
         // Dijkstra backwards from the goal over the few connectors, O(n²).
         std::vector<bool> done(nodes.size(), false);
@@ -98,8 +110,8 @@ public:
             for (std::size_t i = 0; i < nodes.size(); ++i) {
                 Node& m = nodes[i];
                 if (done[i]) continue;
-                if (m.floor == n.floor) m.bound = std::min(m.bound, n.bound + distance(m.at, n.at) / speed_);
                 const Floor& mf = b.floors[m.floor];
+                if (m.floor == n.floor) m.bound = std::min(m.bound, n.bound + mf.landmarks[m.connector].metres[static_cast<std::size_t>(n.cell)] / speed_);
                 for (const LinkTarget& t : mf.links[m.connector])
                     if (t.floor == n.floor && t.connector == n.connector)
                         m.bound = std::min(m.bound, n.bound + seconds_between(mf.plan.connectors[m.connector], mf.level,
@@ -107,47 +119,77 @@ public:
             }
         }
         for (const Node& n : nodes)
-            if (std::isfinite(n.bound)) per_floor_[n.floor].push_back({n.at, n.bound});
+            if (std::isfinite(n.bound)) via_[n.floor].push_back({n.connector, n.bound});
     }
 
-    float operator()(std::size_t floor, Point p) const {
-        double h = floor == goal_floor_ ? distance(p, goal_) / speed_ : INFINITY;
-        for (const auto& [at, bound] : per_floor_[floor]) h = std::min(h, distance(p, at) / speed_ + bound);
+    float operator()(std::size_t floor, int cell) const {
+        const Floor& f = b_.floors[floor];
+        const auto c = static_cast<std::size_t>(cell);
+        double h = INFINITY;
+        for (const auto& [connector, bound] : via_[floor]) {
+            const float m = f.landmarks[connector].metres[c];
+            if (m != kNoPath) h = std::min(h, m / speed_ + bound);
+        }
+        if (floor == goal_floor_) {
+            double same = octile(f.grid.centre(cell), goal_at_);
+            for (std::size_t l = 0; l < f.landmarks.size(); ++l) {
+                const float here = f.landmarks[l].metres[c], there = goal_metres_[l];
+                if (here == kNoPath || there == kNoPath) continue;
+                same = std::max(same, static_cast<double>(std::abs(here - there)));
+            }
+            h = std::min(h, same / speed_);
+        }
         return static_cast<float>(h);
     }
 
 private:
+    const Building& b_;
     std::size_t goal_floor_;
-    Point goal_;
+    int goal_cell_;
+    Point goal_at_;
     double speed_;
-    std::vector<std::vector<std::pair<Point, double>>> per_floor_;
+    std::vector<float> goal_metres_;
+    std::vector<std::vector<std::pair<std::size_t, double>>> via_;  // per floor: (connector, seconds from it to the goal)
 };
 
 // A* over every floor's cells; the nodes from start to goal, or nothing.
-std::vector<std::size_t> search(const Building& b, const Constraints& cons, std::size_t start, std::size_t goal, const RouteOptions& o) {
+std::vector<std::size_t> search(const Building& b, const Constraints& cons, std::size_t start, std::size_t goal, const RouteOptions& o,
+                                RouteScratch& scratch) {
     const std::size_t goal_floor = floor_of_node(b, goal);
-    const Floor& gf = b.floors[goal_floor];
-    const Heuristic h(b, cons, goal_floor, gf.grid.centre(static_cast<int>(goal - gf.first_node)), o);
-    std::vector<float> g(b.node_count, kUnreached);
-    std::vector<std::uint32_t> parent(b.node_count, 0);
-    std::vector<bool> closed(b.node_count, false);
-    using Entry = std::pair<float, std::size_t>;
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+    const Heuristic h(b, cons, goal_floor, static_cast<int>(goal - b.floors[goal_floor].first_node), o);
+    scratch.begin(b.node_count);
+    auto& g = scratch.g;
+    auto& parent = scratch.parent;
+    const auto seen = [&](std::size_t n) { return scratch.mark[n] >= scratch.generation; };
+    const auto closed = [&](std::size_t n) { return scratch.mark[n] == scratch.generation + 1; };
+    // Ties in f, common on a grid, go to the larger g: the node nearer the goal.
+    struct Entry {
+        float f, g;
+        std::size_t node;
+        bool operator>(const Entry& o) const { return f > o.f || (f == o.f && g < o.g); }
+    };
+    std::vector<Entry> storage;
+    storage.reserve(4096);
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open(std::greater<>{}, std::move(storage));
     g[start] = 0.0f;
-    open.push({0.0f, start});
+    scratch.mark[start] = scratch.generation;
+    open.push({0.0f, 0.0f, start});
     const auto relax = [&](std::size_t from, std::size_t floor, int cell, double cost) {
         const std::size_t to = b.floors[floor].first_node + static_cast<std::size_t>(cell);
         const auto ng = static_cast<float>(g[from] + cost);
-        if (closed[to] || ng >= g[to]) return;
+        if (closed(to) || (seen(to) && ng >= g[to])) return;
+        scratch.mark[to] = scratch.generation;
         g[to] = ng;
         parent[to] = static_cast<std::uint32_t>(from);
-        open.push({ng + h(floor, b.floors[floor].grid.centre(cell)), to});
+        const float estimate = h(floor, cell);
+        if (estimate == kUnreached) return;  // the goal cannot be reached from there at all
+        open.push({ng + estimate, ng, to});
     };
     while (!open.empty()) {
-        const std::size_t u = open.top().second;
+        const std::size_t u = open.top().node;
         open.pop();
-        if (closed[u]) continue;
-        closed[u] = true;
+        if (closed(u)) continue;
+        scratch.mark[u] = scratch.generation + 1;
         if (u == goal) break;
         const std::size_t f = floor_of_node(b, u);
         const Floor& floor = b.floors[f];
@@ -174,7 +216,7 @@ std::vector<std::size_t> search(const Building& b, const Constraints& cons, std:
             }
         }
     }
-    if (!closed[goal]) return {};
+    if (!closed(goal)) return {};
     std::vector<std::size_t> path{goal};
     while (path.back() != start) path.push_back(parent[path.back()]);
     std::reverse(path.begin(), path.end());
@@ -288,6 +330,8 @@ Building build_building(std::vector<FloorSpec> specs, const GridOptions& options
         f.floor_id = s.floor_id;
         f.level = s.level;
         f.grid = build_walk_grid(s.plan, options);
+        for (const int cell : f.grid.connector_cell) f.landmarks.push_back(landmark_at(f.grid, cell));
+        for (const int cell : corner_cells(f.grid)) f.landmarks.push_back(landmark_at(f.grid, cell));
         f.plan = std::move(s.plan);
         f.first_node = b.node_count;
         b.node_count += static_cast<std::size_t>(f.grid.cell_count());
@@ -315,7 +359,23 @@ std::vector<SpaceRef> spaces_of_room(const Building& building, std::int64_t room
     return out;
 }
 
+void RouteScratch::begin(std::size_t nodes) {
+    // Marks of earlier searches are below the new generation, so nothing needs clearing.
+    generation += 2;
+    if (mark.size() != nodes || generation < 2) {
+        mark.assign(nodes, 0);
+        g.assign(nodes, 0.0f);
+        parent.assign(nodes, 0);
+        generation = 2;
+    }
+}
+
 Route route(const Building& b, const Endpoint& from, const Endpoint& to, const RouteOptions& o) {
+    RouteScratch scratch;
+    return route(b, from, to, o, scratch);
+}
+
+Route route(const Building& b, const Endpoint& from, const Endpoint& to, const RouteOptions& o, RouteScratch& scratch) {
     Route r;
     const auto find_floor = [&](std::int64_t id) {
         std::size_t f = 0;
@@ -344,7 +404,7 @@ Route route(const Building& b, const Endpoint& from, const Endpoint& to, const R
 
     const auto attempt = [&](bool step_free, bool avoid) {
         const Constraints cons = constraints_for(b, step_free, avoid ? o.avoid : std::vector<SpaceRef>{}, exempt);
-        return std::make_pair(search(b, cons, start, goal, o), cons);
+        return std::make_pair(search(b, cons, start, goal, o, scratch), cons);
     };
     auto [nodes, cons] = attempt(o.step_free, true);
     if (!nodes.empty()) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "locus/plan/instructions.hpp"
+#include "locus/plan/landmarks.hpp"
 #include "locus/plan/plan.hpp"
 #include "locus/plan/walk_grid.hpp"
 
@@ -31,6 +32,7 @@ struct Floor {
     Plan plan;
     WalkGrid grid;
     std::vector<std::vector<LinkTarget>> links;  // per plan connector; unresolvable links dropped (check_links reports them)
+    std::vector<Landmark> landmarks;             // one per connector (same order), then the corners
     std::size_t first_node = 0;  // this floor's cells are nodes first_node … first_node + cells − 1
 };
 
@@ -92,6 +94,17 @@ struct Route {
     std::vector<Step> steps;
 };
 
+// The search's per-node arrays, kept between routes on one building so each route does not
+// allocate and clear megabytes; one per thread (routes on it must not run concurrently).
+struct RouteScratch {
+    std::vector<std::uint32_t> mark;  // generation: reached; generation + 1: closed
+    std::vector<float> g;
+    std::vector<std::uint32_t> parent;
+    std::uint32_t generation = 0;
+    void begin(std::size_t nodes);
+};
+
 Route route(const Building& building, const Endpoint& from, const Endpoint& to, const RouteOptions& options = {});
+Route route(const Building& building, const Endpoint& from, const Endpoint& to, const RouteOptions& options, RouteScratch& scratch);
 
 }  // namespace locus::plan
