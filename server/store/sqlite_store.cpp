@@ -163,19 +163,36 @@ std::int64_t SqliteStore::insert_row(const Kind& k, std::optional<std::int64_t> 
     return id;
 }
 
-Record SqliteStore::create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
-    Record out;
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
-        const std::int64_t id = insert_row(k, parent_id, values);
-        out = get_locked(k, id);
-        change = change_of(k, id, false);
-        tx.commit();
+template <typename Body>
+auto SqliteStore::write(Body&& body) {
+    std::vector<Change> changes;
+    if constexpr (std::is_void_v<decltype(body(changes))>) {
+        {
+            std::lock_guard lock(mu_);
+            Transaction tx(db_);
+            body(changes);
+            tx.commit();
+        }
+        publish(changes);
+    } else {
+        auto result = [&] {
+            std::lock_guard lock(mu_);
+            Transaction tx(db_);
+            auto r = body(changes);
+            tx.commit();
+            return r;
+        }();
+        publish(changes);
+        return result;
     }
-    publish({change});
-    return out;
+}
+
+Record SqliteStore::create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
+    return write([&](std::vector<Change>& changes) {
+        const std::int64_t id = insert_row(k, parent_id, values);
+        changes.push_back(change_of(k, id, false));
+        return get_locked(k, id);
+    });
 }
 
 Record SqliteStore::get(const Kind& k, std::int64_t id) {
@@ -210,11 +227,7 @@ RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_i
 }
 
 Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values) {
-    Record out;
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
         require_exists(k, id);
         std::string sets;
         std::vector<const Value*> bound;
@@ -236,26 +249,18 @@ Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values)
             });
         }
         if (k.has_rects && values.rects) replace_rects(id, *values.rects);
-        out = get_locked(k, id);
-        change = change_of(k, id, false);
-        tx.commit();
-    }
-    publish({change});
-    return out;
+        changes.push_back(change_of(k, id, false));
+        return get_locked(k, id);
+    });
 }
 
 void SqliteStore::remove(const Kind& k, std::int64_t id) {
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    write([&](std::vector<Change>& changes) {
         require_exists(k, id);
-        change = change_of(k, id, true);  // before the row, and its place, are gone
+        changes.push_back(change_of(k, id, true));  // before the row, and its place, are gone
         Stmt s(db_, "DELETE FROM " + std::string(k.name) + " WHERE id = ?");
         s.bind(1, id).run();
-        tx.commit();
-    }
-    publish({change});
+    });
 }
 
 std::vector<Measurement> SqliteStore::measurements_of(std::int64_t rp_id) {
@@ -302,11 +307,8 @@ void SqliteStore::merge_measurements(std::int64_t rp_id, const std::vector<Measu
 }
 
 UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch) {
-    UploadResult result;
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
+        UploadResult result;
         require_exists(kind("rps"), rp_id);
         bool fresh = true;
         if (batch.upload_id) {
@@ -314,14 +316,14 @@ UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch
             s.bind(1, rp_id).bind(2, *batch.upload_id).run();
             fresh = db_.changes() > 0;
         }
-        if (fresh) merge_measurements(rp_id, batch.measurements, batch.scans);
+        if (fresh) {
+            merge_measurements(rp_id, batch.measurements, batch.scans);
+            changes.push_back(change_of(kind("rps"), rp_id, false));
+        }
         result.applied = fresh;
         result.rp = {get_locked(kind("rps"), rp_id), measurements_of(rp_id)};
-        change = change_of(kind("rps"), rp_id, false);
-        tx.commit();
-    }
-    if (result.applied) publish({change});
-    return result;
+        return result;
+    });
 }
 
 RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
@@ -348,27 +350,18 @@ std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapD
 }
 
 ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) {
-    ImportedRadioMap out;
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
+        ImportedRadioMap out;
         const std::int64_t rm_id = insert_radiomap(floor_id, doc, &out.measurement_count);
         out.radiomap = get_locked(kind("radiomaps"), rm_id);
         out.rp_count = static_cast<std::int64_t>(doc.rps.size());
-        change = change_of(kind("radiomaps"), rm_id, false);
-        tx.commit();
-    }
-    publish({change});
-    return out;
+        changes.push_back(change_of(kind("radiomaps"), rm_id, false));
+        return out;
+    });
 }
 
 Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
-    Record out;
-    std::vector<Change> changes;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
         const std::int64_t map_id = insert_row(kind("maps"), std::nullopt, bundle.fields);
         for (const auto& b : bundle.buildings) {
             const std::int64_t b_id = insert_row(kind("buildings"), map_id, b.fields);
@@ -380,12 +373,9 @@ Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
                     changes.push_back(change_of(kind("radiomaps"), insert_radiomap(f_id, rm, nullptr), false));
             }
         }
-        out = get_locked(kind("maps"), map_id);
         changes.insert(changes.begin(), change_of(kind("maps"), map_id, false));
-        tx.commit();
-    }
-    publish(changes);
-    return out;
+        return get_locked(kind("maps"), map_id);
+    });
 }
 
 bool SqliteStore::has_maps() {

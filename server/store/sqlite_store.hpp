@@ -44,6 +44,10 @@ public:
     std::vector<std::int64_t> radiomap_ids() override;
 
 private:
+    // Runs body(changes) in one write transaction under the lock, commits, then publishes the
+    // changes it listed (none when it threw: nothing was written).
+    template <typename Body>
+    auto write(Body&& body);
     Record row(const Kind& k, Stmt& s);
     Record get_locked(const Kind& k, std::int64_t id);
     void require_exists(const Kind& k, std::int64_t id);
