@@ -14,12 +14,12 @@
 
 #include "localize/request.hpp"
 #include "localize_body.hpp"
-#include "uji_csv.hpp"
+#include "datasets/uji_csv.hpp"
 
 namespace {
 
 using namespace locus;
-namespace uji = locus::tools::uji;
+namespace uji = locus::datasets::uji;
 
 struct Fixture {
     localize::Snapshot snapshot, one_floor;  // the whole map; building 1 floor 0 alone (76 RPs)

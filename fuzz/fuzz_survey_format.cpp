@@ -15,10 +15,10 @@
 #include <string_view>
 #include <utility>
 
-#include "survey_format.hpp"
+#include "datasets/survey_format.hpp"
 
 using namespace locus;
-namespace survey = locus::tools::survey;
+namespace survey = locus::datasets::survey;
 
 namespace {
 

@@ -14,13 +14,15 @@
 
 #include "command_registry.hpp"
 #include "locus/pdr/pipeline.hpp"
-#include "pdr_logs.hpp"
-#include "pdr_oxford.hpp"
+#include "datasets/pdr_logs.hpp"
+#include "datasets/pdr_oxford.hpp"
 
 using nlohmann::json;
 
 namespace locus::tools {
 namespace {
+
+using namespace locus::datasets;
 
 const char* signal_name(pdr::StepSignal s) { return s == pdr::StepSignal::vertical ? "vertical" : "magnitude"; }
 

@@ -25,7 +25,7 @@
 #include "locus/geometry.hpp"
 #include "locus/radio_map.hpp"
 
-namespace locus::tools::survey {
+namespace locus::datasets::survey {
 
 enum class Format { JsonLines, Csv };
 
@@ -58,4 +58,4 @@ bool valid_utf8(std::string_view s);
 // The name given to an RP known only by its coordinates.
 std::string name_for(Point at);
 
-}  // namespace locus::tools::survey
+}  // namespace locus::datasets::survey

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "locus/pdr/step_detector.hpp"
-#include "pdr_logs.hpp"
+#include "datasets/pdr_logs.hpp"
 
-namespace locus::tools {
+namespace locus::datasets {
 
 struct OxfordTrace {
     std::string name;
@@ -67,4 +67,4 @@ struct CvResult {
 CvResult tune_leave_one_user_out(const std::vector<OxfordTrace>& traces, const std::vector<pdr::StepDetectorConfig>& grid,
                                  unsigned threads, const std::function<void(std::size_t, std::size_t)>& progress);
 
-}  // namespace locus::tools
+}  // namespace locus::datasets

@@ -13,9 +13,9 @@
 
 #include "locus/geometry.hpp"
 #include "locus/radio_map.hpp"
-#include "survey_format.hpp"
+#include "datasets/survey_format.hpp"
 
-namespace locus::tools::survey {
+namespace locus::datasets::survey {
 
 struct Find3Data {
     std::string family;                             // of the first line
@@ -42,4 +42,4 @@ AnyplaceData parse_anyplace(std::string_view text);
 // over a building's few hundred metres is far below a metre).
 Point project(double lat, double lon, double lat0, double lon0);
 
-}  // namespace locus::tools::survey
+}  // namespace locus::datasets::survey

@@ -6,7 +6,7 @@
 #include "locus/geometry.hpp"
 #include "locus/pdr/vec3.hpp"
 
-namespace locus::tools {
+namespace locus::datasets {
 
 struct AccelSample {
     double t_s;
@@ -35,4 +35,4 @@ std::vector<ImuSample> read_imu_log(const std::string& path);
 // {xmin, ymin, xmax, ymax} or arrays [xmin, ymin, xmax, ymax]. north_offset_deg is returned apart.
 FloorPlan read_floor_plan(const std::string& path, int building, int floor, double& north_offset_deg);
 
-}  // namespace locus::tools
+}  // namespace locus::datasets

@@ -11,7 +11,7 @@
 #include "locus/match/index.hpp"
 #include "locus/radio_map.hpp"
 
-namespace locus::tools::uji {
+namespace locus::datasets::uji {
 
 inline constexpr int kNotDetected = 100;
 
@@ -65,4 +65,4 @@ inline long long floor_id(int building, int floor) { return building * 100LL + f
 // floor_id(building, floor) and the building as building id.
 std::vector<match::IndexedRp> indexed_rps(const Data& data, const std::vector<std::size_t>& rows = {});
 
-}  // namespace locus::tools::uji
+}  // namespace locus::datasets::uji
