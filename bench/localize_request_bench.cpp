@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "datasets/uji_csv.hpp"
 #include "localize/request.hpp"
 #include "localize_body.hpp"
-#include "datasets/uji_csv.hpp"
 
 namespace {
 

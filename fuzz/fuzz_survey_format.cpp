@@ -1,4 +1,4 @@
-// The survey file reader (tools/survey_format.*): every input is read as JSON lines and as CSV.
+// The survey file reader (datasets/survey_format.*): every input is read as JSON lines and as CSV.
 //
 // Checks: parse() never throws; nothing half-parsed reaches the result (every RP has a name
 // and at least one scan, every scan at least one reading, no AP twice in a scan, every

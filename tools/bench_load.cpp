@@ -9,9 +9,9 @@
 #include "command_registry.hpp"
 #include "datasets/survey_format.hpp"
 #include "datasets/uji_csv.hpp"
+#include "localize_body.hpp"
 #include "locus/api/client.hpp"
 #include "locus/metrics.hpp"
-#include "localize_body.hpp"
 #include "survey_connect.hpp"
 
 namespace locus::tools {

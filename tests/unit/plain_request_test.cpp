@@ -6,9 +6,9 @@
 #include <fstream>
 #include <random>
 
+#include "datasets/uji_csv.hpp"
 #include "http/api_error.hpp"
 #include "localize/plain_request.hpp"
-#include "datasets/uji_csv.hpp"
 
 using namespace locus;
 using namespace locus::localize;

@@ -14,9 +14,9 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "datasets/uji_csv.hpp"
 #include "locus/match/localize.hpp"
 #include "locus/metrics.hpp"
-#include "datasets/uji_csv.hpp"
 
 namespace {
 

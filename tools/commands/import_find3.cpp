@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
-#include "survey_connect.hpp"
 #include "datasets/survey_sources.hpp"
+#include "survey_connect.hpp"
 #include "survey_upload.hpp"
 
 namespace {

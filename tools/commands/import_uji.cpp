@@ -20,9 +20,9 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "datasets/uji_csv.hpp"
 #include "survey_connect.hpp"
 #include "survey_upload.hpp"
-#include "datasets/uji_csv.hpp"
 
 namespace {
 

@@ -13,9 +13,9 @@
 #include <thread>
 
 #include "command_registry.hpp"
-#include "locus/pdr/pipeline.hpp"
 #include "datasets/pdr_logs.hpp"
 #include "datasets/pdr_oxford.hpp"
+#include "locus/pdr/pipeline.hpp"
 
 using nlohmann::json;
 

@@ -1,5 +1,5 @@
 // `locus survey plan` and `locus survey upload`: getting a radio map into the server from a
-// walk with a phone (docs/spec.md §3). File formats: tools/survey_format.hpp and docs/survey.md.
+// walk with a phone (docs/spec.md §3). File formats: datasets/survey_format.hpp and docs/survey.md.
 #include <unistd.h>
 
 #include <iostream>
@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
-#include "survey_connect.hpp"
 #include "datasets/survey_format.hpp"
+#include "survey_connect.hpp"
 #include "survey_plan.hpp"
 #include "survey_upload.hpp"
 

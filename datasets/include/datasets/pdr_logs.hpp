@@ -1,5 +1,9 @@
 #pragma once
-// Readers for the logs the `locus pdr` commands take. CLI-only: the library itself does no I/O.
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
+// Readers for the logs the `locus pdr` commands take. Here, not in client-lib/pdr, because
+// client-lib does no I/O.
 #include <string>
 #include <vector>
 

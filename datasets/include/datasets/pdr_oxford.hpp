@@ -1,4 +1,7 @@
 #pragma once
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
 // The Oxford step-counter optimisation set (Brajdic & Harle, CC BY 4.0) for `locus pdr
 // eval-oxford` and `tune-oxford`: loading, counting steps and leave-one-user-out tuning.
 #include <functional>
@@ -6,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "locus/pdr/step_detector.hpp"
 #include "datasets/pdr_logs.hpp"
+#include "locus/pdr/step_detector.hpp"
 
 namespace locus::datasets {
 

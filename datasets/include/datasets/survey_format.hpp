@@ -1,4 +1,7 @@
 #pragma once
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
 // The survey upload file formats (docs/survey.md), parsed without any I/O:
 //
 // JSON lines (.jsonl, .json): one scan per line,

@@ -1,4 +1,7 @@
 #pragma once
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
 // Readers for other systems' survey data, without I/O:
 // - FIND3 fingerprints (schollz/find3 `/data` export, JSON lines):
 //   {"t": ms, "f": family, "d": device, "l": location label, "s": {"wifi": {bssid: rss}, "bluetooth": {...}}}
@@ -11,9 +14,9 @@
 #include <string_view>
 #include <vector>
 
+#include "datasets/survey_format.hpp"
 #include "locus/geometry.hpp"
 #include "locus/radio_map.hpp"
-#include "datasets/survey_format.hpp"
 
 namespace locus::datasets::survey {
 

@@ -1,4 +1,7 @@
 #pragma once
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
 // Reader for the UJIIndoorLoc CSV (Torres-Sospedra et al., IPIN 2014): 520 WAP columns of
 // RSS (100 = not detected), then LONGITUDE, LATITUDE, FLOOR, BUILDINGID, SPACEID,
 // RELATIVEPOSITION, USERID, PHONEID, TIMESTAMP. Shared by `locus eval uji` and
