@@ -8,12 +8,12 @@
 
 #include "locus/match/localize.hpp"
 // The reader belongs to the CLI sources, which are not a library; compile it in here.
-#include "uji_csv.hpp"
+#include "datasets/uji_csv.hpp"
 
 namespace {
 
 using namespace locus;
-namespace uji = locus::tools::uji;
+namespace uji = locus::datasets::uji;
 
 struct Fixture {
     std::vector<match::IndexedRp> rps;

@@ -1,4 +1,4 @@
-// The survey file reader (tools/survey_format.*): every input is read as JSON lines and as CSV.
+// The survey file reader (datasets/survey_format.*): every input is read as JSON lines and as CSV.
 //
 // Checks: parse() never throws; nothing half-parsed reaches the result (every RP has a name
 // and at least one scan, every scan at least one reading, no AP twice in a scan, every
@@ -15,10 +15,10 @@
 #include <string_view>
 #include <utility>
 
-#include "survey_format.hpp"
+#include "datasets/survey_format.hpp"
 
 using namespace locus;
-namespace survey = locus::tools::survey;
+namespace survey = locus::datasets::survey;
 
 namespace {
 

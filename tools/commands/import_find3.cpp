@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "datasets/survey_sources.hpp"
 #include "survey_connect.hpp"
-#include "survey_sources.hpp"
 #include "survey_upload.hpp"
 
 namespace {
@@ -34,7 +34,7 @@ struct Args {
 
 void run(const Args& a) {
     const std::string bytes = read_file(a.file);
-    const auto data = survey::parse_find3(bytes);
+    const auto data = datasets::survey::parse_find3(bytes);
     for (const auto& e : data.errors) std::cerr << a.file << ":" << e.line << ": " << e.message << "\n";
     if (data.by_label.empty()) throw CommandError("no usable fingerprint in " + a.file);
 

@@ -1,4 +1,4 @@
-#include "survey_format.hpp"
+#include "datasets/survey_format.hpp"
 
 #include <charconv>
 #include <cstdint>
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-namespace locus::tools::survey {
+namespace locus::datasets::survey {
 
 using nlohmann::json;
 
@@ -323,4 +323,4 @@ SurveyFile parse(std::string_view text, Format format) {
     return out;
 }
 
-}  // namespace locus::tools::survey
+}  // namespace locus::datasets::survey

@@ -1,4 +1,4 @@
-#include "uji_csv.hpp"
+#include "datasets/uji_csv.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
-namespace locus::tools::uji {
+namespace locus::datasets::uji {
 
 namespace {
 
@@ -159,4 +159,4 @@ std::vector<match::IndexedRp> indexed_rps(const Data& data, const std::vector<st
     return out;
 }
 
-}  // namespace locus::tools::uji
+}  // namespace locus::datasets::uji

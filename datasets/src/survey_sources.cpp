@@ -1,4 +1,4 @@
-#include "survey_sources.hpp"
+#include "datasets/survey_sources.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <numbers>
 #include <sstream>
 
-namespace locus::tools::survey {
+namespace locus::datasets::survey {
 
 using nlohmann::json;
 
@@ -109,4 +109,4 @@ Point project(double lat, double lon, double lat0, double lon0) {
     return {(lon - lon0) * rad * kEarthRadius * std::cos(lat0 * rad), (lat - lat0) * rad * kEarthRadius};
 }
 
-}  // namespace locus::tools::survey
+}  // namespace locus::datasets::survey

@@ -1,9 +1,9 @@
 #include "sim/evaluate.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
+#include "locus/metrics.hpp"
 #include "locus/pdr/heading_convention.hpp"
 
 namespace locus::sim {
@@ -173,15 +173,11 @@ Score score(const NamedTrack& nt, const Walk& walk) {
         if (auto truth = walk.truth_at(p.t_s)) errors.push_back(distance(p.at, *truth));
     sc.points = errors.size();
     if (errors.empty()) return sc;
-    double sum = 0.0;
-    for (double e : errors) sum += e;
-    sc.mean_error_m = sum / static_cast<double>(errors.size());
+    sc.mean_error_m = metrics::mean(errors);
     sc.final_error_m = errors.back();
     std::vector<double> sorted = errors;
     std::sort(sorted.begin(), sorted.end());
-    // Nearest-rank percentile.
-    const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(sorted.size())));
-    sc.p95_error_m = sorted[std::max<std::size_t>(rank, 1) - 1];
+    sc.p95_error_m = metrics::percentile_nearest_rank(sorted, 0.95);
     return sc;
 }
 
