@@ -65,7 +65,7 @@ void check_sendable(const RpJob& job) {
     if (!datasets::survey::valid_utf8(job.name)) throw std::runtime_error("the RP name is not UTF-8");
     for (const auto& scan : job.scans)
         for (const auto& r : scan)
-            if (!datasets::survey::valid_utf8(r.bssid) || !datasets::survey::valid_utf8(r.type))
+            if (!datasets::survey::valid_utf8(r.bssid.str()) || !datasets::survey::valid_utf8(r.type))
                 throw std::runtime_error("a reading of AP '" + shown(r.bssid) + "' is not UTF-8");
 }
 

@@ -51,7 +51,7 @@ Find3Data parse_find3(std::string_view text) {
             for (const auto& [bssid, rss] : readings.items()) {
                 if (!rss.is_number() || !valid_rss(rss.get<double>()))
                     return fail("'" + bssid + "' has an RSS outside [-120, 0] dBm");
-                const std::string id = normalise_bssid(bssid);
+                const std::string id = Bssid(bssid).str();
                 if (id.empty()) return fail("an empty bssid");
                 scan.push_back({source == "wifi" ? "wifi" : "ble", id, rss.get<double>()});
             }
@@ -97,7 +97,7 @@ AnyplaceData parse_anyplace(std::string_view text) {
             out.errors.push_back({line_no, "RSS outside [-120, 0] dBm"});
             return;
         }
-        l.bssid = normalise_bssid(f[4]);
+        l.bssid = Bssid(f[4]);
         l.floor = std::string(f[6]);
         out.lines.push_back(std::move(l));
     });

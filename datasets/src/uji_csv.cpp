@@ -101,7 +101,7 @@ Data read_file(const std::string& path) {
     return parse(text);
 }
 
-std::string bssid_of(const Data& data, std::uint16_t column) { return normalise_bssid(data.waps.at(column)); }
+std::string bssid_of(const Data& data, std::uint16_t column) { return Bssid(data.waps.at(column)).str(); }
 
 Scan scan_of(const Data& data, const Row& row) {
     Scan scan;

@@ -268,7 +268,7 @@ std::vector<Measurement> SqliteStore::measurements_of(std::int64_t rp_id) {
            "SELECT type, bssid, mean, variance, count FROM measurements WHERE rp_id = ? ORDER BY type, bssid");
     s.bind(1, rp_id);
     std::vector<Measurement> out;
-    while (s.step()) out.push_back({s.text(0), s.text(1), RssStats{s.real(2), s.real(3), s.int64(4)}});
+    while (s.step()) out.push_back({s.text(0), Bssid::stored(s.text(1)), RssStats{s.real(2), s.real(3), s.int64(4)}});
     return out;
 }
 
@@ -288,14 +288,14 @@ void SqliteStore::merge_measurements(std::int64_t rp_id, const std::vector<Measu
              "variance = excluded.variance, count = excluded.count");
     for (const auto& m : ms) {
         sel.reset();
-        sel.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid);
+        sel.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid.str());
         RssStats stats;
         if (sel.step()) stats = RssStats{sel.real(0), sel.real(1), sel.int64(2)};
         if (m.stats.count < 1 || !stats.can_merge(m.stats))
-            throw OutOfRange("the count of " + m.bssid + " at this RP would pass 2^53");
+            throw OutOfRange("the count of " + m.bssid.str() + " at this RP would pass 2^53");
         stats.merge(m.stats);
         put.reset();
-        put.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid).bind(4, stats.mean).bind(5, stats.variance).bind(6, stats.count);
+        put.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid.str()).bind(4, stats.mean).bind(5, stats.variance).bind(6, stats.count);
         put.run();
     }
     Stmt cur(db_, "SELECT scans FROM rps WHERE id = ?");
@@ -416,7 +416,7 @@ std::vector<StoredRp> SqliteStore::load_rps(std::string_view where, std::int64_t
         auto it = by_id.find(m.int64(0));
         if (it == by_id.end()) continue;
         out[it->second].rp.measurements.push_back(
-            {m.text(1), m.text(2), RssStats{m.real(3), m.real(4), m.int64(5)}});
+            {m.text(1), Bssid::stored(m.text(2)), RssStats{m.real(3), m.real(4), m.int64(5)}});
     }
     tx.commit();
     return out;

@@ -47,3 +47,19 @@ TEST(RadioMap, CombiningRefusesCountsPastTheBoundAndNamesTheAp) {
     EXPECT_TRUE(combine_aggregates(fits));
     EXPECT_EQ(fits[0].stats.count, kMaxCount);
 }
+
+// One normal form, made once: from text a Bssid is normalised; what the store hands back is
+// taken as written.
+TEST(RadioMap, ABssidIsAlwaysInItsNormalForm) {
+    EXPECT_EQ(Bssid(" AA-BB-CC-DD-EE-0F\t").str(), "aa:bb:cc:dd:ee:0f");
+    EXPECT_EQ(Bssid("AA:BB:CC:DD:EE:0F").str(), "aa:bb:cc:dd:ee:0f");
+    EXPECT_EQ(Bssid("Beacon-1").str(), "beacon-1");  // not a MAC: dashes stay
+    EXPECT_EQ(Bssid("aa-bb-cc-dd-ee-fg").str(), "aa-bb-cc-dd-ee-fg");  // not hex
+    EXPECT_EQ(Bssid("AA-BB-CC-DD-EE-0F"), Bssid("aa:bb:cc:dd:ee:0f"));
+    EXPECT_TRUE(Bssid("b") > Bssid("A"));  // ordered by the normal form
+    Reading r;
+    r.bssid = std::string("  X ");  // the edge: text becomes a Bssid
+    EXPECT_EQ(r.bssid.str(), "x");
+    EXPECT_EQ(Bssid::stored("already:normal").str(), "already:normal");
+    EXPECT_TRUE(Bssid().empty());
+}

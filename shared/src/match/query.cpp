@@ -18,7 +18,7 @@ Query average(std::span<const ReadingView> readings) {
     Query q;
     q.aps.reserve(readings.size());
     for (const ReadingView& r : readings)
-        if (valid_rss(r.rss)) q.aps.push_back(QueryAp{std::string(r.type), normalise_bssid(r.bssid), r.rss});
+        if (valid_rss(r.rss)) q.aps.push_back(QueryAp{std::string(r.type), r.normalised ? std::string(r.bssid) : Bssid(r.bssid).str(), r.rss});
     struct Slot {
         std::size_t hash;
         std::size_t pos;
@@ -71,7 +71,7 @@ Query average(std::span<const ReadingView> readings) {
 }
 
 void add_views(const std::vector<Reading>& readings, std::vector<ReadingView>& out) {
-    for (const auto& r : readings) out.push_back(ReadingView{r.type, r.bssid, r.rss});
+    for (const auto& r : readings) out.push_back(ReadingView{r.type, r.bssid.str(), r.rss, true});
 }
 
 }  // namespace
