@@ -118,7 +118,7 @@ std::optional<std::int64_t> SqliteStore::map_of_radiomap_locked(std::int64_t rad
 }
 
 Change SqliteStore::change_of(const Kind& k, std::int64_t id, bool deleted) {
-    Change c{&k, id, deleted, std::nullopt, std::nullopt};
+    Change c{&k, id, deleted, false, std::nullopt, std::nullopt};
     if (k.name == "rps") {
         Stmt s(db_, "SELECT radiomap_id FROM rps WHERE id = ?");
         s.bind(1, id);
@@ -161,30 +161,6 @@ std::int64_t SqliteStore::insert_row(const Kind& k, std::optional<std::int64_t> 
     const std::int64_t id = db_.last_insert_id();
     if (k.has_rects) replace_rects(id, values.rects.value_or(std::vector<Rect>{}));
     return id;
-}
-
-template <typename Body>
-auto SqliteStore::write(Body&& body) {
-    std::vector<Change> changes;
-    if constexpr (std::is_void_v<decltype(body(changes))>) {
-        {
-            std::lock_guard lock(mu_);
-            Transaction tx(db_);
-            body(changes);
-            tx.commit();
-        }
-        publish(changes);
-    } else {
-        auto result = [&] {
-            std::lock_guard lock(mu_);
-            Transaction tx(db_);
-            auto r = body(changes);
-            tx.commit();
-            return r;
-        }();
-        publish(changes);
-        return result;
-    }
 }
 
 Record SqliteStore::create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
