@@ -15,10 +15,11 @@ Scratch& scratch_of(Workspace& workspace);
 // What match::localize works in: one accumulator slot per reference point of the index
 // (an int and four doubles, 36 bytes; 933 UJIIndoorLoc RPs take about 34 KB), plus the
 // query's known APs and its scored candidates. It is allocated on first use and grows to
-// the largest index and query it has served, and it never shrinks: a warmed-up workspace
-// lets a query allocate nothing in the matcher's loops (only its Result), and destroying
-// the workspace is how that memory is given back. Any workspace serves any Index, and an
-// answer never depends on what the workspace served before.
+// the largest index and query it has served, and it never shrinks: with a warmed-up
+// workspace the per-posting and per-RP loops allocate nothing (a query still allocates its
+// Result and the short list of RPs its answer is built from), and destroying the workspace
+// is how that memory is given back. Any workspace serves any Index, and an answer never
+// depends on what the workspace served before.
 //
 // Not thread-safe: concurrent queries need a workspace each; keep one per worker thread
 // and reuse it for every query that thread runs. Constructing one is free.
