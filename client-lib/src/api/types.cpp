@@ -7,19 +7,24 @@ namespace {
 using nlohmann::json;
 
 // `field` keeps its value unless `j` has `key` with a value of the field's JSON kind: a
-// string, a number, or an array (of elements each read as leniently).
+// string (for any type made from text), a number, or an array (of elements each read as
+// leniently). Any other field type is a compile error, never a field silently left unread.
 template <typename T>
 void read_field(const json& j, const char* key, T& field) {
     const auto it = j.find(key);
     if (it == j.end()) return;
-    if constexpr (std::is_same_v<T, std::string>) {
-        if (it->is_string()) field = it->template get<std::string>();
-    } else if constexpr (std::is_arithmetic_v<T>) {
+    if constexpr (std::is_arithmetic_v<T>) {
         if (it->is_number()) field = it->template get<T>();
+    } else if constexpr (std::is_constructible_v<T, std::string>) {
+        if (it->is_string()) field = T(it->template get<std::string>());
     } else {
+        static_assert(requires { typename T::value_type; }, "read_field reads text, numbers and arrays");
         if (it->is_array()) it->get_to(field);
     }
 }
+
+// A bssid as text, whatever type holds it.
+const std::string& bssid_text(const std::string& s) { return s; }
 
 // The API spells a position and an RSS aggregate flat, as fields of the object holding them.
 void read_field(const json& j, const char*, locus::Point& at) {
@@ -44,12 +49,12 @@ void read_field(const json& j, const char*, locus::RssStats& stats) {
 namespace locus {
 
 void to_json(json& j, const Reading& reading) {
-    j = {{"bssid", reading.bssid}, {"rss", reading.rss}};
+    j = {{"bssid", bssid_text(reading.bssid)}, {"rss", reading.rss}};
     if (reading.type != "wifi") j["type"] = reading.type;  // the server's default; keeps bodies small
 }
 
 void to_json(json& j, const Measurement& m) {
-    j = {{"type", m.type}, {"bssid", m.bssid}, {"mean", m.stats.mean}, {"variance", m.stats.variance},
+    j = {{"type", m.type}, {"bssid", bssid_text(m.bssid)}, {"mean", m.stats.mean}, {"variance", m.stats.variance},
          {"count", m.stats.count}};
 }
 
