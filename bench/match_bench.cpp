@@ -52,9 +52,10 @@ void localize_bench(benchmark::State& state, match::Algorithm algorithm, int flo
         options.outlier_sigmas = 0.0;
         options.sigma_floor = 8.0;
     }
+    match::Workspace workspace;
     std::size_t i = 0;
     for (auto _ : state) {
-        auto r = match::localize(f->index, f->queries[i], algorithm, options);
+        auto r = match::localize(f->index, f->queries[i], algorithm, options, workspace);
         benchmark::DoNotOptimize(r);
         if (++i == f->queries.size()) i = 0;
     }

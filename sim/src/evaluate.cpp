@@ -50,10 +50,11 @@ Fix make_fix(double t_s, int aps, const match::Result& result, int k, double sig
 
 std::vector<Fix> run_matcher(const Walk& walk, const match::Index& index, const EvalConfig& config) {
     std::vector<Fix> fixes;
+    match::Workspace workspace;
     for (const WifiScan& scan : walk.scans) {
         const match::Query q = match::Query::from_scans({scan.readings});
         if (q.aps.empty()) continue;
-        const auto result = match::localize(index, q, config.algorithm, config.match_options);
+        const auto result = match::localize(index, q, config.algorithm, config.match_options, workspace);
         if (!result) continue;
         fixes.push_back(make_fix(scan.t_s, static_cast<int>(q.aps.size()), *result, config.match_options.k,
                                  config.fix_sigma_floor_m));

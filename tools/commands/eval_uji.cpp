@@ -52,8 +52,10 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
                         const std::vector<Truth>& truth, match::Algorithm algorithm, const match::Options& options,
                         std::size_t& unanswered, std::FILE* per_query) {
     std::vector<std::optional<match::Result>> results(queries.size());
+    match::Workspace workspace;
     const auto t0 = std::chrono::steady_clock::now();
-    for (std::size_t i = 0; i < queries.size(); ++i) results[i] = match::localize(index, queries[i], algorithm, options);
+    for (std::size_t i = 0; i < queries.size(); ++i)
+        results[i] = match::localize(index, queries[i], algorithm, options, workspace);
     const auto t1 = std::chrono::steady_clock::now();
 
     std::size_t building_hits = 0, floor_hits = 0;

@@ -60,7 +60,7 @@ void run(const Args& a) {
         const Rect rect{a.room_size * static_cast<double>(i), 0.0, a.room_size * static_cast<double>(i + 1), a.room_size};
         ++i;
         if (!rooms.count(label)) {
-            client.create_room({0, floor.id, label, {rect}});
+            client.create_room({{0, label, {rect}}, floor.id});
             ++rooms_created;
         }
         RpJob job;
