@@ -12,14 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "datasets/uji_csv.hpp"
 #include "http/localize_answer.hpp"
 #include "localize_body.hpp"
-#include "uji_csv.hpp"
 
 namespace {
 
 using namespace locus;
-namespace uji = locus::tools::uji;
+namespace uji = locus::datasets::uji;
 
 struct Fixture {
     localize::Snapshot snapshot, one_floor;  // the whole map; building 1 floor 0 alone (76 RPs)

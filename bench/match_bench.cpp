@@ -8,12 +8,12 @@
 
 #include "locus/match/localize.hpp"
 // The reader belongs to the CLI sources, which are not a library; compile it in here.
-#include "uji_csv.hpp"
+#include "datasets/uji_csv.hpp"
 
 namespace {
 
 using namespace locus;
-namespace uji = locus::tools::uji;
+namespace uji = locus::datasets::uji;
 
 struct Fixture {
     std::vector<match::IndexedRp> rps;
@@ -52,9 +52,10 @@ void localize_bench(benchmark::State& state, match::Algorithm algorithm, int flo
         options.outlier_sigmas = 0.0;
         options.sigma_floor = 8.0;
     }
+    match::Workspace workspace;
     std::size_t i = 0;
     for (auto _ : state) {
-        auto r = match::localize(f->index, f->queries[i], algorithm, options);
+        auto r = match::localize(f->index, f->queries[i], algorithm, options, workspace);
         benchmark::DoNotOptimize(r);
         if (++i == f->queries.size()) i = 0;
     }

@@ -52,7 +52,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::set<std::pair<std::string, std::string>> seen;
     for (const auto& m : upload.measurements) {
         if (!seen.emplace(m.type, m.bssid).second) fail("an AP twice:", m.bssid, body);
-        if (normalise_bssid(m.bssid) != m.bssid) fail("a bssid not normalised:", m.bssid, body);
+        if (Bssid(m.bssid.str()) != m.bssid) fail("a bssid not normalised:", m.bssid, body);
         if (m.stats.count < 1 || m.stats.count > kMaxCount) fail("a count of", std::to_string(m.stats.count), body);
         // What the store would keep for a fresh RP, as an export writes it and an import reads it.
         const json exported = http::measurement_json(m);

@@ -1,4 +1,4 @@
-// The survey file reader (tools/survey_format.*): every input is read as JSON lines and as CSV.
+// The survey file reader (datasets/survey_format.*): every input is read as JSON lines and as CSV.
 //
 // Checks: parse() never throws; nothing half-parsed reaches the result (every RP has a name
 // and at least one scan, every scan at least one reading, no AP twice in a scan, every
@@ -15,10 +15,10 @@
 #include <string_view>
 #include <utility>
 
-#include "survey_format.hpp"
+#include "datasets/survey_format.hpp"
 
 using namespace locus;
-namespace survey = locus::tools::survey;
+namespace survey = locus::datasets::survey;
 
 namespace {
 
@@ -47,7 +47,7 @@ void check(std::string_view text, survey::Format format) {
             for (const auto& r : scan) {
                 if (r.type != "wifi" && r.type != "ble") fail("a type other than wifi/ble", format, text);
                 if (r.bssid.empty() || r.bssid.size() > 64) fail("a bssid outside 1..64 characters", format, text);
-                if (normalise_bssid(r.bssid) != r.bssid) fail("a bssid not normalised", format, text);
+                if (Bssid(r.bssid.str()) != r.bssid) fail("a bssid not normalised", format, text);
                 if (!valid_rss(r.rss)) fail("an rss outside [-120, 0]", format, text);
                 if (!aps.emplace(r.type, r.bssid).second) fail("an AP twice in one scan", format, text);
             }

@@ -130,6 +130,7 @@ const post = (path, body, opts = {}) => call('POST', path, { body, ...opts });
 const patch = (path, body, opts = {}) => call('PATCH', path, { body, ...opts });
 const get = (path, opts = {}) => call('GET', path, opts);
 const del = (path, opts = {}) => call('DELETE', path, opts);
+const put = (path, body, opts = {}) => call('PUT', path, { body, ...opts });
 const idOf = (r, what) => {
   if (!r.json || typeof r.json.id !== 'number') throw new Error(`contract: could not create ${what}; stopping`);
   return r.json.id;
@@ -298,6 +299,36 @@ async function run() {
   await post(`/v1/maps/${map}/localize`, big, { expect: 413 });
   await post('/v1/maps', { name: 'Big', description: 'd'.repeat(3000) }, { expect: 201 });
   await post(`/v1/floors/${floor2}/radiomaps/import`, { name: 'Huge', rps: Array.from({ length: 4000 }, (_, i) => ({ name: `rp${i}`, x: i, y: 0 })) }, { expect: 413 });
+
+  // Floor plans: the ground floor's stairs link to the basement's, which must link back.
+  const feature = (geometry, properties) => ({ type: 'Feature', geometry, properties });
+  const plan = (links) => ({
+    type: 'FeatureCollection',
+    features: [
+      feature({ type: 'Polygon', coordinates: [[[0, 0], [15, 0], [15, 15], [0, 15], [0, 0]]] }, { feature: 'space', name: 'Lobby', kind: 'hall', tags: ['Reception'], room_id: room }),
+      feature({ type: 'Polygon', coordinates: [[[15, 0], [30, 0], [30, 15], [15, 15], [15, 0]], [[20, 5], [21, 5], [21, 6], [20, 5]]] }, { feature: 'space', name: 'Reading room' }),
+      feature({ type: 'LineString', coordinates: [[15, 0], [15, 15]] }, { feature: 'wall' }),
+      feature({ type: 'Point', coordinates: [15, 7.5] }, { feature: 'door', name: 'Reading room door' }),
+      feature({ type: 'LineString', coordinates: [[15, 1], [15, 2]] }, { feature: 'door' }),
+      feature({ type: 'Point', coordinates: [2, 2] }, { feature: 'connector', id: 's1', kind: 'stairs', name: 'Main stairs', links }),
+      feature({ type: 'Point', coordinates: [3, 2] }, { feature: 'connector', id: 'e1', kind: 'elevator', seconds_per_level: 20 }),
+    ],
+  });
+  await get(`/v1/floors/${floor}/plan`, { expect: 404 });
+  const ground = await put(`/v1/floors/${floor}/plan`, plan([{ floor_id: floor2, connector: 's1' }]), { expect: 200 });
+  await put(`/v1/floors/${floor2}/plan`, plan([]), { expect: 422 });
+  await put(`/v1/floors/${floor2}/plan`, plan([{ floor_id: floor, connector: 's1' }]), { expect: 200 });
+  await get(`/v1/floors/${floor}/plan`, { expect: 200 });
+  await put(`/v1/floors/${floor}/plan`, ground.json, { expect: 200 });
+  await put(`/v1/floors/${floor}/plan`, { type: 'FeatureCollection', features: [feature({ type: 'Point', coordinates: [1, 1] }, { feature: 'window' })] }, { expect: 422, invalid: true });
+  await put(`/v1/floors/${floor}/plan`, { type: 'FeatureCollection', features: [feature({ type: 'LineString', coordinates: [[0, 0], [2e5, 0]] }, { feature: 'wall' })] }, { expect: 422, invalid: true });
+  await put(`/v1/floors/${floor}/plan`, { type: 'FeatureCollection', features: [feature({ type: 'LineString', coordinates: [[0, 0], [1, 0]] }, { feature: 'wall', colour: 'red' })] }, { expect: 422, invalid: true });
+  await put(`/v1/floors/${floor}/plan`, { features: [] }, { expect: 422, invalid: true });
+  await put(`/v1/floors/${floor}/plan`, plan([]), { auth: false, expect: 401, invalid: true });
+  await put(`/v1/floors/${UNKNOWN}/plan`, plan([]), { expect: 404 });
+  await get(`/v1/floors/${UNKNOWN}/plan`, { expect: 404 });
+  await del(`/v1/floors/${floor2}/plan`, { expect: 204 });
+  await del(`/v1/floors/${floor2}/plan`, { expect: 404 });
 
   // Deletes, down the hierarchy and then the cascade
   await del(`/v1/rps/${rp2}`, { auth: false, expect: 401, invalid: true });

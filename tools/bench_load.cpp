@@ -3,16 +3,16 @@
 #include <httplib.h>
 
 #include <algorithm>
-#include <cmath>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "command_registry.hpp"
-#include "locus/api/client.hpp"
+#include "datasets/survey_format.hpp"
+#include "datasets/uji_csv.hpp"
 #include "localize_body.hpp"
+#include "locus/api/client.hpp"
+#include "locus/metrics.hpp"
 #include "survey_connect.hpp"
-#include "survey_format.hpp"
-#include "uji_csv.hpp"
 
 namespace locus::tools {
 
@@ -73,10 +73,10 @@ std::vector<std::string> localize_bodies(const ServerArgs& server, std::int64_t 
     if (!scans_file.empty()) {
         const std::string text = read_file(scans_file);
         if (text.rfind("WAP", 0) == 0) {
-            const auto data = uji::parse(text);
-            for (const auto& row : data.rows) scans.push_back(uji::scan_of(data, row));
+            const auto data = datasets::uji::parse(text);
+            for (const auto& row : data.rows) scans.push_back(datasets::uji::scan_of(data, row));
         } else {
-            const auto file = survey::parse(text, survey::format_of(scans_file));
+            const auto file = datasets::survey::parse(text, datasets::survey::format_of(scans_file));
             for (const auto& rp : file.rps) scans.insert(scans.end(), rp.scans.begin(), rp.scans.end());
         }
     }
@@ -88,13 +88,10 @@ std::vector<std::string> localize_bodies(const ServerArgs& server, std::int64_t 
     return bodies;
 }
 
-double percentile(std::vector<double>& v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const double pos = p * static_cast<double>(v.size() - 1);
-    const auto lo = static_cast<std::size_t>(std::floor(pos));
-    const auto hi = std::min(lo + 1, v.size() - 1);
-    return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+json latency_percentiles(std::vector<double>& ms) {
+    if (ms.empty()) return {{"p50_ms", 0.0}, {"p99_ms", 0.0}};
+    std::sort(ms.begin(), ms.end());
+    return {{"p50_ms", metrics::percentile_interpolated(ms, 0.50)}, {"p99_ms", metrics::percentile_interpolated(ms, 0.99)}};
 }
 
 }  // namespace locus::tools

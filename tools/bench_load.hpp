@@ -1,7 +1,8 @@
 #pragma once
 // What the load commands (`bench localize`, `bench connections`) share: the loopback-only
-// target, the localize bodies they replay, and the percentile they report.
+// target, the localize bodies they replay, and the latency percentiles they report.
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,8 @@ Target loopback_target(const std::string& url, const std::string& command);
 std::vector<std::string> localize_bodies(const ServerArgs& server, std::int64_t radiomap, const std::string& scans_file,
                                          const std::string& algorithm);
 
-// Linear interpolation between order statistics; sorts `v`.
-double percentile(std::vector<double>& v, double p);
+// The latency figures the load commands print, {"p50_ms", "p99_ms"}: interpolated percentiles
+// (locus/metrics.hpp) of `ms`, 0 when nothing was answered. Sorts `ms`.
+nlohmann::json latency_percentiles(std::vector<double>& ms);
 
 }  // namespace locus::tools

@@ -12,7 +12,7 @@
 #include <set>
 #include <thread>
 
-#include "survey_format.hpp"
+#include "datasets/survey_format.hpp"
 
 namespace locus::tools {
 
@@ -45,7 +45,7 @@ std::vector<std::vector<Scan>> chunks(const std::vector<Scan>& scans) {
 
 // A name for messages: bytes that are not UTF-8 shown as \xNN (the summary is JSON).
 std::string shown(const std::string& s) {
-    if (survey::valid_utf8(s)) return s;
+    if (datasets::survey::valid_utf8(s)) return s;
     std::string out;
     for (unsigned char c : s) {
         if (c < 0x80) {
@@ -62,10 +62,10 @@ std::string shown(const std::string& s) {
 // Everything a request will carry as a JSON string must be UTF-8; checked before the RP is
 // created, so that a job the JSON writer would refuse leaves nothing behind.
 void check_sendable(const RpJob& job) {
-    if (!survey::valid_utf8(job.name)) throw std::runtime_error("the RP name is not UTF-8");
+    if (!datasets::survey::valid_utf8(job.name)) throw std::runtime_error("the RP name is not UTF-8");
     for (const auto& scan : job.scans)
         for (const auto& r : scan)
-            if (!survey::valid_utf8(r.bssid) || !survey::valid_utf8(r.type))
+            if (!datasets::survey::valid_utf8(r.bssid.str()) || !datasets::survey::valid_utf8(r.type))
                 throw std::runtime_error("a reading of AP '" + shown(r.bssid) + "' is not UTF-8");
 }
 

@@ -116,6 +116,7 @@ App::App(store::Store& store, localize::Service& localizer, AppOptions options)
     install_localize();
     install_crud();
     install_radiomap_routes();
+    install_plan_routes();
 }
 
 bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res) const {

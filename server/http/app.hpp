@@ -47,6 +47,7 @@ private:
     void install_localize();         // localize_routes.cpp
     void install_crud();             // crud_routes.cpp
     void install_radiomap_routes();  // radiomap_routes.cpp
+    void install_plan_routes();      // plan_routes.cpp
 
     store::Store& store_;
     localize::Service& localizer_;

@@ -6,6 +6,7 @@
 #include "http/api_error.hpp"
 #include "http/json_text.hpp"
 #include "locus/match/localize.hpp"
+#include "locus/match/workspace.hpp"
 
 namespace locus::http {
 
@@ -54,7 +55,10 @@ Writer& candidate_tail(Writer& w, long long floor_id, long long building_id) {
 }  // namespace
 
 std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& request) {
-    const auto result = match::localize(snapshot.index, request.query, request.algorithm, request.options);
+    // answer() runs on the HTTP worker thread that handles the request: that thread is the
+    // matcher's caller, so it owns the workspace, warm for every request it serves.
+    thread_local match::Workspace workspace;
+    const auto result = match::localize(snapshot.index, request.query, request.algorithm, request.options, workspace);
     if (!result)
         throw ApiError(422, "no_match",
                        "no reference point shares an access point with the scan" +

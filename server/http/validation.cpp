@@ -185,7 +185,7 @@ const char* type_problem(std::string_view type) {
 
 const char* bssid_problem(std::string_view raw) {
     if (raw.empty() || raw.size() > 64) return "must be 1 to 64 characters";
-    // As normalise_bssid will see it: surrounding white space goes, control characters inside stay.
+    // As a Bssid will see it: surrounding white space goes, control characters inside stay.
     raw = trim_bssid(raw);
     if (raw.empty()) return "must not be blank";
     for (char c : raw)
@@ -212,13 +212,13 @@ std::string parse_type(const json& j, const std::string& where) {
     return type;
 }
 
-std::string parse_bssid(const json& j, const std::string& where) {
+Bssid parse_bssid(const json& j, const std::string& where) {
     const auto it = j.find("bssid");
     if (it == j.end() || it->is_null()) throw invalid_field("missing field '" + at(where, "bssid") + "'");
     if (!it->is_string()) throw invalid_field("'" + at(where, "bssid") + "' must be a string");
     const auto& raw = it->get_ref<const std::string&>();
     if (const char* problem = bssid_problem(raw)) throw invalid_field("'" + at(where, "bssid") + "' " + problem);
-    return normalise_bssid(raw);
+    return Bssid(raw);
 }
 
 }  // namespace

@@ -60,7 +60,7 @@ std::optional<std::string> optional_string(const nlohmann::json& obj, std::strin
 // streaming localize parser: nullptr when fine, else what is wrong ("must be ..."), for the
 // caller to word with the field's place (so the happy path builds no strings).
 const char* type_problem(std::string_view type);
-const char* bssid_problem(std::string_view raw);  // the raw value, before normalise_bssid
+const char* bssid_problem(std::string_view raw);  // the raw value, before it becomes a Bssid
 // 422 out_of_range naming the field, its value and the bounds.
 ApiError out_of_range(const std::string& name, double value, std::optional<double> min, std::optional<double> max);
 

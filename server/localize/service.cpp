@@ -90,6 +90,7 @@ void Service::mark_all_dirty() {
 }
 
 void Service::on_change(const store::Change& change) {
+    if (change.plan) return;  // indexes hold no plan
     const std::string_view kind = change.kind->name;
     if (kind == "rps" || kind == "radiomaps") {
         if (change.radiomap_id) mark_dirty(Scope::radiomap, *change.radiomap_id);

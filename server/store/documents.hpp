@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "locus/geometry.hpp"
+#include "locus/plan/plan.hpp"
 #include "locus/radio_map.hpp"
 #include "store/kinds.hpp"
 
@@ -110,6 +111,21 @@ struct MapBundle {
     std::vector<BuildingBundle> buildings;
 };
 
+// A floor's plan as stored: replaced whole by each PUT.
+struct StoredPlan {
+    std::int64_t floor_id = 0;
+    plan::Plan plan;
+    std::int64_t version = 0;  // 1 on the first PUT, +1 on each later one
+    std::string updated_at;    // ISO 8601, UTC
+};
+
+// Another floor of a floor's map, with its plan when it has one: what a plan's links between
+// floors are checked against.
+struct OtherPlan {
+    std::int64_t floor_id = 0;
+    std::optional<plan::Plan> plan;
+};
+
 // Told to subscribers after each committed write (Store::subscribe), so in-memory indexes can
 // follow whichever code path wrote. Where the row sits in the hierarchy is filled in for the
 // kinds an index depends on (an RP: its radio map; an RP or a radio map: its map), read inside
@@ -118,6 +134,7 @@ struct Change {
     const Kind* kind = nullptr;
     std::int64_t id = 0;
     bool deleted = false;
+    bool plan = false;  // the floor's plan changed (kind is floors, id the floor), not its row
     std::optional<std::int64_t> radiomap_id;
     std::optional<std::int64_t> map_id;
 };

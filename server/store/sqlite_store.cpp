@@ -118,7 +118,7 @@ std::optional<std::int64_t> SqliteStore::map_of_radiomap_locked(std::int64_t rad
 }
 
 Change SqliteStore::change_of(const Kind& k, std::int64_t id, bool deleted) {
-    Change c{&k, id, deleted, std::nullopt, std::nullopt};
+    Change c{&k, id, deleted, false, std::nullopt, std::nullopt};
     if (k.name == "rps") {
         Stmt s(db_, "SELECT radiomap_id FROM rps WHERE id = ?");
         s.bind(1, id);
@@ -164,18 +164,11 @@ std::int64_t SqliteStore::insert_row(const Kind& k, std::optional<std::int64_t> 
 }
 
 Record SqliteStore::create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
-    Record out;
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
         const std::int64_t id = insert_row(k, parent_id, values);
-        out = get_locked(k, id);
-        change = change_of(k, id, false);
-        tx.commit();
-    }
-    publish({change});
-    return out;
+        changes.push_back(change_of(k, id, false));
+        return get_locked(k, id);
+    });
 }
 
 Record SqliteStore::get(const Kind& k, std::int64_t id) {
@@ -210,11 +203,7 @@ RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_i
 }
 
 Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values) {
-    Record out;
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
         require_exists(k, id);
         std::string sets;
         std::vector<const Value*> bound;
@@ -236,26 +225,18 @@ Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values)
             });
         }
         if (k.has_rects && values.rects) replace_rects(id, *values.rects);
-        out = get_locked(k, id);
-        change = change_of(k, id, false);
-        tx.commit();
-    }
-    publish({change});
-    return out;
+        changes.push_back(change_of(k, id, false));
+        return get_locked(k, id);
+    });
 }
 
 void SqliteStore::remove(const Kind& k, std::int64_t id) {
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    write([&](std::vector<Change>& changes) {
         require_exists(k, id);
-        change = change_of(k, id, true);  // before the row, and its place, are gone
+        changes.push_back(change_of(k, id, true));  // before the row, and its place, are gone
         Stmt s(db_, "DELETE FROM " + std::string(k.name) + " WHERE id = ?");
         s.bind(1, id).run();
-        tx.commit();
-    }
-    publish({change});
+    });
 }
 
 std::vector<Measurement> SqliteStore::measurements_of(std::int64_t rp_id) {
@@ -263,7 +244,7 @@ std::vector<Measurement> SqliteStore::measurements_of(std::int64_t rp_id) {
            "SELECT type, bssid, mean, variance, count FROM measurements WHERE rp_id = ? ORDER BY type, bssid");
     s.bind(1, rp_id);
     std::vector<Measurement> out;
-    while (s.step()) out.push_back({s.text(0), s.text(1), RssStats{s.real(2), s.real(3), s.int64(4)}});
+    while (s.step()) out.push_back({s.text(0), Bssid::stored(s.text(1)), RssStats{s.real(2), s.real(3), s.int64(4)}});
     return out;
 }
 
@@ -283,14 +264,14 @@ void SqliteStore::merge_measurements(std::int64_t rp_id, const std::vector<Measu
              "variance = excluded.variance, count = excluded.count");
     for (const auto& m : ms) {
         sel.reset();
-        sel.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid);
+        sel.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid.str());
         RssStats stats;
         if (sel.step()) stats = RssStats{sel.real(0), sel.real(1), sel.int64(2)};
         if (m.stats.count < 1 || !stats.can_merge(m.stats))
-            throw OutOfRange("the count of " + m.bssid + " at this RP would pass 2^53");
+            throw OutOfRange("the count of " + m.bssid.str() + " at this RP would pass 2^53");
         stats.merge(m.stats);
         put.reset();
-        put.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid).bind(4, stats.mean).bind(5, stats.variance).bind(6, stats.count);
+        put.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid.str()).bind(4, stats.mean).bind(5, stats.variance).bind(6, stats.count);
         put.run();
     }
     Stmt cur(db_, "SELECT scans FROM rps WHERE id = ?");
@@ -302,11 +283,8 @@ void SqliteStore::merge_measurements(std::int64_t rp_id, const std::vector<Measu
 }
 
 UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch) {
-    UploadResult result;
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
+        UploadResult result;
         require_exists(kind("rps"), rp_id);
         bool fresh = true;
         if (batch.upload_id) {
@@ -314,14 +292,14 @@ UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch
             s.bind(1, rp_id).bind(2, *batch.upload_id).run();
             fresh = db_.changes() > 0;
         }
-        if (fresh) merge_measurements(rp_id, batch.measurements, batch.scans);
+        if (fresh) {
+            merge_measurements(rp_id, batch.measurements, batch.scans);
+            changes.push_back(change_of(kind("rps"), rp_id, false));
+        }
         result.applied = fresh;
         result.rp = {get_locked(kind("rps"), rp_id), measurements_of(rp_id)};
-        change = change_of(kind("rps"), rp_id, false);
-        tx.commit();
-    }
-    if (result.applied) publish({change});
-    return result;
+        return result;
+    });
 }
 
 RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
@@ -348,27 +326,18 @@ std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapD
 }
 
 ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) {
-    ImportedRadioMap out;
-    Change change;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
+        ImportedRadioMap out;
         const std::int64_t rm_id = insert_radiomap(floor_id, doc, &out.measurement_count);
         out.radiomap = get_locked(kind("radiomaps"), rm_id);
         out.rp_count = static_cast<std::int64_t>(doc.rps.size());
-        change = change_of(kind("radiomaps"), rm_id, false);
-        tx.commit();
-    }
-    publish({change});
-    return out;
+        changes.push_back(change_of(kind("radiomaps"), rm_id, false));
+        return out;
+    });
 }
 
 Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
-    Record out;
-    std::vector<Change> changes;
-    {
-        std::lock_guard lock(mu_);
-        Transaction tx(db_);
+    return write([&](std::vector<Change>& changes) {
         const std::int64_t map_id = insert_row(kind("maps"), std::nullopt, bundle.fields);
         for (const auto& b : bundle.buildings) {
             const std::int64_t b_id = insert_row(kind("buildings"), map_id, b.fields);
@@ -380,12 +349,9 @@ Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
                     changes.push_back(change_of(kind("radiomaps"), insert_radiomap(f_id, rm, nullptr), false));
             }
         }
-        out = get_locked(kind("maps"), map_id);
         changes.insert(changes.begin(), change_of(kind("maps"), map_id, false));
-        tx.commit();
-    }
-    publish(changes);
-    return out;
+        return get_locked(kind("maps"), map_id);
+    });
 }
 
 bool SqliteStore::has_maps() {
@@ -426,7 +392,7 @@ std::vector<StoredRp> SqliteStore::load_rps(std::string_view where, std::int64_t
         auto it = by_id.find(m.int64(0));
         if (it == by_id.end()) continue;
         out[it->second].rp.measurements.push_back(
-            {m.text(1), m.text(2), RssStats{m.real(3), m.real(4), m.int64(5)}});
+            {m.text(1), Bssid::stored(m.text(2)), RssStats{m.real(3), m.real(4), m.int64(5)}});
     }
     tx.commit();
     return out;

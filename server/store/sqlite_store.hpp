@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "store/sqlite.hpp"
@@ -37,6 +38,10 @@ public:
     Record import_map_bundle(const MapBundle& bundle) override;
     bool has_maps() override;
 
+    std::optional<StoredPlan> plan_of_floor(std::int64_t floor_id) override;
+    StoredPlan put_plan(std::int64_t floor_id, const plan::Plan& plan, const PlanCheck& check) override;
+    void remove_plan(std::int64_t floor_id) override;
+
     std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) override;
     std::vector<StoredRp> rps_of_map(std::int64_t map_id) override;
     std::vector<Room> rooms_of_floor(std::int64_t floor_id) override;
@@ -44,6 +49,10 @@ public:
     std::vector<std::int64_t> radiomap_ids() override;
 
 private:
+    // Runs body(changes) in one write transaction under the lock, commits, then publishes the
+    // changes it listed (none when it threw: nothing was written).
+    template <typename Body>
+    auto write(Body&& body);
     Record row(const Kind& k, Stmt& s);
     Record get_locked(const Kind& k, std::int64_t id);
     void require_exists(const Kind& k, std::int64_t id);
@@ -55,11 +64,38 @@ private:
     std::vector<Measurement> measurements_of(std::int64_t rp_id);
     std::vector<StoredRp> load_rps(std::string_view where, std::int64_t id);
     std::optional<std::int64_t> map_of_radiomap_locked(std::int64_t radiomap_id);
+    // sqlite_plan.cpp: a plan's rows, read and written inside a caller's transaction.
+    std::optional<StoredPlan> read_plan(std::int64_t floor_id);
+    void write_plan_features(std::int64_t floor_id, const plan::Plan& plan);
     // Where a row of `k` sits, for its Change (documents.hpp).
     Change change_of(const Kind& k, std::int64_t id, bool deleted);
 
     std::mutex mu_;
     Db db_;
 };
+
+template <typename Body>
+auto SqliteStore::write(Body&& body) {
+    std::vector<Change> changes;
+    if constexpr (std::is_void_v<decltype(body(changes))>) {
+        {
+            std::lock_guard lock(mu_);
+            Transaction tx(db_);
+            body(changes);
+            tx.commit();
+        }
+        publish(changes);
+    } else {
+        auto result = [&] {
+            std::lock_guard lock(mu_);
+            Transaction tx(db_);
+            auto r = body(changes);
+            tx.commit();
+            return r;
+        }();
+        publish(changes);
+        return result;
+    }
+}
 
 }  // namespace locus::store

@@ -65,6 +65,16 @@ public:
     virtual Record import_map_bundle(const MapBundle& bundle) = 0;
     virtual bool has_maps() = 0;
 
+    // The floor's plan; nullopt when it has none (NotFound when there is no such floor).
+    virtual std::optional<StoredPlan> plan_of_floor(std::int64_t floor_id) = 0;
+    // Replaces the floor's plan. `check` runs inside the transaction with the current plans of
+    // the map's other floors (for links between floors) and may throw to refuse the plan,
+    // which then writes nothing.
+    using PlanCheck = std::function<void(const std::vector<OtherPlan>& others)>;
+    virtual StoredPlan put_plan(std::int64_t floor_id, const plan::Plan& plan, const PlanCheck& check) = 0;
+    // NotFound when the floor has no plan.
+    virtual void remove_plan(std::int64_t floor_id) = 0;
+
     // For the localization index. Each is a consistent snapshot.
     virtual std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) = 0;
     virtual std::vector<StoredRp> rps_of_map(std::int64_t map_id) = 0;

@@ -19,8 +19,9 @@ std::string_view trim_bssid(std::string_view raw) {
     return raw;
 }
 
-std::string normalise_bssid(std::string_view raw) {
-    std::string out(trim_bssid(raw));
+Bssid::Bssid(std::string_view raw) {
+    std::string& out = text_;
+    out = trim_bssid(raw);
     // ASCII only and without the locale: this runs for every reading of every request.
     for (auto& c : out)
         if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
@@ -29,15 +30,14 @@ std::string normalise_bssid(std::string_view raw) {
         std::all_of(out.begin(), out.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) || c == '-'; }) &&
         std::count(out.begin(), out.end(), '-') == 5;
     if (mac_with_dashes) std::replace(out.begin(), out.end(), '-', ':');
-    return out;
 }
 
 std::vector<Measurement> aggregate_scans(const std::vector<Scan>& scans) {
     std::vector<Measurement> out;
-    std::map<std::pair<std::string, std::string>, std::size_t> index;
+    std::map<std::pair<std::string, Bssid>, std::size_t> index;
     for (const auto& scan : scans) {
         for (const auto& r : scan) {
-            auto key = std::make_pair(r.type, normalise_bssid(r.bssid));
+            auto key = std::make_pair(r.type, r.bssid);
             auto [it, inserted] = index.try_emplace(key, out.size());
             if (inserted) out.push_back(Measurement{key.first, key.second, {}});
             out[it->second].stats.add(r.rss);
@@ -48,7 +48,7 @@ std::vector<Measurement> aggregate_scans(const std::vector<Scan>& scans) {
 
 bool combine_aggregates(std::vector<Measurement>& ms, std::string* overflow) {
     std::vector<Measurement> out;
-    std::map<std::pair<std::string, std::string>, std::size_t> index;
+    std::map<std::pair<std::string, Bssid>, std::size_t> index;
     for (auto& m : ms) {
         const auto [it, inserted] = index.try_emplace({m.type, m.bssid}, out.size());
         if (inserted) {

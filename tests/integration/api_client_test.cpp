@@ -114,6 +114,47 @@ TEST(ApiClient, HierarchyIsFoundOrCreatedOnce) {
     EXPECT_EQ(c.retries(), 0);
 }
 
+// Rooms, POIs and RPs go to the real server from the core's types and come back as them.
+TEST(ApiClient, RoomsPoisAndRpsRoundTripAsTheCoreTypes) {
+    ServerProcess server{{"--quiet"}};
+    api::Client c(fast_retries(server.url()));
+    const Chain ch = make_chain(c);
+    api::RoomInfo lab;
+    lab.floor_id = ch.floor.id;
+    lab.name = "lab";
+    lab.rects = {{0, 0, 4, 5}, {4, 0, 6, 2}};
+    const auto created = c.create_room(lab);
+    EXPECT_GT(created.id, 0);
+    const auto rooms = c.rooms(ch.floor.id);
+    ASSERT_EQ(rooms.size(), 1u);
+    EXPECT_EQ(rooms[0].floor_id, ch.floor.id);
+    EXPECT_EQ(rooms[0].name, "lab");
+    ASSERT_EQ(rooms[0].rects.size(), 2u);
+    EXPECT_DOUBLE_EQ(rooms[0].rects[1].xmax, 6.0);
+    EXPECT_TRUE(rooms[0].contains({5.0, 1.0}));
+
+    api::PoiInfo door;
+    door.floor_id = ch.floor.id;
+    door.name = "door";
+    door.kind = "entrance";
+    door.at = {1.5, 0.5};
+    EXPECT_GT(c.create_poi(door).id, 0);
+    const auto pois = c.pois(ch.floor.id);
+    ASSERT_EQ(pois.size(), 1u);
+    EXPECT_EQ(pois[0].kind, "entrance");
+    EXPECT_DOUBLE_EQ(pois[0].at.x, 1.5);
+    EXPECT_DOUBLE_EQ(pois[0].at.y, 0.5);
+
+    const auto rp = c.create_rp(ch.radiomap.id, "r", 2.0, 3.0);
+    EXPECT_EQ(rp.radiomap_id, ch.radiomap.id);
+    EXPECT_DOUBLE_EQ(rp.at.x, 2.0);
+    EXPECT_DOUBLE_EQ(rp.at.y, 3.0);
+    c.upload(rp.id, {std::nullopt, {{{"wifi", "aa:00:00:00:00:01", -50.0}}}, {}});
+    const auto answer = c.localize_radiomap(ch.radiomap.id, {std::nullopt, {{{"wifi", "aa:00:00:00:00:01", -50.0}}}, {}});
+    EXPECT_EQ(answer.room, "lab");
+    EXPECT_EQ(answer.rp_ids, (std::vector<long long>{rp.id}));
+}
+
 TEST(ApiClient, ListsFollowEveryPage) {
     ServerProcess server{{"--quiet"}};
     api::Client c(fast_retries(server.url()));
@@ -191,18 +232,29 @@ TEST(ApiClient, ExportImportAndLocalize) {
     q.algorithm = "nn";
     q.scans = {{{"wifi", "aa:00:00:00:00:01", -78.0}, {"wifi", "aa:00:00:00:00:02", -42.0}}};
     const auto at = c.localize_radiomap(ch.radiomap.id, q);
-    EXPECT_DOUBLE_EQ(at.x, 18.0);
+    EXPECT_DOUBLE_EQ(at.at.x, 18.0);
+    EXPECT_DOUBLE_EQ(at.at.y, 5.0);
     EXPECT_EQ(at.floor_id, ch.floor.id);
     EXPECT_EQ(at.matched_aps, 2);
+    EXPECT_EQ(at.algorithm, "nn");
+    EXPECT_EQ(at.rp_ids, (std::vector<long long>{east.id}));
+    EXPECT_FALSE(at.room);  // the chain's floor has no rooms
+    ASSERT_EQ(at.candidates.size(), 2u);
+    EXPECT_EQ(at.candidates[0].rp_id, east.id);
+    EXPECT_DOUBLE_EQ(at.candidates[0].at.x, 18.0);
+    EXPECT_EQ(at.candidates[0].score, at.score);
+    EXPECT_EQ(at.candidates[0].floor_id, ch.floor.id);
+    EXPECT_EQ(at.candidates[0].matched_aps, 2);
+    EXPECT_EQ(at.candidates[1].rp_id, west.id);
     const auto whole = c.localize_map(ch.map.id, q);
-    EXPECT_DOUBLE_EQ(whole.x, 18.0);
+    EXPECT_DOUBLE_EQ(whole.at.x, 18.0);
     EXPECT_EQ(whole.building_id, ch.building.id);
     // Asked for nothing, the client names no algorithm, so the server's default applies.
     api::LocalizeRequest plain;
     plain.scans = q.scans;
-    EXPECT_FALSE(api::to_json(plain).contains("algorithm"));
-    EXPECT_EQ(api::to_json(q).at("algorithm"), "nn");
-    EXPECT_NEAR(c.localize_radiomap(ch.radiomap.id, plain).x, 18.0, 0.5);  // bayes: a weighted estimate
+    EXPECT_FALSE(json(plain).contains("algorithm"));
+    EXPECT_EQ(json(q).at("algorithm"), "nn");
+    EXPECT_NEAR(c.localize_radiomap(ch.radiomap.id, plain).at.x, 18.0, 0.5);  // bayes: a weighted estimate
 
     json doc = c.export_radiomap(ch.radiomap.id);
     EXPECT_EQ(doc["rps"].size(), 2u);

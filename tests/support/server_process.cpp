@@ -167,6 +167,11 @@ Response ServerProcess::patch(const std::string& path, const nlohmann::json& bod
     return to_response(c.Patch(path.c_str(), headers(), body.dump(), "application/json"));
 }
 
+Response ServerProcess::put(const std::string& path, const nlohmann::json& body) const {
+    auto c = client(port_);
+    return to_response(c.Put(path.c_str(), headers(), body.dump(), "application/json"));
+}
+
 Response ServerProcess::del(const std::string& path) const {
     auto c = client(port_);
     return to_response(c.Delete(path.c_str(), headers()));

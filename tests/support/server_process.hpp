@@ -48,6 +48,7 @@ public:
     Response post_raw(const std::string& path, const std::string& body,
                       const std::string& content_type = "application/json") const;
     Response patch(const std::string& path, const nlohmann::json& body) const;
+    Response put(const std::string& path, const nlohmann::json& body) const;
     Response del(const std::string& path) const;
 
 private:

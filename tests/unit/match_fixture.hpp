@@ -1,10 +1,12 @@
 #pragma once
 // Small hand-made radio maps for the matcher unit tests.
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "locus/match/index.hpp"
+#include "locus/match/localize.hpp"
 
 namespace locus::match::testing {
 
@@ -22,6 +24,15 @@ inline IndexedRp rp(long long id, Point at, std::vector<Measurement> ms, long lo
     r.floor_id = floor;
     r.building_id = building;
     return r;
+}
+
+// match::localize with default options at hand, every call reusing one workspace as a
+// worker thread does, so a test that queries several maps also runs them through one
+// workspace of changing size.
+inline std::optional<Result> localize(const Index& index, const Query& query, Algorithm algorithm,
+                                      const Options& options = {}) {
+    static Workspace workspace;
+    return match::localize(index, query, algorithm, options, workspace);
 }
 
 }  // namespace locus::match::testing

@@ -184,20 +184,23 @@ TEST(Query, OneIdOnTwoRadiosStaysTwoAps) {
 }
 
 // Many APs, each heard twice, in reverse name order: the sort that finds the repeats must not
-// change the first-seen order.
+// change the first-seen order. 81 readings sort on the stack, 401 on the heap.
 TEST(Query, ManyReadingsAveragedInFirstSeenOrder) {
-    std::vector<Reading> means;
-    for (int round = 0; round < 2; ++round)
-        for (int i = 39; i >= 0; --i) means.push_back({"wifi", "ap" + std::to_string(i), round == 0 ? -50.0 : -61.0});
-    means.push_back({"ble", "ap7", -70});
-    const Query q = Query::from_means(means);
-    ASSERT_EQ(q.aps.size(), 41u);
-    for (std::size_t k = 0; k < 40; ++k) {
-        EXPECT_EQ(q.aps[k].bssid, "ap" + std::to_string(39 - k));
-        EXPECT_DOUBLE_EQ(q.aps[k].rss, -55.5);
+    for (const int n : {40, 200}) {
+        std::vector<Reading> means;
+        for (int round = 0; round < 2; ++round)
+            for (int i = n - 1; i >= 0; --i)
+                means.push_back({"wifi", "ap" + std::to_string(i), round == 0 ? -50.0 : -61.0});
+        means.push_back({"ble", "ap7", -70});
+        const Query q = Query::from_means(means);
+        ASSERT_EQ(q.aps.size(), static_cast<std::size_t>(n) + 1) << n;
+        for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) {
+            EXPECT_EQ(q.aps[k].bssid, "ap" + std::to_string(n - 1 - static_cast<int>(k))) << n;
+            EXPECT_DOUBLE_EQ(q.aps[k].rss, -55.5) << n;
+        }
+        EXPECT_EQ(q.aps[n].type, "ble") << n;
+        EXPECT_DOUBLE_EQ(q.aps[n].rss, -70.0) << n;
     }
-    EXPECT_EQ(q.aps[40].type, "ble");
-    EXPECT_DOUBLE_EQ(q.aps[40].rss, -70.0);
 }
 
 TEST(Names, ParseAndPrintRoundTrip) {

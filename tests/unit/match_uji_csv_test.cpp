@@ -7,9 +7,9 @@
 // The reader lives with the CLI sources, which are not a library; compile it in here.
 #include <fstream>
 
-#include "uji_csv.hpp"
+#include "datasets/uji_csv.hpp"
 
-namespace uji = locus::tools::uji;
+namespace uji = locus::datasets::uji;
 
 namespace {
 const std::string kTiny = std::string(LOCUS_TEST_FIXTURES) + "/uji_tiny.csv";

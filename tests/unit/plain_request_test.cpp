@@ -4,13 +4,12 @@
 
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 
+#include "datasets/uji_csv.hpp"
 #include "http/api_error.hpp"
-#include <nlohmann/json.hpp>
-
 #include "http/plain_localize_request.hpp"
-#include "uji_csv.hpp"
 
 using namespace locus;
 using namespace locus::http;
@@ -141,7 +140,7 @@ TEST(PlainRequest, MutatedBodiesNeverDisagreeWithTheFullParser) {
 TEST(PlainRequest, RealScansTakeTheFastPath) {
     const std::string path = std::string(LOCUS_DATA_DIR) + "/ujiindoorloc/trainingData.csv";
     if (!std::ifstream(path)) GTEST_SKIP() << "UJIIndoorLoc not found under LOCUS_DATA_DIR/ujiindoorloc";
-    namespace uji = locus::tools::uji;
+    namespace uji = locus::datasets::uji;
     const uji::Data data = uji::read_file(path);
     std::size_t checked = 0;
     for (std::size_t i = 0; i < data.rows.size(); i += 97) {

@@ -1,14 +1,14 @@
-// The survey upload formats (tools/survey_format.hpp): both read the same walk into the same
+// The survey upload formats (datasets/survey_format.hpp): both read the same walk into the same
 // RPs and scans, and every kind of malformed line is reported with its number and left out.
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <sstream>
 
-#include "survey_format.hpp"
+#include "datasets/survey_format.hpp"
 
 using namespace locus;
-using namespace locus::tools::survey;
+using namespace locus::datasets::survey;
 
 namespace {
 

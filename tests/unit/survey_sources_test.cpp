@@ -5,10 +5,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "survey_sources.hpp"
+#include "datasets/survey_sources.hpp"
 
 using namespace locus;
-using namespace locus::tools::survey;
+using namespace locus::datasets::survey;
 
 TEST(Find3, LabelsBecomeGroupsOfScans) {
     const std::string text =

@@ -53,7 +53,7 @@ TEST(Validation, ReadOnlyAndIdFieldsAreIgnoredUnknownOnesRefused) {
 
 TEST(Validation, ReadingsAreNormalisedAndRangeChecked) {
     const auto r = http::parse_reading({{"bssid", " AA-BB-CC-DD-EE-FF "}, {"rss", -61}}, "r");
-    EXPECT_EQ(r.bssid, "aa:bb:cc:dd:ee:ff");
+    EXPECT_EQ(r.bssid.str(), "aa:bb:cc:dd:ee:ff");
     EXPECT_EQ(r.type, "wifi");
     EXPECT_DOUBLE_EQ(r.rss, -61.0);
     EXPECT_EQ(code_of([] { http::parse_reading({{"bssid", "a"}, {"rss", 100}}, "r"); }), "422 out_of_range");
@@ -96,6 +96,6 @@ TEST(Validation, BssidWhiteSpaceIsTheSixAsciiSpaces) {
     EXPECT_STREQ(http::bssid_problem(std::string_view("\t\n\v\f\r ")), "must not be blank");
     EXPECT_STREQ(http::bssid_problem(std::string_view(" \x01 ")), "holds control characters");  // not white space
     EXPECT_EQ(http::bssid_problem(std::string_view("\v a \f")), nullptr);
-    EXPECT_EQ(locus::normalise_bssid("\v AA-BB-CC-DD-EE-FF\r\n"), "aa:bb:cc:dd:ee:ff");
-    EXPECT_EQ(locus::normalise_bssid("\x1c" "ab"), "\x1c" "ab");  // a separator, not white space
+    EXPECT_EQ(locus::Bssid("\v AA-BB-CC-DD-EE-FF\r\n").str(), "aa:bb:cc:dd:ee:ff");
+    EXPECT_EQ(locus::Bssid("\x1c" "ab").str(), "\x1c" "ab");  // a separator, not white space
 }

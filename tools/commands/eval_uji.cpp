@@ -14,13 +14,15 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "datasets/uji_csv.hpp"
 #include "locus/match/localize.hpp"
-#include "uji_csv.hpp"
+#include "locus/metrics.hpp"
 
 namespace {
 
 using namespace locus;
-namespace uji = locus::tools::uji;
+namespace uji = locus::datasets::uji;
+using metrics::percentile_interpolated;
 
 struct Args {
     std::string train, test;
@@ -39,15 +41,6 @@ struct Args {
     std::string per_query;
 };
 
-// Linear interpolation between order statistics (the common "type 7" definition).
-double percentile(const std::vector<double>& sorted, double p) {
-    if (sorted.empty()) return std::nan("");
-    const double pos = p * static_cast<double>(sorted.size() - 1);
-    const auto lo = static_cast<std::size_t>(std::floor(pos));
-    const auto hi = std::min(lo + 1, sorted.size() - 1);
-    return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
-}
-
 struct Truth {
     Point at;
     int building, floor;
@@ -59,8 +52,10 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
                         const std::vector<Truth>& truth, match::Algorithm algorithm, const match::Options& options,
                         std::size_t& unanswered, std::FILE* per_query) {
     std::vector<std::optional<match::Result>> results(queries.size());
+    match::Workspace workspace;
     const auto t0 = std::chrono::steady_clock::now();
-    for (std::size_t i = 0; i < queries.size(); ++i) results[i] = match::localize(index, queries[i], algorithm, options);
+    for (std::size_t i = 0; i < queries.size(); ++i)
+        results[i] = match::localize(index, queries[i], algorithm, options, workspace);
     const auto t1 = std::chrono::steady_clock::now();
 
     std::size_t building_hits = 0, floor_hits = 0;
@@ -86,8 +81,6 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
             throw tools::CommandError("cannot write the --per-query file");
     }
     std::sort(errors.begin(), errors.end());
-    double sum = 0.0;
-    for (double e : errors) sum += e;
     const double n = static_cast<double>(queries.size());
     const double us = std::chrono::duration<double, std::micro>(t1 - t0).count();
     return nlohmann::json{
@@ -95,10 +88,10 @@ nlohmann::json evaluate(const match::Index& index, const std::vector<match::Quer
         {"queries", queries.size()},
         {"building_hit_rate", static_cast<double>(building_hits) / n},
         {"floor_hit_rate", static_cast<double>(floor_hits) / n},
-        {"mean_error_m", errors.empty() ? std::nan("") : sum / static_cast<double>(errors.size())},
-        {"median_error_m", percentile(errors, 0.5)},
-        {"p75_error_m", percentile(errors, 0.75)},
-        {"p95_error_m", percentile(errors, 0.95)},
+        {"mean_error_m", metrics::mean(errors)},
+        {"median_error_m", percentile_interpolated(errors, 0.5)},
+        {"p75_error_m", percentile_interpolated(errors, 0.75)},
+        {"p95_error_m", percentile_interpolated(errors, 0.95)},
         {"us_per_query", us / n},
     };
 }
@@ -126,8 +119,6 @@ nlohmann::json oracle(const match::Index& index, const std::vector<Truth>& truth
         else ++no_floor;
     }
     std::sort(errors.begin(), errors.end());
-    double sum = 0.0;
-    for (double e : errors) sum += e;
     const double n = static_cast<double>(truth.size());
     const double hits = static_cast<double>(errors.size()) / n;
     return nlohmann::json{
@@ -135,10 +126,10 @@ nlohmann::json oracle(const match::Index& index, const std::vector<Truth>& truth
         {"queries", truth.size()},
         {"building_hit_rate", hits},
         {"floor_hit_rate", hits},
-        {"mean_error_m", errors.empty() ? std::nan("") : sum / static_cast<double>(errors.size())},
-        {"median_error_m", percentile(errors, 0.5)},
-        {"p75_error_m", percentile(errors, 0.75)},
-        {"p95_error_m", percentile(errors, 0.95)},
+        {"mean_error_m", metrics::mean(errors)},
+        {"median_error_m", percentile_interpolated(errors, 0.5)},
+        {"p75_error_m", percentile_interpolated(errors, 0.75)},
+        {"p95_error_m", percentile_interpolated(errors, 0.95)},
         {"us_per_query", 0.0},
         {"floor_without_rps", no_floor},
     };

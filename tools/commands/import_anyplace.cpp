@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "datasets/survey_sources.hpp"
 #include "survey_connect.hpp"
-#include "survey_sources.hpp"
 #include "survey_upload.hpp"
 
 namespace {
@@ -38,7 +38,7 @@ struct Args {
 
 struct Loaded {
     std::string path, upload_id;
-    survey::AnyplaceData data;
+    datasets::survey::AnyplaceData data;
 };
 
 void run(const Args& a) {
@@ -57,7 +57,7 @@ void run(const Args& a) {
     std::size_t malformed = 0;
     for (const auto& p : paths) {
         const std::string bytes = read_file(p);
-        Loaded l{p, "anyplace-" + fingerprint(bytes), survey::parse_anyplace(bytes)};
+        Loaded l{p, "anyplace-" + fingerprint(bytes), datasets::survey::parse_anyplace(bytes)};
         for (const auto& e : l.data.errors) std::cerr << p << ":" << e.line << ": " << e.message << "\n";
         malformed += l.data.errors.size();
         for (const auto& line : l.data.lines) lat0 = std::min(lat0, line.lat), lon0 = std::min(lon0, line.lon);
@@ -67,7 +67,7 @@ void run(const Args& a) {
     double width = 0.0, height = 0.0;
     for (const auto& f : files)
         for (const auto& line : f.data.lines) {
-            const Point p = survey::project(line.lat, line.lon, lat0, lon0);
+            const Point p = datasets::survey::project(line.lat, line.lon, lat0, lon0);
             width = std::max(width, p.x), height = std::max(height, p.y);
         }
 
@@ -112,7 +112,7 @@ void run(const Args& a) {
                 RpJob job;
                 job.radiomap_id = radiomap_of.at(line.floor);
                 job.name = name;
-                job.at = survey::project(line.lat, line.lon, lat0, lon0);
+                job.at = datasets::survey::project(line.lat, line.lon, lat0, lon0);
                 job.upload_id = f.upload_id;
                 job.source = f.path;
                 jobs.push_back(std::move(job));

@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "datasets/survey_sources.hpp"
 #include "survey_connect.hpp"
-#include "survey_sources.hpp"
 #include "survey_upload.hpp"
 
 namespace {
@@ -34,7 +34,7 @@ struct Args {
 
 void run(const Args& a) {
     const std::string bytes = read_file(a.file);
-    const auto data = survey::parse_find3(bytes);
+    const auto data = datasets::survey::parse_find3(bytes);
     for (const auto& e : data.errors) std::cerr << a.file << ":" << e.line << ": " << e.message << "\n";
     if (data.by_label.empty()) throw CommandError("no usable fingerprint in " + a.file);
 
@@ -60,7 +60,7 @@ void run(const Args& a) {
         const Rect rect{a.room_size * static_cast<double>(i), 0.0, a.room_size * static_cast<double>(i + 1), a.room_size};
         ++i;
         if (!rooms.count(label)) {
-            client.create_room({0, floor.id, label, {rect}});
+            client.create_room({{0, label, {rect}}, floor.id});
             ++rooms_created;
         }
         RpJob job;

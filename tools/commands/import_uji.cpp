@@ -20,15 +20,15 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "datasets/uji_csv.hpp"
 #include "survey_connect.hpp"
 #include "survey_upload.hpp"
-#include "uji_csv.hpp"
 
 namespace {
 
 using namespace locus;
 using namespace locus::tools;
-namespace uji = locus::tools::uji;
+namespace uji = locus::datasets::uji;
 
 struct Args {
     ServerArgs server;

@@ -13,14 +13,16 @@
 #include <thread>
 
 #include "command_registry.hpp"
+#include "datasets/pdr_logs.hpp"
+#include "datasets/pdr_oxford.hpp"
 #include "locus/pdr/pipeline.hpp"
-#include "pdr_logs.hpp"
-#include "pdr_oxford.hpp"
 
 using nlohmann::json;
 
 namespace locus::tools {
 namespace {
+
+using namespace locus::datasets;
 
 const char* signal_name(pdr::StepSignal s) { return s == pdr::StepSignal::vertical ? "vertical" : "magnitude"; }
 

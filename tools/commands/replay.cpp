@@ -28,21 +28,6 @@ struct Args {
     bool upload_survey = false;
 };
 
-// The server's answer as the matcher result that sim::make_fix expects.
-match::Result result_from(const api::LocalizeResult& r) {
-    match::Result out;
-    out.at = {r.x, r.y};
-    out.floor_id = r.floor_id;
-    out.building_id = r.building_id;
-    out.score = r.score;
-    out.matched_aps = r.matched_aps;
-    for (const auto& c : r.raw.value("candidates", json::array()))
-        out.candidates.push_back({c.at("rp_id").get<long long>(), {c.at("x").get<double>(), c.at("y").get<double>()},
-                                  c.at("score").get<double>(), c.value("floor_id", 0LL), c.value("building_id", 0LL),
-                                  c.value("matched_aps", 0)});
-    return out;
-}
-
 // Survey scans in the walk become RPs on the server, each file's scans once (upload ids).
 void upload_survey(api::Client& client, const sim::Walk& walk, std::int64_t radiomap) {
     for (const auto& sp : walk.survey) {
@@ -104,7 +89,7 @@ void run(const Args& a) {
         req.options = {{"k", a.k}};
         try {
             const auto r = client.localize_radiomap(a.radiomap, req);
-            fixes.push_back(sim::make_fix(scan.t_s, static_cast<int>(scan.readings.size()), result_from(r), a.k,
+            fixes.push_back(sim::make_fix(scan.t_s, static_cast<int>(scan.readings.size()), r, a.k,
                                           cfg.fix_sigma_floor_m));
         } catch (const api::ApiError& e) {
             if (e.code() != "no_match") throw;

@@ -1,5 +1,5 @@
 // `locus survey plan` and `locus survey upload`: getting a radio map into the server from a
-// walk with a phone (docs/spec.md §3). File formats: tools/survey_format.hpp and docs/survey.md.
+// walk with a phone (docs/spec.md §3). File formats: datasets/survey_format.hpp and docs/survey.md.
 #include <unistd.h>
 
 #include <iostream>
@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command_registry.hpp"
+#include "datasets/survey_format.hpp"
 #include "survey_connect.hpp"
-#include "survey_format.hpp"
 #include "survey_plan.hpp"
 #include "survey_upload.hpp"
 
@@ -94,10 +94,10 @@ void upload(const UploadArgs& a) {
     json files = json::array();
     for (const auto& path : a.files) {
         const std::string bytes = read_file(path);
-        const auto format = a.format == "csv"     ? survey::Format::Csv
-                            : a.format == "jsonl" ? survey::Format::JsonLines
-                                                  : survey::format_of(path);
-        auto parsed = survey::parse(bytes, format);
+        const auto format = a.format == "csv"     ? datasets::survey::Format::Csv
+                            : a.format == "jsonl" ? datasets::survey::Format::JsonLines
+                                                  : datasets::survey::format_of(path);
+        auto parsed = datasets::survey::parse(bytes, format);
         for (const auto& e : parsed.errors) std::cerr << path << ":" << e.line << ": " << e.message << "\n";
         malformed += parsed.errors.size();
         const bool refuse = a.strict && !parsed.errors.empty();

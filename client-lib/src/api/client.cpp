@@ -40,11 +40,11 @@ ApiError error_from(int status, const std::string& body) {
                     body.empty() ? "HTTP " + std::to_string(status) : body.substr(0, 500));
 }
 
-template <typename T, typename From>
-std::vector<T> convert(const std::vector<json>& rows, From from) {
+template <typename T>
+std::vector<T> convert(const std::vector<json>& rows) {
     std::vector<T> out;
     out.reserve(rows.size());
-    for (const auto& r : rows) out.push_back(from(r));
+    for (const auto& r : rows) out.push_back(r.get<T>());
     return out;
 }
 
@@ -204,64 +204,62 @@ std::vector<json> Client::list_all(const std::string& collection_path, int page_
 }
 
 MapInfo Client::create_map(const std::string& name, const std::string& description) {
-    return map_from_json(post("/v1/maps", {{"name", name}, {"description", description}}));
+    return post("/v1/maps", {{"name", name}, {"description", description}}).get<MapInfo>();
 }
-std::vector<MapInfo> Client::maps() { return convert<MapInfo>(list_all("/v1/maps"), map_from_json); }
+std::vector<MapInfo> Client::maps() { return convert<MapInfo>(list_all("/v1/maps")); }
 
 BuildingInfo Client::create_building(std::int64_t map_id, const std::string& name, const std::string& description) {
-    return building_from_json(post(collection("maps", map_id, "buildings"), {{"name", name}, {"description", description}}));
+    return post(collection("maps", map_id, "buildings"), {{"name", name}, {"description", description}}).get<BuildingInfo>();
 }
 std::vector<BuildingInfo> Client::buildings(std::int64_t map_id) {
-    return convert<BuildingInfo>(list_all(collection("maps", map_id, "buildings")), building_from_json);
+    return convert<BuildingInfo>(list_all(collection("maps", map_id, "buildings")));
 }
 
 FloorInfo Client::create_floor(const FloorInfo& f) {
-    return floor_from_json(post(collection("buildings", f.building_id, "floors"),
+    return post(collection("buildings", f.building_id, "floors"),
                                 {{"name", f.name},
                                  {"level", f.level},
                                  {"width", f.width},
                                  {"height", f.height},
-                                 {"north_offset_deg", f.north_offset_deg}}));
+                                 {"north_offset_deg", f.north_offset_deg}}).get<FloorInfo>();
 }
 std::vector<FloorInfo> Client::floors(std::int64_t building_id) {
-    return convert<FloorInfo>(list_all(collection("buildings", building_id, "floors")), floor_from_json);
+    return convert<FloorInfo>(list_all(collection("buildings", building_id, "floors")));
 }
-FloorInfo Client::floor(std::int64_t floor_id) { return floor_from_json(get("/v1/floors/" + std::to_string(floor_id))); }
+FloorInfo Client::floor(std::int64_t floor_id) { return get("/v1/floors/" + std::to_string(floor_id)).get<FloorInfo>(); }
 
 RoomInfo Client::create_room(const RoomInfo& room) {
-    json rects = json::array();
-    for (const auto& r : room.rects) rects.push_back({{"xmin", r.xmin}, {"ymin", r.ymin}, {"xmax", r.xmax}, {"ymax", r.ymax}});
-    return room_from_json(post(collection("floors", room.floor_id, "rooms"), {{"name", room.name}, {"rects", rects}}));
+    return post(collection("floors", room.floor_id, "rooms"), {{"name", room.name}, {"rects", room.rects}}).get<RoomInfo>();
 }
 std::vector<RoomInfo> Client::rooms(std::int64_t floor_id) {
-    return convert<RoomInfo>(list_all(collection("floors", floor_id, "rooms")), room_from_json);
+    return convert<RoomInfo>(list_all(collection("floors", floor_id, "rooms")));
 }
 
 PoiInfo Client::create_poi(const PoiInfo& poi) {
-    return poi_from_json(post(collection("floors", poi.floor_id, "pois"),
-                              {{"name", poi.name}, {"kind", poi.kind}, {"x", poi.x}, {"y", poi.y}}));
+    return post(collection("floors", poi.floor_id, "pois"),
+                              {{"name", poi.name}, {"kind", poi.kind}, {"x", poi.at.x}, {"y", poi.at.y}}).get<PoiInfo>();
 }
 std::vector<PoiInfo> Client::pois(std::int64_t floor_id) {
-    return convert<PoiInfo>(list_all(collection("floors", floor_id, "pois")), poi_from_json);
+    return convert<PoiInfo>(list_all(collection("floors", floor_id, "pois")));
 }
 
 RadioMapInfo Client::create_radiomap(std::int64_t floor_id, const std::string& name, const std::string& description) {
-    return radiomap_from_json(post(collection("floors", floor_id, "radiomaps"), {{"name", name}, {"description", description}}));
+    return post(collection("floors", floor_id, "radiomaps"), {{"name", name}, {"description", description}}).get<RadioMapInfo>();
 }
 std::vector<RadioMapInfo> Client::radiomaps(std::int64_t floor_id) {
-    return convert<RadioMapInfo>(list_all(collection("floors", floor_id, "radiomaps")), radiomap_from_json);
+    return convert<RadioMapInfo>(list_all(collection("floors", floor_id, "radiomaps")));
 }
 RadioMapInfo Client::radiomap(std::int64_t radiomap_id) {
-    return radiomap_from_json(get("/v1/radiomaps/" + std::to_string(radiomap_id)));
+    return get("/v1/radiomaps/" + std::to_string(radiomap_id)).get<RadioMapInfo>();
 }
 
 RpInfo Client::create_rp(std::int64_t radiomap_id, const std::string& name, double x, double y) {
-    return rp_from_json(post(collection("radiomaps", radiomap_id, "rps"), {{"name", name}, {"x", x}, {"y", y}}));
+    return post(collection("radiomaps", radiomap_id, "rps"), {{"name", name}, {"x", x}, {"y", y}}).get<RpInfo>();
 }
 std::vector<RpInfo> Client::rps(std::int64_t radiomap_id) {
-    return convert<RpInfo>(list_all(collection("radiomaps", radiomap_id, "rps")), rp_from_json);
+    return convert<RpInfo>(list_all(collection("radiomaps", radiomap_id, "rps")));
 }
-RpInfo Client::rp(std::int64_t rp_id) { return rp_from_json(get("/v1/rps/" + std::to_string(rp_id))); }
+RpInfo Client::rp(std::int64_t rp_id) { return get("/v1/rps/" + std::to_string(rp_id)).get<RpInfo>(); }
 
 MapInfo Client::ensure_map(const std::string& name, const std::string& description) {
     return find_or_create<MapInfo>(name, [&] { return maps(); }, [&] { return create_map(name, description); });
@@ -287,21 +285,21 @@ UploadResult Client::upload(std::int64_t rp_id, const ScanUpload& u) {
         thread_local std::mt19937_64 rng{std::random_device{}()};
         body.upload_id = "client-" + std::to_string(rng()) + "-" + std::to_string(++upload_counter_);
     }
-    const json answer = post("/v1/rps/" + std::to_string(rp_id) + "/scans", to_json(body));
-    return {answer.value("applied", false), rp_from_json(answer.at("rp"))};
+    const json answer = post("/v1/rps/" + std::to_string(rp_id) + "/scans", body);
+    return {answer.value("applied", false), answer.at("rp").get<RpInfo>()};
 }
 
 json Client::export_radiomap(std::int64_t radiomap_id) { return get("/v1/radiomaps/" + std::to_string(radiomap_id) + "/export"); }
 
 RadioMapInfo Client::import_radiomap(std::int64_t floor_id, const json& document) {
-    return radiomap_from_json(post("/v1/floors/" + std::to_string(floor_id) + "/radiomaps/import", document));
+    return post("/v1/floors/" + std::to_string(floor_id) + "/radiomaps/import", document).get<RadioMapInfo>();
 }
 
 LocalizeResult Client::localize_radiomap(std::int64_t radiomap_id, const LocalizeRequest& request) {
-    return localize_result_from_json(post("/v1/radiomaps/" + std::to_string(radiomap_id) + "/localize", to_json(request)));
+    return post("/v1/radiomaps/" + std::to_string(radiomap_id) + "/localize", request).get<LocalizeResult>();
 }
 LocalizeResult Client::localize_map(std::int64_t map_id, const LocalizeRequest& request) {
-    return localize_result_from_json(post("/v1/maps/" + std::to_string(map_id) + "/localize", to_json(request)));
+    return post("/v1/maps/" + std::to_string(map_id) + "/localize", request).get<LocalizeResult>();
 }
 
 }  // namespace locus::api

@@ -1,137 +1,110 @@
 #include "locus/api/types.hpp"
 
-namespace locus::api {
+#include <type_traits>
+
+namespace {
 
 using nlohmann::json;
 
-namespace {
-std::string text_or(const json& j, const char* key, const std::string& fallback = "") {
-    const auto it = j.find(key);
-    return it != j.end() && it->is_string() ? it->get<std::string>() : fallback;
-}
+// `field` keeps its value unless `j` has `key` with a value of the field's JSON kind: a
+// string (for any type made from text), a number, or an array (of elements each read as
+// leniently). Any other field type is a compile error, never a field silently left unread.
 template <typename T>
-T number_or(const json& j, const char* key, T fallback = T{}) {
+void read_field(const json& j, const char* key, T& field) {
     const auto it = j.find(key);
-    return it != j.end() && it->is_number() ? it->get<T>() : fallback;
+    if (it == j.end()) return;
+    if constexpr (std::is_arithmetic_v<T>) {
+        if (it->is_number()) field = it->template get<T>();
+    } else if constexpr (std::is_constructible_v<T, std::string>) {
+        if (it->is_string()) field = T(it->template get<std::string>());
+    } else {
+        static_assert(requires { typename T::value_type; }, "read_field reads text, numbers and arrays");
+        if (it->is_array()) it->get_to(field);
+    }
 }
+
+// A bssid as text, whatever type holds it.
+const std::string& bssid_text(const std::string& s) { return s; }
+
+// The API spells a position and an RSS aggregate flat, as fields of the object holding them.
+void read_field(const json& j, const char*, locus::Point& at) {
+    read_field(j, "x", at.x);
+    read_field(j, "y", at.y);
+}
+void read_field(const json& j, const char*, locus::RssStats& stats) {
+    read_field(j, "mean", stats.mean);
+    read_field(j, "variance", stats.variance);
+    read_field(j, "count", stats.count);
+}
+
 }  // namespace
 
-json to_json(const Scan& scan) {
-    json arr = json::array();
-    for (const auto& r : scan) {
-        json reading = {{"bssid", r.bssid}, {"rss", r.rss}};
-        if (r.type != "wifi") reading["type"] = r.type;  // the server's default; keeps bodies small
-        arr.push_back(std::move(reading));
-    }
-    return arr;
+// NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT's from_json, built the same way, but each
+// field read with read_field, so a null or mistyped field keeps its default (see types.hpp).
+#define LOCUS_API_READ_FIELD(field) read_field(json_, #field, value_.field);
+#define LOCUS_API_FROM_JSON(Type, ...)                   \
+    void from_json(const json& json_, Type& value_) { \
+        NLOHMANN_JSON_EXPAND(NLOHMANN_JSON_PASTE(LOCUS_API_READ_FIELD, __VA_ARGS__)) }
+
+namespace locus {
+
+void to_json(json& j, const Reading& reading) {
+    j = {{"bssid", bssid_text(reading.bssid)}, {"rss", reading.rss}};
+    if (reading.type != "wifi") j["type"] = reading.type;  // the server's default; keeps bodies small
 }
 
-json to_json(const Measurement& m) {
-    return {{"type", m.type}, {"bssid", m.bssid}, {"mean", m.stats.mean}, {"variance", m.stats.variance},
-            {"count", m.stats.count}};
+void to_json(json& j, const Measurement& m) {
+    j = {{"type", m.type}, {"bssid", bssid_text(m.bssid)}, {"mean", m.stats.mean}, {"variance", m.stats.variance},
+         {"count", m.stats.count}};
 }
 
-json to_json(const ScanUpload& upload) {
-    json body = json::object();
-    if (upload.upload_id) body["upload_id"] = *upload.upload_id;
-    if (!upload.scans.empty()) {
-        json scans = json::array();
-        for (const auto& s : upload.scans) scans.push_back(to_json(s));
-        body["scans"] = std::move(scans);
-    } else {
-        json ms = json::array();
-        for (const auto& m : upload.measurements) ms.push_back(to_json(m));
-        body["measurements"] = std::move(ms);
-    }
-    return body;
+void to_json(json& j, const Rect& rect) {
+    j = {{"xmin", rect.xmin}, {"ymin", rect.ymin}, {"xmax", rect.xmax}, {"ymax", rect.ymax}};
 }
 
-json to_json(const LocalizeRequest& request) {
-    json scans = json::array();
-    for (const auto& s : request.scans) scans.push_back(to_json(s));
-    json body = {{"scans", std::move(scans)}};
-    if (request.algorithm) body["algorithm"] = *request.algorithm;
-    if (!request.options.empty()) body["options"] = request.options;
-    return body;
+LOCUS_API_FROM_JSON(Measurement, type, bssid, stats)
+LOCUS_API_FROM_JSON(Rect, xmin, ymin, xmax, ymax)
+
+}  // namespace locus
+
+namespace locus::match {
+LOCUS_API_FROM_JSON(Candidate, rp_id, at, score, floor_id, building_id, matched_aps)
+}  // namespace locus::match
+
+namespace locus::api {
+
+void to_json(json& j, const ScanUpload& upload) {
+    j = json::object();
+    if (upload.upload_id) j["upload_id"] = *upload.upload_id;
+    if (!upload.scans.empty()) j["scans"] = upload.scans;
+    else j["measurements"] = upload.measurements;
 }
 
-MapInfo map_from_json(const json& j) {
-    return {number_or<std::int64_t>(j, "id"), text_or(j, "name"), text_or(j, "description")};
+void to_json(json& j, const LocalizeRequest& request) {
+    j = {{"scans", request.scans}};
+    if (request.algorithm) j["algorithm"] = *request.algorithm;
+    if (!request.options.empty()) j["options"] = request.options;
 }
 
-BuildingInfo building_from_json(const json& j) {
-    return {number_or<std::int64_t>(j, "id"), number_or<std::int64_t>(j, "map_id"), text_or(j, "name"),
-            text_or(j, "description")};
-}
+LOCUS_API_FROM_JSON(MapInfo, id, name, description)
+LOCUS_API_FROM_JSON(BuildingInfo, id, map_id, name, description)
+LOCUS_API_FROM_JSON(FloorInfo, id, building_id, name, level, width, height, north_offset_deg)
+LOCUS_API_FROM_JSON(RoomInfo, id, floor_id, name, rects)
+LOCUS_API_FROM_JSON(PoiInfo, id, floor_id, name, kind, at)
+LOCUS_API_FROM_JSON(RadioMapInfo, id, floor_id, name, description)
+LOCUS_API_FROM_JSON(RpInfo, id, radiomap_id, name, at, scans, measurements)
 
-FloorInfo floor_from_json(const json& j) {
-    FloorInfo f;
-    f.id = number_or<std::int64_t>(j, "id");
-    f.building_id = number_or<std::int64_t>(j, "building_id");
-    f.name = text_or(j, "name");
-    f.level = number_or<int>(j, "level");
-    f.width = number_or<double>(j, "width");
-    f.height = number_or<double>(j, "height");
-    f.north_offset_deg = number_or<double>(j, "north_offset_deg");
-    return f;
-}
-
-RoomInfo room_from_json(const json& j) {
-    RoomInfo r;
-    r.id = number_or<std::int64_t>(j, "id");
-    r.floor_id = number_or<std::int64_t>(j, "floor_id");
-    r.name = text_or(j, "name");
-    if (const auto it = j.find("rects"); it != j.end() && it->is_array())
-        for (const auto& rect : *it)
-            r.rects.push_back({number_or<double>(rect, "xmin"), number_or<double>(rect, "ymin"),
-                               number_or<double>(rect, "xmax"), number_or<double>(rect, "ymax")});
-    return r;
-}
-
-PoiInfo poi_from_json(const json& j) {
-    return {number_or<std::int64_t>(j, "id"), number_or<std::int64_t>(j, "floor_id"), text_or(j, "name"),
-            text_or(j, "kind"), number_or<double>(j, "x"), number_or<double>(j, "y")};
-}
-
-RadioMapInfo radiomap_from_json(const json& j) {
-    return {number_or<std::int64_t>(j, "id"), number_or<std::int64_t>(j, "floor_id"), text_or(j, "name"),
-            text_or(j, "description")};
-}
-
-Measurement measurement_from_json(const json& j) {
-    Measurement m;
-    m.type = text_or(j, "type", "wifi");
-    m.bssid = text_or(j, "bssid");
-    m.stats.mean = number_or<double>(j, "mean");
-    m.stats.variance = number_or<double>(j, "variance");
-    m.stats.count = number_or<std::int64_t>(j, "count");
-    return m;
-}
-
-RpInfo rp_from_json(const json& j) {
-    RpInfo rp;
-    rp.id = number_or<std::int64_t>(j, "id");
-    rp.radiomap_id = number_or<std::int64_t>(j, "radiomap_id");
-    rp.name = text_or(j, "name");
-    rp.x = number_or<double>(j, "x");
-    rp.y = number_or<double>(j, "y");
-    rp.scans = number_or<std::int64_t>(j, "scans");
-    if (const auto it = j.find("measurements"); it != j.end() && it->is_array())
-        for (const auto& m : *it) rp.measurements.push_back(measurement_from_json(m));
-    return rp;
-}
-
-LocalizeResult localize_result_from_json(const json& j) {
-    LocalizeResult r;
-    r.x = number_or<double>(j, "x");
-    r.y = number_or<double>(j, "y");
-    r.floor_id = number_or<std::int64_t>(j, "floor_id");
-    r.building_id = number_or<std::int64_t>(j, "building_id");
-    if (const auto it = j.find("room"); it != j.end() && it->is_object()) r.room = text_or(*it, "name");
-    r.score = number_or<double>(j, "score");
-    r.matched_aps = number_or<int>(j, "matched_aps");
-    r.raw = j;
-    return r;
+void from_json(const json& j, LocalizeResult& result) {
+    read_field(j, "", result.at);
+    read_field(j, "floor_id", result.floor_id);
+    read_field(j, "building_id", result.building_id);
+    if (const auto it = j.find("room"); it != j.end() && it->is_object()) read_field(*it, "name", result.room.emplace());
+    read_field(j, "rps", result.rp_ids);
+    read_field(j, "score", result.score);
+    read_field(j, "matched_aps", result.matched_aps);
+    read_field(j, "algorithm", result.algorithm);
+    read_field(j, "candidates", result.candidates);
+    result.raw = j;
 }
 
 }  // namespace locus::api

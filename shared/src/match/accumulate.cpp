@@ -1,10 +1,19 @@
 #include "accumulate.hpp"
 
-namespace locus::match::detail {
+namespace locus::match {
 
-namespace {
-thread_local Scratch t_scratch;
-}  // namespace
+Workspace::Workspace() noexcept = default;
+Workspace::~Workspace() = default;
+Workspace::Workspace(Workspace&&) noexcept = default;
+Workspace& Workspace::operator=(Workspace&&) noexcept = default;
+
+namespace detail {
+
+// Allocated here rather than in the constructor so a moved-from workspace is usable again.
+Scratch& scratch_of(Workspace& workspace) {
+    if (!workspace.scratch_) workspace.scratch_ = std::make_unique<Scratch>();
+    return *workspace.scratch_;
+}
 
 void Scratch::clear() {
     for (auto i : touched) {
@@ -17,8 +26,8 @@ void Scratch::clear() {
     touched.clear();
 }
 
-Scratch& scratch_for(const Index& index) {
-    Scratch& s = t_scratch;
+Scratch& scratch_for(const Index& index, Workspace& workspace) {
+    Scratch& s = scratch_of(workspace);
     const std::size_t n = index.size();
     if (s.shared.size() < n) {
         s.shared.resize(n, 0);
@@ -31,4 +40,6 @@ Scratch& scratch_for(const Index& index) {
     return s;
 }
 
-}  // namespace locus::match::detail
+}  // namespace detail
+
+}  // namespace locus::match

@@ -12,6 +12,7 @@
 #include "locus/match/index.hpp"
 #include "locus/match/options.hpp"
 #include "locus/match/query.hpp"
+#include "locus/match/workspace.hpp"
 
 namespace locus::match::detail {
 
@@ -31,9 +32,9 @@ struct QueryTotals {
     double n_aps = 0.0;
 };
 
-// Per-query accumulators indexed by RP position. Thread-local so concurrent queries on
-// one Index never share them and a query allocates nothing once warmed up; only the RPs a
-// query touched are reset afterwards.
+// What a Workspace holds: per-query accumulators indexed by RP position, kept between
+// queries so a query allocates nothing once warmed up. Between queries every per-RP slot is
+// zero: only the RPs a query touched are reset afterwards, not the whole index.
 struct Scratch {
     std::vector<int> shared;  // APs shared with the query; -1 = excluded by `near`
     std::vector<double> acc;  // the matcher's sum over the shared APs
@@ -43,12 +44,13 @@ struct Scratch {
     std::vector<Known> known;
     std::vector<Scored> scored;
     std::vector<double> weights;
+    std::vector<Scored> on_floor;  // bayes: the winning floor's candidates
 
     void clear();
 };
 
-// This thread's scratch, sized for `index` and cleared.
-Scratch& scratch_for(const Index& index);
+// The workspace's scratch, sized for `index` and cleared.
+Scratch& scratch_for(const Index& index, Workspace& workspace);
 
 // Fills s.known with the query's APs the index knows, in query order. `penalty(rss)` is an
 // AP's term at an RP that does not store it (bayes; 0 for the others).

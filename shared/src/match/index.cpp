@@ -48,8 +48,7 @@ Index Index::build(const std::vector<IndexedRp>& rps, const IndexParams& params)
         RpInfo info{in.rp.id, in.rp.at, in.floor_id, in.building_id, 0};
         for (const auto& m : in.rp.measurements) {
             if (m.stats.count <= 0 || !std::isfinite(m.stats.mean)) continue;
-            const std::string bssid = normalise_bssid(m.bssid);
-            auto [it, inserted] = idx.ap_ids_.try_emplace(ApKey{m.type, bssid}, static_cast<std::uint32_t>(lists.size()));
+            auto [it, inserted] = idx.ap_ids_.try_emplace(ApKey{m.type, m.bssid.str()}, static_cast<std::uint32_t>(lists.size()));
             if (inserted) lists.emplace_back();
             auto& list = lists[it->second];
             // Two measurements of one AP at one RP would be a store bug; keep the first.

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "locus/geometry.hpp"
+#include "locus/match/localize.hpp"
 #include "locus/radio_map.hpp"
 
 namespace locus::api {
@@ -34,20 +35,13 @@ struct FloorInfo {
     double north_offset_deg = 0.0;
 };
 
-struct RoomInfo {
-    std::int64_t id = 0;
+// The API's rooms, POIs and RPs are the core's, each with the id of what it belongs to.
+struct RoomInfo : Room {
     std::int64_t floor_id = 0;
-    std::string name;
-    std::vector<Rect> rects;
 };
 
-struct PoiInfo {
-    std::int64_t id = 0;
+struct PoiInfo : Poi {
     std::int64_t floor_id = 0;
-    std::string name;
-    std::string kind;
-    double x = 0.0;
-    double y = 0.0;
 };
 
 struct RadioMapInfo {
@@ -57,14 +51,9 @@ struct RadioMapInfo {
     std::string description;
 };
 
-struct RpInfo {
-    std::int64_t id = 0;
+// `measurements` is filled only where the server sends them (one RP, an upload's answer).
+struct RpInfo : ReferencePoint {
     std::int64_t radiomap_id = 0;
-    std::string name;
-    double x = 0.0;
-    double y = 0.0;
-    std::int64_t scans = 0;
-    std::vector<Measurement> measurements;  // filled only where the server sends them
 };
 
 // One upload to one RP: raw scans (the server aggregates) or ready aggregates.
@@ -86,30 +75,42 @@ struct LocalizeRequest {
     nlohmann::json options = nlohmann::json::object();
 };
 
-struct LocalizeResult {
-    double x = 0.0;
-    double y = 0.0;
-    std::int64_t floor_id = 0;
-    std::int64_t building_id = 0;
-    std::optional<std::string> room;
-    double score = 0.0;
-    int matched_aps = 0;
-    nlohmann::json raw;  // the whole answer, candidates included
+// The matcher's result as the server answers it, with the room that holds the position.
+struct LocalizeResult : match::Result {
+    std::optional<std::string> room;  // the room's name
+    nlohmann::json raw;               // the whole answer
 };
 
-// JSON shapes of the API (request bodies and answers).
-nlohmann::json to_json(const Scan& scan);
-nlohmann::json to_json(const Measurement& m);
-nlohmann::json to_json(const ScanUpload& upload);
-nlohmann::json to_json(const LocalizeRequest& request);
-MapInfo map_from_json(const nlohmann::json& j);
-BuildingInfo building_from_json(const nlohmann::json& j);
-FloorInfo floor_from_json(const nlohmann::json& j);
-RoomInfo room_from_json(const nlohmann::json& j);
-PoiInfo poi_from_json(const nlohmann::json& j);
-RadioMapInfo radiomap_from_json(const nlohmann::json& j);
-RpInfo rp_from_json(const nlohmann::json& j);
-Measurement measurement_from_json(const nlohmann::json& j);
-LocalizeResult localize_result_from_json(const nlohmann::json& j);
+// JSON shapes of the API (request bodies and answers), found by nlohmann's ADL: json j = x;
+// x = j.get<T>(). Reading an answer, a field that is missing, null (the server sends null for
+// an unset optional field such as a description) or of another JSON type keeps its default.
+// NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT would throw on the null, so types.cpp
+// defines the readers with a lenient macro of the same make.
+void to_json(nlohmann::json& j, const ScanUpload& upload);
+void to_json(nlohmann::json& j, const LocalizeRequest& request);
+void from_json(const nlohmann::json& j, MapInfo& map);
+void from_json(const nlohmann::json& j, BuildingInfo& building);
+void from_json(const nlohmann::json& j, FloorInfo& floor);
+void from_json(const nlohmann::json& j, RoomInfo& room);
+void from_json(const nlohmann::json& j, PoiInfo& poi);
+void from_json(const nlohmann::json& j, RadioMapInfo& radiomap);
+void from_json(const nlohmann::json& j, RpInfo& rp);
+void from_json(const nlohmann::json& j, LocalizeResult& result);
 
 }  // namespace locus::api
+
+// The core's types as the API spells them. They live here, beside the client, because the
+// core includes no JSON library; nlohmann finds them by ADL in the types' namespace.
+namespace locus {
+
+void to_json(nlohmann::json& j, const Reading& reading);  // "type" only when not wifi
+void to_json(nlohmann::json& j, const Measurement& m);    // flat: type, bssid, mean, variance, count
+void from_json(const nlohmann::json& j, Measurement& m);
+void to_json(nlohmann::json& j, const Rect& rect);
+void from_json(const nlohmann::json& j, Rect& rect);
+
+}  // namespace locus
+
+namespace locus::match {
+void from_json(const nlohmann::json& j, Candidate& candidate);  // a localize answer's candidate
+}  // namespace locus::match

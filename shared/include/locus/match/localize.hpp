@@ -11,6 +11,7 @@
 #include "locus/match/index.hpp"
 #include "locus/match/options.hpp"
 #include "locus/match/query.hpp"
+#include "locus/match/workspace.hpp"
 
 namespace locus::match {
 
@@ -35,7 +36,8 @@ struct Result {
 };
 
 // nullopt when no candidate RP (after the `near` filter) shares an AP with the query.
-std::optional<Result> localize(const Index& index, const Query& query, Algorithm algorithm,
-                               const Options& options = {});
+// `workspace` is this call's working memory (see workspace.hpp): one per thread, reused.
+std::optional<Result> localize(const Index& index, const Query& query, Algorithm algorithm, const Options& options,
+                               Workspace& workspace);
 
 }  // namespace locus::match

@@ -11,7 +11,7 @@ namespace locus::match {
 
 struct QueryAp {
     std::string type = "wifi";
-    std::string bssid;  // normalised (normalise_bssid)
+    std::string bssid;  // normalised (a Bssid's text)
     double rss = 0.0;   // mean over the online scans, dBm
     // std::hash<std::string_view> of bssid, set by from_scans/from_means: the query hashes
     // each AP once, for its duplicate check and for the index lookup (Index::ap_of).
@@ -22,8 +22,9 @@ struct QueryAp {
 // request parser reads views into the body and copies nothing before the query).
 struct ReadingView {
     std::string_view type = "wifi";
-    std::string_view bssid;
+    std::string_view bssid;  // raw text from the wire, normalised by the query
     double rss = 0.0;
+    bool normalised = false;  // bssid is already a Bssid's text
 };
 
 struct Query {

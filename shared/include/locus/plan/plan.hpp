@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "locus/geometry.hpp"
@@ -51,6 +52,22 @@ inline constexpr double kDefaultDoorWidth = 0.9;
 
 enum class ConnectorKind { stairs, elevator, escalator, ramp };
 
+// "stairs", "elevator", "escalator", "ramp": the names the API and the store use.
+inline const char* connector_kind_name(ConnectorKind k) {
+    switch (k) {
+        case ConnectorKind::stairs: return "stairs";
+        case ConnectorKind::elevator: return "elevator";
+        case ConnectorKind::escalator: return "escalator";
+        case ConnectorKind::ramp: return "ramp";
+    }
+    return "stairs";
+}
+inline std::optional<ConnectorKind> connector_kind_named(std::string_view name) {
+    for (auto k : {ConnectorKind::stairs, ConnectorKind::elevator, ConnectorKind::escalator, ConnectorKind::ramp})
+        if (name == connector_kind_name(k)) return k;
+    return std::nullopt;
+}
+
 // One end of a link between floors: the connector on another floor it leads to.
 struct ConnectorLink {
     std::int64_t floor_id = 0;
@@ -75,5 +92,18 @@ struct Plan {
     std::vector<Door> doors;
     std::vector<Connector> connectors;
 };
+
+// Another floor of the same map, with its plan when it has one.
+struct OtherFloor {
+    std::int64_t floor_id = 0;
+    const Plan* plan = nullptr;
+};
+
+// Links between floors, checked when `plan` becomes floor `floor_id`'s: every link names
+// another floor of the map, and where that floor has a plan, a connector there that links
+// back; every connector elsewhere that links to this floor finds its partner here. A link to
+// a floor without a plan yet is kept and checked when that floor's plan arrives. Returns one
+// message per problem, naming the connector.
+std::vector<std::string> link_problems(std::int64_t floor_id, const Plan& plan, const std::vector<OtherFloor>& others);
 
 }  // namespace locus::plan

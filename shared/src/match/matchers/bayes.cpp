@@ -68,7 +68,7 @@ const std::vector<Scored>& floor_pool(const Index& index, const Options& options
 
 }  // namespace
 
-std::optional<Result> localize_bayes(const Index& index, const Query& query, const Options& options) {
+std::optional<Result> localize_bayes(const Index& index, const Query& query, const Options& options, Scratch& s) {
     const int rep = static_cast<int>(options.representation);
     const IndexParams& params = index.params();
     // A zero floor would divide by the zero variance of an AP sampled once.
@@ -81,7 +81,6 @@ std::optional<Result> localize_bayes(const Index& index, const Query& query, con
                                                        : std::numeric_limits<double>::infinity();
     const double penalty_base = std::log(params.min_detection) - 0.5 * (kLog2Pi + log_sigma2_floor);
 
-    Scratch& s = scratch_for(index);
     // An AP the RP does not store counts as if it were stored with the missing value, the
     // floored variance and the minimum detection rate.
     const QueryTotals q = prepare_query(index, query, rep, s, [&](double rss) {
@@ -131,7 +130,8 @@ std::optional<Result> localize_bayes(const Index& index, const Query& query, con
     const std::size_t n_listed = listed(scored, options.candidates, k);
     rank(scored, n_listed);
     const double temperature = std::max(options.temperature, 1e-9);
-    std::vector<Scored> on_floor;
+    std::vector<Scored>& on_floor = s.on_floor;
+    on_floor.clear();
     const std::vector<Scored>& pool = floor_pool(index, options, s, scored, n_listed, temperature, floor_knn, on_floor);
 
     const Scored& best = scored.front();

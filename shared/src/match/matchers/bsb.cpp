@@ -5,8 +5,7 @@
 namespace locus::match::detail {
 
 // Score: the number of APs the RP shares with the query, higher first.
-std::optional<Result> localize_bsb(const Index& index, const Query& query, const Options& options) {
-    Scratch& s = scratch_for(index);
+std::optional<Result> localize_bsb(const Index& index, const Query& query, const Options& options, Scratch& s) {
     prepare_query(index, query, static_cast<int>(options.representation), s, [](double) { return 0.0; });
     walk(index, options, s, [](const Known&, const PostingList&, std::size_t, std::uint32_t) {});
     std::vector<Scored>& scored = collect(s, [](Scored& sc, std::uint32_t, double) {

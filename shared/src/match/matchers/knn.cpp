@@ -5,9 +5,8 @@
 
 namespace locus::match::detail {
 
-std::optional<Result> localize_knn(const Index& index, const Query& query, const Options& options, bool weighted) {
+std::optional<Result> localize_knn(const Index& index, const Query& query, const Options& options, bool weighted, Scratch& s) {
     const int rep = static_cast<int>(options.representation);
-    Scratch& s = scratch_for(index);
     const QueryTotals q = prepare_query(index, query, rep, s, [](double) { return 0.0; });
     const KnnDistance knn(index, options, q);
     walk(index, options, s, [&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {

@@ -8,8 +8,7 @@ namespace locus::match::detail {
 
 // nn score: √Σ over the shared APs of the squared mean difference, plus γ per AP the RP
 // stores beyond the number the query heard.
-std::optional<Result> localize_nn(const Index& index, const Query& query, const Options& options, bool bsb_first) {
-    Scratch& s = scratch_for(index);
+std::optional<Result> localize_nn(const Index& index, const Query& query, const Options& options, bool bsb_first, Scratch& s) {
     const QueryTotals q =
         prepare_query(index, query, static_cast<int>(options.representation), s, [](double) { return 0.0; });
     walk(index, options, s, [&](const Known& k, const PostingList& list, std::size_t j, std::uint32_t rp) {

@@ -1,4 +1,8 @@
 #pragma once
+// locus_sim (sim/): the walking simulator and the scoring of the fusion methods, a library so
+// that `locus sim`, `locus replay` and the tests run one simulator, and one that never needs
+// the server (it uses shared/ and client-lib/ only).
+//
 // A walk: what a phone records (IMU at a fixed rate, WiFi scans) plus, when known, the
 // ground truth at every sample, and the survey scans taken at the RPs to build the radio
 // map. Written and read by walk_io as JSON lines (docs/fusion.md describes the format), so

@@ -1,12 +1,16 @@
 #pragma once
-// Readers for the logs the `locus pdr` commands take. CLI-only: the library itself does no I/O.
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
+// Readers for the logs the `locus pdr` commands take. Here, not in client-lib/pdr, because
+// client-lib does no I/O.
 #include <string>
 #include <vector>
 
 #include "locus/geometry.hpp"
 #include "locus/pdr/vec3.hpp"
 
-namespace locus::tools {
+namespace locus::datasets {
 
 struct AccelSample {
     double t_s;
@@ -35,4 +39,4 @@ std::vector<ImuSample> read_imu_log(const std::string& path);
 // {xmin, ymin, xmax, ymax} or arrays [xmin, ymin, xmax, ymax]. north_offset_deg is returned apart.
 FloorPlan read_floor_plan(const std::string& path, int building, int floor, double& north_offset_deg);
 
-}  // namespace locus::tools
+}  // namespace locus::datasets

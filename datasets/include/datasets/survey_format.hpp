@@ -1,4 +1,7 @@
 #pragma once
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
 // The survey upload file formats (docs/survey.md), parsed without any I/O:
 //
 // JSON lines (.jsonl, .json): one scan per line,
@@ -25,7 +28,7 @@
 #include "locus/geometry.hpp"
 #include "locus/radio_map.hpp"
 
-namespace locus::tools::survey {
+namespace locus::datasets::survey {
 
 enum class Format { JsonLines, Csv };
 
@@ -58,4 +61,4 @@ bool valid_utf8(std::string_view s);
 // The name given to an RP known only by its coordinates.
 std::string name_for(Point at);
 
-}  // namespace locus::tools::survey
+}  // namespace locus::datasets::survey

@@ -1,4 +1,4 @@
-#include "survey_format.hpp"
+#include "datasets/survey_format.hpp"
 
 #include <charconv>
 #include <cstdint>
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-namespace locus::tools::survey {
+namespace locus::datasets::survey {
 
 using nlohmann::json;
 
@@ -61,10 +61,10 @@ std::string type_of(std::string_view raw) {
 Reading reading(std::string type, std::string_view bssid, double rss) {
     Reading r;
     r.type = std::move(type);
-    r.bssid = normalise_bssid(bssid);
+    r.bssid = Bssid(bssid);
     if (r.bssid.empty()) throw Bad("'bssid' is empty");
-    if (r.bssid.size() > 64) throw Bad("'bssid' is longer than 64 characters");
-    for (char c : r.bssid)
+    if (r.bssid.str().size() > 64) throw Bad("'bssid' is longer than 64 characters");
+    for (char c : r.bssid.str())
         if (static_cast<unsigned char>(c) < 0x20 || c == ',') throw Bad("'bssid' holds a control character or comma");
     if (!valid_rss(rss)) {
         char buf[32];
@@ -162,7 +162,7 @@ void parse_json_lines(std::string_view text, SurveyFile& out) {
                 if (r.contains("type") && !r.at("type").is_string()) throw Bad("'type' must be a string");
                 scan.push_back(reading(type_of(r.value("type", "wifi")), r.at("bssid").get<std::string>(), r.at("rss").get<double>()));
                 if (!seen.emplace(scan.back().type, scan.back().bssid).second)
-                    throw Bad("AP '" + scan.back().bssid + "' appears twice in one scan");
+                    throw Bad("AP '" + scan.back().bssid.str() + "' appears twice in one scan");
             }
             const std::size_t rp = builder.rp(name, at);
             builder.fill_coordinates(rp, at);
@@ -260,7 +260,7 @@ void parse_csv(std::string_view text, SurveyFile& out) {
             const std::size_t rp = builder.rp(name, at);
             auto [it, fresh] = scans.try_emplace({rp, t});
             if (!fresh && it->second.second.count({r.type, r.bssid}))
-                throw Bad("AP '" + r.bssid + "' appears twice in the scan at t=" + t);
+                throw Bad("AP '" + r.bssid.str() + "' appears twice in the scan at t=" + t);
             builder.fill_coordinates(rp, at);
             if (fresh) {
                 it->second.first = out.rps[rp].scans.size();
@@ -323,4 +323,4 @@ SurveyFile parse(std::string_view text, Format format) {
     return out;
 }
 
-}  // namespace locus::tools::survey
+}  // namespace locus::datasets::survey

@@ -1,4 +1,4 @@
-#include "pdr_logs.hpp"
+#include "datasets/pdr_logs.hpp"
 
 #include <charconv>
 #include <cstdlib>
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace locus::tools {
+namespace locus::datasets {
 
 namespace {
 
@@ -162,4 +162,4 @@ FloorPlan read_floor_plan(const std::string& path, int building, int floor, doub
     }
 }
 
-}  // namespace locus::tools
+}  // namespace locus::datasets

@@ -1,4 +1,7 @@
 #pragma once
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
 // The Oxford step-counter optimisation set (Brajdic & Harle, CC BY 4.0) for `locus pdr
 // eval-oxford` and `tune-oxford`: loading, counting steps and leave-one-user-out tuning.
 #include <functional>
@@ -6,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "datasets/pdr_logs.hpp"
 #include "locus/pdr/step_detector.hpp"
-#include "pdr_logs.hpp"
 
-namespace locus::tools {
+namespace locus::datasets {
 
 struct OxfordTrace {
     std::string name;
@@ -67,4 +70,4 @@ struct CvResult {
 CvResult tune_leave_one_user_out(const std::vector<OxfordTrace>& traces, const std::vector<pdr::StepDetectorConfig>& grid,
                                  unsigned threads, const std::function<void(std::size_t, std::size_t)>& progress);
 
-}  // namespace locus::tools
+}  // namespace locus::datasets

@@ -1,9 +1,9 @@
 #include "sim/evaluate.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
+#include "locus/metrics.hpp"
 #include "locus/pdr/heading_convention.hpp"
 
 namespace locus::sim {
@@ -50,10 +50,11 @@ Fix make_fix(double t_s, int aps, const match::Result& result, int k, double sig
 
 std::vector<Fix> run_matcher(const Walk& walk, const match::Index& index, const EvalConfig& config) {
     std::vector<Fix> fixes;
+    match::Workspace workspace;
     for (const WifiScan& scan : walk.scans) {
         const match::Query q = match::Query::from_scans({scan.readings});
         if (q.aps.empty()) continue;
-        const auto result = match::localize(index, q, config.algorithm, config.match_options);
+        const auto result = match::localize(index, q, config.algorithm, config.match_options, workspace);
         if (!result) continue;
         fixes.push_back(make_fix(scan.t_s, static_cast<int>(q.aps.size()), *result, config.match_options.k,
                                  config.fix_sigma_floor_m));
@@ -173,15 +174,11 @@ Score score(const NamedTrack& nt, const Walk& walk) {
         if (auto truth = walk.truth_at(p.t_s)) errors.push_back(distance(p.at, *truth));
     sc.points = errors.size();
     if (errors.empty()) return sc;
-    double sum = 0.0;
-    for (double e : errors) sum += e;
-    sc.mean_error_m = sum / static_cast<double>(errors.size());
+    sc.mean_error_m = metrics::mean(errors);
     sc.final_error_m = errors.back();
     std::vector<double> sorted = errors;
     std::sort(sorted.begin(), sorted.end());
-    // Nearest-rank percentile.
-    const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(sorted.size())));
-    sc.p95_error_m = sorted[std::max<std::size_t>(rank, 1) - 1];
+    sc.p95_error_m = metrics::percentile_nearest_rank(sorted, 0.95);
     return sc;
 }
 

@@ -1,4 +1,4 @@
-#include "uji_csv.hpp"
+#include "datasets/uji_csv.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
-namespace locus::tools::uji {
+namespace locus::datasets::uji {
 
 namespace {
 
@@ -101,7 +101,7 @@ Data read_file(const std::string& path) {
     return parse(text);
 }
 
-std::string bssid_of(const Data& data, std::uint16_t column) { return normalise_bssid(data.waps.at(column)); }
+std::string bssid_of(const Data& data, std::uint16_t column) { return Bssid(data.waps.at(column)).str(); }
 
 Scan scan_of(const Data& data, const Row& row) {
     Scan scan;
@@ -159,4 +159,4 @@ std::vector<match::IndexedRp> indexed_rps(const Data& data, const std::vector<st
     return out;
 }
 
-}  // namespace locus::tools::uji
+}  // namespace locus::datasets::uji

@@ -1,4 +1,4 @@
-#include "survey_sources.hpp"
+#include "datasets/survey_sources.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <numbers>
 #include <sstream>
 
-namespace locus::tools::survey {
+namespace locus::datasets::survey {
 
 using nlohmann::json;
 
@@ -51,7 +51,7 @@ Find3Data parse_find3(std::string_view text) {
             for (const auto& [bssid, rss] : readings.items()) {
                 if (!rss.is_number() || !valid_rss(rss.get<double>()))
                     return fail("'" + bssid + "' has an RSS outside [-120, 0] dBm");
-                const std::string id = normalise_bssid(bssid);
+                const std::string id = Bssid(bssid).str();
                 if (id.empty()) return fail("an empty bssid");
                 scan.push_back({source == "wifi" ? "wifi" : "ble", id, rss.get<double>()});
             }
@@ -97,7 +97,7 @@ AnyplaceData parse_anyplace(std::string_view text) {
             out.errors.push_back({line_no, "RSS outside [-120, 0] dBm"});
             return;
         }
-        l.bssid = normalise_bssid(f[4]);
+        l.bssid = Bssid(f[4]);
         l.floor = std::string(f[6]);
         out.lines.push_back(std::move(l));
     });
@@ -109,4 +109,4 @@ Point project(double lat, double lon, double lat0, double lon0) {
     return {(lon - lon0) * rad * kEarthRadius * std::cos(lat0 * rad), (lat - lat0) * rad * kEarthRadius};
 }
 
-}  // namespace locus::tools::survey
+}  // namespace locus::datasets::survey

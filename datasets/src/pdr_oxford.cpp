@@ -1,4 +1,4 @@
-#include "pdr_oxford.hpp"
+#include "datasets/pdr_oxford.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <thread>
 
-namespace locus::tools {
+namespace locus::datasets {
 
 namespace fs = std::filesystem;
 
@@ -220,4 +220,4 @@ CvResult tune_leave_one_user_out(const std::vector<OxfordTrace>& traces, const s
     return cv;
 }
 
-}  // namespace locus::tools
+}  // namespace locus::datasets

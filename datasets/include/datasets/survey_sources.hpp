@@ -1,4 +1,7 @@
 #pragma once
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
 // Readers for other systems' survey data, without I/O:
 // - FIND3 fingerprints (schollz/find3 `/data` export, JSON lines):
 //   {"t": ms, "f": family, "d": device, "l": location label, "s": {"wifi": {bssid: rss}, "bluetooth": {...}}}
@@ -11,11 +14,11 @@
 #include <string_view>
 #include <vector>
 
+#include "datasets/survey_format.hpp"
 #include "locus/geometry.hpp"
 #include "locus/radio_map.hpp"
-#include "survey_format.hpp"
 
-namespace locus::tools::survey {
+namespace locus::datasets::survey {
 
 struct Find3Data {
     std::string family;                             // of the first line
@@ -42,4 +45,4 @@ AnyplaceData parse_anyplace(std::string_view text);
 // over a building's few hundred metres is far below a metre).
 Point project(double lat, double lon, double lat0, double lon0);
 
-}  // namespace locus::tools::survey
+}  // namespace locus::datasets::survey

@@ -1,4 +1,7 @@
 #pragma once
+// locus_datasets (datasets/): the data set and file readers, a library apart from the CLI so that
+// tests, benchmarks and fuzz targets read a file exactly as the commands do.
+//
 // Reader for the UJIIndoorLoc CSV (Torres-Sospedra et al., IPIN 2014): 520 WAP columns of
 // RSS (100 = not detected), then LONGITUDE, LATITUDE, FLOOR, BUILDINGID, SPACEID,
 // RELATIVEPOSITION, USERID, PHONEID, TIMESTAMP. Shared by `locus eval uji` and
@@ -11,7 +14,7 @@
 #include "locus/match/index.hpp"
 #include "locus/radio_map.hpp"
 
-namespace locus::tools::uji {
+namespace locus::datasets::uji {
 
 inline constexpr int kNotDetected = 100;
 
@@ -65,4 +68,4 @@ inline long long floor_id(int building, int floor) { return building * 100LL + f
 // floor_id(building, floor) and the building as building id.
 std::vector<match::IndexedRp> indexed_rps(const Data& data, const std::vector<std::size_t>& rows = {});
 
-}  // namespace locus::tools::uji
+}  // namespace locus::datasets::uji
