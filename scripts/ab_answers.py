@@ -65,29 +65,19 @@ class Server:
 def mutate(value, rng):
     """One random structural change somewhere in a JSON value."""
     choices = [None, True, -1, 0, 1.5, 1e308, -1e308, "", "x" * 300, "AA-BB-CC-DD-EE-FF", [], {}, -121, 0.0001]
-    if isinstance(value, dict) and value and rng.random() < 0.8:
-        key = rng.choice(list(value))
+    if isinstance(value, (dict, list)) and value and rng.random() < 0.8:
+        key = rng.choice(list(value)) if isinstance(value, dict) else rng.randrange(len(value))
         r = rng.random()
         if r < 0.2:
             del value[key]
-        elif r < 0.3:
+        elif r < 0.3 and isinstance(value, dict):
             value["unknown_" + key] = value[key]
-        elif r < 0.6:
+        elif r < 0.3:
+            value.append(copy.deepcopy(value[key]))
+        elif r < 0.65:
             value[key] = mutate(value[key], rng)
         else:
             value[key] = rng.choice(choices)
-        return value
-    if isinstance(value, list) and value and rng.random() < 0.8:
-        i = rng.randrange(len(value))
-        r = rng.random()
-        if r < 0.2:
-            del value[i]
-        elif r < 0.3:
-            value.append(copy.deepcopy(value[i]))
-        elif r < 0.7:
-            value[i] = mutate(value[i], rng)
-        else:
-            value[i] = rng.choice(choices)
         return value
     return rng.choice(choices)
 
