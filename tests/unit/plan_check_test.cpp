@@ -123,8 +123,8 @@ TEST(PlanCheckLinks, UnknownFloorUnknownConnectorUnreturnedAndSelfLinksAreReport
     ASSERT_EQ(problems.size(), 4u);
     EXPECT_EQ(problems[0].feature, "floor 1 connectors[0] 's'");
     EXPECT_NE(problems[0].problem.find("does not link back"), std::string::npos);
-    EXPECT_NE(problems[1].problem.find("unknown floor 3"), std::string::npos);
-    EXPECT_NE(problems[2].problem.find("unknown connector 'nope'"), std::string::npos);
+    EXPECT_NE(problems[1].problem.find("floor 3, which is not a floor"), std::string::npos);
+    EXPECT_NE(problems[2].problem.find("connector 'nope', which that floor's plan does not have"), std::string::npos);
     EXPECT_NE(problems[3].problem.find("own floor"), std::string::npos);
 }
 

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <set>
 
 #include "locus/plan/ring.hpp"
@@ -132,47 +131,6 @@ std::vector<PlanProblem> check_plan(const Plan& plan) {
             out.push_back({feature, "seconds_per_level must be a positive number"});
         for (const ConnectorLink& link : c.links)
             if (link.connector.empty()) out.push_back({feature, "a link names no connector"});
-    }
-    return out;
-}
-
-std::vector<PlanProblem> check_links(const std::vector<std::pair<std::int64_t, const Plan*>>& floors) {
-    std::vector<PlanProblem> out;
-    std::map<std::int64_t, const Plan*> by_id;
-    for (const auto& [id, plan] : floors)
-        if (!by_id.emplace(id, plan).second) out.push_back({"floor " + std::to_string(id), "floor id given twice"});
-
-    const auto find = [](const Plan* plan, const std::string& id) -> const Connector* {
-        for (const Connector& c : plan->connectors)
-            if (c.id == id) return &c;
-        return nullptr;
-    };
-    for (const auto& [floor_id, plan] : floors) {
-        for (std::size_t i = 0; i < plan->connectors.size(); ++i) {
-            const Connector& c = plan->connectors[i];
-            const std::string feature = "floor " + std::to_string(floor_id) + " " + quoted("connectors", i, c.id);
-            for (const ConnectorLink& link : c.links) {
-                const std::string target = "'" + link.connector + "' on floor " + std::to_string(link.floor_id);
-                if (link.floor_id == floor_id) {
-                    out.push_back({feature, "links to its own floor (" + target + ")"});
-                    continue;
-                }
-                const auto other = by_id.find(link.floor_id);
-                if (other == by_id.end()) {
-                    out.push_back({feature, "links to unknown floor " + std::to_string(link.floor_id)});
-                    continue;
-                }
-                const Connector* peer = find(other->second, link.connector);
-                if (!peer) {
-                    out.push_back({feature, "links to unknown connector " + target});
-                    continue;
-                }
-                const bool returned = std::any_of(peer->links.begin(), peer->links.end(), [&](const ConnectorLink& back) {
-                    return back.floor_id == floor_id && back.connector == c.id;
-                });
-                if (!returned) out.push_back({feature, "links to " + target + ", which does not link back"});
-            }
-        }
     }
     return out;
 }

@@ -18,16 +18,6 @@ double turn_degrees(Point a, Point b, Point c) {
     return d;
 }
 
-const char* connector_word(ConnectorKind k) {
-    switch (k) {
-        case ConnectorKind::stairs: return "stairs";
-        case ConnectorKind::elevator: return "elevator";
-        case ConnectorKind::escalator: return "escalator";
-        case ConnectorKind::ramp: return "ramp";
-    }
-    return "connector";
-}
-
 Step walk(double metres) {
     const long rounded = std::max(1L, std::lround(metres));
     return {StepKind::walk, metres, {}, {}, 0, 0, "Walk " + std::to_string(rounded) + " m"};
@@ -69,7 +59,7 @@ std::vector<Step> instructions(const std::vector<Leg>& legs, const std::vector<T
         const Transfer& t = transfers[i];
         Step s{StepKind::take_connector, 0.0, t.kind, t.name, t.from_level, t.to_level, ""};
         const char* way = t.to_level > t.from_level ? "up" : "down";
-        s.text = std::string("Take the ") + connector_word(t.kind) + " " + way + " to level " + std::to_string(t.to_level);
+        s.text = std::string("Take the ") + connector_kind_name(t.kind) + " " + way + " to level " + std::to_string(t.to_level);
         out.push_back(s);
     }
     out.push_back({StepKind::arrive, 0, {}, {}, 0, 0, "Arrive at your destination"});

@@ -1,6 +1,7 @@
 #include <map>
 #include <string>
 
+#include "locus/plan/check.hpp"
 #include "locus/plan/plan.hpp"
 
 namespace locus::plan {
@@ -17,6 +18,21 @@ bool links_to(const Connector& c, std::int64_t floor_id, std::string_view connec
     return false;
 }
 std::string named(const Connector& c) { return "connector '" + c.id + "'"; }
+
+// What is wrong with one link of a connector on floor `floor_id`, given the map's floors
+// (null plan: that floor has none yet, so the link is not checked further); "" when nothing.
+std::string link_problem(std::int64_t floor_id, const Connector& c, const ConnectorLink& l,
+                         const std::map<std::int64_t, const Plan*>& floors) {
+    const std::string to = "floor " + std::to_string(l.floor_id) + " connector '" + l.connector + "'";
+    if (l.floor_id == floor_id) return "links to its own floor";
+    const auto it = floors.find(l.floor_id);
+    if (it == floors.end()) return "links to floor " + std::to_string(l.floor_id) + ", which is not a floor of this map";
+    if (!it->second) return "";
+    const Connector* other = find(*it->second, l.connector);
+    if (!other) return "links to " + to + ", which that floor's plan does not have";
+    if (!links_to(*other, floor_id, c.id)) return "links to " + to + ", which does not link back";
+    return "";
+}
 }  // namespace
 
 std::vector<std::string> link_problems(std::int64_t floor_id, const Plan& plan, const std::vector<OtherFloor>& others) {
@@ -24,22 +40,8 @@ std::vector<std::string> link_problems(std::int64_t floor_id, const Plan& plan, 
     for (const auto& o : others) floors[o.floor_id] = o.plan;
     std::vector<std::string> problems;
     for (const auto& c : plan.connectors) {
-        for (const auto& l : c.links) {
-            const std::string to = "floor " + std::to_string(l.floor_id) + " connector '" + l.connector + "'";
-            if (l.floor_id == floor_id) {
-                problems.push_back(named(c) + " links to its own floor");
-                continue;
-            }
-            const auto it = floors.find(l.floor_id);
-            if (it == floors.end()) {
-                problems.push_back(named(c) + " links to floor " + std::to_string(l.floor_id) + ", which is not a floor of this map");
-                continue;
-            }
-            if (!it->second) continue;  // checked when that floor's plan arrives
-            const Connector* other = find(*it->second, l.connector);
-            if (!other) problems.push_back(named(c) + " links to " + to + ", which that floor's plan does not have");
-            else if (!links_to(*other, floor_id, c.id)) problems.push_back(named(c) + " links to " + to + ", which does not link back");
-        }
+        for (const auto& l : c.links)
+            if (const std::string p = link_problem(floor_id, c, l, floors); !p.empty()) problems.push_back(named(c) + " " + p);
     }
     // What the other floors already say about this one must hold too.
     for (const auto& [other_floor, other] : floors) {
@@ -55,6 +57,22 @@ std::vector<std::string> link_problems(std::int64_t floor_id, const Plan& plan, 
             }
     }
     return problems;
+}
+
+std::vector<PlanProblem> check_links(const std::vector<std::pair<std::int64_t, const Plan*>>& floors) {
+    std::vector<PlanProblem> out;
+    std::map<std::int64_t, const Plan*> by_id;
+    for (const auto& [id, plan] : floors)
+        if (!by_id.emplace(id, plan).second) out.push_back({"floor " + std::to_string(id), "floor id given twice"});
+    // Every link is checked from its own end, so an unreturned link is reported once.
+    for (const auto& [floor_id, plan] : floors)
+        for (std::size_t i = 0; i < plan->connectors.size(); ++i) {
+            const Connector& c = plan->connectors[i];
+            const std::string feature = "floor " + std::to_string(floor_id) + " connectors[" + std::to_string(i) + "] '" + c.id + "'";
+            for (const ConnectorLink& l : c.links)
+                if (std::string p = link_problem(floor_id, c, l, by_id); !p.empty()) out.push_back({feature, std::move(p)});
+        }
+    return out;
 }
 
 }  // namespace locus::plan

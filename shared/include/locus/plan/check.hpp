@@ -26,9 +26,11 @@ inline constexpr double kDoorWallTolerance = 0.5;
 // compares every pair of edges of a ring, O(n²): fine up to a few thousand points per ring.
 std::vector<PlanProblem> check_plan(const Plan& plan);
 
-// The links between floors, which no single plan can check: every link names a known floor
-// other than its own and a connector on it, and that connector links back. Features are
-// prefixed with the floor: "floor 2 connectors[0] 's1'". A floor id given twice is a problem.
+// The links between floors of a whole building at once, which no single plan can check:
+// every link names a known floor other than its own and a connector on it, and that
+// connector links back (the rules and words of link_problems in plan.hpp, which checks one
+// floor's plan as it arrives). Features are prefixed with the floor: "floor 2 connectors[0]
+// 's1'". A floor id given twice is a problem.
 std::vector<PlanProblem> check_links(const std::vector<std::pair<std::int64_t, const Plan*>>& floors);
 
 }  // namespace locus::plan
