@@ -5,31 +5,44 @@
 
 namespace locus::plan {
 
-Landmark landmark_at(const WalkGrid& grid, int source) {
-    Landmark l{source, std::vector<float>(static_cast<std::size_t>(grid.cell_count()), kNoPath)};
-    if (source < 0) return l;
+namespace {
+
+std::vector<float> distances_from(const WalkGrid& grid, int source) {
+    std::vector<float> metres(static_cast<std::size_t>(grid.cell_count()), kNoPath);
+    if (source < 0) return metres;
     const float straight = static_cast<float>(grid.options.cell), diagonal = static_cast<float>(grid.options.cell * std::sqrt(2.0));
     using Entry = std::pair<float, int>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
-    l.metres[static_cast<std::size_t>(source)] = 0.0f;
+    metres[static_cast<std::size_t>(source)] = 0.0f;
     open.push({0.0f, source});
     while (!open.empty()) {
         const auto [d, cell] = open.top();
         open.pop();
-        if (d > l.metres[static_cast<std::size_t>(cell)]) continue;
+        if (d > metres[static_cast<std::size_t>(cell)]) continue;
         const std::uint8_t moves = grid.moves[static_cast<std::size_t>(cell)];
         for (int dir = 0; dir < 8; ++dir) {
             if (!(moves & (1u << dir))) continue;
             const int next = cell + kDirCol[dir] + kDirRow[dir] * grid.cols;
             const float nd = d + ((dir % 2) ? diagonal : straight);
-            auto& slot = l.metres[static_cast<std::size_t>(next)];
+            auto& slot = metres[static_cast<std::size_t>(next)];
             if (nd < slot) {
                 slot = nd;
                 open.push({nd, next});
             }
         }
     }
-    return l;
+    return metres;
+}
+
+}  // namespace
+
+Landmarks landmarks_from(const WalkGrid& grid, const std::vector<int>& sources) {
+    Landmarks out{sources, std::vector<float>(static_cast<std::size_t>(grid.cell_count()) * sources.size())};
+    for (std::size_t l = 0; l < sources.size(); ++l) {
+        const std::vector<float> metres = distances_from(grid, sources[l]);
+        for (std::size_t c = 0; c < metres.size(); ++c) out.metres[c * sources.size() + l] = metres[c];
+    }
+    return out;
 }
 
 std::vector<int> corner_cells(const WalkGrid& grid) {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <queue>
 
 #include "locus/plan/ring.hpp"
@@ -12,8 +11,6 @@
 namespace locus::plan {
 
 namespace {
-
-constexpr float kUnreached = std::numeric_limits<float>::infinity();
 
 bool usable(const Connector& c, bool step_free) {
     if (!step_free) return true;
@@ -80,10 +77,11 @@ Constraints constraints_for(const Building& b, bool step_free, const std::vector
 class Heuristic {
 public:
     Heuristic(const Building& b, const Constraints& cons, std::size_t goal_floor, int goal_cell, const RouteOptions& o)
-        : b_(b), goal_floor_(goal_floor), goal_cell_(goal_cell), speed_(o.walking_speed), via_(b.floors.size()) {
+        : b_(b), goal_floor_(goal_floor), speed_(o.walking_speed), via_(b.floors.size()) {
         const Floor& gf = b.floors[goal_floor];
         goal_at_ = gf.grid.centre(goal_cell);
-        for (const Landmark& l : gf.landmarks) goal_metres_.push_back(l.metres[static_cast<std::size_t>(goal_cell)]);
+        const float* at_goal = gf.landmarks.at(goal_cell);
+        goal_metres_.assign(at_goal, at_goal + gf.landmarks.sources.size());
 
         struct Node {
             std::size_t floor, connector;
@@ -95,7 +93,7 @@ public:
             for (std::size_t k = 0; k < b.floors[f].plan.connectors.size(); ++k) {
                 const int cell = b.floors[f].grid.connector_cell[k];
                 if (cell < 0 || !usable(b.floors[f].plan.connectors[k], cons.step_free)) continue;
-                const double to_goal = f == goal_floor ? b.floors[f].landmarks[k].metres[static_cast<std::size_t>(goal_cell)] / speed_ : INFINITY;
+                const double to_goal = f == goal_floor ? b.floors[f].landmarks.at(goal_cell)[k] / speed_ : INFINITY;
                 nodes.push_back({f, k, cell, to_goal});
             }
         // Dijkstra backwards from the goal over the few connectors, O(n²).
@@ -111,7 +109,7 @@ public:
                 Node& m = nodes[i];
                 if (done[i]) continue;
                 const Floor& mf = b.floors[m.floor];
-                if (m.floor == n.floor) m.bound = std::min(m.bound, n.bound + mf.landmarks[m.connector].metres[static_cast<std::size_t>(n.cell)] / speed_);
+                if (m.floor == n.floor) m.bound = std::min(m.bound, n.bound + mf.landmarks.at(n.cell)[m.connector] / speed_);
                 for (const LinkTarget& t : mf.links[m.connector])
                     if (t.floor == n.floor && t.connector == n.connector)
                         m.bound = std::min(m.bound, n.bound + seconds_between(mf.plan.connectors[m.connector], mf.level,
@@ -124,16 +122,16 @@ public:
 
     float operator()(std::size_t floor, int cell) const {
         const Floor& f = b_.floors[floor];
-        const auto c = static_cast<std::size_t>(cell);
+        const float* metres = f.landmarks.at(cell);
         double h = INFINITY;
         for (const auto& [connector, bound] : via_[floor]) {
-            const float m = f.landmarks[connector].metres[c];
+            const float m = metres[connector];
             if (m != kNoPath) h = std::min(h, m / speed_ + bound);
         }
         if (floor == goal_floor_) {
             double same = octile(f.grid.centre(cell), goal_at_);
-            for (std::size_t l = 0; l < f.landmarks.size(); ++l) {
-                const float here = f.landmarks[l].metres[c], there = goal_metres_[l];
+            for (std::size_t l = 0; l < goal_metres_.size(); ++l) {
+                const float here = metres[l], there = goal_metres_[l];
                 if (here == kNoPath || there == kNoPath) continue;
                 same = std::max(same, static_cast<double>(std::abs(here - there)));
             }
@@ -145,7 +143,6 @@ public:
 private:
     const Building& b_;
     std::size_t goal_floor_;
-    int goal_cell_;
     Point goal_at_;
     double speed_;
     std::vector<float> goal_metres_;
@@ -182,7 +179,7 @@ std::vector<std::size_t> search(const Building& b, const Constraints& cons, std:
         g[to] = ng;
         parent[to] = static_cast<std::uint32_t>(from);
         const float estimate = h(floor, cell);
-        if (estimate == kUnreached) return;  // the goal cannot be reached from there at all
+        if (estimate == kNoPath) return;  // the goal cannot be reached from there at all
         open.push({ng + estimate, ng, to});
     };
     while (!open.empty()) {
@@ -330,8 +327,9 @@ Building build_building(std::vector<FloorSpec> specs, const GridOptions& options
         f.floor_id = s.floor_id;
         f.level = s.level;
         f.grid = build_walk_grid(s.plan, options);
-        for (const int cell : f.grid.connector_cell) f.landmarks.push_back(landmark_at(f.grid, cell));
-        for (const int cell : corner_cells(f.grid)) f.landmarks.push_back(landmark_at(f.grid, cell));
+        std::vector<int> sources = f.grid.connector_cell;
+        for (const int cell : corner_cells(f.grid)) sources.push_back(cell);
+        f.landmarks = landmarks_from(f.grid, sources);
         f.plan = std::move(s.plan);
         f.first_node = b.node_count;
         b.node_count += static_cast<std::size_t>(f.grid.cell_count());

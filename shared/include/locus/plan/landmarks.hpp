@@ -12,14 +12,17 @@ namespace locus::plan {
 
 inline constexpr float kNoPath = std::numeric_limits<float>::infinity();
 
-struct Landmark {
-    int cell = -1;
-    std::vector<float> metres;  // grid distance from `cell` to each cell; kNoPath: not connected
+// Distances from each source to every cell, cell-major so the heuristic's reads for one cell
+// share a cache line: metres[cell * sources.size() + l] is from sources[l] to cell.
+struct Landmarks {
+    std::vector<int> sources;
+    std::vector<float> metres;  // kNoPath: not connected
+    const float* at(int cell) const { return metres.data() + static_cast<std::size_t>(cell) * sources.size(); }
 };
 
-// Dijkstra over the grid's moves from `source` (ignoring any avoided space: the distances stay
-// lower bounds under every constraint).
-Landmark landmark_at(const WalkGrid& grid, int source);
+// Dijkstra over the grid's moves from each source (a source of −1 reaches nothing). Avoided
+// spaces are ignored: the distances stay lower bounds under every constraint.
+Landmarks landmarks_from(const WalkGrid& grid, const std::vector<int>& sources);
 
 // The free cells nearest the four corners of the grid, for landmarks that spread out.
 std::vector<int> corner_cells(const WalkGrid& grid);

@@ -32,7 +32,7 @@ struct Floor {
     Plan plan;
     WalkGrid grid;
     std::vector<std::vector<LinkTarget>> links;  // per plan connector; unresolvable links dropped (check_links reports them)
-    std::vector<Landmark> landmarks;             // one per connector (same order), then the corners
+    Landmarks landmarks;  // sources: each connector's cell (same order), then the corners
     std::size_t first_node = 0;  // this floor's cells are nodes first_node … first_node + cells − 1
 };
 
