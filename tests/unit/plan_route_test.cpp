@@ -200,6 +200,23 @@ TEST(PlanRoute, AvoidedSpaceIsWalkedRoundAndNamedWhenItIsTheOnlyWay) {
     EXPECT_EQ(route(no_corridor, from, to, o).status, RouteStatus::needs_avoided);
 }
 
+TEST(PlanRoute, BlockedByBothConstraintsSaysSo) {
+    // The only way up is stairs in the East room, and the only way there is through the Lab.
+    Plan ground = lab_or_corridor(false);
+    ground.connectors = {connector("S", ConnectorKind::stairs, {25, 5}, {{11, "S"}})};
+    Plan upper;
+    upper.spaces = {space("Hall", rect(0, 0, 30, 10))};
+    upper.connectors = {connector("S", ConnectorKind::stairs, {25, 5}, {{10, "S"}})};
+    const Building b = build_building({{10, 0, ground}, {11, 1, upper}});
+    RouteOptions o;
+    o.step_free = true;
+    o.avoid = {{10, 1}};
+    const Endpoint from{10, {5, 5}}, to{11, {5, 5}};
+    EXPECT_EQ(route(b, from, to, o).status, RouteStatus::needs_steps_and_avoided);
+    EXPECT_EQ(route(b, from, to).status, RouteStatus::ok);
+    EXPECT_EQ(route(b, from, {11, {50, 50}}).status, RouteStatus::end_off_plan);
+}
+
 TEST(PlanRoute, StartingInsideAnAvoidedSpaceStillLeavesIt) {
     const Building b = one_floor(lab_or_corridor(false));
     RouteOptions o;
