@@ -46,7 +46,7 @@ void check(std::string_view text, survey::Format format) {
             std::set<std::pair<std::string, std::string>> aps;
             for (const auto& r : scan) {
                 if (r.type != "wifi" && r.type != "ble") fail("a type other than wifi/ble", format, text);
-                if (r.bssid.empty() || r.bssid.size() > 64) fail("a bssid outside 1..64 characters", format, text);
+                if (r.bssid.empty() || r.bssid.str().size() > 64) fail("a bssid outside 1..64 characters", format, text);
                 if (Bssid(r.bssid.str()) != r.bssid) fail("a bssid not normalised", format, text);
                 if (!valid_rss(r.rss)) fail("an rss outside [-120, 0]", format, text);
                 if (!aps.emplace(r.type, r.bssid).second) fail("an AP twice in one scan", format, text);
