@@ -2,6 +2,7 @@
 #include "http/app.hpp"
 #include "http/plan_json.hpp"
 #include "http/validation.hpp"
+#include "locus/plan/check.hpp"
 
 namespace locus::http {
 
@@ -31,6 +32,12 @@ void App::install_plan_routes() {
         respond(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
             const plan::Plan plan = parse_plan(parse_object(req.body));
+            // The geometry the router relies on: simple closed rings, doors on walls, …
+            if (const auto problems = plan::check_plan(plan); !problems.empty()) {
+                std::vector<std::string> messages;
+                for (const auto& p : problems) messages.push_back(p.feature + ": " + p.problem);
+                refuse(messages);
+            }
             const auto stored = store_.put_plan(floor_id, plan, [&](const std::vector<store::OtherPlan>& others) {
                 std::vector<plan::OtherFloor> floors;
                 for (const auto& o : others) floors.push_back({o.floor_id, o.plan ? &*o.plan : nullptr});

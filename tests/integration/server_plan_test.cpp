@@ -130,6 +130,8 @@ TEST(ServerPlan, MalformedPlansAreRefusedNamingTheFeatureAndWriteNothing) {
         {"unknown property", with(2, feature("wall", line({{5, 0}, {5, 4}}), {{"colour", "red"}})), "unknown field"},
         {"link to nowhere", two_rooms({{{"floor_id", 999}, {"connector", "s1"}}}), "not a floor of this map"},
         {"link to itself", two_rooms({{{"floor_id", h.floor}, {"connector", "s1"}}}), "its own floor"},
+        {"self-intersecting ring", with(0, feature("space", polygon({{0, 0}, {5, 4}, {5, 0}, {0, 4}, {0, 0}}), {{"name", "Lab 1"}})), "spaces[0] 'Lab 1'"},
+        {"door on no wall", with(3, feature("door", point(2, 2), {{"name", "Nowhere"}})), "doors[0] 'Nowhere'"},
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.what);
