@@ -72,7 +72,8 @@ async function call(method, path, { body, raw, contentType, auth, headers = {}, 
     return { status: 0, json: null };
   }
   const h = { ...headers };
-  const isWrite = method !== 'GET' && !path.split('?')[0].endsWith('/localize');
+  const bare = path.split('?')[0];
+  const isWrite = method !== 'GET' && !bare.endsWith('/localize') && !bare.endsWith('/route');
   if (auth === true || (auth === undefined && isWrite)) h.authorization = `Bearer ${apiKey}`;
   let payload;
   if (raw !== undefined) payload = raw;
@@ -327,6 +328,15 @@ async function run() {
   await put(`/v1/floors/${floor}/plan`, plan([]), { auth: false, expect: 401, invalid: true });
   await put(`/v1/floors/${UNKNOWN}/plan`, plan([]), { expect: 404 });
   await get(`/v1/floors/${UNKNOWN}/plan`, { expect: 404 });
+  // Routes: from the lobby up the stairs to the basement's reading room, and the refusals.
+  await post(`/v1/maps/${map}/route`, { from: { room_id: room }, to: { floor_id: floor2, x: 25, y: 10 } }, { expect: 200 });
+  await post(`/v1/maps/${map}/route`, { from: { poi_id: poi }, to: { floor_id: floor, x: 25, y: 10 }, options: { step_free: true, avoid: [room], walking_speed: 1.1 } }, { expect: 200 });
+  await post(`/v1/maps/${map}/route`, { from: { floor_id: floor, x: 1, y: 1 }, to: { floor_id: floor, x: 29, y: 29 } }, { expect: 422 });
+  await post(`/v1/maps/${map}/route`, { from: { floor_id: floor, x: 1, y: 1 } }, { expect: 422, invalid: true });
+  await post(`/v1/maps/${map}/route`, { from: { floor_id: floor, x: 1e6, y: 1 }, to: { room_id: room } }, { expect: 422, invalid: true });
+  await post(`/v1/maps/${map}/route`, { from: { room_id: room }, to: { room_id: room }, options: { lift: true } }, { expect: 422, invalid: true });
+  await post(`/v1/maps/${map}/route`, { from: { room_id: UNKNOWN }, to: { room_id: room } }, { expect: 404 });
+  await post(`/v1/maps/${UNKNOWN}/route`, { from: { room_id: room }, to: { room_id: room } }, { expect: 404 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 204 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 404 });
 

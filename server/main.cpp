@@ -13,6 +13,7 @@
 #include "http/localize_answer.hpp"
 #include "http/store_json.hpp"
 #include "localize/service.hpp"
+#include "routing/service.hpp"
 #include "store/migrations.hpp"
 #include "store/sqlite_store.hpp"
 
@@ -78,7 +79,8 @@ int main(int argc, char** argv) {
             log_event({{"event", "demo_map_created"}, {"map_id", store.import_map_bundle(bundle).id}});
         }
         locus::localize::Service localizer(store, locus::http::prepare_answers);
-        locus::http::App app(store, localizer, {api_key, !quiet, front});
+        locus::routing::Service router(store);
+        locus::http::App app(store, localizer, router, {api_key, !quiet, front});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);

@@ -16,8 +16,8 @@ namespace {
 
 bool is_read(const httplib::Request& req) {
     if (req.method == "GET" || req.method == "HEAD" || req.method == "OPTIONS") return true;
-    // Localizing reads the radio map; phones ask without a key.
-    return req.method == "POST" && req.path.size() > 9 && req.path.ends_with("/localize");
+    // Localizing reads the radio map, routing the plans; phones ask without a key.
+    return req.method == "POST" && (req.path.ends_with("/localize") || req.path.ends_with("/route"));
 }
 
 bool same_secret(const std::string& a, const std::string& b) {
@@ -109,14 +109,15 @@ void App::guarded(const httplib::Request& req, httplib::Response& res, const std
     }
 }
 
-App::App(store::Store& store, localize::Service& localizer, AppOptions options)
-    : store_(store), localizer_(localizer), options_(std::move(options)), server_(options_.front) {
+App::App(store::Store& store, localize::Service& localizer, routing::Service& router, AppOptions options)
+    : store_(store), localizer_(localizer), router_(router), options_(std::move(options)), server_(options_.front) {
     install_middleware();
     install_health();
     install_localize();
     install_crud();
     install_radiomap_routes();
     install_plan_routes();
+    install_route_routes();
 }
 
 bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res) const {

@@ -11,6 +11,8 @@
 
 #include "http/front.hpp"
 #include "localize/service.hpp"
+#include "locus/plan/route.hpp"
+#include "routing/service.hpp"
 #include "store/kinds.hpp"
 #include "store/sqlite.hpp"
 #include "store/store.hpp"
@@ -29,7 +31,7 @@ public:
     // routes. httplib tries a method's routes in the order they were added, one regex match
     // each, so localize (the request a phone repeats) is found without failing a match per
     // store route first.
-    App(store::Store& store, localize::Service& localizer, AppOptions options);
+    App(store::Store& store, localize::Service& localizer, routing::Service& router, AppOptions options);
     Front& server() { return server_; }
 
     // Runs a handler body, turning every failure into the JSON error shape (and a chunked body
@@ -48,9 +50,12 @@ private:
     void install_crud();             // crud_routes.cpp
     void install_radiomap_routes();  // radiomap_routes.cpp
     void install_plan_routes();      // plan_routes.cpp
+    void install_route_routes();     // route_routes.cpp
+    plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 
     store::Store& store_;
     localize::Service& localizer_;
+    routing::Service& router_;
     AppOptions options_;
     Front server_;
 };

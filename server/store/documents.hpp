@@ -119,6 +119,14 @@ struct StoredPlan {
     std::string updated_at;    // ISO 8601, UTC
 };
 
+// A floor of a map with its level and its plan (floors without a plan are left out): what
+// the router builds a building from.
+struct FloorWithPlan {
+    std::int64_t floor_id = 0;
+    std::int64_t level = 0;
+    plan::Plan plan;
+};
+
 // Another floor of a floor's map, with its plan when it has one: what a plan's links between
 // floors are checked against.
 struct OtherPlan {

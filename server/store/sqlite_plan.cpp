@@ -205,6 +205,20 @@ StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& plan, 
     });
 }
 
+std::vector<FloorWithPlan> SqliteStore::plans_of_map(std::int64_t map_id) {
+    std::lock_guard lock(mu_);
+    Transaction tx(db_);  // every floor's plan from one snapshot
+    require_exists(kind("maps"), map_id);
+    Stmt s(db_, "SELECT f.id, f.level FROM floor_plans fp JOIN floors f ON f.id = fp.floor_id "
+                "JOIN buildings b ON b.id = f.building_id WHERE b.map_id = ? ORDER BY f.id");
+    s.bind(1, map_id);
+    std::vector<FloorWithPlan> out;
+    while (s.step()) out.push_back({s.int64(0), s.int64(1), {}});
+    for (auto& f : out) f.plan = read_plan(f.floor_id)->plan;
+    tx.commit();
+    return out;
+}
+
 void SqliteStore::remove_plan(std::int64_t floor_id) {
     write([&](std::vector<Change>& changes) {
         require_exists(kind("floors"), floor_id);

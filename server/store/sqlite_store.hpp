@@ -41,6 +41,7 @@ public:
     std::optional<StoredPlan> plan_of_floor(std::int64_t floor_id) override;
     StoredPlan put_plan(std::int64_t floor_id, const plan::Plan& plan, const PlanCheck& check) override;
     void remove_plan(std::int64_t floor_id) override;
+    std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) override;
 
     std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) override;
     std::vector<StoredRp> rps_of_map(std::int64_t map_id) override;

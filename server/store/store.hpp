@@ -74,6 +74,8 @@ public:
     virtual StoredPlan put_plan(std::int64_t floor_id, const plan::Plan& plan, const PlanCheck& check) = 0;
     // NotFound when the floor has no plan.
     virtual void remove_plan(std::int64_t floor_id) = 0;
+    // Every floor of the map that has a plan, by floor id (NotFound for an unknown map).
+    virtual std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) = 0;
 
     // For the localization index. Each is a consistent snapshot.
     virtual std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) = 0;

@@ -1,0 +1,144 @@
+// Routes over HTTP against the real server: two floors joined by stairs and an elevator,
+// from a room to a POI; step_free takes the elevator; avoid; a plan change reroutes at once;
+// no route and every bad input answer 4xx naming what is wrong.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hierarchy.hpp"
+#include "server_process.hpp"
+
+using locus::testing::ServerProcess;
+using locus::testing::body_of;
+using nlohmann::json;
+
+namespace {
+
+json feature(const char* kind, json geometry, json properties = json::object()) {
+    properties["feature"] = kind;
+    return {{"type", "Feature"}, {"geometry", std::move(geometry)}, {"properties", std::move(properties)}};
+}
+json rect(double x0, double y0, double x1, double y1) {
+    return {{"type", "Polygon"}, {"coordinates", {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}}}}};
+}
+json point(double x, double y) { return {{"type", "Point"}, {"coordinates", {x, y}}}; }
+
+// A 30 m × 10 m floor: a corridor (y 0..4), a lab above its west end behind a wall with a
+// door at x = 5 (or none), stairs at the east end and an elevator at the west end.
+json floor_plan(std::int64_t other_floor, bool lab_door, std::int64_t lab_room = 0) {
+    json lab_props = {{"name", "Lab"}};
+    if (lab_room) lab_props["room_id"] = lab_room;
+    json features = {feature("space", rect(0, 0, 30, 4), {{"name", "Corridor"}, {"kind", "corridor"}}),
+                     feature("space", rect(0, 4, 10, 10), lab_props),
+                     feature("wall", {{"type", "LineString"}, {"coordinates", {{0, 4}, {10, 4}}}}),
+                     feature("connector", point(28, 2), {{"id", "stairs"}, {"kind", "stairs"}, {"links", {{{"floor_id", other_floor}, {"connector", "stairs"}}}}}),
+                     feature("connector", point(1, 2), {{"id", "lift"}, {"kind", "elevator"}, {"links", {{{"floor_id", other_floor}, {"connector", "lift"}}}}})};
+    if (lab_door) features.push_back(feature("door", point(5, 4), {{"name", "Lab door"}}));
+    return {{"type", "FeatureCollection"}, {"features", features}};
+}
+
+struct Building {
+    locus::testing::Hierarchy h;
+    std::int64_t upper = 0, lab_room = 0, poi = 0;
+};
+
+Building make_building(ServerProcess& s) {
+    Building b;
+    b.h = locus::testing::make_hierarchy(s);
+    const auto floors = "/v1/buildings/" + std::to_string(b.h.building) + "/floors";
+    b.upper = body_of(s.post(floors, {{"name", "Upper"}, {"level", 1}, {"width", 30.0}, {"height", 10.0}}), 201).at("id").get<std::int64_t>();
+    b.lab_room = body_of(s.post("/v1/floors/" + std::to_string(b.h.floor) + "/rooms",
+                                {{"name", "Lab"}, {"rects", {{{"xmin", 0}, {"ymin", 4}, {"xmax", 10}, {"ymax", 10}}}}}),
+                         201)
+                     .at("id")
+                     .get<std::int64_t>();
+    b.poi = body_of(s.post("/v1/floors/" + std::to_string(b.upper) + "/pois", {{"name", "Printer"}, {"x", 20.0}, {"y", 2.0}}), 201)
+                .at("id")
+                .get<std::int64_t>();
+    EXPECT_EQ(s.put("/v1/floors/" + std::to_string(b.h.floor) + "/plan", floor_plan(b.upper, true, b.lab_room)).status, 200);
+    EXPECT_EQ(s.put("/v1/floors/" + std::to_string(b.upper) + "/plan", floor_plan(b.h.floor, true)).status, 200);
+    return b;
+}
+
+std::string route_path(const Building& b) { return "/v1/maps/" + std::to_string(b.h.map) + "/route"; }
+
+}  // namespace
+
+TEST(ServerRoute, FromARoomUpTheStairsToAPoi) {
+    ServerProcess s;
+    const auto b = make_building(s);
+    const auto r = body_of(s.post(route_path(b), {{"from", {{"room_id", b.lab_room}}}, {"to", {{"poi_id", b.poi}}}}), 200);
+    // Lab centre (5, 7) → the door near (5, 4) → stairs (28, 2) → up → printer (20, 2): at
+    // least the straight lines, and not much more than the way through the door.
+    const double lower_bound = std::hypot(23.0, 5.0) + 8.0;
+    EXPECT_GE(r.at("length_m").get<double>(), lower_bound - 0.01);
+    EXPECT_LE(r.at("length_m").get<double>(), (3.0 + std::hypot(23.0, 2.0) + 8.0) * 1.05);
+    ASSERT_EQ(r.at("legs").size(), 2u);
+    EXPECT_EQ(r.at("legs")[0].at("floor_id"), b.h.floor);
+    EXPECT_EQ(r.at("legs")[1].at("floor_id"), b.upper);
+    ASSERT_EQ(r.at("transfers").size(), 1u);
+    EXPECT_EQ(r.at("transfers")[0].at("kind"), "stairs");
+    EXPECT_EQ(r.at("geojson").at("features").size(), 2u);
+    bool up_the_stairs = false;
+    for (const auto& step : r.at("steps")) up_the_stairs |= step.at("text").get<std::string>().find("stairs up to level 1") != std::string::npos;
+    EXPECT_TRUE(up_the_stairs) << r.at("steps").dump();
+    EXPECT_GT(r.at("time_s").get<double>(), r.at("length_m").get<double>() / 1.3);  // walking plus the stairs
+
+    // Without steps: the elevator at the west end.
+    const auto lift = body_of(s.post(route_path(b), {{"from", {{"room_id", b.lab_room}}}, {"to", {{"poi_id", b.poi}}},
+                                                     {"options", {{"step_free", true}}}}),
+                              200);
+    ASSERT_EQ(lift.at("transfers").size(), 1u);
+    EXPECT_EQ(lift.at("transfers")[0].at("kind"), "elevator");
+}
+
+TEST(ServerRoute, APlanChangeReroutesAndNoRouteSaysWhy) {
+    ServerProcess s;
+    const auto b = make_building(s);
+    const json lab_to_corridor = {{"from", {{"room_id", b.lab_room}}}, {"to", {{"floor_id", b.h.floor}, {"x", 20.0}, {"y", 2.0}}}};
+    ASSERT_EQ(s.post(route_path(b), lab_to_corridor).status, 200);
+    // Avoiding the lab still lets a route start in it.
+    EXPECT_EQ(s.post(route_path(b), {{"from", lab_to_corridor.at("from")}, {"to", lab_to_corridor.at("to")},
+                                     {"options", {{"avoid", {b.lab_room}}}}})
+                  .status,
+              200);
+    // The door walled up: the next route knows at once.
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.h.floor) + "/plan", floor_plan(b.upper, false, b.lab_room)).status, 200);
+    const auto none = s.post(route_path(b), lab_to_corridor);
+    EXPECT_EQ(none.status, 422) << none.raw;
+    EXPECT_EQ(none.body.at("error").at("code"), "no_route");
+    EXPECT_NE(none.raw.find("no walkable way"), std::string::npos) << none.raw;
+}
+
+TEST(ServerRoute, BadInputIsRefusedNamingWhat) {
+    ServerProcess s;
+    const auto b = make_building(s);
+    const json here = {{"floor_id", b.h.floor}, {"x", 20.0}, {"y", 2.0}};
+    struct Case {
+        json body;
+        int status;
+        const char* message;
+    };
+    const auto other = locus::testing::make_hierarchy(s, "Elsewhere");
+    const std::vector<Case> cases = {
+        {{{"to", here}}, 422, "'from'"},
+        {{{"from", here}, {"to", {{"floor_id", b.h.floor}, {"x", "a"}, {"y", 1}}}}, 422, "to.x"},
+        {{{"from", here}, {"to", {{"floor_id", b.h.floor}, {"x", 1e6}, {"y", 1}}}}, 422, "to.x"},
+        {{{"from", here}, {"to", {{"room_id", -3}}}}, 422, "to.room_id"},
+        {{{"from", here}, {"to", {{"room_id", 999}}}}, 404, "room 999"},
+        {{{"from", here}, {"to", {{"poi_id", 999}}}}, 404, "poi 999"},
+        {{{"from", here}, {"to", {{"floor_id", other.floor}, {"x", 1}, {"y", 1}}}}, 422, "not in map"},
+        {{{"from", here}, {"to", here}, {"options", {{"step_free", "yes"}}}}, 422, "step_free"},
+        {{{"from", here}, {"to", here}, {"options", {{"avoid", {"lab"}}}}}, 422, "avoid"},
+        {{{"from", here}, {"to", here}, {"options", {{"speed", 2}}}}, 422, "unknown field"},
+        {{{"from", here}, {"to", {{"floor_id", b.h.floor}, {"x", 20.0}, {"y", 9.0}}}}, 422, "'to' is more than 2 m"},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.body.dump());
+        const auto r = s.post(route_path(b), c.body);
+        EXPECT_EQ(r.status, c.status) << r.raw;
+        EXPECT_NE(r.raw.find(c.message), std::string::npos) << r.raw;
+    }
+    EXPECT_EQ(s.post("/v1/maps/999/route", {{"from", here}, {"to", here}}).status, 404);
+    EXPECT_EQ(s.post_raw(route_path(b), "[1]").status, 400);
+}
