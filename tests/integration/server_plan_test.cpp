@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "hierarchy.hpp"
+#include "plan_geojson.hpp"
 #include "server_process.hpp"
 
 using locus::testing::ServerProcess;
@@ -12,21 +13,10 @@ using nlohmann::json;
 
 namespace {
 
-json feature(const char* kind, json geometry, json properties = json::object()) {
-    properties["feature"] = kind;
-    return {{"type", "Feature"}, {"geometry", std::move(geometry)}, {"properties", std::move(properties)}};
-}
-json polygon(std::vector<std::pair<double, double>> pts) {
-    json ring = json::array();
-    for (auto [x, y] : pts) ring.push_back({x, y});
-    return {{"type", "Polygon"}, {"coordinates", json::array({ring})}};
-}
-json line(std::vector<std::pair<double, double>> pts) {
-    json c = json::array();
-    for (auto [x, y] : pts) c.push_back({x, y});
-    return {{"type", "LineString"}, {"coordinates", c}};
-}
-json point(double x, double y) { return {{"type", "Point"}, {"coordinates", {x, y}}}; }
+using locus::testing::line;
+using locus::testing::point;
+using locus::testing::polygon;
+using locus::testing::feature;
 
 // Two rooms side by side, a wall between them with a door, stairs in the corridor.
 json two_rooms(json stairs_links = json::array()) {

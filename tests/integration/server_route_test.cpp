@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "hierarchy.hpp"
+#include "plan_geojson.hpp"
 #include "server_process.hpp"
 
 using locus::testing::ServerProcess;
@@ -14,14 +15,9 @@ using nlohmann::json;
 
 namespace {
 
-json feature(const char* kind, json geometry, json properties = json::object()) {
-    properties["feature"] = kind;
-    return {{"type", "Feature"}, {"geometry", std::move(geometry)}, {"properties", std::move(properties)}};
-}
-json rect(double x0, double y0, double x1, double y1) {
-    return {{"type", "Polygon"}, {"coordinates", {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}}}}};
-}
-json point(double x, double y) { return {{"type", "Point"}, {"coordinates", {x, y}}}; }
+using locus::testing::point;
+using locus::testing::feature;
+json rect(double x0, double y0, double x1, double y1) { return locus::testing::rect_polygon(x0, y0, x1, y1); }
 
 // A 30 m × 10 m floor: a corridor (y 0..4), a lab above its west end behind a wall with a
 // door at x = 5 (or none), stairs at the east end and an elevator at the west end.
