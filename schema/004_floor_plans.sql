@@ -42,11 +42,12 @@ CREATE TABLE plan_tags (
   PRIMARY KEY (feature_id, seq)
 ) WITHOUT ROWID;
 
--- A connector's links to connectors on other floors (by floor id and connector id).
+-- A connector's links to connectors on other floors (by floor id and connector id). A link
+-- to a deleted floor goes with it, so what GET answers can always be PUT again.
 CREATE TABLE plan_links (
   feature_id INTEGER NOT NULL REFERENCES plan_features(id) ON DELETE CASCADE,
   seq        INTEGER NOT NULL,
-  floor_id   INTEGER NOT NULL,
+  floor_id   INTEGER NOT NULL REFERENCES floors(id) ON DELETE CASCADE,
   connector  TEXT NOT NULL,
   PRIMARY KEY (feature_id, seq)
 ) WITHOUT ROWID;

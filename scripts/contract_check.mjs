@@ -317,7 +317,7 @@ async function run() {
   });
   await get(`/v1/floors/${floor}/plan`, { expect: 404 });
   const ground = await put(`/v1/floors/${floor}/plan`, plan([{ floor_id: floor2, connector: 's1' }]), { expect: 200 });
-  await put(`/v1/floors/${floor2}/plan`, plan([]), { expect: 422 });
+  await put(`/v1/floors/${floor2}/plan`, plan([{ floor_id: floor, connector: 'nowhere' }]), { expect: 422 });
   await put(`/v1/floors/${floor2}/plan`, plan([{ floor_id: floor, connector: 's1' }]), { expect: 200 });
   await get(`/v1/floors/${floor}/plan`, { expect: 200 });
   await put(`/v1/floors/${floor}/plan`, ground.json, { expect: 200 });

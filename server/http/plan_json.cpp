@@ -110,8 +110,8 @@ plan::Connector connector_of(const json& f, const json& props, const std::string
         c.step_free = it->get<bool>();
     }
     if (const auto it = props.find("seconds_per_level"); it != props.end() && !it->is_null()) {
-        if (!it->is_number() || !std::isfinite(it->get<double>()) || it->get<double>() < 0 || it->get<double>() > 3600)
-            throw invalid_plan(where, "'seconds_per_level' must be a number of seconds in [0, 3600]");
+        if (!it->is_number() || !std::isfinite(it->get<double>()) || it->get<double>() <= 0 || it->get<double>() > 3600)
+            throw invalid_plan(where, "'seconds_per_level' must be a number of seconds in (0, 3600]");
         c.seconds_per_level = it->get<double>();
     }
     c.at = point_of(geometry_of(f, "Point", nullptr, where).at("coordinates"), where);
@@ -153,7 +153,7 @@ plan::Plan parse_features(const json& doc) {
             only_fields(*p, {"feature", "name", "kind", "tags", "room_id"}, where);
             out.spaces.push_back(space_of(f, *p, where));
         } else if (feature == "wall") {
-            only_fields(*p, {"feature", "name"}, where);
+            only_fields(*p, {"feature"}, where);
             out.walls.push_back({line_of(geometry_of(f, "LineString", nullptr, where).at("coordinates"), 2, where)});
         } else if (feature == "door") {
             only_fields(*p, {"feature", "name"}, where);

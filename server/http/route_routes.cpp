@@ -107,6 +107,7 @@ plan::Endpoint App::endpoint_of(const json& body, const char* name, std::int64_t
         floor_id = *room.parent_id;
         Room r;
         r.rects = room.fields.rects.value_or(std::vector<Rect>{});
+        if (r.rects.empty()) throw invalid_field(std::string("'") + name + "': room " + std::to_string(room.id) + " has no rectangles to start from");
         e.at = r.centre();
     } else if (j.contains("poi_id")) {
         only_fields(j, {"poi_id"}, name);

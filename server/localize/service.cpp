@@ -7,12 +7,17 @@ namespace locus::localize {
 
 Service::Service(store::Store& store, Prepare prepare) : store_(store), prepare_(std::move(prepare)) {
     subscription_ = store_.subscribe([this](const store::Change& change) { on_change(change); });
-    std::unordered_set<std::int64_t> maps;
-    for (const auto id : store_.radiomap_ids()) {
-        rebuild(Scope::radiomap, id);
-        maps.insert(store_.map_of_radiomap(id));
+    try {
+        std::unordered_set<std::int64_t> maps;
+        for (const auto id : store_.radiomap_ids()) {
+            rebuild(Scope::radiomap, id);
+            maps.insert(store_.map_of_radiomap(id));
+        }
+        for (const auto id : maps) rebuild(Scope::map, id);
+    } catch (...) {
+        store_.unsubscribe(subscription_);  // no destructor will: the store must not call a dead service
+        throw;
     }
-    for (const auto id : maps) rebuild(Scope::map, id);
     worker_ = std::thread([this] { refresher(); });
 }
 

@@ -66,7 +66,7 @@ TEST(ServerPlan, APlanReadsBackAsItWasPutAndEachPutReplacesIt) {
     EXPECT_EQ(s.del(plan_path(h.floor)).status, 404);
 }
 
-TEST(ServerPlan, StairsMustLinkBothWays) {
+TEST(ServerPlan, LinksNameRealConnectorsAndEachFloorAddsOrDropsItsOwnSide) {
     ServerProcess s;
     const auto h = locus::testing::make_hierarchy(s);
     const auto upper = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
@@ -76,13 +76,17 @@ TEST(ServerPlan, StairsMustLinkBothWays) {
                            .get<std::int64_t>();
     // The first floor may name a floor that has no plan yet.
     ASSERT_EQ(s.put(plan_path(h.floor), two_rooms({{{"floor_id", upper}, {"connector", "s1"}}})).status, 200);
-    // The second must then answer the link.
-    const auto one_way = s.put(plan_path(upper), two_rooms());
-    EXPECT_EQ(one_way.status, 422) << one_way.raw;
-    EXPECT_EQ(one_way.body.at("error").at("code"), "invalid_plan");
-    EXPECT_NE(one_way.raw.find("does not link back"), std::string::npos) << one_way.raw;
+    // A link must name a connector the other floor's plan has.
+    const auto typo = s.put(plan_path(upper), two_rooms({{{"floor_id", h.floor}, {"connector", "s2"}}}));
+    EXPECT_EQ(typo.status, 422) << typo.raw;
+    EXPECT_EQ(typo.body.at("error").at("code"), "invalid_plan");
+    EXPECT_NE(typo.raw.find("that floor's plan does not have"), std::string::npos) << typo.raw;
     EXPECT_EQ(s.get(plan_path(upper)).status, 404);  // nothing written
+    // Each floor states its own side: the pair is complete once both say it, and either may
+    // drop it again on its own.
     EXPECT_EQ(s.put(plan_path(upper), two_rooms({{{"floor_id", h.floor}, {"connector", "s1"}}})).status, 200);
+    EXPECT_EQ(s.put(plan_path(h.floor), two_rooms()).status, 200);
+    EXPECT_EQ(s.put(plan_path(h.floor), two_rooms({{{"floor_id", upper}, {"connector", "s1"}}})).status, 200);
     // A floor of another map is not a floor this plan can reach.
     const auto other = locus::testing::make_hierarchy(s, "Elsewhere");
     const auto foreign = s.put(plan_path(upper), two_rooms({{{"floor_id", other.floor}, {"connector", "s1"}}}));

@@ -98,6 +98,14 @@ TEST(ServerRoute, APlanChangeReroutesAndNoRouteSaysWhy) {
                                      {"options", {{"avoid", {b.lab_room}}}}})
                   .status,
               200);
+    // The upper floor drops its side of the stairs and the lift: no way up any more.
+    const json to_upper = {{"from", {{"room_id", b.lab_room}}}, {"to", {{"poi_id", b.poi}}}};
+    ASSERT_EQ(s.post(route_path(b), to_upper).status, 200);
+    json lone = floor_plan(b.h.floor, true);
+    for (auto& f : lone["features"])
+        if (f["properties"]["feature"] == "connector") f["properties"]["links"] = json::array();
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.upper) + "/plan", lone).status, 200);
+    EXPECT_EQ(s.post(route_path(b), to_upper).status, 422);
     // The door walled up: the next route knows at once.
     ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.h.floor) + "/plan", floor_plan(b.upper, false, b.lab_room)).status, 200);
     const auto none = s.post(route_path(b), lab_to_corridor);

@@ -75,6 +75,23 @@ TEST(PlanCheck, NanAndHugeCoordinatesAreReported) {
     EXPECT_EQ(problems[1].feature, "doors[1] 'Far'");
 }
 
+// A plan drawn in millimetres: every coordinate is in range, but the router would need a grid
+// of 21.6 billion cells.
+TEST(PlanCheck, APlanLargerThanAFloorCanBeIsReported) {
+    Plan p;
+    Space s;
+    s.name = "Hall";
+    s.shape.outer = {{0, 0}, {45000, 0}, {45000, 30000}, {0, 30000}, {0, 0}};
+    p.spaces.push_back(s);
+    const auto problems = check_plan(p);
+    ASSERT_EQ(problems.size(), 1u);
+    EXPECT_EQ(problems[0].feature, "the plan");
+    EXPECT_NE(problems[0].problem.find("45000 m × 30000 m"), std::string::npos) << problems[0].problem;
+    s.shape.outer = {{0, 0}, {500, 0}, {500, 500}, {0, 500}, {0, 0}};  // the largest allowed
+    p.spaces = {s};
+    EXPECT_TRUE(check_plan(p).empty());
+}
+
 TEST(PlanCheck, HoleOutsideItsOuterRingIsReported) {
     Plan p = two_rooms();
     p.spaces[0].shape.holes = {rect(9, 2, 11, 3)};

@@ -132,6 +132,21 @@ std::vector<PlanProblem> check_plan(const Plan& plan) {
         for (const ConnectorLink& link : c.links)
             if (link.connector.empty()) out.push_back({feature, "a link names no connector"});
     }
+
+    Rect box{INFINITY, INFINITY, -INFINITY, -INFINITY};
+    const auto grow = [&](Point p) {
+        // Points already reported as not finite or out of range do not count twice.
+        if (!(std::abs(p.x) <= kMaxPlanCoordinate && std::abs(p.y) <= kMaxPlanCoordinate)) return;
+        box = {std::min(box.xmin, p.x), std::min(box.ymin, p.y), std::max(box.xmax, p.x), std::max(box.ymax, p.y)};
+    };
+    for (const auto& s : plan.spaces) std::for_each(s.shape.outer.begin(), s.shape.outer.end(), grow);
+    for (const auto& w : plan.walls) std::for_each(w.line.begin(), w.line.end(), grow);
+    for (const auto& d : plan.doors) grow(d.a), grow(d.b);
+    for (const auto& c : plan.connectors) grow(c.at);
+    if (box.xmin <= box.xmax && (box.xmax - box.xmin) * (box.ymax - box.ymin) > kMaxPlanArea)
+        out.push_back({"the plan", "it covers " + std::to_string(static_cast<long long>(box.xmax - box.xmin)) + " m × " +
+                                       std::to_string(static_cast<long long>(box.ymax - box.ymin)) +
+                                       " m, more than 250,000 m² (coordinates are metres)"});
     return out;
 }
 

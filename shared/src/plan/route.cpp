@@ -342,8 +342,13 @@ Building build_building(std::vector<FloorSpec> specs, const GridOptions& options
                 for (std::size_t t = 0; t < b.floors.size(); ++t) {
                     if (b.floors[t].floor_id != link.floor_id || &b.floors[t] == &f) continue;
                     const auto& cons = b.floors[t].plan.connectors;
+                    // Only a pair: a link its partner does not return waits for that floor's plan.
                     for (std::size_t m = 0; m < cons.size(); ++m)
-                        if (cons[m].id == link.connector) f.links[k].push_back({t, m});
+                        if (cons[m].id == link.connector &&
+                            std::any_of(cons[m].links.begin(), cons[m].links.end(), [&](const ConnectorLink& back) {
+                                return back.floor_id == f.floor_id && back.connector == f.plan.connectors[k].id;
+                            }))
+                            f.links[k].push_back({t, m});
                 }
     }
     return b;

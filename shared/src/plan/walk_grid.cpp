@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "locus/plan/check.hpp"
 #include "locus/plan/ring.hpp"
@@ -293,8 +295,12 @@ WalkGrid build_walk_grid(const Plan& plan, const GridOptions& options) {
     g.options = options;
     const Bounds all = plan_bounds(plan);
     g.origin = {all.xmin, all.ymin};
-    g.cols = std::max(1, static_cast<int>(std::ceil((all.xmax - all.xmin) / options.cell)));
-    g.rows = std::max(1, static_cast<int>(std::ceil((all.ymax - all.ymin) / options.cell)));
+    // check_plan bounds a stored plan's area; a grid past it (or past int) is a caller's bug.
+    const double cols = std::ceil((all.xmax - all.xmin) / options.cell), rows = std::ceil((all.ymax - all.ymin) / options.cell);
+    if (!(cols * rows <= 4.0 * kMaxPlanArea / (options.cell * options.cell) + 1e6))
+        throw std::length_error("a walk grid of " + std::to_string(cols * rows) + " cells: the plan is too large");
+    g.cols = std::max(1, static_cast<int>(cols));
+    g.rows = std::max(1, static_cast<int>(rows));
     const auto n = static_cast<std::size_t>(g.cell_count());
     g.flags.assign(n, 0);
     g.moves.assign(n, 0);

@@ -16,13 +16,20 @@ struct PlanProblem {
     std::string problem;  // what is wrong, in words
 };
 
+// The largest floor a plan may cover (its bounding box, m²): 500 m × 500 m, a large mall. The
+// router's grid and landmarks grow with this area (docs/routing.md: 4 M cells at 0.25 m, and
+// their landmark distances), so a plan drawn in millimetres instead of metres is refused here
+// rather than exhausting the server's memory on the first route.
+inline constexpr double kMaxPlanArea = 250000.0;
+
 // A door farther than this from every wall opens nothing: it is a drawing mistake.
 inline constexpr double kDoorWallTolerance = 0.5;
 
 // One plan on its own: every coordinate finite and within ±kMaxPlanCoordinate; rings closed
 // (first == last), ≥ 4 points, non-zero area and not self-intersecting; holes inside their
 // outer ring; walls with ≥ 2 distinct points; doors within kDoorWallTolerance of a wall;
-// connector ids non-empty and unique, links naming a connector. The self-intersection test
+// connector ids non-empty and unique, links naming a connector; the bounding box of all of it
+// within kMaxPlanArea. The self-intersection test
 // compares every pair of edges of a ring, O(n²): fine up to a few thousand points per ring.
 std::vector<PlanProblem> check_plan(const Plan& plan);
 

@@ -100,10 +100,10 @@ struct OtherFloor {
 };
 
 // Links between floors, checked when `plan` becomes floor `floor_id`'s: every link names
-// another floor of the map, and where that floor has a plan, a connector there that links
-// back; every connector elsewhere that links to this floor finds its partner here. A link to
-// a floor without a plan yet is kept and checked when that floor's plan arrives. Returns one
-// message per problem, naming the connector.
+// another floor of the map and, where that floor has a plan, a connector of it. A link is
+// used for routing only once both ends name each other (build_building), so each floor's plan
+// can add or drop its side on its own: two floors are joined by PUTting both, and parted by
+// PUTting either. Returns one message per problem, naming the connector.
 std::vector<std::string> link_problems(std::int64_t floor_id, const Plan& plan, const std::vector<OtherFloor>& others);
 
 }  // namespace locus::plan
