@@ -335,7 +335,7 @@ async function run() {
   await post(`/v1/maps/${map}/route`, { from: { floor_id: floor, x: 1, y: 1 } }, { expect: 422, invalid: true });
   await post(`/v1/maps/${map}/route`, { from: { floor_id: floor, x: 1e6, y: 1 }, to: { room_id: room } }, { expect: 422, invalid: true });
   await post(`/v1/maps/${map}/route`, { from: { room_id: room }, to: { room_id: room }, options: { lift: true } }, { expect: 422, invalid: true });
-  await post(`/v1/maps/${map}/route`, { from: { room_id: UNKNOWN }, to: { room_id: room } }, { expect: 404 });
+  await post(`/v1/maps/${map}/route`, { from: { room_id: UNKNOWN }, to: { room_id: room } }, { expect: 422 });
   await post(`/v1/maps/${UNKNOWN}/route`, { from: { room_id: room }, to: { room_id: room } }, { expect: 404 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 204 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 404 });

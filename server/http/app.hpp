@@ -52,6 +52,7 @@ private:
     void install_plan_routes();      // plan_routes.cpp
     void install_route_routes();     // route_routes.cpp
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
+    plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 
     store::Store& store_;
     localize::Service& localizer_;

@@ -93,8 +93,18 @@ std::int64_t positive_id(const json& j, const char* field, const std::string& wh
 
 }  // namespace
 
-// A place given as a position, a room (its centre) or a POI, on a floor of this map.
+// A place given as a position, a room (its centre) or a POI, on a floor of this map. An
+// unknown room, POI or floor is a bad field of this request (422), not a missing resource:
+// the resource the path names is the map, and it exists.
 plan::Endpoint App::endpoint_of(const json& body, const char* name, std::int64_t map_id) {
+    try {
+        return place_of(body, name, map_id);
+    } catch (const store::NotFound& e) {
+        throw invalid_field(std::string("'") + name + "': " + e.what());
+    }
+}
+
+plan::Endpoint App::place_of(const json& body, const char* name, std::int64_t map_id) {
     const auto it = body.find(name);
     if (it == body.end() || !it->is_object())
         throw invalid_field(std::string("'") + name + "' must be {floor_id, x, y}, {room_id} or {poi_id}");

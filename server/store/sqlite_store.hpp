@@ -1,6 +1,7 @@
 #pragma once
-// The embedded backend: one SQLite connection, every public call one transaction (BEGIN
-// IMMEDIATE) serialised by a mutex. Reads of one call see one snapshot; the SQL is built from
+// The embedded backend: one SQLite connection, every public call serialised by a mutex. A
+// write, and a read of several statements, is one transaction (BEGIN IMMEDIATE); a read of
+// one statement is its own. Reads of one call see one snapshot; the SQL is built from
 // the kind descriptors, so a new field in kinds.cpp needs a migration and nothing here.
 #include <cstdint>
 #include <mutex>
