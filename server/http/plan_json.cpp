@@ -182,11 +182,14 @@ plan::Plan parse_features(const json& doc) {
 }
 
 json position(Point p) { return json::array({p.x, p.y}); }
-json positions(const std::vector<Point>& pts) {
+}  // namespace
+
+json positions_json(const std::vector<Point>& pts) {
     json out = json::array();
     for (const auto& p : pts) out.push_back(position(p));
     return out;
 }
+namespace {
 json feature(json geometry, json properties) {
     return {{"type", "Feature"}, {"geometry", std::move(geometry)}, {"properties", std::move(properties)}};
 }
@@ -208,18 +211,18 @@ json plan_json(const store::StoredPlan& stored) {
     json features = json::array();
     const auto& p = stored.plan;
     for (const auto& s : p.spaces) {
-        json rings = json::array({positions(s.shape.outer)});
-        for (const auto& h : s.shape.holes) rings.push_back(positions(h));
+        json rings = json::array({positions_json(s.shape.outer)});
+        for (const auto& h : s.shape.holes) rings.push_back(positions_json(h));
         json props = {{"feature", "space"}, {"name", s.name}, {"kind", s.kind}, {"tags", s.tags}};
         props["room_id"] = s.room_id ? json(*s.room_id) : json(nullptr);
         features.push_back(feature({{"type", "Polygon"}, {"coordinates", rings}}, props));
     }
     for (const auto& w : p.walls)
-        features.push_back(feature({{"type", "LineString"}, {"coordinates", positions(w.line)}}, {{"feature", "wall"}}));
+        features.push_back(feature({{"type", "LineString"}, {"coordinates", positions_json(w.line)}}, {{"feature", "wall"}}));
     for (const auto& d : p.doors) {
         const bool point = d.a.x == d.b.x && d.a.y == d.b.y;
         json g = point ? json{{"type", "Point"}, {"coordinates", position(d.a)}}
-                       : json{{"type", "LineString"}, {"coordinates", positions({d.a, d.b})}};
+                       : json{{"type", "LineString"}, {"coordinates", positions_json({d.a, d.b})}};
         features.push_back(feature(g, {{"feature", "door"}, {"name", d.name}}));
     }
     for (const auto& c : p.connectors) {

@@ -18,6 +18,9 @@ namespace locus::http {
 // itself (self-intersections, doors on walls, links) is checked by the plan's own checks.
 plan::Plan parse_plan(const nlohmann::json& doc);
 
+// [[x, y], …]: a GeoJSON LineString's or ring's coordinates (also a route's legs).
+nlohmann::json positions_json(const std::vector<Point>& pts);
+
 // The stored plan as GeoJSON, with "floor_id", "version" and "updated_at" beside "features".
 nlohmann::json plan_json(const store::StoredPlan& stored);
 

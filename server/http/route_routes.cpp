@@ -9,6 +9,7 @@
 #include <string>
 
 #include "http/app.hpp"
+#include "http/plan_json.hpp"
 #include "http/validation.hpp"
 
 namespace locus::http {
@@ -32,33 +33,12 @@ const char* step_kind(plan::StepKind k) {
     return "walk";
 }
 
-json positions(const std::vector<Point>& pts) {
-    json out = json::array();
-    for (const auto& p : pts) out.push_back({p.x, p.y});
-    return out;
-}
-
-const char* why(plan::RouteStatus s) {
-    switch (s) {
-        case plan::RouteStatus::unreachable: return "no walkable way joins the two places";
-        case plan::RouteStatus::needs_steps: return "the only way takes stairs or an escalator, and 'step_free' is set";
-        case plan::RouteStatus::needs_avoided: return "the only way passes through a room in 'avoid'";
-        case plan::RouteStatus::needs_steps_and_avoided:
-            return "the only way takes stairs or an escalator and passes through a room in 'avoid'";
-        case plan::RouteStatus::start_off_plan: return "'from' is more than 2 m from any walkable space of its floor's plan";
-        case plan::RouteStatus::end_off_plan: return "'to' is more than 2 m from any walkable space of its floor's plan";
-        case plan::RouteStatus::unknown_floor: return "a floor of the route has no plan";
-        case plan::RouteStatus::ok: break;
-    }
-    return "no route";
-}
-
 json route_json(const plan::Route& r) {
     json legs = json::array(), transfers = json::array(), steps = json::array(), features = json::array();
     for (const auto& leg : r.legs) {
-        legs.push_back({{"floor_id", leg.floor_id}, {"level", leg.level}, {"length_m", leg.length_m}, {"path", positions(leg.path)}});
+        legs.push_back({{"floor_id", leg.floor_id}, {"level", leg.level}, {"length_m", leg.length_m}, {"path", positions_json(leg.path)}});
         features.push_back({{"type", "Feature"},
-                            {"geometry", {{"type", "LineString"}, {"coordinates", positions(leg.path)}}},
+                            {"geometry", {{"type", "LineString"}, {"coordinates", positions_json(leg.path)}}},
                             {"properties", {{"floor_id", leg.floor_id}, {"level", leg.level}, {"length_m", leg.length_m}}}});
     }
     for (const auto& t : r.transfers)
@@ -169,7 +149,7 @@ void App::install_route_routes() {
             thread_local plan::RouteScratch scratch;
             const plan::Route r = plan::route(*building, from, to, options, scratch);
             if (r.status != plan::RouteStatus::ok)
-                throw ApiError(422, "no_route", why(r.status));
+                throw ApiError(422, "no_route", plan::to_string(r.status));
             return std::pair{200, route_json(r)};
         });
     });

@@ -309,13 +309,14 @@ std::vector<SpaceRef> spaces_holding(const Floor& floor, Point p) {
 const char* to_string(RouteStatus status) {
     switch (status) {
         case RouteStatus::ok: return "ok";
-        case RouteStatus::unknown_floor: return "unknown floor";
-        case RouteStatus::start_off_plan: return "start is more than 2 m from walkable space";
-        case RouteStatus::end_off_plan: return "destination is more than 2 m from walkable space";
-        case RouteStatus::unreachable: return "no way between start and destination";
-        case RouteStatus::needs_steps: return "reachable only by stairs or escalator";
-        case RouteStatus::needs_avoided: return "reachable only through an avoided space";
-        case RouteStatus::needs_steps_and_avoided: return "reachable only by steps and through an avoided space";
+        case RouteStatus::unknown_floor: return "a floor of the route has no plan";
+        case RouteStatus::start_off_plan: return "'from' is more than 2 m from any walkable space of its floor's plan";
+        case RouteStatus::end_off_plan: return "'to' is more than 2 m from any walkable space of its floor's plan";
+        case RouteStatus::unreachable: return "no walkable way joins the two places";
+        case RouteStatus::needs_steps: return "the only way takes stairs or an escalator, and 'step_free' is set";
+        case RouteStatus::needs_avoided: return "the only way passes through a room in 'avoid'";
+        case RouteStatus::needs_steps_and_avoided:
+            return "the only way takes stairs or an escalator and passes through a room in 'avoid'";
     }
     return "?";
 }

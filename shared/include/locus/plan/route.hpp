@@ -82,6 +82,8 @@ enum class RouteStatus {
     needs_avoided,    // reachable only through an avoided space
     needs_steps_and_avoided,  // reachable only with both relaxed
 };
+// Why there is no route, in the words the API answers (422 no_route), naming the option or
+// endpoint that blocked it.
 const char* to_string(RouteStatus status);
 
 struct Route {
