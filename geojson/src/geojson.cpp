@@ -132,6 +132,10 @@ Connector connector_of(const json& f, const json& props, const std::string& wher
             c.links.push_back({l.at("floor_id").get<std::int64_t>(), text_of(l, "connector", where + " link", true, 64)});
         }
     }
+    if (const auto it = props.find("poi_id"); it != props.end() && !it->is_null()) {
+        if (!it->is_number_integer() || it->get<std::int64_t>() <= 0) throw invalid_plan(where, "'poi_id' must be a POI id");
+        c.poi_id = it->get<std::int64_t>();
+    }
     return c;
 }
 
@@ -181,7 +185,7 @@ Plan parse_features(const json& doc) {
             }
             out.doors.push_back(std::move(d));
         } else if (feature == "connector") {
-            only_fields(*p, {"feature", "id", "kind", "name", "step_free", "seconds_per_level", "links"}, where);
+            only_fields(*p, {"feature", "id", "kind", "name", "step_free", "seconds_per_level", "links", "poi_id"}, where);
             auto c = connector_of(f, *p, where);
             if (!connector_ids.insert(c.id).second) throw invalid_plan(where, "connector id '" + c.id + "' is used twice");
             out.connectors.push_back(std::move(c));
@@ -231,6 +235,7 @@ json to_geojson(const Plan& p) {
         json props = {{"feature", "connector"}, {"id", c.id}, {"kind", connector_kind_name(c.kind)}, {"name", c.name},
                       {"step_free", c.step_free}, {"links", links}};
         props["seconds_per_level"] = c.seconds_per_level ? json(*c.seconds_per_level) : json(nullptr);
+        props["poi_id"] = c.poi_id ? json(*c.poi_id) : json(nullptr);
         features.push_back(feature({{"type", "Point"}, {"coordinates", position(c.at)}}, props));
     }
     return {{"type", "FeatureCollection"}, {"features", features}};

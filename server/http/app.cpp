@@ -87,6 +87,9 @@ void App::guarded(const httplib::Request& req, httplib::Response& res, const std
         write_error(res, e.status, e.code, e.what());
     } catch (const store::NotFound& e) {
         write_error(res, 404, "not_found", e.what());
+    } catch (const store::KeptByPlan& e) {
+        write_error(res, 409, "kept_by_plan",
+                    std::string(e.what()) + ": change the plan with PUT /v1/floors/" + std::to_string(e.floor_id) + "/plan");
     } catch (const store::Conflict& e) {
         write_error(res, 409, "conflict", e.what());
     } catch (const store::OutOfRange& e) {

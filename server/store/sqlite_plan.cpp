@@ -18,6 +18,7 @@ struct FeatureRow {
     std::optional<std::int64_t> room_id;
     bool step_free = false;
     std::optional<double> seconds;
+    std::optional<std::int64_t> poi_id = std::nullopt;
 };
 
 }  // namespace
@@ -25,7 +26,7 @@ struct FeatureRow {
 void SqliteStore::write_plan_features(std::int64_t floor_id, const plan::Plan& p) {
     Stmt feature(db_,
                  "INSERT INTO plan_features (floor_id, feature, seq, name, kind, ident, room_id, step_free, "
-                 "seconds_per_level) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                 "seconds_per_level, poi_id) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
     Stmt point(db_, "INSERT INTO plan_points (feature_id, ring, seq, x, y) VALUES (?, ?, ?, ?, ?)");
     Stmt tag(db_, "INSERT INTO plan_tags (feature_id, seq, tag) VALUES (?, ?, ?)");
     Stmt link(db_, "INSERT INTO plan_links (feature_id, seq, floor_id, connector) VALUES (?, ?, ?, ?)");
@@ -40,6 +41,8 @@ void SqliteStore::write_plan_features(std::int64_t floor_id, const plan::Plan& p
         feature.bind(8, r.step_free ? 1 : 0);
         if (r.seconds) feature.bind(9, *r.seconds);
         else feature.bind_null(9);
+        if (r.poi_id) feature.bind(10, *r.poi_id);
+        else feature.bind_null(10);
         feature.run();
         return db_.last_insert_id();
     };
@@ -71,7 +74,7 @@ void SqliteStore::write_plan_features(std::int64_t floor_id, const plan::Plan& p
     for (std::size_t i = 0; i < p.connectors.size(); ++i) {
         const auto& c = p.connectors[i];
         const auto id = insert({"connector", static_cast<std::int64_t>(i), c.name, plan::connector_kind_name(c.kind), c.id, std::nullopt,
-                                c.step_free, c.seconds_per_level});
+                                c.step_free, c.seconds_per_level, c.poi_id});
         points(id, 0, {c.at});
         for (std::size_t l = 0; l < c.links.size(); ++l) {
             link.reset();
@@ -96,7 +99,7 @@ std::optional<StoredPlan> SqliteStore::read_plan(std::int64_t floor_id) {
     };
     std::map<std::int64_t, Slot> by_id;
     Stmt f(db_,
-           "SELECT id, feature, name, kind, ident, room_id, step_free, seconds_per_level FROM plan_features "
+           "SELECT id, feature, name, kind, ident, room_id, step_free, seconds_per_level, poi_id FROM plan_features "
            "WHERE floor_id = ? ORDER BY feature, seq");
     f.bind(1, floor_id);
     auto& p = out.plan;
@@ -123,6 +126,7 @@ std::optional<StoredPlan> SqliteStore::read_plan(std::int64_t floor_id) {
             c.id = f.is_null(4) ? "" : f.text(4);
             c.step_free = f.int64(6) != 0;
             if (!f.is_null(7)) c.seconds_per_level = f.real(7);
+            if (!f.is_null(8)) c.poi_id = f.int64(8);
             index = p.connectors.size();
             p.connectors.push_back(std::move(c));
         }
@@ -177,8 +181,9 @@ std::optional<StoredPlan> SqliteStore::plan_of_floor(std::int64_t floor_id) {
     return out;
 }
 
-StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& plan, const PlanCheck& check) {
+StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& given, const PlanCheck& check) {
     return write([&](std::vector<Change>& changes) {
+        plan::Plan plan = given;
         require_exists(kind("floors"), floor_id);
         if (check) {
             std::vector<OtherPlan> others;
@@ -194,13 +199,16 @@ StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& plan, 
             }
             check(others);
         }
+        // Before the old features go: they say which rooms and POIs the last version kept.
+        keep_rooms(floor_id, plan, changes);
+        keep_pois(floor_id, plan, changes);
         Stmt del(db_, "DELETE FROM plan_features WHERE floor_id = ?");
         del.bind(1, floor_id).run();
         Stmt head(db_, "INSERT INTO floor_plans (floor_id, version) VALUES (?, 1) ON CONFLICT (floor_id) DO UPDATE "
                        "SET version = version + 1, updated_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now')");
         head.bind(1, floor_id).run();
         write_plan_features(floor_id, plan);
-        changes.push_back(Change{&kind("floors"), floor_id, false, true, std::nullopt, std::nullopt});
+        changes.insert(changes.begin(), Change{&kind("floors"), floor_id, false, true, std::nullopt, std::nullopt});
         return *read_plan(floor_id);
     });
 }

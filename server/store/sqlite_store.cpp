@@ -205,6 +205,7 @@ RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_i
 Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values) {
     return write([&](std::vector<Change>& changes) {
         require_exists(k, id);
+        refuse_if_kept(k, id);
         std::string sets;
         std::vector<const Value*> bound;
         for (const auto& f : k.fields) {
@@ -233,6 +234,7 @@ Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values)
 void SqliteStore::remove(const Kind& k, std::int64_t id) {
     write([&](std::vector<Change>& changes) {
         require_exists(k, id);
+        refuse_if_kept(k, id);
         changes.push_back(change_of(k, id, true));  // before the row, and its place, are gone
         Stmt s(db_, "DELETE FROM " + std::string(k.name) + " WHERE id = ?");
         s.bind(1, id).run();

@@ -69,6 +69,12 @@ private:
     // sqlite_plan.cpp: a plan's rows, read and written inside a caller's transaction.
     std::optional<StoredPlan> read_plan(std::int64_t floor_id);
     void write_plan_features(std::int64_t floor_id, const plan::Plan& plan);
+    // sqlite_plan_keep.cpp: inside put_plan's transaction, sets every room_id and poi_id of
+    // `plan` and writes the rooms and POIs to match (Store::put_plan).
+    void keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes);
+    void keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes);
+    // Throws KeptByPlan when a room or POI is kept by a plan (no-op for other kinds).
+    void refuse_if_kept(const Kind& k, std::int64_t id);
     // Where a row of `k` sits, for its Change (documents.hpp).
     Change change_of(const Kind& k, std::int64_t id, bool deleted);
 

@@ -29,6 +29,22 @@ struct OutOfRange : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// A room or POI kept in step with a floor's plan (plan::Space::room_id, Connector::poi_id) is
+// changed only through the plan: update and remove of it throw this (the API answers 409).
+struct KeptByPlan : std::runtime_error {
+    std::int64_t floor_id;
+    KeptByPlan(const std::string& what, std::int64_t floor) : std::runtime_error(what), floor_id(floor) {}
+};
+
+// put_plan refuses a plan whose spaces or connectors cannot keep their rooms and POIs (a
+// room_id of another floor, …): which feature, by its index in plan.spaces or plan.connectors.
+struct PlanFeatureRefused : std::runtime_error {
+    bool connector;
+    std::size_t index;
+    PlanFeatureRefused(bool is_connector, std::size_t i, const std::string& what)
+        : std::runtime_error(what), connector(is_connector), index(i) {}
+};
+
 // One RP as the localization index needs it, with its place in the hierarchy.
 struct StoredRp {
     ReferencePoint rp;
@@ -69,10 +85,15 @@ public:
     virtual std::optional<StoredPlan> plan_of_floor(std::int64_t floor_id) = 0;
     // Replaces the floor's plan. `check` runs inside the transaction with the current plans of
     // the map's other floors (for links between floors) and may throw to refuse the plan,
-    // which then writes nothing.
+    // which then writes nothing. In the same transaction the plan keeps the floor's rooms and
+    // POIs in step: the spaces of each name keep one room (the given room_id, else the floor's
+    // room of that name, else a new one) whose name and rectangles follow them; each connector
+    // keeps a POI the same way (by poi_id, else by name); rooms and POIs the previous version
+    // kept and this one does not are deleted. The stored plan holds every room_id and poi_id.
+    // Throws PlanFeatureRefused when a given id is not of the floor or names clash.
     using PlanCheck = std::function<void(const std::vector<OtherPlan>& others)>;
     virtual StoredPlan put_plan(std::int64_t floor_id, const plan::Plan& plan, const PlanCheck& check) = 0;
-    // NotFound when the floor has no plan.
+    // NotFound when the floor has no plan. The rooms and POIs it kept stay, as ordinary ones.
     virtual void remove_plan(std::int64_t floor_id) = 0;
     // Every floor of the map that has a plan, by floor id (NotFound for an unknown map).
     virtual std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) = 0;

@@ -5,7 +5,7 @@
 //   wall       LineString
 //   door       Point | LineString name; a Point opens a standard-width gap in the wall under it
 //   connector  Point              id, kind (stairs|elevator|escalator|ramp), name, step_free,
-//                                 seconds_per_level, links [{floor_id, connector}]
+//                                 seconds_per_level, links [{floor_id, connector}], poi_id
 // The server stores it, the REST client reads it for map matching, and the CLI imports,
 // exports and writes it (plan from-image), all through these two functions.
 #include <stdexcept>

@@ -35,7 +35,9 @@ struct Space {
     std::string kind = "room";       // "room", "corridor", "hall", "stairwell", … (free text)
     std::vector<std::string> tags;   // directory entries: people's names, departments
     Polygon shape;
-    std::optional<std::int64_t> room_id;  // the API room it is kept in step with, when any
+    // The API room it is kept in step with: every named space has one once stored (spaces of
+    // one name share it); on a PUT, absent means "the floor's room of that name, or a new one".
+    std::optional<std::int64_t> room_id;
 };
 
 struct Wall {
@@ -84,6 +86,8 @@ struct Connector {
     // (stairs: 6 s per level) or 30 s for an elevator (waiting included).
     std::optional<double> seconds_per_level;
     std::vector<ConnectorLink> links;
+    // The API POI it is kept in step with (as Space::room_id): every stored connector has one.
+    std::optional<std::int64_t> poi_id;
 };
 
 struct Plan {
