@@ -121,6 +121,7 @@ App::App(store::Store& store, localize::Service& localizer, routing::Service& ro
     install_radiomap_routes();
     install_plan_routes();
     install_route_routes();
+    install_image_routes();
 }
 
 bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res) const {
@@ -159,7 +160,10 @@ void App::install_middleware() {
         if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
         std::string message = "request failed with status " + std::to_string(res.status);
         if (res.status == 404) message = "no route for " + req.method + " " + req.path;
-        if (res.status == 413) message = body_too_large(server_.options().max_body_bytes).message;
+        if (res.status == 413) {
+            const RequestFraming* f = Front::current();  // the route's own limit (Front::allow_body), if any
+            message = body_too_large(f && f->max_body_bytes ? f->max_body_bytes : server_.options().max_body_bytes).message;
+        }
         if (res.status == 408) message = "the request did not arrive in time";
         if (res.status == 431) message = "the request head is larger than the server accepts";
         write_error(res, res.status, code_for_status(res.status), message);

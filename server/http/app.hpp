@@ -51,6 +51,7 @@ private:
     void install_radiomap_routes();  // radiomap_routes.cpp
     void install_plan_routes();      // plan_routes.cpp
     void install_route_routes();     // route_routes.cpp
+    void install_image_routes();     // image_routes.cpp
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 

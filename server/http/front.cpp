@@ -237,15 +237,30 @@ std::optional<Refusal> Front::refusal(const httplib::Request& req) const {
     // closes the connection: the request would wait out the read timeout and get a bare 400.
     if (f->other_coding || (!f->content_length && !f->chunked))
         return Refusal{411, "length_required", "a " + req.method + " needs a Content-Length (or a chunked body)"};
-    if (f->content_length && *f->content_length > options_.max_body_bytes) return body_too_large(options_.max_body_bytes);
+    if (const auto limit = body_limit(req); f->content_length && *f->content_length > limit) return body_too_large(limit);
     return std::nullopt;
+}
+
+void Front::allow_body(const std::string& method, const std::string& path_regex, std::uint64_t bytes) {
+    route_body_limits_.push_back({method, std::regex(path_regex), bytes});
+    // cpp-httplib's own check comes after ours (refusal, body_over_limit): it must let the
+    // largest allowed body through.
+    std::uint64_t largest = options_.max_body_bytes;
+    for (const auto& l : route_body_limits_) largest = std::max(largest, l.bytes);
+    set_payload_max_length(largest);
+}
+
+std::uint64_t Front::body_limit(const httplib::Request& req) const {
+    for (const auto& l : route_body_limits_)
+        if (req.method == l.method && std::regex_match(req.path, l.path)) return l.bytes;
+    return options_.max_body_bytes;
 }
 
 void Front::start_request(httplib::Request& req, RequestFraming& framing, ConnectionStream& stream) const {
     framing.parsed = true;
     framing.head_end = stream.consumed();
     framing.head_problem = head_problem(stream.head());  // before begin_body, which keeps the head
-    framing.max_body_bytes = options_.max_body_bytes;
+    framing.max_body_bytes = body_limit(req);
     framing.content_length_headers = req.get_header_value_count("Content-Length");
     for (std::size_t i = 0; i < framing.content_length_headers; ++i) {
         const std::string value = req.get_header_value("Content-Length", i);
@@ -260,7 +275,7 @@ void Front::start_request(httplib::Request& req, RequestFraming& framing, Connec
     // The body budget: a length is read exactly; a chunked body up to the limit on the wire.
     std::uint64_t budget = 0;
     if (framing.content_length && framing.valid_content_length) budget = *framing.content_length;
-    else if (framing.chunked) budget = chunked_budget(options_.max_body_bytes);
+    else if (framing.chunked) budget = chunked_budget(framing.max_body_bytes);
     stream.begin_body(budget, Clock::now() + body_time(budget, options_.read_timeout));
 
     // `curl -d` sends JSON as a form; cpp-httplib parses forms and refuses them past 8 KiB.

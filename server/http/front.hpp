@@ -13,7 +13,7 @@
 //   a cap on requests per connection.
 // - Framing checks before any body is read (refusal()): one decimal Content-Length, no
 //   Content-Length together with Transfer-Encoding, only `chunked` as a coding, no body on
-//   GET/HEAD/OPTIONS, nothing over --max-body-bytes. A chunked body is counted on the wire.
+//   GET/HEAD/OPTIONS, nothing over --max-body-bytes (or a route's own limit, allow_body). A chunked body is counted on the wire.
 // - Head lines cpp-httplib's parser would skip or misread (a bare LF, space before a colon,
 //   a folded line) are refused: a skipped Content-Length would leave a body to be read as
 //   the next request.
@@ -31,7 +31,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <regex>
 #include <string>
+#include <vector>
 
 namespace locus::http {
 
@@ -92,6 +94,10 @@ public:
     void shut_down();
 
     const FrontOptions& options() const { return options_; }
+    // A route that takes a larger body than --max-body-bytes (a plan image): a request whose
+    // method and path (a full regex match) fit is allowed `bytes` instead, and nothing else
+    // is. Called while routes are added, before serving.
+    void allow_body(const std::string& method, const std::string& path_regex, std::uint64_t bytes);
     std::size_t open_connections() const { return open_.load(); }
 
     // Why the request now being read must be refused before its body is read, if it must.
@@ -112,6 +118,15 @@ private:
     bool process_and_close_socket(socket_t sock) override;
     void serve_connection(int fd);
     void start_request(httplib::Request& req, RequestFraming& framing, ConnectionStream& stream) const;
+    // The body limit of this request: its route's (allow_body), else --max-body-bytes.
+    std::uint64_t body_limit(const httplib::Request& req) const;
+
+    struct RouteBodyLimit {
+        std::string method;
+        std::regex path;
+        std::uint64_t bytes;
+    };
+    std::vector<RouteBodyLimit> route_body_limits_;
 
     FrontOptions options_;
     std::atomic<std::size_t> open_{0};

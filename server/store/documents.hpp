@@ -134,6 +134,25 @@ struct OtherPlan {
     std::optional<plan::Plan> plan;
 };
 
+// Where a floor's plan image lies on the floor (schema/006_floor_images.sql): pixel (u, v), u
+// right and v down from the top-left corner, is at origin + R(θ)·m·(u, height_px − v), so the
+// image's bottom-left corner lands on (origin_x, origin_y) and θ turns it counter-clockwise.
+struct ImagePlacement {
+    double metres_per_pixel = 0;
+    double origin_x = 0, origin_y = 0;
+    double rotation_deg = 0;
+};
+
+// A floor's plan image without its bytes: what the placement GET answers.
+struct FloorImage {
+    std::int64_t floor_id = 0;
+    std::string content_type;  // "image/png" or "image/jpeg"
+    std::int64_t width_px = 0, height_px = 0, size_bytes = 0;
+    ImagePlacement placement;
+    std::string etag;        // a tag of the bytes, quoted as HTTP writes it
+    std::string updated_at;  // ISO 8601, UTC
+};
+
 // Told to subscribers after each committed write (Store::subscribe), so in-memory indexes can
 // follow whichever code path wrote. Where the row sits in the hierarchy is filled in for the
 // kinds an index depends on (an RP: its radio map; an RP or a radio map: its map), read inside

@@ -97,6 +97,11 @@ Stmt& Stmt::bind(int i, std::string_view v) {
     check_bind(db_, sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT));
     return *this;
 }
+Stmt& Stmt::bind_blob(int i, std::string_view bytes) {
+    // SQLITE_STATIC: the caller's bytes outlive the step (a 20 MiB image is not copied twice).
+    check_bind(db_, sqlite3_bind_blob64(stmt_, i, bytes.data(), bytes.size(), SQLITE_STATIC));
+    return *this;
+}
 Stmt& Stmt::bind_null(int i) {
     check_bind(db_, sqlite3_bind_null(stmt_, i));
     return *this;
@@ -124,6 +129,11 @@ double Stmt::real(int col) const { return sqlite3_column_double(stmt_, col); }
 std::string Stmt::text(int col) const {
     const auto* p = sqlite3_column_text(stmt_, col);
     return p ? std::string(reinterpret_cast<const char*>(p), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
+             : std::string();
+}
+std::string Stmt::blob(int col) const {
+    const auto* p = sqlite3_column_blob(stmt_, col);
+    return p ? std::string(static_cast<const char*>(p), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
              : std::string();
 }
 bool Stmt::is_null(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }

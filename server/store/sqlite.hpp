@@ -55,6 +55,8 @@ public:
     Stmt& bind(int i, double v);
     Stmt& bind(int i, std::string_view v);
     Stmt& bind_null(int i);
+    // The bytes must stay valid until the statement is stepped (they are not copied).
+    Stmt& bind_blob(int i, std::string_view bytes);
 
     bool step();  // true while a row is available
     void run();   // steps a statement that returns no rows
@@ -63,6 +65,7 @@ public:
     std::int64_t int64(int col) const;
     double real(int col) const;
     std::string text(int col) const;
+    std::string blob(int col) const;
     bool is_null(int col) const;
     int column_count() const;
     int column_type(int col) const;

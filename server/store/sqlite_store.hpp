@@ -44,6 +44,11 @@ public:
     void remove_plan(std::int64_t floor_id) override;
     std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) override;
 
+    std::optional<FloorImage> image_of_floor(std::int64_t floor_id) override;
+    std::optional<std::pair<FloorImage, std::string>> image_with_bytes(std::int64_t floor_id) override;
+    std::pair<FloorImage, bool> put_image(const FloorImage& image, std::string_view bytes) override;
+    void remove_image(std::int64_t floor_id) override;
+
     std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) override;
     std::vector<StoredRp> rps_of_map(std::int64_t map_id) override;
     std::vector<Room> rooms_of_floor(std::int64_t floor_id) override;
@@ -75,6 +80,8 @@ private:
     void keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes);
     // Throws KeptByPlan when a room or POI is kept by a plan (no-op for other kinds).
     void refuse_if_kept(const Kind& k, std::int64_t id);
+    // sqlite_image.cpp: the metadata row, inside a caller's transaction.
+    std::optional<FloorImage> read_image(std::int64_t floor_id);
     // Where a row of `k` sits, for its Change (documents.hpp).
     Change change_of(const Kind& k, std::int64_t id, bool deleted);
 

@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -97,6 +98,17 @@ public:
     virtual void remove_plan(std::int64_t floor_id) = 0;
     // Every floor of the map that has a plan, by floor id (NotFound for an unknown map).
     virtual std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) = 0;
+
+    // A floor's plan image (its bytes in the database, so a backup holds it). image_of_floor
+    // gives the metadata only; nullopt when the floor has none (NotFound: no such floor).
+    virtual std::optional<FloorImage> image_of_floor(std::int64_t floor_id) = 0;
+    // The metadata and the bytes, from one snapshot.
+    virtual std::optional<std::pair<FloorImage, std::string>> image_with_bytes(std::int64_t floor_id) = 0;
+    // Replaces the floor's image; `image` carries what the edge read from the bytes (type,
+    // size, tag) and the placement. Returns what is stored and whether there was none before.
+    virtual std::pair<FloorImage, bool> put_image(const FloorImage& image, std::string_view bytes) = 0;
+    // NotFound when the floor has no image.
+    virtual void remove_image(std::int64_t floor_id) = 0;
 
     // For the localization index. Each is a consistent snapshot.
     virtual std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) = 0;

@@ -1,0 +1,142 @@
+#include "http/image_header.hpp"
+
+#include <jpeglib.h>
+#include <png.h>
+
+#include <algorithm>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "http/api_error.hpp"
+
+namespace locus::http {
+
+namespace {
+
+ApiError invalid_image(const std::string& message) { return {422, "invalid_image", message}; }
+
+bool looks_like_png(std::string_view b) {
+    return b.size() >= 8 && png_sig_cmp(reinterpret_cast<png_const_bytep>(b.data()), 0, 8) == 0;
+}
+bool looks_like_jpeg(std::string_view b) {
+    return b.size() >= 3 && static_cast<unsigned char>(b[0]) == 0xFF && static_cast<unsigned char>(b[1]) == 0xD8 &&
+           static_cast<unsigned char>(b[2]) == 0xFF;
+}
+
+ImageHeader read_png(std::string_view bytes) {
+    png_image image;
+    std::memset(&image, 0, sizeof image);
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) {
+        const std::string why = image.message;
+        png_image_free(&image);
+        throw invalid_image("the PNG cannot be read: " + why);
+    }
+    ImageHeader out{"image/png", static_cast<std::int64_t>(image.width), static_cast<std::int64_t>(image.height)};
+    png_image_free(&image);
+    // The last chunk of every PNG is an empty IEND: length 0, type, CRC.
+    static constexpr unsigned char kIend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+    if (bytes.size() < 12 || std::memcmp(bytes.data() + bytes.size() - 12, kIend, 12) != 0)
+        throw invalid_image("the PNG is truncated: it does not end with its IEND chunk");
+    return out;
+}
+
+// libjpeg reports a fatal error through error_exit, which must not return: it jumps back
+// to decode(), whose frame holds nothing that needs a destructor.
+struct JpegError {
+    jpeg_error_mgr mgr;
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX];
+};
+
+void jpeg_fail(j_common_ptr info) {
+    auto* err = reinterpret_cast<JpegError*>(info->err);
+    (*info->err->format_message)(info, err->message);
+    std::longjmp(err->jump, 1);
+}
+
+// 0 on success; otherwise err.message says why. `warnings` counts libjpeg's corrupt-data
+// warnings (a truncated file is one: "premature end of data segment").
+int decode(const unsigned char* data, unsigned long size, JpegError& err, long& warnings, JDIMENSION& width,
+           JDIMENSION& height, unsigned char* row, std::size_t row_bytes) {
+    jpeg_decompress_struct info;
+    info.err = jpeg_std_error(&err.mgr);
+    err.mgr.error_exit = jpeg_fail;
+    err.mgr.output_message = [](j_common_ptr) {};
+    if (setjmp(err.jump)) {
+        jpeg_destroy_decompress(&info);
+        return 1;
+    }
+    jpeg_create_decompress(&info);
+    // A progressive JPEG keeps every coefficient until its last scan: bounded, a huge one is
+    // refused ("insufficient memory") rather than taking the server's memory.
+    info.mem->max_memory_to_use = 256L * 1024 * 1024;
+    jpeg_mem_src(&info, data, size);
+    jpeg_read_header(&info, TRUE);
+    width = info.image_width;
+    height = info.image_height;
+    if (width == 0 || height == 0 || width > kMaxImageSide || height > kMaxImageSide) {
+        jpeg_destroy_decompress(&info);
+        return 2;
+    }
+    info.scale_num = 1;
+    info.scale_denom = 8;
+    info.out_color_space = JCS_GRAYSCALE;
+    jpeg_start_decompress(&info);
+    if (static_cast<std::size_t>(info.output_width) > row_bytes) {
+        jpeg_destroy_decompress(&info);
+        return 3;
+    }
+    JSAMPROW rows[1] = {row};
+    while (info.output_scanline < info.output_height) jpeg_read_scanlines(&info, rows, 1);
+    jpeg_finish_decompress(&info);
+    warnings = err.mgr.num_warnings;
+    jpeg_destroy_decompress(&info);
+    return 0;
+}
+
+ImageHeader read_jpeg(std::string_view bytes) {
+    JpegError err{};
+    long warnings = 0;
+    JDIMENSION width = 0, height = 0;
+    std::vector<unsigned char> row(static_cast<std::size_t>(kMaxImageSide / 8 + 8));
+    const int rc = decode(reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()), err,
+                          warnings, width, height, row.data(), row.size());
+    if (rc == 1) throw invalid_image(std::string("the JPEG cannot be read: ") + err.message);
+    if (rc == 0 && warnings > 0) throw invalid_image("the JPEG is truncated or corrupt: its image data ends early or is damaged");
+    if (rc == 3) throw invalid_image("the JPEG cannot be read: unexpected output size");
+    return {"image/jpeg", static_cast<std::int64_t>(width), static_cast<std::int64_t>(height)};
+}
+
+}  // namespace
+
+std::string media_type(std::string_view content_type) {
+    std::string t(content_type.substr(0, content_type.find(';')));
+    t.erase(std::remove_if(t.begin(), t.end(), [](unsigned char c) { return c == ' ' || c == '\t'; }), t.end());
+    std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return t;
+}
+
+ImageHeader read_image_header(std::string_view bytes, const std::string& type) {
+    if (type != "image/png" && type != "image/jpeg")
+        throw ApiError(415, "unsupported_media_type",
+                       "a plan image is sent as its raw bytes with Content-Type image/png or image/jpeg" +
+                           (type.empty() ? std::string(" (none was given)") : ", not " + type));
+    if (bytes.empty()) throw invalid_image("the body is empty: send the image's bytes");
+    const bool png = looks_like_png(bytes), jpeg = looks_like_jpeg(bytes);
+    if (type == "image/png" && !png)
+        throw invalid_image(jpeg ? "the body is a JPEG but Content-Type says image/png"
+                                 : "the body is not a PNG (it does not start with the PNG signature)");
+    if (type == "image/jpeg" && !jpeg)
+        throw invalid_image(png ? "the body is a PNG but Content-Type says image/jpeg"
+                                : "the body is not a JPEG (it does not start with a JPEG SOI marker)");
+    const ImageHeader h = png ? read_png(bytes) : read_jpeg(bytes);
+    if (h.width_px <= 0 || h.height_px <= 0 || h.width_px > kMaxImageSide || h.height_px > kMaxImageSide)
+        throw invalid_image("the image is " + std::to_string(h.width_px) + " × " + std::to_string(h.height_px) +
+                            " pixels: each side must be 1 to " + std::to_string(kMaxImageSide));
+    return h;
+}
+
+}  // namespace locus::http

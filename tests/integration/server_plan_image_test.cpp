@@ -1,0 +1,295 @@
+// A floor's plan image against the real server: PNG and JPEG bytes come back identical with
+// their type and tag, the placement round-trips and places the corners as documented, a
+// replace and a delete, the image survives a restart and goes with its floor; every bad
+// upload is refused naming the problem, with nothing written.
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <jpeglib.h>
+#include <png.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "hierarchy.hpp"
+#include "server_process.hpp"
+
+using locus::testing::ServerProcess;
+using locus::testing::body_of;
+using nlohmann::json;
+
+namespace {
+
+// A w × h grey PNG with a diagonal, written by libpng.
+std::string make_png(unsigned w, unsigned h) {
+    png_image image;
+    std::memset(&image, 0, sizeof image);
+    image.version = PNG_IMAGE_VERSION;
+    image.width = w;
+    image.height = h;
+    image.format = PNG_FORMAT_GRAY;
+    std::vector<unsigned char> pixels(static_cast<std::size_t>(w) * h, 200);
+    for (unsigned i = 0; i < std::min(w, h); ++i) pixels[static_cast<std::size_t>(i) * w + i] = 0;
+    png_alloc_size_t size = 0;
+    EXPECT_TRUE(png_image_write_to_memory(&image, nullptr, &size, 0, pixels.data(), 0, nullptr));
+    std::string out(size, '\0');
+    EXPECT_TRUE(png_image_write_to_memory(&image, out.data(), &size, 0, pixels.data(), 0, nullptr)) << image.message;
+    out.resize(size);
+    return out;
+}
+
+// A w × h grey JPEG, written by libjpeg.
+std::string make_jpeg(unsigned w, unsigned h) {
+    jpeg_compress_struct info;
+    jpeg_error_mgr err;
+    info.err = jpeg_std_error(&err);
+    jpeg_create_compress(&info);
+    unsigned char* buf = nullptr;
+    unsigned long size = 0;
+    jpeg_mem_dest(&info, &buf, &size);
+    info.image_width = w;
+    info.image_height = h;
+    info.input_components = 1;
+    info.in_color_space = JCS_GRAYSCALE;
+    jpeg_set_defaults(&info);
+    jpeg_start_compress(&info, TRUE);
+    std::vector<unsigned char> row(w);
+    while (info.next_scanline < h) {
+        for (unsigned x = 0; x < w; ++x) row[x] = static_cast<unsigned char>((x * 7 + info.next_scanline * 3) % 256);
+        JSAMPROW rows[1] = {row.data()};
+        jpeg_write_scanlines(&info, rows, 1);
+    }
+    jpeg_finish_compress(&info);
+    jpeg_destroy_compress(&info);
+    std::string out(reinterpret_cast<const char*>(buf), size);
+    std::free(buf);
+    return out;
+}
+
+struct Raw {
+    int status = 0;
+    std::string body, content_type, etag;
+    json error_code() const {
+        const auto j = json::parse(body, nullptr, false);
+        return j.is_object() ? j.value("/error/code"_json_pointer, json()) : json();
+    }
+};
+
+Raw to_raw(const httplib::Result& r) {
+    Raw out;
+    if (!r) return out;
+    out.status = r->status;
+    out.body = r->body;
+    out.content_type = r->get_header_value("Content-Type");
+    out.etag = r->get_header_value("ETag");
+    return out;
+}
+
+struct PlanImage : ::testing::Test {
+    ServerProcess s;
+    locus::testing::Hierarchy h = locus::testing::make_hierarchy(s);
+    std::string image = "/v1/floors/" + std::to_string(h.floor) + "/image";
+    std::string api_key;
+
+    httplib::Client client() const {
+        httplib::Client c("127.0.0.1", s.port());
+        c.set_read_timeout(30, 0);
+        c.set_write_timeout(30, 0);
+        return c;
+    }
+    httplib::Headers auth() const {
+        if (api_key.empty()) return {};
+        return {{"Authorization", "Bearer " + api_key}};
+    }
+    Raw put(const std::string& bytes, const std::string& type, const std::string& query = "?metres_per_pixel=0.05",
+            const std::string& path = "") const {
+        auto c = client();
+        return to_raw(c.Put((path.empty() ? image : path) + query, auth(), bytes, type));
+    }
+    Raw get(const std::string& path, httplib::Headers headers = {}) const {
+        auto c = client();
+        return to_raw(c.Get(path, headers));
+    }
+};
+
+}  // namespace
+
+TEST_F(PlanImage, APngReadsBackIdenticalWithItsPlacement) {
+    EXPECT_EQ(get(image).status, 404);
+    EXPECT_EQ(get(image + "/placement").status, 404);
+    const auto png = make_png(40, 20);
+    const auto put1 = put(png, "image/png", "?metres_per_pixel=0.25&origin_x=3&origin_y=-2&rotation_deg=90");
+    ASSERT_EQ(put1.status, 201) << put1.body;
+    const auto meta = json::parse(put1.body);
+    EXPECT_EQ(meta.at("content_type"), "image/png");
+    EXPECT_EQ(meta.at("width_px"), 40);
+    EXPECT_EQ(meta.at("height_px"), 20);
+    EXPECT_EQ(meta.at("size_bytes"), png.size());
+    EXPECT_EQ(meta.at("metres_per_pixel"), 0.25);
+    EXPECT_EQ(meta.at("origin_x"), 3.0);
+    EXPECT_EQ(meta.at("origin_y"), -2.0);
+    EXPECT_EQ(meta.at("rotation_deg"), 90.0);
+    // 40 × 20 px at 0.25 m: 10 m × 5 m; its bottom-left at (3, -2), turned 90° counter-
+    // clockwise, so its bottom edge runs up the y axis and its top edge lies 5 m to the west.
+    const std::vector<std::pair<double, double>> corners = {{3, -2}, {3, 8}, {-2, 8}, {-2, -2}};
+    ASSERT_EQ(meta.at("corners").size(), 4u);
+    for (std::size_t i = 0; i < 4; ++i) {
+        EXPECT_NEAR(meta.at("corners")[i][0].get<double>(), corners[i].first, 1e-9) << i;
+        EXPECT_NEAR(meta.at("corners")[i][1].get<double>(), corners[i].second, 1e-9) << i;
+    }
+
+    const auto got = get(image);
+    ASSERT_EQ(got.status, 200);
+    EXPECT_EQ(got.body, png);
+    EXPECT_EQ(got.content_type, "image/png");
+    EXPECT_EQ(got.etag, meta.at("etag").get<std::string>());
+    EXPECT_EQ(json::parse(get(image + "/placement").body), meta);
+    // A client holding this copy is told it is current.
+    EXPECT_EQ(get(image, {{"If-None-Match", got.etag}}).status, 304);
+    EXPECT_EQ(get(image, {{"If-None-Match", "\"other\""}}).status, 200);
+
+    // It survives a restart (it is in the database file).
+    s.stop();
+    s.start();
+    EXPECT_EQ(get(image).body, png);
+    EXPECT_EQ(json::parse(get(image + "/placement").body), meta);
+}
+
+TEST_F(PlanImage, DefaultsPutTheBottomLeftCornerOnTheFloorsOrigin) {
+    const auto r = put(make_png(10, 30), "image/png", "?metres_per_pixel=0.5");
+    ASSERT_EQ(r.status, 201) << r.body;
+    const auto meta = json::parse(r.body);
+    EXPECT_EQ(meta.at("origin_x"), 0.0);
+    EXPECT_EQ(meta.at("rotation_deg"), 0.0);
+    EXPECT_EQ(meta.at("corners"), json::parse("[[0.0,0.0],[5.0,0.0],[5.0,15.0],[0.0,15.0]]"));
+}
+
+TEST_F(PlanImage, AJpegReplacesThePngAndDeleteRemovesIt) {
+    const auto png = make_png(8, 8);
+    ASSERT_EQ(put(png, "image/png").status, 201);
+    const auto first_tag = get(image).etag;
+    const auto jpeg = make_jpeg(64, 48);
+    const auto r = put(jpeg, "image/jpeg; charset=binary", "?metres_per_pixel=0.1");
+    ASSERT_EQ(r.status, 200) << r.body;  // replaced
+    const auto meta = json::parse(r.body);
+    EXPECT_EQ(meta.at("content_type"), "image/jpeg");
+    EXPECT_EQ(meta.at("width_px"), 64);
+    EXPECT_EQ(meta.at("height_px"), 48);
+    const auto got = get(image);
+    EXPECT_EQ(got.body, jpeg);
+    EXPECT_EQ(got.content_type, "image/jpeg");
+    EXPECT_NE(got.etag, first_tag);
+    EXPECT_EQ(get(image, {{"If-None-Match", first_tag}}).status, 200);  // the old copy is stale
+
+    auto c = client();
+    EXPECT_EQ(to_raw(c.Delete(image)).status, 204);
+    const auto gone = get(image);
+    EXPECT_EQ(gone.status, 404);
+    EXPECT_NE(gone.body.find("floor " + std::to_string(h.floor) + " has no image"), std::string::npos) << gone.body;
+    EXPECT_EQ(to_raw(c.Delete(image)).status, 404);
+}
+
+TEST_F(PlanImage, DeletingTheFloorDeletesItsImage) {
+    ASSERT_EQ(put(make_png(4, 4), "image/png").status, 201);
+    auto c = client();
+    ASSERT_EQ(to_raw(c.Delete("/v1/floors/" + std::to_string(h.floor))).status, 204);
+    const auto r = get(image);
+    EXPECT_EQ(r.status, 404);
+    EXPECT_NE(r.body.find("floor " + std::to_string(h.floor) + " not found"), std::string::npos) << r.body;
+}
+
+TEST_F(PlanImage, BadUploadsAreRefusedNamingTheProblemAndWriteNothing) {
+    const auto png = make_png(16, 16);
+    const auto jpeg = make_jpeg(16, 16);
+    ASSERT_EQ(put(png, "image/png", "?metres_per_pixel=0.5").status, 201);
+    const auto before = get(image + "/placement").body;
+
+    std::string truncated_png = png.substr(0, png.size() - 20);
+    std::string corrupt_header = png;
+    corrupt_header[20] = static_cast<char>(corrupt_header[20] ^ 0x40);  // inside IHDR: its CRC no longer holds
+    const auto big_jpeg = make_jpeg(256, 256);  // cut inside its image data, past the headers
+    std::string truncated_jpeg = big_jpeg.substr(0, big_jpeg.size() * 3 / 4);
+    struct Case {
+        std::string bytes, type, query;
+        int status;
+        const char* code;
+        const char* message;
+    };
+    const std::string q = "?metres_per_pixel=0.05";
+    const std::vector<Case> cases = {
+        {png, "image/gif", q, 415, "unsupported_media_type", "image/png or image/jpeg, not image/gif"},
+        {png, "application/json", q, 415, "unsupported_media_type", "not application/json"},
+        {png, "image/jpeg", q, 422, "invalid_image", "the body is a PNG but Content-Type says image/jpeg"},
+        {jpeg, "image/png", q, 422, "invalid_image", "the body is a JPEG but Content-Type says image/png"},
+        {"hello", "image/png", q, 422, "invalid_image", "not a PNG"},
+        {"", "image/png", q, 422, "invalid_image", "the body is empty"},
+        {truncated_png, "image/png", q, 422, "invalid_image", "the PNG is truncated"},
+        {corrupt_header, "image/png", q, 422, "invalid_image", "the PNG cannot be read"},
+        {png.substr(0, 30), "image/png", q, 422, "invalid_image", "the PNG cannot be read"},
+        {truncated_jpeg, "image/jpeg", q, 422, "invalid_image", "the JPEG is truncated"},
+        {jpeg.substr(0, 40), "image/jpeg", q, 422, "invalid_image", "the JPEG"},
+        {make_png(20001, 1), "image/png", q, 422, "invalid_image", "20001 × 1 pixels: each side must be 1 to 20000"},
+        {png, "image/png", "", 400, "invalid_query", "missing query parameter 'metres_per_pixel'"},
+        {png, "image/png", "?metres_per_pixel=0", 400, "invalid_query", "'metres_per_pixel' must be a number > 0"},
+        {png, "image/png", "?metres_per_pixel=-1", 400, "invalid_query", "'metres_per_pixel' must be"},
+        {png, "image/png", "?metres_per_pixel=nan", 400, "invalid_query", "'metres_per_pixel' must be"},
+        {png, "image/png", "?metres_per_pixel=inf", 400, "invalid_query", "'metres_per_pixel' must be"},
+        {png, "image/png", "?metres_per_pixel=abc", 400, "invalid_query", "'metres_per_pixel' must be"},
+        {png, "image/png", "?metres_per_pixel=1&origin_x=1e9", 400, "invalid_query", "'origin_x' must be a number in"},
+        {png, "image/png", "?metres_per_pixel=1&rotation_deg=400", 400, "invalid_query", "'rotation_deg'"},
+        {png, "image/png", "?metres_per_pixel=1&scale=2", 400, "invalid_query", "unknown query parameter 'scale'"},
+    };
+    for (const auto& c : cases) {
+        const auto r = put(c.bytes, c.type, c.query);
+        EXPECT_EQ(r.status, c.status) << c.message << ": " << r.body;
+        EXPECT_EQ(r.error_code(), c.code) << r.body;
+        EXPECT_NE(r.body.find(c.message), std::string::npos) << c.message << " not in " << r.body;
+        EXPECT_EQ(get(image + "/placement").body, before) << c.message;
+    }
+    EXPECT_EQ(get(image).body, png);
+
+    // An unknown floor, and one that is not a number.
+    const auto unknown = put(png, "image/png", q, "/v1/floors/987654/image");
+    EXPECT_EQ(unknown.status, 404);
+    EXPECT_NE(unknown.body.find("floor 987654 not found"), std::string::npos) << unknown.body;
+    EXPECT_EQ(get("/v1/floors/987654/image/placement").status, 404);
+}
+
+TEST_F(PlanImage, MoreThan20MiBIsRefusedOnThisRouteOnly) {
+    std::string big = make_png(4, 4);
+    big.resize(20u * 1024 * 1024 + 1, '\0');
+    const auto r = put(big, "image/png");
+    EXPECT_EQ(r.status, 413) << r.body;
+    EXPECT_EQ(r.error_code(), "payload_too_large");
+    EXPECT_NE(r.body.find("20971520 bytes"), std::string::npos) << r.body;
+    EXPECT_EQ(get(image).status, 404);
+
+    // 9 MiB passes the route's limit (the image itself is then refused for its content)…
+    std::string nine = make_png(4, 4);
+    nine.resize(9u * 1024 * 1024, '\0');
+    EXPECT_EQ(put(nine, "image/png").status, 422);
+    // …while JSON routes keep the server's 8 MiB.
+    auto c = client();
+    const auto json_body = to_raw(c.Put("/v1/floors/" + std::to_string(h.floor) + "/plan", std::string(9u * 1024 * 1024, ' '),
+                                        "application/json"));
+    EXPECT_EQ(json_body.status, 413) << json_body.body;
+}
+
+TEST(PlanImageAuth, WritesNeedTheApiKey) {
+    ServerProcess locked({"--api-key", "s3cret"});
+    locked.set_api_key("s3cret");
+    const auto hh = locus::testing::make_hierarchy(locked);
+    httplib::Client c("127.0.0.1", locked.port());
+    const std::string path = "/v1/floors/" + std::to_string(hh.floor) + "/image";
+    const auto png = make_png(4, 4);
+    const auto no_key = to_raw(c.Put(path + "?metres_per_pixel=0.1", png, "image/png"));
+    EXPECT_EQ(no_key.status, 401);
+    EXPECT_EQ(no_key.error_code(), "unauthorized");
+    const httplib::Headers wrong = {{"Authorization", "Bearer nope"}}, right = {{"Authorization", "Bearer s3cret"}};
+    EXPECT_EQ(to_raw(c.Put(path + "?metres_per_pixel=0.1", wrong, png, "image/png")).status, 401);
+    EXPECT_EQ(to_raw(c.Get(path)).status, 404);  // nothing was written
+    EXPECT_EQ(to_raw(c.Put(path + "?metres_per_pixel=0.1", right, png, "image/png")).status, 201);
+    EXPECT_EQ(to_raw(c.Get(path)).body, png);  // reads need no key
+    EXPECT_EQ(to_raw(c.Delete(path)).status, 401);
+    EXPECT_EQ(to_raw(c.Delete(path, right)).status, 204);
+}
