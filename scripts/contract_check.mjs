@@ -303,10 +303,12 @@ async function run() {
 
   // Floor plans: the ground floor's stairs link to the basement's, which must link back.
   const feature = (geometry, properties) => ({ type: 'Feature', geometry, properties });
-  const plan = (links) => ({
+  // The ground floor's Lobby keeps the room made above (room_id); the basement's spaces and
+  // every connector get rooms and POIs of their own.
+  const plan = (links, lobbyRoom) => ({
     type: 'FeatureCollection',
     features: [
-      feature({ type: 'Polygon', coordinates: [[[0, 0], [15, 0], [15, 15], [0, 15], [0, 0]]] }, { feature: 'space', name: 'Lobby', kind: 'hall', tags: ['Reception'], room_id: room }),
+      feature({ type: 'Polygon', coordinates: [[[0, 0], [15, 0], [15, 15], [0, 15], [0, 0]]] }, { feature: 'space', name: 'Lobby', kind: 'hall', tags: ['Reception'], room_id: lobbyRoom }),
       feature({ type: 'Polygon', coordinates: [[[15, 0], [30, 0], [30, 15], [15, 15], [15, 0]], [[20, 5], [21, 5], [21, 6], [20, 5]]] }, { feature: 'space', name: 'Reading room' }),
       feature({ type: 'LineString', coordinates: [[15, 0], [15, 15]] }, { feature: 'wall' }),
       feature({ type: 'Point', coordinates: [15, 7.5] }, { feature: 'door', name: 'Reading room door' }),
@@ -316,7 +318,7 @@ async function run() {
     ],
   });
   await get(`/v1/floors/${floor}/plan`, { expect: 404 });
-  const ground = await put(`/v1/floors/${floor}/plan`, plan([{ floor_id: floor2, connector: 's1' }]), { expect: 200 });
+  const ground = await put(`/v1/floors/${floor}/plan`, plan([{ floor_id: floor2, connector: 's1' }], room), { expect: 200 });
   await put(`/v1/floors/${floor2}/plan`, plan([{ floor_id: floor, connector: 'nowhere' }]), { expect: 422 });
   await put(`/v1/floors/${floor2}/plan`, plan([{ floor_id: floor, connector: 's1' }]), { expect: 200 });
   await get(`/v1/floors/${floor}/plan`, { expect: 200 });
@@ -328,6 +330,10 @@ async function run() {
   await put(`/v1/floors/${floor}/plan`, plan([]), { auth: false, expect: 401, invalid: true });
   await put(`/v1/floors/${UNKNOWN}/plan`, plan([]), { expect: 404 });
   await get(`/v1/floors/${UNKNOWN}/plan`, { expect: 404 });
+  // A room the plan keeps changes only through the plan.
+  await patch(`/v1/rooms/${room}`, { name: 'Hall' }, { expect: 409 });
+  await del(`/v1/rooms/${room}`, { expect: 409 });
+  await put(`/v1/floors/${floor}/plan`, plan([], UNKNOWN), { expect: 422 });
   // Routes: from the lobby up the stairs to the basement's reading room, and the refusals.
   await post(`/v1/maps/${map}/route`, { from: { room_id: room }, to: { floor_id: floor2, x: 25, y: 10 } }, { expect: 200 });
   await post(`/v1/maps/${map}/route`, { from: { poi_id: poi }, to: { floor_id: floor, x: 25, y: 10 }, options: { step_free: true, avoid: [room], walking_speed: 1.1 } }, { expect: 200 });
@@ -339,6 +345,30 @@ async function run() {
   await post(`/v1/maps/${UNKNOWN}/route`, { from: { room_id: room }, to: { room_id: room } }, { expect: 404 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 204 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 404 });
+
+  // Plan images: a 4 × 2 PNG. Prism checks the requests and the JSON answers.
+  const png = Buffer.from('iVBORw0KGgoAAAANSUhEUgAAAAQAAAACCAAAAABawyK/AAAADklEQVR4nGM4AQQMIAIAH0oGQVCurpAAAAAASUVORK5CYII=', 'base64');
+  const image = `/v1/floors/${floor}/image`;
+  const sendImage = (query, opts) => put(`${image}${query}`, undefined, { raw: png, contentType: 'image/png', ...opts });
+  await get(image, { expect: 404 });
+  await get(`${image}/placement`, { expect: 404 });
+  await sendImage('?metres_per_pixel=0.5&origin_x=1&origin_y=-2&rotation_deg=15', { expect: 201 });
+  await sendImage('?metres_per_pixel=0.25', { expect: 200 });
+  const placement = await get(`${image}/placement`, { expect: 200 });
+  await get(image, { expect: 200 });
+  await get(image, { headers: { 'if-none-match': placement.json?.etag ?? '' }, expect: 304 });
+  await sendImage('?metres_per_pixel=0.25', { contentType: 'image/jpeg', expect: 422 });
+  await sendImage('?metres_per_pixel=0.25', { contentType: 'image/gif', expect: 415, invalid: true });
+  await sendImage('', { expect: 400, invalid: true });
+  await sendImage('?metres_per_pixel=-1', { expect: 400, invalid: true });
+  await sendImage('?metres_per_pixel=0.25&rotation_deg=400', { expect: 400, invalid: true });
+  await sendImage('?metres_per_pixel=0.25', { auth: false, expect: 401, invalid: true });
+  await put(`/v1/floors/${UNKNOWN}/image?metres_per_pixel=1`, undefined, { raw: png, contentType: 'image/png', expect: 404 });
+  await get(`/v1/floors/${UNKNOWN}/image/placement`, { expect: 404 });
+  await del(image, { expect: 204 });
+  await del(image, { expect: 404 });
+  // Without its plan the Lobby is an ordinary room again (deleted below).
+  await del(`/v1/floors/${floor}/plan`, { expect: 204 });
 
   // Deletes, down the hierarchy and then the cascade
   await del(`/v1/rps/${rp2}`, { auth: false, expect: 401, invalid: true });
