@@ -119,11 +119,15 @@ std::string media_type(std::string_view content_type) {
     return t;
 }
 
-ImageHeader read_image_header(std::string_view bytes, const std::string& type) {
+void require_image_type(const std::string& type) {
     if (type != "image/png" && type != "image/jpeg")
         throw ApiError(415, "unsupported_media_type",
                        "a plan image is sent as its raw bytes with Content-Type image/png or image/jpeg" +
                            (type.empty() ? std::string(" (none was given)") : ", not " + type));
+}
+
+ImageHeader read_image_header(std::string_view bytes, const std::string& type) {
+    require_image_type(type);
     if (bytes.empty()) throw invalid_image("the body is empty: send the image's bytes");
     const bool png = looks_like_png(bytes), jpeg = looks_like_jpeg(bytes);
     if (type == "image/png" && !png)

@@ -18,6 +18,9 @@ struct ImageHeader {
 // The media type of a Content-Type header without parameters, lower-cased ("image/png").
 std::string media_type(std::string_view content_type);
 
+// ApiError 415 unsupported_media_type unless `type` is image/png or image/jpeg.
+void require_image_type(const std::string& type);
+
 // Reads `bytes` as `type` ("image/png" or "image/jpeg"; anything else: ApiError 415
 // unsupported_media_type). Bytes of the other format, a corrupt or truncated file, zero or
 // more than kMaxImageSide pixels a side: ApiError 422 invalid_image saying which. A PNG is

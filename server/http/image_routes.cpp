@@ -128,13 +128,19 @@ void App::install_image_routes() {
                 const auto r = body_too_large(kMaxImageBytes);
                 throw ApiError(r.status, r.code, r.message);
             }
-            const auto header = read_image_header(req.body, media_type(req.get_header_value("Content-Type")));
+            // Cheap checks first: the type, the placement, then the bytes; the floor last, as
+            // every write looks its path's ids up after its body (a bad upload to an unknown
+            // floor is 4xx for the upload).
+            const auto type = media_type(req.get_header_value("Content-Type"));
+            require_image_type(type);
+            const auto placement = parse_placement(req);
+            const auto header = read_image_header(req.body, type);
             store::FloorImage image;
             image.floor_id = floor_id;
             image.content_type = header.content_type;
             image.width_px = header.width_px;
             image.height_px = header.height_px;
-            image.placement = parse_placement(req);
+            image.placement = placement;
             image.etag = content_tag(req.body);
             const auto [stored, created] = store_.put_image(image, req.body);
             if (created) res.set_header("Location", "/v1/floors/" + std::to_string(floor_id) + "/image");
