@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "http/app.hpp"
 #include "http/image_header.hpp"
@@ -71,7 +72,7 @@ std::string content_tag(std::string_view bytes) {
 // Where pixel (u, v) (u right, v down from the top-left corner) lands on the floor.
 json floor_point(const store::FloorImage& img, double u, double v) {
     const auto& p = img.placement;
-    const double t = p.rotation_deg * M_PI / 180.0;
+    const double t = p.rotation_deg * std::numbers::pi / 180.0;
     const double a = p.metres_per_pixel * u, b = p.metres_per_pixel * (static_cast<double>(img.height_px) - v);
     return json::array({p.origin_x + a * std::cos(t) - b * std::sin(t), p.origin_y + a * std::sin(t) + b * std::cos(t)});
 }

@@ -1,6 +1,7 @@
 #include "locus/plan/rects.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace locus::plan {
 
@@ -36,7 +37,10 @@ std::vector<Rect> rects_of(const Polygon& shape) {
     add(shape.outer);
     for (const auto& h : shape.holes) add(h);
     std::sort(xs.begin(), xs.end());
-    xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+    // x's a rounding apart (a curve's mirrored vertices, computed separately) would make
+    // slabs of zero width: they count as one cut.
+    xs.erase(std::unique(xs.begin(), xs.end(), [](double a, double b) { return b - a <= 1e-9 * std::max(1.0, std::abs(a)); }),
+             xs.end());
     if (xs.size() < 2) return {};
     if (xs.size() > kMaxRoomSlabs + 1) {
         std::vector<double> thinned;
