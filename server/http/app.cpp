@@ -90,6 +90,10 @@ void App::guarded(const httplib::Request& req, httplib::Response& res, const std
     } catch (const store::KeptByPlan& e) {
         write_error(res, 409, "kept_by_plan",
                     std::string(e.what()) + ": change the plan with PUT /v1/floors/" + std::to_string(e.floor_id) + "/plan");
+    } catch (const store::PlanFeatureRefused& e) {
+        // The plan routes name the feature as the client's document counts it; any other
+        // writer of plans (a map bundle's) gets the store's own name for it.
+        write_error(res, 422, "invalid_plan", e.feature + ": " + e.what());
     } catch (const store::Conflict& e) {
         write_error(res, 409, "conflict", e.what());
     } catch (const store::OutOfRange& e) {

@@ -29,7 +29,7 @@ std::string feature_label(const json& doc, const store::PlanFeatureRefused& e) {
         else if (e.connector) label += " '" + p.value("id", std::string()) + "'";
         return label + ")";
     }
-    return std::string(e.connector ? "connectors[" : "spaces[") + std::to_string(e.index) + "]";
+    return e.feature;
 }
 
 [[noreturn]] void refuse(const std::vector<std::string>& problems) {

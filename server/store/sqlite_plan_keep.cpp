@@ -28,7 +28,16 @@ struct Keeper {
     std::string name;
     std::optional<std::int64_t> id;  // nullopt: to be created
     std::size_t first = 0;           // the first feature (index in its list) that keeps it
+    std::string label;               // that feature, as check_plan names it
 };
+
+std::string space_label(const plan::Plan& p, std::size_t i) {
+    const std::string at = "spaces[" + std::to_string(i) + "]";
+    return p.spaces[i].name.empty() ? at : at + " " + quoted(p.spaces[i].name);
+}
+std::string connector_label(const plan::Plan& p, std::size_t i) {
+    return "connectors[" + std::to_string(i) + "] " + quoted(p.connectors[i].id);
+}
 
 bool same_rects(const std::vector<Rect>& a, const std::vector<Rect>& b) {
     return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const Rect& x, const Rect& y) {
@@ -59,7 +68,7 @@ void assign(std::vector<Keeper>& keepers, const std::map<std::int64_t, Existing>
     for (const auto& k : keepers) {
         const auto it = free_by_name.find(k.name);
         if (it == free_by_name.end() || existing.at(it->second).kept_before) continue;
-        throw PlanFeatureRefused(connector, k.first,
+        throw PlanFeatureRefused(connector, k.first, k.label,
                                  std::string(singular) + " " + std::to_string(it->second) + " of floor " +
                                      std::to_string(floor_id) + " is already named " + quoted(k.name) + ": give " +
                                      (connector ? "this connector poi_id " : "this space room_id ") +
@@ -88,24 +97,24 @@ void SqliteStore::keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vecto
         const auto& s = plan.spaces[i];
         if (s.name.empty()) {
             if (s.room_id)
-                throw PlanFeatureRefused(false, i, "a space without a name keeps no room (the room takes the space's "
+                throw PlanFeatureRefused(false, i, space_label(plan, i), "a space without a name keeps no room (the room takes the space's "
                                                    "name): name it or drop its room_id");
             continue;
         }
         auto [it, fresh] = group_of_name.emplace(s.name, keepers.size());
-        if (fresh) keepers.push_back({s.name, std::nullopt, i});
+        if (fresh) keepers.push_back({s.name, std::nullopt, i, space_label(plan, i)});
         auto& k = keepers[it->second];
         group_of_space[i] = it->second;
         if (!s.room_id) continue;
         const auto id = *s.room_id;
         if (!existing.count(id))
-            throw PlanFeatureRefused(false, i, "room_id " + std::to_string(id) + " is not a room of floor " + std::to_string(floor_id));
+            throw PlanFeatureRefused(false, i, space_label(plan, i), "room_id " + std::to_string(id) + " is not a room of floor " + std::to_string(floor_id));
         if (k.id && *k.id != id)
-            throw PlanFeatureRefused(false, i, "room_id " + std::to_string(id) + " differs from room_id " + std::to_string(*k.id) +
+            throw PlanFeatureRefused(false, i, space_label(plan, i), "room_id " + std::to_string(id) + " differs from room_id " + std::to_string(*k.id) +
                                                    " of another space named " + quoted(s.name) +
                                                    " (the spaces of one name keep one room)");
         if (const auto other = group_of_room.find(id); other != group_of_room.end() && other->second != it->second)
-            throw PlanFeatureRefused(false, i, "room_id " + std::to_string(id) + " is also kept by the space named " +
+            throw PlanFeatureRefused(false, i, space_label(plan, i), "room_id " + std::to_string(id) + " is also kept by the space named " +
                                                    quoted(keepers[other->second].name) + " (a room is kept by the spaces of one name)");
         k.id = id;
         group_of_room[id] = it->second;
@@ -194,18 +203,18 @@ void SqliteStore::keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector
         std::string name = base_name(c);
         if (uses[name] > 1) name += " (" + c.id + ")";
         if (!names.insert(name).second)
-            throw PlanFeatureRefused(true, i, "its POI would be named " + quoted(name) +
+            throw PlanFeatureRefused(true, i, connector_label(plan, i), "its POI would be named " + quoted(name) +
                                                   " as another connector's is: POI names are unique on a floor, rename one");
         if (c.poi_id) {
             if (!existing.count(*c.poi_id))
-                throw PlanFeatureRefused(true, i, "poi_id " + std::to_string(*c.poi_id) + " is not a POI of floor " +
+                throw PlanFeatureRefused(true, i, connector_label(plan, i), "poi_id " + std::to_string(*c.poi_id) + " is not a POI of floor " +
                                                       std::to_string(floor_id));
             if (const auto other = keeper_of_poi.find(*c.poi_id); other != keeper_of_poi.end())
-                throw PlanFeatureRefused(true, i, "poi_id " + std::to_string(*c.poi_id) + " is also kept by connector " +
+                throw PlanFeatureRefused(true, i, connector_label(plan, i), "poi_id " + std::to_string(*c.poi_id) + " is also kept by connector " +
                                                       quoted(plan.connectors[other->second].id) + " (a POI is kept by one connector)");
             keeper_of_poi[*c.poi_id] = i;
         }
-        keepers.push_back({name, c.poi_id, i});
+        keepers.push_back({name, c.poi_id, i, connector_label(plan, i)});
     }
     assign(keepers, existing, true, "POI", floor_id);
 

@@ -38,12 +38,14 @@ struct KeptByPlan : std::runtime_error {
 };
 
 // put_plan refuses a plan whose spaces or connectors cannot keep their rooms and POIs (a
-// room_id of another floor, …): which feature, by its index in plan.spaces or plan.connectors.
+// room_id of another floor, …): which feature, by its index in plan.spaces or
+// plan.connectors, and named as check_plan names one ("spaces[3] 'Lab'", "connectors[0] 's1'").
 struct PlanFeatureRefused : std::runtime_error {
     bool connector;
     std::size_t index;
-    PlanFeatureRefused(bool is_connector, std::size_t i, const std::string& what)
-        : std::runtime_error(what), connector(is_connector), index(i) {}
+    std::string feature;
+    PlanFeatureRefused(bool is_connector, std::size_t i, std::string label, const std::string& what)
+        : std::runtime_error(what), connector(is_connector), index(i), feature(std::move(label)) {}
 };
 
 // One RP as the localization index needs it, with its place in the hierarchy.

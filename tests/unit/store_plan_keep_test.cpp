@@ -84,7 +84,15 @@ TEST(StorePlanKeep, APlanPutPublishesEveryRoomAndPoiItWritesAndNoOther) {
     auto bad = next;
     bad.spaces[0].room_id = 424242;
     seen.clear();
-    EXPECT_THROW(st.put_plan(floor, bad, nullptr), locus::store::PlanFeatureRefused);
+    try {
+        st.put_plan(floor, bad, nullptr);
+        ADD_FAILURE() << "a room_id of no room was taken";
+    } catch (const locus::store::PlanFeatureRefused& e) {
+        EXPECT_FALSE(e.connector);
+        EXPECT_EQ(e.index, 0u);
+        EXPECT_EQ(e.feature, "spaces[0] 'Lab'");
+        EXPECT_EQ(std::string(e.what()), "room_id 424242 is not a room of floor " + std::to_string(floor));
+    }
     EXPECT_TRUE(seen.empty());
     EXPECT_EQ(st.rooms_of_floor(floor).size(), 1u);
 
