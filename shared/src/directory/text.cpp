@@ -59,6 +59,19 @@ bool rest_matches(std::u32string_view query, std::u32string_view word, bool pref
 
 }  // namespace
 
+bool is_utf8(std::string_view text) {
+    const auto* p = reinterpret_cast<const utf8proc_uint8_t*>(text.data());
+    auto left = static_cast<utf8proc_ssize_t>(text.size());
+    while (left > 0) {
+        utf8proc_int32_t cp = 0;
+        const utf8proc_ssize_t n = utf8proc_iterate(p, left, &cp);
+        if (n <= 0) return false;
+        p += n;
+        left -= n;
+    }
+    return true;
+}
+
 std::string fold(std::string_view text) {
     const std::string clean = valid_utf8(text);
     if (clean.empty()) return {};

@@ -12,6 +12,9 @@ namespace locus::directory {
 // "Café" → "cafe", "Straße" → "strasse", "ﬁ" → "fi". Bytes that are not UTF-8 are dropped.
 std::string fold(std::string_view text);
 
+// Whether `text` is well-formed UTF-8 (what a query must be to be echoed back as typed).
+bool is_utf8(std::string_view text);
+
 // The words of `text`, folded, as code points: runs of letters and digits; a '.' or ',' between
 // two digits stays inside its word, so a room number "3.21" is one word. Everything else
 // (spaces, punctuation, symbols) separates.
