@@ -26,7 +26,8 @@ std::string_view trimmed(std::string_view s) {
 
 std::string query_of(const httplib::Request& req) {
     if (!req.has_param("q")) throw invalid_query("'q' is required: the words to look for");
-    const std::string_view q = trimmed(req.get_param_value("q"));
+    const std::string raw = req.get_param_value("q");
+    const std::string_view q = trimmed(raw);
     if (q.empty()) throw invalid_query("'q' must not be empty");
     if (!directory::is_utf8(q)) throw invalid_query("'q' must be UTF-8 text");
     std::size_t length = 0;  // code points: bytes that do not continue one
