@@ -30,8 +30,7 @@ std::string query_of(const httplib::Request& req) {
     const std::string_view q = trimmed(raw);
     if (q.empty()) throw invalid_query("'q' must not be empty");
     if (!directory::is_utf8(q)) throw invalid_query("'q' must be UTF-8 text");
-    std::size_t length = 0;  // code points: bytes that do not continue one
-    for (const char c : q) length += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+    const std::size_t length = directory::code_points(q);
     if (length > kMaxQueryLength)
         throw invalid_query("'q' is " + std::to_string(length) + " characters long; at most " + std::to_string(kMaxQueryLength));
     return std::string(q);

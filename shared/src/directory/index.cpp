@@ -76,8 +76,7 @@ Index::Index(const std::vector<Document>& documents) {
         for (std::size_t t = 0; t < documents[d].tags.size(); ++t)
             add(doc, kFirstTagSource + static_cast<std::uint32_t>(t), documents[d].tags[t]);
         std::string folded = fold(documents[d].name);
-        std::size_t length = 0;  // code points: UTF-8 bytes that do not continue one
-        for (const char c : folded) length += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+        const std::size_t length = code_points(folded);
         docs_.push_back({std::move(folded), length, static_cast<std::uint32_t>(documents[d].tags.size())});
     }
     doc_begin_.push_back(static_cast<std::uint32_t>(occurrences_.size()));

@@ -72,6 +72,12 @@ bool is_utf8(std::string_view text) {
     return true;
 }
 
+std::size_t code_points(std::string_view text) {
+    std::size_t n = 0;  // bytes that do not continue a code point
+    for (const char c : text) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+    return n;
+}
+
 std::string fold(std::string_view text) {
     const std::string clean = valid_utf8(text);
     if (clean.empty()) return {};

@@ -2,6 +2,7 @@
 // Text as the directory compares it: folded (case, accents and compatibility forms gone, so
 // "Müller", "MULLER" and "muller" are one word), cut into words, and compared with a one-edit
 // tolerance for typing mistakes.
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,6 +15,9 @@ std::string fold(std::string_view text);
 
 // Whether `text` is well-formed UTF-8 (what a query must be to be echoed back as typed).
 bool is_utf8(std::string_view text);
+
+// Characters (code points) of UTF-8 text: how names and queries are measured.
+std::size_t code_points(std::string_view text);
 
 // The words of `text`, folded, as code points: runs of letters and digits; a '.' or ',' between
 // two digits stays inside its word, so a room number "3.21" is one word. Everything else
