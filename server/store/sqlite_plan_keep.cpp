@@ -93,12 +93,11 @@ void SqliteStore::keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vecto
     std::map<std::string, std::size_t, std::less<>> group_of_name;
     std::map<std::int64_t, std::size_t> group_of_room;
     std::vector<std::size_t> group_of_space(plan.spaces.size(), SIZE_MAX);
+    std::vector<std::size_t> unnamed_with_room;
     for (std::size_t i = 0; i < plan.spaces.size(); ++i) {
         const auto& s = plan.spaces[i];
         if (s.name.empty()) {
-            if (s.room_id)
-                throw PlanFeatureRefused(false, i, space_label(plan, i), "a space without a name keeps no room (the room takes the space's "
-                                                   "name): name it or drop its room_id");
+            if (s.room_id) unnamed_with_room.push_back(i);
             continue;
         }
         auto [it, fresh] = group_of_name.emplace(s.name, keepers.size());
@@ -118,6 +117,30 @@ void SqliteStore::keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vecto
                                                    quoted(keepers[other->second].name) + " (a room is kept by the spaces of one name)");
         k.id = id;
         group_of_room[id] = it->second;
+    }
+    // A space without a name but with a room_id is part of that room (a room drawn as several
+    // polygons): it joins the spaces keeping the room, or those of the room's name, or keeps
+    // the room under its own name.
+    for (const auto i : unnamed_with_room) {
+        const auto id = *plan.spaces[i].room_id;
+        const auto room = existing.find(id);
+        if (room == existing.end())
+            throw PlanFeatureRefused(false, i, space_label(plan, i),
+                                     "room_id " + std::to_string(id) + " is not a room of floor " + std::to_string(floor_id));
+        if (const auto g = group_of_room.find(id); g != group_of_room.end()) {
+            group_of_space[i] = g->second;
+            continue;
+        }
+        const auto [it, fresh] = group_of_name.emplace(room->second.name, keepers.size());
+        if (fresh) keepers.push_back({room->second.name, id, i, space_label(plan, i)});
+        else if (keepers[it->second].id)
+            throw PlanFeatureRefused(false, i, space_label(plan, i),
+                                     "room_id " + std::to_string(id) + " is room " + quoted(room->second.name) +
+                                         ", a name the spaces keeping room_id " + std::to_string(*keepers[it->second].id) +
+                                         " give theirs");
+        keepers[it->second].id = id;
+        group_of_room[id] = it->second;
+        group_of_space[i] = it->second;
     }
     assign(keepers, existing, false, "room", floor_id);
 

@@ -90,7 +90,8 @@ public:
     // the map's other floors (for links between floors) and may throw to refuse the plan,
     // which then writes nothing. In the same transaction the plan keeps the floor's rooms and
     // POIs in step: the spaces of each name keep one room (the given room_id, else the floor's
-    // room of that name, else a new one) whose name and rectangles follow them; each connector
+    // room of that name, else a new one) whose name and rectangles follow them (a space without
+    // a name but with a room_id is part of that room); each connector
     // keeps a POI the same way (by poi_id, else by name); rooms and POIs the previous version
     // kept and this one does not are deleted. The stored plan holds every room_id and poi_id.
     // Throws PlanFeatureRefused when a given id is not of the floor or names clash.
@@ -101,6 +102,9 @@ public:
     // Every floor of the map that has a plan, by floor id (NotFound for an unknown map).
     virtual std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) = 0;
 
+    // Every floor of the map (by building, level and id) with its rooms, POIs and plan, from
+    // one snapshot: what the directory search indexes. NotFound for an unknown map.
+    virtual std::vector<FloorDirectory> directory_of_map(std::int64_t map_id) = 0;
     // A floor's plan image (its bytes in the database, so a backup holds it). image_of_floor
     // gives the metadata only; nullopt when the floor has none (NotFound: no such floor).
     virtual std::optional<FloorImage> image_of_floor(std::int64_t floor_id) = 0;

@@ -169,6 +169,21 @@ TEST_F(PlanRooms, SpacesOfOneNameKeepOneRoom) {
     ASSERT_EQ(rooms.size(), 1u);
     EXPECT_DOUBLE_EQ(area(rooms.at("Hall")), 24.0);
     EXPECT_EQ(props.at("space:Hall").at("room_id"), rooms.at("Hall").at("id"));
+
+    // A space without a name joins the room its room_id gives, under the room's name; with
+    // no named space keeping that room, the room keeps its own name and takes the space's shape.
+    const auto store = post_room("Store", 40, 0, 41, 1);
+    const auto put = body_of(s.put(plan, collection({feature("space", rect(0, 0, 4, 4), {{"name", "Hall"}}),
+                                                     feature("space", rect(10, 0, 12, 4), {{"room_id", rooms.at("Hall").at("id")}}),
+                                                     feature("space", rect(20, 0, 23, 4), {{"room_id", store}})})));
+    ASSERT_EQ(put.at("features").size(), 3u);
+    EXPECT_EQ(put.at("features")[1].at("properties").at("room_id"), rooms.at("Hall").at("id"));
+    EXPECT_EQ(put.at("features")[2].at("properties").at("room_id"), store);
+    const auto after = listed("rooms");
+    ASSERT_EQ(after.size(), 2u);
+    EXPECT_DOUBLE_EQ(area(after.at("Hall")), 24.0);
+    EXPECT_DOUBLE_EQ(area(after.at("Store")), 12.0);
+    EXPECT_EQ(s.patch("/v1/rooms/" + std::to_string(store), {{"name", "Shop"}}).status, 409);  // kept now
 }
 
 TEST_F(PlanRooms, ARefusedPlanChangesNoRoomOrPoi) {
@@ -199,7 +214,7 @@ TEST_F(PlanRooms, ARefusedPlanChangesNoRoomOrPoi) {
     clash["features"][0]["properties"]["room_id"] = rooms.at("Lab").at("id");
     clash["features"][1]["properties"]["room_id"] = rooms.at("Lab").at("id");
     json unnamed = office_plan();
-    unnamed["features"][2]["properties"]["room_id"] = rooms.at("Office").at("id");
+    unnamed["features"][2]["properties"]["room_id"] = elsewhere;
     json bad_poi = office_plan();
     bad_poi["features"][3]["properties"]["poi_id"] = 987654;
     json taken = office_plan();
@@ -215,7 +230,7 @@ TEST_F(PlanRooms, ARefusedPlanChangesNoRoomOrPoi) {
         {with_lab_props({{"room_id", 99999}}), "features[0] (space 'Lab'): room_id 99999 is not a room of floor " + floor},
         {self_crossing, "spaces[1] 'Office'"},
         {clash, "features[1] (space 'Office'): room_id " + rooms.at("Lab").at("id").dump() + " is also kept by the space named 'Lab'"},
-        {unnamed, "features[2] (space): a space without a name keeps no room"},
+        {unnamed, "features[2] (space): room_id " + std::to_string(elsewhere) + " is not a room of floor " + floor},
         {bad_poi, "features[3] (connector 's1'): poi_id 987654 is not a POI of floor " + floor},
         {taken_name, "features[1] (space 'Lonely'): room " + std::to_string(lonely) + " of floor " + floor + " is already named 'Lonely'"},
     };
