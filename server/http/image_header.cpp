@@ -1,11 +1,15 @@
 #include "http/image_header.hpp"
 
+// jpeglib.h before jerror.h, which names libjpeg's messages (JWRN_JPEG_EOF).
+// clang-format off
+#include <cstdio>
 #include <jpeglib.h>
+#include <jerror.h>
+// clang-format on
 #include <png.h>
 
 #include <algorithm>
 #include <csetjmp>
-#include <cstdio>
 #include <cstring>
 #include <vector>
 
@@ -49,7 +53,16 @@ struct JpegError {
     jpeg_error_mgr mgr;
     std::jmp_buf jump;
     char message[JMSG_LENGTH_MAX];
+    bool ended_early;  // the data stopped before the image did: a cut-off upload
 };
+
+// Warnings (level -1) are libjpeg's "corrupt data" notes; the one that matters here is the
+// end of the file coming before the image's end. Others (extraneous bytes between markers,
+// which some cameras write) leave a decodable image and are let through.
+void jpeg_note(j_common_ptr info, int level) {
+    auto* err = reinterpret_cast<JpegError*>(info->err);
+    if (level < 0 && info->err->msg_code == JWRN_JPEG_EOF) err->ended_early = true;
+}
 
 void jpeg_fail(j_common_ptr info) {
     auto* err = reinterpret_cast<JpegError*>(info->err);
@@ -57,14 +70,15 @@ void jpeg_fail(j_common_ptr info) {
     std::longjmp(err->jump, 1);
 }
 
-// 0 on success; otherwise err.message says why. `warnings` counts libjpeg's corrupt-data
-// warnings (a truncated file is one: "premature end of data segment").
-int decode(const unsigned char* data, unsigned long size, JpegError& err, long& warnings, JDIMENSION& width,
+// 0 on success (err.ended_early says whether the data was cut short); otherwise err.message
+// says why.
+int decode(const unsigned char* data, unsigned long size, JpegError& err, JDIMENSION& width,
            JDIMENSION& height, unsigned char* row, std::size_t row_bytes) {
     jpeg_decompress_struct info;
     info.err = jpeg_std_error(&err.mgr);
     err.mgr.error_exit = jpeg_fail;
     err.mgr.output_message = [](j_common_ptr) {};
+    err.mgr.emit_message = jpeg_note;
     if (setjmp(err.jump)) {
         jpeg_destroy_decompress(&info);
         return 1;
@@ -81,31 +95,30 @@ int decode(const unsigned char* data, unsigned long size, JpegError& err, long& 
         jpeg_destroy_decompress(&info);
         return 2;
     }
+    // Its own colour space (grey, RGB or CMYK: libjpeg converts CMYK to nothing else) at 1/8
+    // scale: every entropy-coded byte is still read, at a fraction of the work.
     info.scale_num = 1;
     info.scale_denom = 8;
-    info.out_color_space = JCS_GRAYSCALE;
     jpeg_start_decompress(&info);
-    if (static_cast<std::size_t>(info.output_width) > row_bytes) {
+    if (static_cast<std::size_t>(info.output_width) * static_cast<std::size_t>(info.output_components) > row_bytes) {
         jpeg_destroy_decompress(&info);
         return 3;
     }
     JSAMPROW rows[1] = {row};
     while (info.output_scanline < info.output_height) jpeg_read_scanlines(&info, rows, 1);
     jpeg_finish_decompress(&info);
-    warnings = err.mgr.num_warnings;
     jpeg_destroy_decompress(&info);
     return 0;
 }
 
 ImageHeader read_jpeg(std::string_view bytes) {
     JpegError err{};
-    long warnings = 0;
     JDIMENSION width = 0, height = 0;
-    std::vector<unsigned char> row(static_cast<std::size_t>(kMaxImageSide / 8 + 8));
+    std::vector<unsigned char> row(static_cast<std::size_t>(kMaxImageSide / 8 + 8) * 4);  // up to 4 components
     const int rc = decode(reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()), err,
-                          warnings, width, height, row.data(), row.size());
+                          width, height, row.data(), row.size());
     if (rc == 1) throw invalid_image(std::string("the JPEG cannot be read: ") + err.message);
-    if (rc == 0 && warnings > 0) throw invalid_image("the JPEG is truncated or corrupt: its image data ends early or is damaged");
+    if (rc == 0 && err.ended_early) throw invalid_image("the JPEG is truncated: its data ends before the image does");
     if (rc == 3) throw invalid_image("the JPEG cannot be read: unexpected output size");
     return {"image/jpeg", static_cast<std::int64_t>(width), static_cast<std::int64_t>(height)};
 }
