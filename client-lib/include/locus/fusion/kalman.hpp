@@ -5,9 +5,17 @@
 //   update:  K = P (P + R)⁻¹,      x ← x + K (z − x),   P ← (I − K) P
 // Q grows with the distance walked (heading and length errors scale with it); R comes from
 // the matcher's candidate spread (fix_covariance).
+//
+// With a floor plan (map matching, docs/fusion.md): a step may not pass through a wall (it
+// stops at the wall and slides along it, PlanWalkable::step); a fix outside walkable space
+// is snapped into it before the update, and so is the posterior after it. The posterior of
+// an update may land on the other side of a wall: the fix is evidence of where the person
+// is, not a movement, and a prior in the wrong room must be able to leave it.
 #include <Eigen/Dense>
+#include <memory>
 #include <span>
 
+#include "locus/fusion/plan_walkable.hpp"
 #include "locus/geometry.hpp"
 
 namespace locus::fusion {
@@ -25,7 +33,8 @@ struct KalmanConfig {
 
 class KalmanFilter {
 public:
-    explicit KalmanFilter(Point start, const KalmanConfig& config = {});
+    explicit KalmanFilter(Point start, const KalmanConfig& config = {},
+                          std::shared_ptr<const PlanWalkable> floor_plan = nullptr);
 
     void predict(Point displacement, bool magnetic_disturbance = false);
     // Returns false when the gate rejected the fix (state unchanged).
@@ -36,6 +45,7 @@ public:
 
 private:
     KalmanConfig config_;
+    std::shared_ptr<const PlanWalkable> floor_plan_;
     Eigen::Vector2d x_;
     Eigen::Matrix2d p_;
 };
