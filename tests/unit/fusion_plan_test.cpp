@@ -114,6 +114,12 @@ TEST(PlanWalkable, KalmanFixInTheWallOrOutsideIsSnappedIntoFreeSpace) {
         EXPECT_TRUE(w->inside(kf.position())) << fix.x << "," << fix.y << " → " << kf.position().x << "," << kf.position().y;
         EXPECT_LT(locus::distance(kf.position(), fix), 1.5);  // a free cell's centre, ≥ 0.2 m off walls
     }
+    // A fix far off the plan (past the grid's 2 m snap radius) comes to its nearest edge.
+    KalmanFilter far({5.0, 4.0}, c, w);
+    far.update({30.0, 4.0}, Eigen::Matrix2d::Identity() * 0.01);
+    EXPECT_TRUE(w->inside(far.position()));
+    EXPECT_GT(far.position().x, 19.0);
+    EXPECT_NEAR(far.position().y, 4.0, 0.3);
     // Without the plan the same fix is taken as it is.
     KalmanFilter free_kf({5.0, 4.0}, c);
     free_kf.update({21.0, 4.0}, Eigen::Matrix2d::Identity() * 0.01);

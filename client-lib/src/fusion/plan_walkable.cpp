@@ -48,8 +48,20 @@ bool PlanWalkable::can_move(Point from, Point to) const {
 
 Point PlanWalkable::snap(Point p) const {
     if (inside(p)) return p;
-    const int cell = grid_.snap(p, nullptr, false);
-    return cell >= 0 ? grid_.centre(cell) : p;
+    if (const int cell = grid_.snap(p, nullptr, false); cell >= 0) return grid_.centre(cell);
+    // Farther than the grid's snap radius: a fix or posterior well off the plan. Rare, so
+    // one pass over the grid is cheap enough.
+    int best = -1;
+    double nearest = INFINITY;
+    for (int c = 0; c < grid_.cell_count(); ++c) {
+        if (!grid_.free(c)) continue;
+        const double d = distance(p, grid_.centre(c));
+        if (d < nearest) {
+            nearest = d;
+            best = c;
+        }
+    }
+    return best >= 0 ? grid_.centre(best) : p;
 }
 
 double PlanWalkable::reach(Point from, Point to) const {

@@ -36,8 +36,9 @@ public:
     // A move is legal when it ends inside and crosses no wall (a door gap is no wall). A point
     // off the plan altogether may only move back onto it, anywhere.
     bool can_move(Point from, Point to) const;
-    // p when inside; else the centre of the nearest free cell of the grid within
-    // plan::kSnapRadius (2 m), which is at least ~0.2 m off walls; p itself when there is none.
+    // p when inside; else the centre of the nearest free cell of the grid (at least ~0.2 m
+    // off walls): the grid's own snap within plan::kSnapRadius (2 m), a scan of the whole grid
+    // beyond. p itself only when the grid has no free cell at all.
     Point snap(Point p) const;
     // Where a dead-reckoned step from → to ends: `to` when the move is legal; else it stops
     // short of the wall it hits and slides along that wall by the rest of the step (a person
