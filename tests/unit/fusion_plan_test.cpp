@@ -128,21 +128,37 @@ TEST(PlanWalkable, KalmanFixInTheWallOrOutsideIsSnappedIntoFreeSpace) {
 
 TEST(PlanWalkable, KalmanStepsStopAtWallsAndPassDoors) {
     const auto w = two_rooms();
-    KalmanFilter through({9.0, 4.0}, {}, w);
+    KalmanConfig blocking;
+    blocking.walls_block_steps = true;
+    KalmanFilter through({9.0, 4.0}, blocking, w);
     through.predict({2.0, 0.0});
     EXPECT_NEAR(through.position().x, 11.0, 1e-9);  // through the door
     EXPECT_NEAR(through.position().y, 4.0, 1e-9);
 
-    KalmanFilter blocked({9.0, 2.0}, {}, w);
+    KalmanFilter blocked({9.0, 2.0}, blocking, w);
     blocked.predict({2.0, 0.0});
     EXPECT_LT(blocked.position().x, 10.0);
     EXPECT_GT(blocked.position().x, 9.8);  // stopped at the wall, not before it
 
-    KalmanFilter slides({9.0, 1.0}, {}, w);
+    KalmanFilter slides({9.0, 1.0}, blocking, w);
     slides.predict({2.0, 1.0});  // diagonally into the wall: the along-wall part is kept
     EXPECT_LT(slides.position().x, 10.0);
     EXPECT_GT(slides.position().y, 1.4);
     EXPECT_TRUE(w->inside(slides.position()));
+
+    KalmanFilter jamb({9.7, 3.2}, blocking, w);
+    jamb.predict({0.7, 0.0});  // clips the door's jamb: goes round it into East
+    EXPECT_GT(jamb.position().x, 10.0);
+    EXPECT_TRUE(w->inside(jamb.position()));
+
+    // By default a step may pass the wall; where it ends is still walkable.
+    KalmanFilter passes({9.0, 2.0}, {}, w);
+    passes.predict({2.0, 0.0});
+    EXPECT_NEAR(passes.position().x, 11.0, 1e-9);
+    KalmanFilter into_wall({9.0, 2.0}, {}, w);
+    into_wall.predict({1.0, 0.0});
+    EXPECT_TRUE(w->inside(into_wall.position()));
+    EXPECT_NEAR(into_wall.position().x, 10.0, 0.5);
 }
 
 TEST(RoomsPlan, ScenariosBecomeValidPlansThatAgreeWithTheirRooms) {

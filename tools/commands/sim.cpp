@@ -49,6 +49,7 @@ struct Args {
     std::string api_key;
     std::int64_t floor = 0;
     bool put_plan = false;
+    std::string kalman_walls = "snap";  // block | snap
 };
 
 // The floor the filters map-match on, and a word for where it came from.
@@ -138,6 +139,7 @@ void run(const Args& a) {
     cfg.particle.initial_scale_sigma = a.scale_sigma;
     for (const std::string& kv : a.particle_set) set_particle_field(cfg.particle, kv);
     const Walls walls = choose_walls(a, sc);
+    cfg.kalman.walls_block_steps = a.kalman_walls == "block";
 
     std::vector<std::string> order;
     std::map<std::string, sim::Score> sums;
@@ -243,6 +245,11 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
     cmd->add_option("--floor", args->floor, "floor whose plan on --server the filters map-match on")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--api-key", args->api_key, "API key (for --put-plan)")->envname("LOCUS_API_KEY");
+    cmd->add_option("--kalman-walls", args->kalman_walls,
+                    "on a floor plan, the Kalman filter's steps are blocked by walls (block) or only snapped "
+                    "into walkable space where they end (snap)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"block", "snap"}));
     cmd->add_flag("--put-plan", args->put_plan, "first put the scenario's rooms and doors on --floor as its plan");
     cmd->callback([args] { run(*args); });
 });

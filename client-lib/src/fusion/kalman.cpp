@@ -14,7 +14,7 @@ void KalmanFilter::predict(Point displacement, bool magnetic_disturbance) {
     const Point from = position();
     x_ += Eigen::Vector2d(displacement.x, displacement.y);
     if (floor_plan_) {
-        const Point to = floor_plan_->step(from, position());
+        const Point to = config_.walls_block_steps ? floor_plan_->step(from, position()) : floor_plan_->snap(position());
         x_ = Eigen::Vector2d(to.x, to.y);
     }
     const double length = std::hypot(displacement.x, displacement.y);
@@ -36,7 +36,7 @@ bool KalmanFilter::update(Point fix, const Eigen::Matrix2d& r) {
     const Eigen::Matrix2d i_k = Eigen::Matrix2d::Identity() - k;
     p_ = i_k * p_ * i_k.transpose() + k * r * k.transpose();
     if (floor_plan_) {
-        const Point snapped = floor_plan_->snap(position());
+        const Point snapped = floor_plan_->snap(position(), fix);
         x_ = Eigen::Vector2d(snapped.x, snapped.y);
     }
     return true;

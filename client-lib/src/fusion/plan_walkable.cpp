@@ -1,6 +1,10 @@
 #include "locus/fusion/plan_walkable.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <queue>
+#include <unordered_map>
 #include <stdexcept>
 #include <utility>
 
@@ -12,6 +16,8 @@ Point lerp(Point a, Point b, double t) { return {a.x + t * (b.x - a.x), a.y + t 
 
 // Bisection steps of reach(): 2⁻¹² of a step (under a millimetre for a 2 m step).
 constexpr int kReachIterations = 12;
+// Sampling of snap()'s walk towards a point.
+constexpr double kTowardStep = 0.05;
 
 }  // namespace
 
@@ -46,8 +52,16 @@ bool PlanWalkable::can_move(Point from, Point to) const {
     return !grid_.crosses_barrier(from, to);
 }
 
-Point PlanWalkable::snap(Point p) const {
+Point PlanWalkable::snap(Point p, std::optional<Point> toward) const {
     if (inside(p)) return p;
+    if (toward) {
+        // The first walkable point on the way to `toward` with no wall left between them.
+        const double len = std::min(distance(p, *toward), locus::plan::kSnapRadius);
+        for (double s = kTowardStep; s <= len; s += kTowardStep) {
+            const Point q = lerp(p, *toward, s / distance(p, *toward));
+            if (inside(q) && !grid_.crosses_barrier(q, *toward)) return q;
+        }
+    }
     if (const int cell = grid_.snap(p, nullptr, false); cell >= 0) return grid_.centre(cell);
     // Farther than the grid's snap radius: a fix or posterior well off the plan. Rare, so
     // one pass over the grid is cheap enough.
@@ -73,9 +87,52 @@ double PlanWalkable::reach(Point from, Point to) const {
     return lo;
 }
 
+int PlanWalkable::nearest_reachable(Point from, Point to, double budget) const {
+    int start = grid_.cell_at(from);
+    if (start < 0 || !grid_.free(start)) start = grid_.snap(from, nullptr, true);
+    if (start < 0) return -1;
+    // Dijkstra over the grid's moves, cut at the budget: a few hundred cells for a step, so
+    // the distances live in a map rather than an array the size of the floor.
+    using Entry = std::pair<double, int>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+    std::unordered_map<int, double> walked{{start, distance(from, grid_.centre(start))}};
+    open.push({walked[start], start});
+    int best = -1;
+    double nearest = INFINITY;
+    while (!open.empty()) {
+        const auto [d, c] = open.top();
+        open.pop();
+        if (d > walked[c]) continue;
+        if (const double left = distance(grid_.centre(c), to); left < nearest) {
+            nearest = left;
+            best = c;
+        }
+        const int col = c % grid_.cols, row = c / grid_.cols;
+        for (int dir = 0; dir < 8; ++dir) {
+            if (!(grid_.moves[static_cast<std::size_t>(c)] & (1u << dir))) continue;
+            const int n = (row + locus::plan::kDirRow[dir]) * grid_.cols + col + locus::plan::kDirCol[dir];
+            const double nd = d + distance(grid_.centre(c), grid_.centre(n));
+            if (nd > budget) continue;
+            if (auto it = walked.find(n); it != walked.end() && it->second <= nd) continue;
+            walked[n] = nd;
+            open.push({nd, n});
+        }
+    }
+    return best;
+}
+
 Point PlanWalkable::step(Point from, Point to) const {
     if (can_move(from, to)) return to;
     if (!inside(from)) return snap(to);
+    // Stopped at the wall and slid along it, or, when nearer to where the step aimed, the
+    // nearest point a short walk away (through a door next to the wall it hit).
+    const Point slid = slide(from, to);
+    const int cell = nearest_reachable(from, to, distance(from, to) + 1.0);
+    if (cell >= 0 && distance(grid_.centre(cell), to) < distance(slid, to)) return grid_.centre(cell);
+    return slid;
+}
+
+Point PlanWalkable::slide(Point from, Point to) const {
     const double t = reach(from, to);
     const Point stop = lerp(from, to, t);
     // The wall that stopped it: the barrier nearest to the first blocked point.

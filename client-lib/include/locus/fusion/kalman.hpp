@@ -6,11 +6,14 @@
 // Q grows with the distance walked (heading and length errors scale with it); R comes from
 // the matcher's candidate spread (fix_covariance).
 //
-// With a floor plan (map matching, docs/fusion.md): a step may not pass through a wall (it
-// stops at the wall and slides along it, PlanWalkable::step); a fix outside walkable space
-// is snapped into it before the update, and so is the posterior after it. The posterior of
-// an update may land on the other side of a wall: the fix is evidence of where the person
-// is, not a movement, and a prior in the wrong room must be able to leave it.
+// With a floor plan (map matching, docs/fusion.md): a fix outside walkable space is snapped
+// into it before the update, and so is the posterior after it (on the fix's side of a wall
+// it is caught in), and so is the state after each step. The posterior of an update may land
+// on the other side of a wall: the fix is evidence of where the person is, not a movement,
+// and a prior in the wrong room must be able to leave it. Steps may pass walls too unless
+// walls_block_steps: one hypothesis that lags the person stays behind a wall the person went
+// through (a door a metre further on), which cost the ground floor's final error more than
+// the blocking gained (docs/fusion.md); the particle filter is the map matcher that blocks.
 #include <Eigen/Dense>
 #include <memory>
 #include <span>
@@ -29,6 +32,10 @@ struct KalmanConfig {
     // A fix whose Mahalanobis distance² exceeds this is rejected as an outlier (χ², 2 dof:
     // 13.8 ≈ 0.1 %). ≤ 0 disables the gate.
     double gate_chi2 = 0.0;
+    // With a floor plan: true stops a step at the wall it would cross (PlanWalkable::step:
+    // it slides along the wall, or goes round a door jamb it clipped); false only snaps where
+    // the step ends into walkable space.
+    bool walls_block_steps = false;
 };
 
 class KalmanFilter {

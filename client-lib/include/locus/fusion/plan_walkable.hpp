@@ -10,6 +10,7 @@
 // comfortable paths, but a person may stand next to a wall, and a particle cloud cut off
 // 0.5 m short of every wall would pull the estimate off a narrow corridor's edge. The margin
 // stands for half a wall's thickness, which a plan's zero-width wall lines do not have.
+#include <optional>
 #include <vector>
 
 #include "locus/geometry.hpp"
@@ -36,18 +37,28 @@ public:
     // A move is legal when it ends inside and crosses no wall (a door gap is no wall). A point
     // off the plan altogether may only move back onto it, anywhere.
     bool can_move(Point from, Point to) const;
-    // p when inside; else the centre of the nearest free cell of the grid (at least ~0.2 m
-    // off walls): the grid's own snap within plan::kSnapRadius (2 m), a scan of the whole grid
-    // beyond. p itself only when the grid has no free cell at all.
-    Point snap(Point p) const;
-    // Where a dead-reckoned step from → to ends: `to` when the move is legal; else it stops
-    // short of the wall it hits and slides along that wall by the rest of the step (a person
-    // walking a corridor with a slightly wrong heading follows the corridor); never through it.
+    // p when inside. Else, given `toward` (a Kalman posterior and its fix): the first
+    // walkable point on the way from p to it that no wall parts from it, within
+    // plan::kSnapRadius, so a posterior caught in a wall lands on the fix's side. Else the
+    // centre of the nearest free cell of the grid (at least ~0.2 m off walls): the grid's own
+    // snap within kSnapRadius, a scan of the whole grid beyond. p itself only when the grid
+    // has no free cell at all.
+    Point snap(Point p, std::optional<Point> toward = std::nullopt) const;
+    // Where a dead-reckoned step from → to ends: `to` when the move is legal. Else, of two
+    // candidates, the one nearer to `to`: stopped short of the wall it hits and slid along it
+    // by the rest of the step (a corridor walked with a slightly wrong heading), or the free
+    // cell nearest to `to` that a walk of the step's length over the grid reaches from `from`
+    // (round a door jamb it clipped). Never through a wall.
     Point step(Point from, Point to) const;
 
 private:
     // Largest t in [0, 1] such that from → from + t(to − from) is legal (bisection).
     double reach(Point from, Point to) const;
+    // Stopped where from → to first becomes illegal, then slid along the nearest barrier.
+    Point slide(Point from, Point to) const;
+    // The free cell nearest `to` among those a walk of at most `budget` metres over the
+    // grid's moves reaches from `from`; −1 when from has no free cell near it.
+    int nearest_reachable(Point from, Point to, double budget) const;
 
     locus::plan::Plan plan_;
     locus::plan::WalkGrid grid_;
