@@ -28,9 +28,40 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
     options.clearance = kWallMargin;
     grid_ = locus::plan::build_walk_grid(plan_, options);
     for (const auto& s : plan_.spaces) space_bounds_.push_back(locus::plan::bounds_of(s.shape.outer));
+    // Distance from each cell to the nearest barrier, up to kClearCap: where it exceeds a
+    // move's length the move cannot cross one, and most moves are made away from walls.
+    const double half_diagonal = grid_.options.cell * std::sqrt(0.5);
+    clear_.assign(static_cast<std::size_t>(grid_.cell_count()), static_cast<float>(kClearCap));
+    const auto clamp_col = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - grid_.origin.x) / grid_.options.cell)), 0, grid_.cols - 1); };
+    const auto clamp_row = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - grid_.origin.y) / grid_.options.cell)), 0, grid_.rows - 1); };
+    for (std::size_t i = 0; i < grid_.walls.size() + grid_.jambs.size(); ++i) {
+        const Segment& s = barrier(static_cast<std::uint32_t>(i));
+        for (int r = clamp_row(std::min(s.a.y, s.b.y) - kClearCap); r <= clamp_row(std::max(s.a.y, s.b.y) + kClearCap); ++r)
+            for (int c = clamp_col(std::min(s.a.x, s.b.x) - kClearCap); c <= clamp_col(std::max(s.a.x, s.b.x) + kClearCap); ++c) {
+                const int cell = r * grid_.cols + c;
+                // Less half a diagonal: a bound for every point of the cell, not only its centre.
+                const double d = distance_to_segment(grid_.centre(cell), s.a, s.b) - half_diagonal - 1e-6;
+                float& slot = clear_[static_cast<std::size_t>(cell)];
+                slot = std::min(slot, static_cast<float>(std::max(0.0, d)));
+            }
+    }
+}
+
+const Segment& PlanWalkable::barrier(std::uint32_t i) const {
+    return i < grid_.walls.size() ? grid_.walls[i] : grid_.jambs[i - grid_.walls.size()];
+}
+
+double PlanWalkable::clearance_at(Point p) const {
+    const int cell = grid_.cell_at(p);
+    return cell < 0 ? 0.0 : clear_[static_cast<std::size_t>(cell)];
 }
 
 bool PlanWalkable::in_spaces(Point p) const {
+    // The grid knows the space at the cell's centre: nearly always the one p is in.
+    if (const int cell = grid_.cell_at(p); cell >= 0) {
+        const std::int32_t first = grid_.space[static_cast<std::size_t>(cell)];
+        if (first >= 0 && locus::plan::polygon_contains(plan_.spaces[static_cast<std::size_t>(first)].shape, p)) return true;
+    }
     for (std::size_t i = 0; i < plan_.spaces.size(); ++i)
         if (space_bounds_[i].contains(p) && locus::plan::polygon_contains(plan_.spaces[i].shape, p)) return true;
     return false;
@@ -38,9 +69,10 @@ bool PlanWalkable::in_spaces(Point p) const {
 
 bool PlanWalkable::inside(Point p) const {
     if (!in_spaces(p)) return false;
+    if (clearance_at(p) > kWallMargin) return true;
     // barriers_near reaches at least bucket_m / 2 ≥ 1 m, far past the margin.
     for (std::uint32_t i : grid_.barriers_near(p, p)) {
-        const Segment& s = i < grid_.walls.size() ? grid_.walls[i] : grid_.jambs[i - grid_.walls.size()];
+        const Segment& s = barrier(i);
         if (distance_to_segment(p, s.a, s.b) <= kWallMargin) return false;
     }
     return true;
@@ -49,6 +81,7 @@ bool PlanWalkable::inside(Point p) const {
 bool PlanWalkable::can_move(Point from, Point to) const {
     if (!inside(to)) return false;
     if (!in_spaces(from)) return true;
+    if (clearance_at(from) > distance(from, to)) return true;
     return !grid_.crosses_barrier(from, to);
 }
 
@@ -140,7 +173,7 @@ Point PlanWalkable::slide(Point from, Point to) const {
     const Segment* wall = nullptr;
     double nearest = INFINITY;
     for (std::uint32_t i : grid_.barriers_near(stop, blocked)) {
-        const Segment& s = i < grid_.walls.size() ? grid_.walls[i] : grid_.jambs[i - grid_.walls.size()];
+        const Segment& s = barrier(i);
         const double d = distance_to_segment(blocked, s.a, s.b);
         if (d < nearest) {
             nearest = d;

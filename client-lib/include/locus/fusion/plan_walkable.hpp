@@ -60,8 +60,14 @@ private:
     // grid's moves reaches from `from`; −1 when from has no free cell near it.
     int nearest_reachable(Point from, Point to, double budget) const;
 
+    const Segment& barrier(std::uint32_t i) const;  // as WalkGrid::buckets index them
+    // A lower bound of the distance from p to the nearest barrier (0 off the grid).
+    double clearance_at(Point p) const;
+    static constexpr double kClearCap = 3.0;  // metres: longer than any step
+
     locus::plan::Plan plan_;
     locus::plan::WalkGrid grid_;
+    std::vector<float> clear_;  // per cell: clearance_at's bound, capped at kClearCap
     std::vector<locus::plan::Bounds> space_bounds_;
 };
 
