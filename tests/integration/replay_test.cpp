@@ -165,3 +165,49 @@ TEST(Replay, UnknownWallsSourceIsRefused) {
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("--walls"), std::string::npos) << r.err;
 }
+
+TEST(SimOnServerPlan, EvaluatesOnTheFloorsPlanAsOnTheConvertedScenario) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::vector<std::string> base = {LOCUS_CLI_BIN, "sim", "--scenario", "basement", "--seed", "5", "--evaluate", "--json"};
+    const auto with = [&](std::vector<std::string> extra) {
+        std::vector<std::string> args = base;
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_command(args);
+    };
+    const std::string floor = std::to_string(h.floor);
+
+    // The floor has no plan yet: refused, naming the floor.
+    const auto none = with({"--server", s.url(), "--floor", floor});
+    EXPECT_NE(none.status, 0);
+    EXPECT_NE(none.err.find("floor " + floor + " has no plan"), std::string::npos) << none.err;
+    // --server and --floor go together.
+    const auto half = with({"--server", s.url()});
+    EXPECT_NE(half.status, 0);
+    EXPECT_NE(half.err.find("--floor"), std::string::npos) << half.err;
+
+    // --put-plan stores the scenario's rooms and doors as the floor's plan, then uses it.
+    const auto put = with({"--server", s.url(), "--floor", floor, "--put-plan"});
+    ASSERT_EQ(put.status, 0) << put.err;
+    const auto stored = body_of(s.get("/v1/floors/" + floor + "/plan"));
+    std::map<std::string, int> kinds;
+    for (const auto& f : stored.at("features")) ++kinds[f.at("properties").at("feature").get<std::string>()];
+    EXPECT_EQ(kinds["space"], 7);
+    EXPECT_EQ(kinds["door"], 6);
+    EXPECT_GT(kinds["wall"], 7);
+
+    const auto local = with({"--walls", "plan"});
+    const auto rooms = with({});
+    ASSERT_EQ(local.status, 0) << local.err;
+    ASSERT_EQ(rooms.status, 0) << rooms.err;
+    std::map<std::string, double> on_plan, on_rooms;
+    for (const auto& o : json::parse(local.out)) on_plan[o.at("method")] = o.at("mean_error_m");
+    for (const auto& o : json::parse(rooms.out)) on_rooms[o.at("method")] = o.at("mean_error_m");
+    for (const auto& o : json::parse(put.out)) {
+        EXPECT_EQ(o.at("walls"), "server");
+        EXPECT_DOUBLE_EQ(o.at("mean_error_m").get<double>(), on_plan.at(o.at("method"))) << o.at("method");
+    }
+    // Rules ignore the map; the Kalman filter is map-matched on a plan only.
+    EXPECT_DOUBLE_EQ(on_plan.at("proportional"), on_rooms.at("proportional"));
+    EXPECT_NE(on_plan.at("kalman"), on_rooms.at("kalman"));
+}
