@@ -120,6 +120,16 @@ TEST(PlanWalkable, KalmanFixInTheWallOrOutsideIsSnappedIntoFreeSpace) {
     EXPECT_TRUE(w->inside(far.position()));
     EXPECT_GT(far.position().x, 19.0);
     EXPECT_NEAR(far.position().y, 4.0, 0.3);
+    // A posterior caught in the wall between its prior and its fix lands on the fix's side.
+    KalmanConfig even;
+    even.initial_sigma_m = 1.0;  // P = R: the posterior is the midpoint, (10, 2), in the wall
+    for (const double fix_x : {11.0, 9.0}) {
+        KalmanFilter kf({20.0 - fix_x, 2.0}, even, w);
+        kf.update({fix_x, 2.0}, Eigen::Matrix2d::Identity());
+        EXPECT_TRUE(w->inside(kf.position()));
+        EXPECT_EQ(kf.position().x > 10.0, fix_x > 10.0) << kf.position().x;
+        EXPECT_NEAR(kf.position().x, 10.0, 0.2);
+    }
     // Without the plan the same fix is taken as it is.
     KalmanFilter free_kf({5.0, 4.0}, c);
     free_kf.update({21.0, 4.0}, Eigen::Matrix2d::Identity() * 0.01);
