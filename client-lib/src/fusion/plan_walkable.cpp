@@ -4,8 +4,8 @@
 #include <cmath>
 #include <functional>
 #include <queue>
-#include <unordered_map>
 #include <stdexcept>
+#include <unordered_map>
 #include <utility>
 
 namespace locus::fusion {
@@ -16,6 +16,9 @@ Point lerp(Point a, Point b, double t) { return {a.x + t * (b.x - a.x), a.y + t 
 
 // Bisection steps of reach(): 2⁻¹² of a step (under a millimetre for a 2 m step).
 constexpr int kReachIterations = 12;
+// How much longer than the step itself a walk round a wall may be: the Kalman state is
+// metres off, so the door the person took may be a little farther than the step.
+constexpr double kDetour = 1.0;
 // Sampling of snap()'s walk towards a point.
 constexpr double kTowardStep = 0.05;
 
@@ -30,8 +33,11 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
     for (const auto& s : plan_.spaces) space_bounds_.push_back(locus::plan::bounds_of(s.shape.outer));
     // Distance from each cell to the nearest barrier, up to kClearCap: where it exceeds a
     // move's length the move cannot cross one, and most moves are made away from walls.
-    const double half_diagonal = grid_.options.cell * std::sqrt(0.5);
-    clear_.assign(static_cast<std::size_t>(grid_.cell_count()), static_cast<float>(kClearCap));
+    // Every bound is less half a diagonal (and a µm for float rounding), so it holds for
+    // every point of the cell, not only its centre. A cell not visited below has its centre
+    // more than kClearCap from every barrier.
+    const double half_diagonal = grid_.options.cell * std::sqrt(0.5) + 1e-6;
+    clear_.assign(static_cast<std::size_t>(grid_.cell_count()), static_cast<float>(kClearCap - half_diagonal));
     const auto clamp_col = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - grid_.origin.x) / grid_.options.cell)), 0, grid_.cols - 1); };
     const auto clamp_row = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - grid_.origin.y) / grid_.options.cell)), 0, grid_.rows - 1); };
     for (std::size_t i = 0; i < grid_.walls.size() + grid_.jambs.size(); ++i) {
@@ -39,8 +45,7 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
         for (int r = clamp_row(std::min(s.a.y, s.b.y) - kClearCap); r <= clamp_row(std::max(s.a.y, s.b.y) + kClearCap); ++r)
             for (int c = clamp_col(std::min(s.a.x, s.b.x) - kClearCap); c <= clamp_col(std::max(s.a.x, s.b.x) + kClearCap); ++c) {
                 const int cell = r * grid_.cols + c;
-                // Less half a diagonal: a bound for every point of the cell, not only its centre.
-                const double d = distance_to_segment(grid_.centre(cell), s.a, s.b) - half_diagonal - 1e-6;
+                const double d = distance_to_segment(grid_.centre(cell), s.a, s.b) - half_diagonal;
                 float& slot = clear_[static_cast<std::size_t>(cell)];
                 slot = std::min(slot, static_cast<float>(std::max(0.0, d)));
             }
@@ -160,7 +165,7 @@ Point PlanWalkable::step(Point from, Point to) const {
     // Stopped at the wall and slid along it, or, when nearer to where the step aimed, the
     // nearest point a short walk away (through a door next to the wall it hit).
     const Point slid = slide(from, to);
-    const int cell = nearest_reachable(from, to, distance(from, to) + 1.0);
+    const int cell = nearest_reachable(from, to, distance(from, to) + kDetour);
     if (cell >= 0 && distance(grid_.centre(cell), to) < distance(slid, to)) return grid_.centre(cell);
     return slid;
 }

@@ -47,8 +47,8 @@ public:
     // Where a dead-reckoned step from → to ends: `to` when the move is legal. Else, of two
     // candidates, the one nearer to `to`: stopped short of the wall it hits and slid along it
     // by the rest of the step (a corridor walked with a slightly wrong heading), or the free
-    // cell nearest to `to` that a walk of the step's length over the grid reaches from `from`
-    // (round a door jamb it clipped). Never through a wall.
+    // cell nearest to `to` that a walk over the grid of the step's length plus 1 m reaches
+    // from `from` (round a door jamb it clipped). Never through a wall.
     Point step(Point from, Point to) const;
 
 private:
