@@ -185,6 +185,10 @@ TEST(SimOnServerPlan, EvaluatesOnTheFloorsPlanAsOnTheConvertedScenario) {
     const auto half = with({"--server", s.url()});
     EXPECT_NE(half.status, 0);
     EXPECT_NE(half.err.find("--floor"), std::string::npos) << half.err;
+    // --walls names another source than the floor's plan.
+    const auto both = with({"--server", s.url(), "--floor", floor, "--walls", "plan"});
+    EXPECT_NE(both.status, 0);
+    EXPECT_NE(both.err.find("--walls and --floor"), std::string::npos) << both.err;
 
     // --put-plan stores the scenario's rooms and doors as the floor's plan, then uses it.
     const auto put = with({"--server", s.url(), "--floor", floor, "--put-plan"});

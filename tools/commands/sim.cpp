@@ -44,7 +44,8 @@ struct Args {
     double scale_sigma = fusion::ParticleConfig{}.initial_scale_sigma;
     std::vector<std::string> particle_set;  // key=value overrides of fusion::ParticleConfig
     sim::SimConfig walk;  // defaults of the simulator; the options below override a few
-    std::string walls = "rooms";  // rooms | plan; a --floor on a --server overrides
+    std::string walls = "rooms";  // rooms | plan; or the plan of --floor on --server
+    bool walls_given = false;
     std::string server;
     std::string api_key;
     std::int64_t floor = 0;
@@ -61,6 +62,8 @@ struct Walls {
 Walls choose_walls(const Args& a, const sim::Scenario& sc) {
     if (a.server.empty() != (a.floor == 0)) throw tools::CommandError("--server and --floor go together");
     if (a.put_plan && a.floor == 0) throw tools::CommandError("--put-plan needs --server and --floor");
+    if (a.walls_given && a.floor != 0)
+        throw tools::CommandError("--walls and --floor both say what to map-match on: give one of them");
     if (a.floor == 0) {
         if (a.walls == "rooms") return {sc.map, "rooms"};
         return {fusion::Walkable::from_plan(fusion::rooms_plan(sc.map)), "plan"};
@@ -236,7 +239,7 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
     cmd->add_option("--misalignment", args->walk.misalignment_sigma_rad, "Phone yaw vs walking direction σ, rad")
         ->capture_default_str();
     // Map matching: which floor the particle and Kalman filters are constrained by.
-    cmd->add_option("--walls", args->walls,
+    auto* walls = cmd->add_option("--walls", args->walls,
                     "rooms (the scenario's rooms and doors) or plan (the same floor as a floor plan, as a server "
                     "would hold it; the Kalman filter is map-matched too)")
         ->capture_default_str()
@@ -251,5 +254,8 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::IsMember({"block", "snap"}));
     cmd->add_flag("--put-plan", args->put_plan, "first put the scenario's rooms and doors on --floor as its plan");
-    cmd->callback([args] { run(*args); });
+    cmd->callback([args, walls] {
+        args->walls_given = walls->count() > 0;
+        run(*args);
+    });
 });
