@@ -1,0 +1,221 @@
+#include "locus/imaging/plan_from_image.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "locus/plan/check.hpp"
+
+namespace locus::imaging {
+
+namespace {
+
+using Contour = std::vector<cv::Point>;
+
+// A round structuring element about `metres` across, at least 3 pixels (odd, so it is centred).
+cv::Mat disc(double metres, double px_per_m) {
+    int d = static_cast<int>(std::lround(metres * px_per_m));
+    d = std::max(3, d | 1);
+    return cv::getStructuringElement(cv::MORPH_ELLIPSE, {d, d});
+}
+
+// The image's pixel (u, v), its centre, in floor metres: the image's y points down, the plan's up.
+struct ToMetres {
+    double px_per_m;
+    int height;
+    Point operator()(const cv::Point& p) const {
+        return {(p.x + 0.5) / px_per_m, (height - (p.y + 0.5)) / px_per_m};
+    }
+};
+
+std::vector<Point> polyline(const Contour& c, const ToMetres& to_m) {
+    std::vector<Point> out;
+    out.reserve(c.size() + 1);
+    for (const auto& p : c) out.push_back(to_m(p));
+    return out;
+}
+
+plan::Ring ring(const Contour& c, const ToMetres& to_m) {
+    auto r = polyline(c, to_m);
+    if (!r.empty()) r.push_back(r.front());
+    return r;
+}
+
+Contour simplify(const Contour& c, double epsilon_px) {
+    if (epsilon_px <= 0.0) return c;
+    Contour out;
+    cv::approxPolyDP(c, out, epsilon_px, true);
+    return out;
+}
+
+// Pixels of `mask` (0/255) in 8-connected pieces whose test on (width, height, area) fails are
+// cleared.
+template <typename Keep>
+cv::Mat keep_components(const cv::Mat& mask, Keep keep) {
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+    std::vector<std::uint8_t> kept(static_cast<std::size_t>(n), 0);
+    for (int i = 1; i < n; ++i)
+        kept[static_cast<std::size_t>(i)] = keep(stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT),
+                                                 stats.at<int>(i, cv::CC_STAT_AREA))
+                                                ? 255
+                                                : 0;
+    cv::Mat out(mask.size(), CV_8U);
+    for (int y = 0; y < mask.rows; ++y) {
+        const int* l = labels.ptr<int>(y);
+        auto* o = out.ptr<std::uint8_t>(y);
+        for (int x = 0; x < mask.cols; ++x) o[x] = kept[static_cast<std::size_t>(l[x])];
+    }
+    return out;
+}
+
+// Everything not reachable from the border through `open` (4-connected, as people cannot
+// squeeze through a diagonal pixel gap).
+cv::Mat enclosed(const cv::Mat& open) {
+    cv::Mat labels;
+    const int n = cv::connectedComponents(open, labels, 4, CV_32S);
+    std::vector<std::uint8_t> outside(static_cast<std::size_t>(n), 0);
+    const int w = open.cols, h = open.rows;
+    auto mark = [&](int x, int y) {
+        if (open.at<std::uint8_t>(y, x)) outside[static_cast<std::size_t>(labels.at<int>(y, x))] = 1;
+    };
+    for (int x = 0; x < w; ++x) mark(x, 0), mark(x, h - 1);
+    for (int y = 0; y < h; ++y) mark(0, y), mark(w - 1, y);
+    cv::Mat out(open.size(), CV_8U);
+    for (int y = 0; y < h; ++y) {
+        const int* l = labels.ptr<int>(y);
+        const auto* o = open.ptr<std::uint8_t>(y);
+        auto* d = out.ptr<std::uint8_t>(y);
+        for (int x = 0; x < w; ++x) d[x] = (o[x] && outside[static_cast<std::size_t>(l[x])]) ? 0 : 255;
+    }
+    return out;
+}
+
+void check_options(const GreyImage& image, const FromImageOptions& o) {
+    if (image.width <= 0 || image.height <= 0) throw std::invalid_argument("the image is empty");
+    if (image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
+        throw std::invalid_argument("the image has " + std::to_string(image.pixels.size()) + " pixels, not width × height");
+    auto positive = [](double v, const char* name) {
+        if (!(v > 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string(name) + " must be a positive number");
+    };
+    positive(o.px_per_m, "px_per_m");
+    positive(o.merge_m, "merge_m");
+    positive(o.close_m, "close_m");
+    positive(o.solid_m, "solid_m");
+    if (!(o.simplify_m >= 0.0) || !std::isfinite(o.simplify_m)) throw std::invalid_argument("simplify_m must be 0 or more");
+    if (!(o.min_wall_m >= 0.0) || !std::isfinite(o.min_wall_m)) throw std::invalid_argument("min_wall_m must be 0 or more");
+    if (!(o.min_space_m2 >= 0.0) || !std::isfinite(o.min_space_m2))
+        throw std::invalid_argument("min_space_m2 must be 0 or more");
+    if (o.threshold < 1 || o.threshold > 255) throw std::invalid_argument("threshold must be within [1, 255]");
+    // The plan's own bounds (check.hpp): refuse here with the reason rather than emit a plan the
+    // server refuses.
+    const double w_m = image.width / o.px_per_m, h_m = image.height / o.px_per_m;
+    if (w_m * h_m > plan::kMaxPlanArea)
+        throw std::invalid_argument("at " + std::to_string(o.px_per_m) + " px/m the image covers " + std::to_string(w_m) +
+                                    " m × " + std::to_string(h_m) + " m, more than a plan may (" +
+                                    std::to_string(plan::kMaxPlanArea) + " m²): is px_per_m right?");
+}
+
+// The space of one outer ring and its holes, simplified as much as epsilon allows while the
+// rings stay simple and the holes inside: check_plan decides, and each failure halves epsilon.
+std::optional<plan::Space> space_of(const Contour& outer, const std::vector<const Contour*>& holes, double epsilon_px,
+                                    const ToMetres& to_m) {
+    for (double eps = epsilon_px;; eps /= 2.0) {
+        const bool last = eps < 0.25;
+        const double e = last ? 0.0 : eps;
+        plan::Plan one;
+        plan::Space s;
+        s.kind = "free";
+        s.shape.outer = ring(simplify(outer, e), to_m);
+        for (const auto* h : holes) {
+            auto r = simplify(*h, e);
+            if (r.size() >= 3) s.shape.holes.push_back(ring(r, to_m));
+        }
+        if (s.shape.outer.size() < 4) return std::nullopt;
+        one.spaces.push_back(s);
+        if (plan::check_plan(one).empty()) return s;
+        if (last) {
+            // Pixel-exact rings that still touch themselves (a one-pixel neck): keep the outline
+            // without its holes if that is sound, else give the piece up.
+            one.spaces.front().shape.holes.clear();
+            if (plan::check_plan(one).empty()) return one.spaces.front();
+            return std::nullopt;
+        }
+    }
+}
+
+}  // namespace
+
+plan::Plan plan_from_image(const GreyImage& image, const FromImageOptions& o, FromImageStats* stats) {
+    check_options(image, o);
+    const double ppm = o.px_per_m;
+    const ToMetres to_m{ppm, image.height};
+    const double epsilon_px = o.simplify_m * ppm;
+
+    cv::Mat grey(image.height, image.width, CV_8U, const_cast<std::uint8_t*>(image.pixels.data()));
+    cv::Mat ink;
+    cv::threshold(grey, ink, o.threshold - 1, 255, cv::THRESH_BINARY_INV);  // grey < threshold
+
+    // Strokes: double lines and hatching merged, specks (text, dimension marks) dropped.
+    cv::Mat strokes;
+    cv::morphologyEx(ink, strokes, cv::MORPH_CLOSE, disc(o.merge_m, ppm));
+    const double min_extent = o.min_wall_m * ppm;
+    strokes = keep_components(strokes, [&](int w, int h, int) { return std::max(w, h) >= min_extent; });
+
+    // The inside: gaps bridged, then what the border cannot reach; solid blocks cut out.
+    cv::Mat bridged;
+    cv::morphologyEx(strokes, bridged, cv::MORPH_CLOSE, disc(o.close_m, ppm));
+    cv::Mat inside = enclosed(~bridged);
+    cv::Mat solid;
+    cv::morphologyEx(strokes, solid, cv::MORPH_OPEN, disc(o.solid_m, ppm));
+    inside &= ~solid;
+    // One-pixel necks would make rings that touch themselves.
+    cv::morphologyEx(inside, inside, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    const double min_area_px = o.min_space_m2 * ppm * ppm;
+    inside = keep_components(inside, [&](int, int, int area) { return area >= min_area_px; });
+
+    plan::Plan plan;
+    FromImageStats st;
+
+    std::vector<Contour> contours;
+    std::vector<cv::Vec4i> tree;
+    cv::findContours(inside, contours, tree, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE);
+    for (std::size_t i = 0; i < contours.size(); ++i) {
+        if (tree[i][3] >= 0) continue;  // a hole: taken with its outer ring
+        std::vector<const Contour*> holes;
+        for (int h = tree[i][2]; h >= 0; h = tree[static_cast<std::size_t>(h)][0])
+            if (std::abs(cv::contourArea(contours[static_cast<std::size_t>(h)])) >= min_area_px / 4.0)
+                holes.push_back(&contours[static_cast<std::size_t>(h)]);
+        if (auto s = space_of(contours[i], holes, epsilon_px, to_m)) {
+            st.holes += s->shape.holes.size();
+            st.space_points += s->shape.outer.size();
+            for (const auto& h : s->shape.holes) st.space_points += h.size();
+            plan.spaces.push_back(std::move(*s));
+        }
+    }
+    st.spaces = plan.spaces.size();
+
+    // Walls: the outline of every stroke, inner outlines (a room drawn as a closed line has one)
+    // included.
+    contours.clear();
+    cv::findContours(strokes, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
+    for (const auto& c : contours) {
+        Contour s = simplify(c, epsilon_px);
+        if (s.size() < 2) continue;
+        plan::Wall w;
+        w.line = polyline(s, to_m);
+        if (s.size() > 2) w.line.push_back(w.line.front());  // outlines are closed
+        plan.walls.push_back(std::move(w));
+        st.wall_points += plan.walls.back().line.size();
+    }
+    st.walls = plan.walls.size();
+    if (stats) *stats = st;
+    return plan;
+}
+
+}  // namespace locus::imaging
