@@ -53,18 +53,9 @@ Contour simplify(const Contour& c, double epsilon_px) {
     return out;
 }
 
-// Pixels of `mask` (0/255) in 8-connected pieces whose test on (width, height, area) fails are
-// cleared.
-template <typename Keep>
-cv::Mat keep_components(const cv::Mat& mask, Keep keep) {
-    cv::Mat labels, stats, centroids;
-    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
-    std::vector<std::uint8_t> kept(static_cast<std::size_t>(n), 0);
-    for (int i = 1; i < n; ++i)
-        kept[static_cast<std::size_t>(i)] = keep(stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT),
-                                                 stats.at<int>(i, cv::CC_STAT_AREA))
-                                                ? 255
-                                                : 0;
+// `mask` (0/255) with each 8-connected piece kept when it passes `keep` (given the piece's
+// label counts) and cleared otherwise.
+cv::Mat keep_labelled(const cv::Mat& mask, const cv::Mat& labels, const std::vector<std::uint8_t>& kept) {
     cv::Mat out(mask.size(), CV_8U);
     for (int y = 0; y < mask.rows; ++y) {
         const int* l = labels.ptr<int>(y);
@@ -72,6 +63,34 @@ cv::Mat keep_components(const cv::Mat& mask, Keep keep) {
         for (int x = 0; x < mask.cols; ++x) o[x] = kept[static_cast<std::size_t>(l[x])];
     }
     return out;
+}
+
+// The pieces of `mask` whose bounding box passes keep(width, height).
+template <typename Keep>
+cv::Mat keep_components(const cv::Mat& mask, Keep keep) {
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+    std::vector<std::uint8_t> kept(static_cast<std::size_t>(n), 0);
+    for (int i = 1; i < n; ++i)
+        if (keep(stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT))) kept[static_cast<std::size_t>(i)] = 255;
+    return keep_labelled(mask, labels, kept);
+}
+
+// The pieces of `mask` holding at least min_pixels pixels that are also set in `counted`.
+cv::Mat keep_components(const cv::Mat& mask, const cv::Mat& counted, double min_pixels) {
+    cv::Mat labels;
+    const int n = cv::connectedComponents(mask, labels, 8, CV_32S);
+    std::vector<double> count(static_cast<std::size_t>(n), 0.0);
+    for (int y = 0; y < mask.rows; ++y) {
+        const int* l = labels.ptr<int>(y);
+        const auto* c = counted.ptr<std::uint8_t>(y);
+        for (int x = 0; x < mask.cols; ++x)
+            if (c[x]) count[static_cast<std::size_t>(l[x])] += 1.0;
+    }
+    std::vector<std::uint8_t> kept(static_cast<std::size_t>(n), 0);
+    for (int i = 1; i < n; ++i)
+        if (count[static_cast<std::size_t>(i)] >= min_pixels) kept[static_cast<std::size_t>(i)] = 255;
+    return keep_labelled(mask, labels, kept);
 }
 
 // Everything not reachable from the border through `open` (4-connected, as people cannot
@@ -165,19 +184,27 @@ plan::Plan plan_from_image(const GreyImage& image, const FromImageOptions& o, Fr
     cv::Mat strokes;
     cv::morphologyEx(ink, strokes, cv::MORPH_CLOSE, disc(o.merge_m, ppm));
     const double min_extent = o.min_wall_m * ppm;
-    strokes = keep_components(strokes, [&](int w, int h, int) { return std::max(w, h) >= min_extent; });
+    strokes = keep_components(strokes, [&](int w, int h) { return std::max(w, h) >= min_extent; });
 
-    // The inside: gaps bridged, then what the border cannot reach; solid blocks cut out.
-    cv::Mat bridged;
-    cv::morphologyEx(strokes, bridged, cv::MORPH_CLOSE, disc(o.close_m, ppm));
-    cv::Mat inside = enclosed(~bridged);
+    // The inside: gaps bridged, then what the border cannot reach; solid blocks cut out. The
+    // image gets a blank frame wider than the closing first, or a building drawn close to the
+    // image's edge would be closed onto it (erosion counts beyond the edge as ink) and the
+    // outside would vanish.
+    const cv::Mat bridge = disc(o.close_m, ppm);
+    const int frame = bridge.cols + 1;
+    cv::Mat framed, bridged;
+    cv::copyMakeBorder(strokes, framed, frame, frame, frame, frame, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::morphologyEx(framed, bridged, cv::MORPH_CLOSE, bridge);
+    cv::Mat inside = enclosed(~bridged)(cv::Rect(frame, frame, strokes.cols, strokes.rows)).clone();
     cv::Mat solid;
     cv::morphologyEx(strokes, solid, cv::MORPH_OPEN, disc(o.solid_m, ppm));
     inside &= ~solid;
     // One-pixel necks would make rings that touch themselves.
     cv::morphologyEx(inside, inside, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    // A piece is a space when it has room to stand in: strokes alone (a wall left outside the
+    // outline, a facade line) are not.
     const double min_area_px = o.min_space_m2 * ppm * ppm;
-    inside = keep_components(inside, [&](int, int, int area) { return area >= min_area_px; });
+    inside = keep_components(inside, ~strokes, min_area_px);
 
     plan::Plan plan;
     FromImageStats st;
