@@ -93,6 +93,42 @@ cv::Mat keep_components(const cv::Mat& mask, const cv::Mat& counted, double min_
     return keep_labelled(mask, labels, kept);
 }
 
+// The strokes' middle lines, one pixel wide (Zhang and Suen's thinning, 1984): a wall is its
+// stroke's middle rather than its outline, so a point on a wall (a surveyed position, a phone's
+// estimate) is beside the wall instead of shut inside its outline. OpenCV has thinning only in
+// its contrib modules, which Debian does not package apart from the whole of contrib.
+cv::Mat thin(const cv::Mat& mask) {
+    cv::Mat img;
+    cv::copyMakeBorder(mask, img, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    img /= 255;
+    std::vector<cv::Point> drop;
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (int pass = 0; pass < 2; ++pass) {
+            drop.clear();
+            for (int y = 1; y + 1 < img.rows; ++y) {
+                const auto* up = img.ptr<std::uint8_t>(y - 1);
+                const auto* row = img.ptr<std::uint8_t>(y);
+                const auto* down = img.ptr<std::uint8_t>(y + 1);
+                for (int x = 1; x + 1 < img.cols; ++x) {
+                    if (!row[x]) continue;
+                    // Neighbours clockwise from north: p2 … p9.
+                    const int p[8] = {up[x], up[x + 1], row[x + 1], down[x + 1], down[x], down[x - 1], row[x - 1], up[x - 1]};
+                    int b = 0, a = 0;
+                    for (int i = 0; i < 8; ++i) b += p[i], a += (!p[i] && p[(i + 1) % 8]);
+                    if (b < 2 || b > 6 || a != 1) continue;
+                    const bool ok = pass == 0 ? (!(p[0] && p[2] && p[4]) && !(p[2] && p[4] && p[6]))
+                                              : (!(p[0] && p[2] && p[6]) && !(p[0] && p[4] && p[6]));
+                    if (ok) drop.push_back({x, y});
+                }
+            }
+            for (const auto& q : drop) img.at<std::uint8_t>(q) = 0;
+            changed = changed || !drop.empty();
+        }
+    }
+    return img(cv::Rect(1, 1, mask.cols, mask.rows)) * 255;
+}
+
 // Everything not reachable from the border through `open` (4-connected, as people cannot
 // squeeze through a diagonal pixel gap).
 cv::Mat enclosed(const cv::Mat& open) {
@@ -186,24 +222,31 @@ plan::Plan plan_from_image(const GreyImage& image, const FromImageOptions& o, Fr
     const double min_extent = o.min_wall_m * ppm;
     strokes = keep_components(strokes, [&](int w, int h) { return std::max(w, h) >= min_extent; });
 
-    // The inside: gaps bridged, then what the border cannot reach; solid blocks cut out. The
-    // image gets a blank frame wider than the closing first, or a building drawn close to the
-    // image's edge would be closed onto it (erosion counts beyond the edge as ink) and the
-    // outside would vanish.
+    // The inside: whatever a disc close_m across cannot reach from the image's border without
+    // touching a stroke, so a gap narrower than that (an entrance, a window left blank) does
+    // not let the outside in. The disc's centres are where the dilated strokes are not; the
+    // outside is the disc swept over the centres reachable from the border. The image gets a
+    // blank frame first so that the border is outside even for a building drawn to the edge.
     const cv::Mat bridge = disc(o.close_m, ppm);
     const int frame = bridge.cols + 1;
-    cv::Mat framed, bridged;
+    cv::Mat framed, centres, outside;
     cv::copyMakeBorder(strokes, framed, frame, frame, frame, frame, cv::BORDER_CONSTANT, cv::Scalar(0));
-    cv::morphologyEx(framed, bridged, cv::MORPH_CLOSE, bridge);
-    cv::Mat inside = enclosed(~bridged)(cv::Rect(frame, frame, strokes.cols, strokes.rows)).clone();
+    cv::dilate(framed, centres, bridge);
+    cv::dilate(~enclosed(~centres), outside, bridge);
+    cv::Mat inside = ~outside(cv::Rect(frame, frame, strokes.cols, strokes.rows));
+    const double min_area_px = o.min_space_m2 * ppm * ppm;
     cv::Mat solid;
     cv::morphologyEx(strokes, solid, cv::MORPH_OPEN, disc(o.solid_m, ppm));
-    inside &= ~solid;
+    // Pockets shut in by strokes and smaller than a space (ducts, cupboards, the box around a
+    // pillar) are solid too: a position snapped into one would be cut off from everything.
+    // Their walls are drawn round them, not through them.
+    const cv::Mat open = inside & ~strokes;
+    const cv::Mat pockets = open & ~keep_components(open, open, min_area_px);
+    inside &= ~(solid | pockets);
     // One-pixel necks would make rings that touch themselves.
     cv::morphologyEx(inside, inside, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
     // A piece is a space when it has room to stand in: strokes alone (a wall left outside the
     // outline, a facade line) are not.
-    const double min_area_px = o.min_space_m2 * ppm * ppm;
     inside = keep_components(inside, ~strokes, min_area_px);
 
     plan::Plan plan;
@@ -227,18 +270,39 @@ plan::Plan plan_from_image(const GreyImage& image, const FromImageOptions& o, Fr
     }
     st.spaces = plan.spaces.size();
 
-    // Walls: the outline of every stroke, inner outlines (a room drawn as a closed line has one)
-    // included.
+    // Walls: the middle line of every stroke, pockets filled (a line round a cupboard would
+    // enclose a walkable speck). Solid blocks are holes already; their own middle lines would
+    // only repeat them. Contours of one-pixel lines trace every line twice (once
+    // from each side), so each contour is cut into the runs of pixels no earlier contour took,
+    // and each run, simplified, is a wall.
+    const cv::Mat lines = thin((strokes | pockets) & ~solid);
     contours.clear();
-    cv::findContours(strokes, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
-    for (const auto& c : contours) {
-        Contour s = simplify(c, epsilon_px);
-        if (s.size() < 2) continue;
+    cv::findContours(lines, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
+    cv::Mat taken = cv::Mat::zeros(lines.size(), CV_8U);
+    auto add_wall = [&](const Contour& run) {
+        if (run.size() < 2) return;
+        Contour simple;
+        cv::approxPolyDP(run, simple, epsilon_px, false);
         plan::Wall w;
-        w.line = polyline(s, to_m);
-        if (s.size() > 2) w.line.push_back(w.line.front());  // outlines are closed
+        w.line = polyline(simple, to_m);
+        if (simple.size() < 2 || (simple.size() == 2 && simple[0] == simple[1])) return;
+        st.wall_points += w.line.size();
         plan.walls.push_back(std::move(w));
-        st.wall_points += plan.walls.back().line.size();
+    };
+    for (const auto& c : contours) {
+        Contour run;
+        for (const auto& q : c) {
+            auto& t = taken.at<std::uint8_t>(q);
+            if (t) {
+                // Keep the run joined to the pixel it meets, so walls meet without a gap.
+                if (!run.empty()) run.push_back(q), add_wall(run), run.clear();
+                continue;
+            }
+            if (run.empty() && &q != &c.front()) run.push_back(*(&q - 1));
+            t = 1;
+            run.push_back(q);
+        }
+        add_wall(run);
     }
     st.walls = plan.walls.size();
     if (stats) *stats = st;
