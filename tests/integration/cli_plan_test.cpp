@@ -191,6 +191,14 @@ TEST(CliPlanFromImage, ThePutmcDrawingGivesACheckedPlanWhoseCorridorsJoinEverySu
     const auto r = run_command({kCli, "plan", "from-image", dir_in + "/floorplan.png", "--px-per-m", scale.str(), "--out", out});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "3049 × 1049 px")) << r.err;
+    // As it is, the server takes it.
+    {
+        ServerProcess s;
+        const auto h = locus::testing::make_hierarchy(s);
+        const auto imported = run_command({kCli, "plan", "import", out, "--floor", std::to_string(h.floor), "--server", s.url()});
+        EXPECT_EQ(imported.status, 0) << imported.err;
+        EXPECT_TRUE(contains(imported.err, "plan version 1 stored")) << imported.err;
+    }
     const plan::Plan p = plan::from_geojson(json::parse(slurp(out)));
     const auto problems = plan::check_plan(p);
     EXPECT_TRUE(problems.empty()) << problems.front().feature << ": " << problems.front().problem;
