@@ -17,6 +17,10 @@ namespace {
 
 using Contour = std::vector<cv::Point>;
 
+// A gap narrower than this does not let anyone through: the outline of a cupboard or a duct
+// with such a gap still shuts it.
+constexpr double kPocketGapM = 0.6;
+
 // A round structuring element about `metres` across, at least 3 pixels (odd, so it is centred).
 cv::Mat disc(double metres, double px_per_m) {
     int d = static_cast<int>(std::lround(metres * px_per_m));
@@ -239,9 +243,18 @@ plan::Plan plan_from_image(const GreyImage& image, const FromImageOptions& o, Fr
     cv::morphologyEx(strokes, solid, cv::MORPH_OPEN, disc(o.solid_m, ppm));
     // Pockets shut in by strokes and smaller than a space (ducts, cupboards, the box around a
     // pillar) are solid too: a position snapped into one would be cut off from everything.
-    // Their walls are drawn round them, not through them.
-    const cv::Mat open = inside & ~strokes;
-    const cv::Mat pockets = open & ~keep_components(open, open, min_area_px);
+    // Their walls are drawn round them, not through them. Gaps in their outline narrower than
+    // anyone passes (kPocketGapM; often just pixels lighter than the threshold) do not open them.
+    // Found as the places a disc kPocketGapM across fits (a disc cannot pass such a gap, which
+    // closing would not seal in a thin line): a pocket's region of them is smaller than a
+    // square space's, (side − gap)², and its pixels are what that disc covers from there.
+    const cv::Mat person = disc(kPocketGapM, ppm);
+    cv::Mat reach, pockets;
+    cv::dilate(strokes, reach, person);
+    const cv::Mat standing = inside & ~reach;
+    const double side = std::sqrt(min_area_px) - person.cols;
+    cv::dilate(standing & ~keep_components(standing, standing, side > 1.0 ? side * side : 1.0), pockets, person);
+    pockets &= inside & ~strokes;
     inside &= ~(solid | pockets);
     // One-pixel necks would make rings that touch themselves.
     cv::morphologyEx(inside, inside, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));

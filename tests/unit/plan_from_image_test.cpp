@@ -8,6 +8,7 @@
 
 #include "locus/imaging/plan_from_image.hpp"
 #include "locus/plan/check.hpp"
+#include "locus/plan/ring.hpp"
 #include "locus/plan/route.hpp"
 #include "locus/plan/walk_grid.hpp"
 
@@ -147,6 +148,27 @@ TEST(PlanFromImage, LightLinesBelowTheThresholdAreNotWalls) {
     auto o = options();
     o.threshold = 220;
     EXPECT_LE(nearest_wall(plan_from_image(d.image, o), at_px(100, 100)), 1.0 / kPxPerM + 1e-9);
+}
+
+TEST(PlanFromImage, ACupboardWhoseOutlineHasANarrowGapIsNoWalkableSpace) {
+    // A 1.3 m square box (26 px) in the left room, its outline open over 6 px (0.3 m): no one
+    // gets in, so it is a hole in the space, not a speck of floor a position could snap into.
+    auto d = two_rooms(90, 120);
+    d.ink(60, 60, 86, 61);
+    d.ink(60, 85, 86, 86);
+    d.ink(60, 60, 61, 86);
+    d.ink(85, 60, 86, 70);
+    d.ink(85, 77, 86, 86);  // the gap: rows 71–76
+    const auto p = plan_from_image(d.image, options());
+    ASSERT_EQ(p.spaces.size(), 1u);
+    EXPECT_TRUE(plan::check_plan(p).empty());
+    EXPECT_FALSE(plan::polygon_contains(p.spaces[0].shape, at_px(73, 73)));
+    EXPECT_TRUE(plan::polygon_contains(p.spaces[0].shape, at_px(110, 100)));
+    // A door-wide gap (1 m) leaves it a room of its own.
+    d.ink(85, 62, 86, 84, 255);
+    const auto open = plan_from_image(d.image, options());
+    ASSERT_EQ(open.spaces.size(), 1u);
+    EXPECT_TRUE(plan::polygon_contains(open.spaces[0].shape, at_px(73, 73)));
 }
 
 TEST(PlanFromImage, BadInputIsRefusedByName) {
