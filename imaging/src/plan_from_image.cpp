@@ -285,20 +285,21 @@ plan::Plan plan_from_image(const GreyImage& image, const FromImageOptions& o, Fr
 
     // Walls: the middle line of every stroke, pockets filled (a line round a cupboard would
     // enclose a walkable speck). Solid blocks are holes already; their own middle lines would
-    // only repeat them. Contours of one-pixel lines trace every line twice (once
-    // from each side), so each contour is cut into the runs of pixels no earlier contour took,
-    // and each run, simplified, is a wall.
+    // only repeat them. Contours of one-pixel lines trace every line twice (once from each
+    // side), so each contour is cut into the runs of pixels no earlier contour took, and each
+    // run, simplified, is a wall.
     const cv::Mat lines = thin((strokes | pockets) & ~solid);
     contours.clear();
     cv::findContours(lines, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
     cv::Mat taken = cv::Mat::zeros(lines.size(), CV_8U);
-    auto add_wall = [&](const Contour& run) {
+    auto add_wall = [&](const Contour& run, bool closed) {
         if (run.size() < 2) return;
         Contour simple;
-        cv::approxPolyDP(run, simple, epsilon_px, false);
+        cv::approxPolyDP(run, simple, epsilon_px, closed);
+        if (simple.size() < 2 || (simple.size() == 2 && simple[0] == simple[1])) return;
+        if (closed) simple.push_back(simple.front());
         plan::Wall w;
         w.line = polyline(simple, to_m);
-        if (simple.size() < 2 || (simple.size() == 2 && simple[0] == simple[1])) return;
         st.wall_points += w.line.size();
         plan.walls.push_back(std::move(w));
     };
@@ -308,14 +309,14 @@ plan::Plan plan_from_image(const GreyImage& image, const FromImageOptions& o, Fr
             auto& t = taken.at<std::uint8_t>(q);
             if (t) {
                 // Keep the run joined to the pixel it meets, so walls meet without a gap.
-                if (!run.empty()) run.push_back(q), add_wall(run), run.clear();
+                if (!run.empty()) run.push_back(q), add_wall(run, false), run.clear();
                 continue;
             }
             if (run.empty() && &q != &c.front()) run.push_back(*(&q - 1));
             t = 1;
             run.push_back(q);
         }
-        add_wall(run);
+        add_wall(run, run.size() == c.size() && c.size() > 2);  // a loop no other contour shares: closed
     }
     st.walls = plan.walls.size();
     if (stats) *stats = st;
