@@ -154,6 +154,20 @@ TEST(CliRoute, PrintsNumberedStepsLengthAndTime) {
     EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
+TEST(CliRoute, TheReadmesRouteOnTheDemoMap) {
+    // README, first minutes: the ground floor's Lab is room 4, the first floor's Server room 8.
+    ServerProcess s{{"--demo"}};
+    EXPECT_EQ(body_of(s.get("/v1/rooms/4")).at("name"), "Lab");
+    EXPECT_EQ(body_of(s.get("/v1/rooms/8")).at("name"), "Server room");
+    auto r = run_command({kCli, "route", "--server", s.url(), "--map", "1", "--from", "room:4", "--to", "room:8"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, ". Take the stairs up to level 1\n")) << r.out;
+    r = run_command({kCli, "route", "--server", s.url(), "--map", "1", "--from", "room:4", "--to", "room:8", "--step-free"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, ". Take the elevator up to level 1\n")) << r.out;
+    EXPECT_TRUE(contains(r.out, "\ntotal: ")) << r.out;
+}
+
 TEST(CliRoute, APlaceItCannotReadIsNamedWithTheFormsItTakes) {
     const std::string url = "http://127.0.0.1:1";  // never reached: the place is read first
     for (const std::string bad : {"lobby", "room:", "room:x", "poi:-3", "3:1", "3:1,", "3:a,b", "0:1,2", "hall:2", "3:1,2,3"}) {
