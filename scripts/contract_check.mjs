@@ -337,6 +337,20 @@ async function run() {
   await post(`/v1/maps/${map}/route`, { from: { room_id: room }, to: { room_id: room }, options: { lift: true } }, { expect: 422, invalid: true });
   await post(`/v1/maps/${map}/route`, { from: { room_id: UNKNOWN }, to: { room_id: room } }, { expect: 422 });
   await post(`/v1/maps/${UNKNOWN}/route`, { from: { room_id: room }, to: { room_id: room } }, { expect: 404 });
+  // The directory: the lobby's room by its plan tag, the reading-room space by a typo, and a
+  // hit's route_to posted back as a route's `to`; then the refusals.
+  const search = (q, rest = '') => `/v1/maps/${map}/search?q=${encodeURIComponent(q)}${rest}`;
+  await get(search('réception'), { expect: 200 });
+  const found = await get(search('readng room', '&limit=1'), { expect: 200 });
+  const hit = found.json && found.json.hits && found.json.hits[0];
+  if (!hit) violations.push('GET search: the reading room was not found');
+  else await post(`/v1/maps/${map}/route`, { from: { room_id: room }, to: hit.route_to }, { expect: 200 });
+  await get(`/v1/maps/${map}/search`, { expect: 400, invalid: true });
+  await get(search(''), { expect: 400, invalid: true });
+  await get(search('   '), { expect: 400 });
+  await get(search('lobby', '&limit=0'), { expect: 400, invalid: true });
+  await get(search('lobby', '&limit=many'), { expect: 400, invalid: true });
+  await get(`/v1/maps/${UNKNOWN}/search?q=lobby`, { expect: 404 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 204 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 404 });
 

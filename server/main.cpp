@@ -8,6 +8,7 @@
 #include <chrono>
 #include <thread>
 
+#include "directory/service.hpp"
 #include "http/app.hpp"
 #include "http/json_text.hpp"
 #include "http/localize_answer.hpp"
@@ -86,7 +87,8 @@ int main(int argc, char** argv) {
         }
         locus::localize::Service localizer(store, locus::http::prepare_answers);
         locus::routing::Service router(store);
-        locus::http::App app(store, localizer, router, {api_key, !quiet, front});
+        locus::directory::Service directory(store);
+        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);

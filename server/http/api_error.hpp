@@ -14,5 +14,7 @@ struct ApiError : std::runtime_error {
 };
 
 inline ApiError invalid_field(const std::string& message) { return {422, "invalid_field", message}; }
+// A bad query parameter (?limit=, ?q=): the request line, not a body field, is wrong.
+inline ApiError invalid_query(const std::string& message) { return {400, "invalid_query", message}; }
 
 }  // namespace locus::http

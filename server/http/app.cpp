@@ -109,8 +109,14 @@ void App::guarded(const httplib::Request& req, httplib::Response& res, const std
     }
 }
 
-App::App(store::Store& store, localize::Service& localizer, routing::Service& router, AppOptions options)
-    : store_(store), localizer_(localizer), router_(router), options_(std::move(options)), server_(options_.front) {
+App::App(store::Store& store, localize::Service& localizer, routing::Service& router, directory::Service& directory,
+         AppOptions options)
+    : store_(store),
+      localizer_(localizer),
+      router_(router),
+      directory_(directory),
+      options_(std::move(options)),
+      server_(options_.front) {
     install_middleware();
     install_health();
     install_localize();
@@ -118,6 +124,7 @@ App::App(store::Store& store, localize::Service& localizer, routing::Service& ro
     install_radiomap_routes();
     install_plan_routes();
     install_route_routes();
+    install_search_routes();
 }
 
 bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res) const {

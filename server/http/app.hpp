@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "directory/service.hpp"
 #include "http/front.hpp"
 #include "localize/service.hpp"
 #include "locus/plan/route.hpp"
@@ -31,7 +32,8 @@ public:
     // routes. httplib tries a method's routes in the order they were added, one regex match
     // each, so localize (the request a phone repeats) is found without failing a match per
     // store route first.
-    App(store::Store& store, localize::Service& localizer, routing::Service& router, AppOptions options);
+    App(store::Store& store, localize::Service& localizer, routing::Service& router, directory::Service& directory,
+        AppOptions options);
     Front& server() { return server_; }
 
     // Runs a handler body, turning every failure into the JSON error shape (and a chunked body
@@ -51,12 +53,14 @@ private:
     void install_radiomap_routes();  // radiomap_routes.cpp
     void install_plan_routes();      // plan_routes.cpp
     void install_route_routes();     // route_routes.cpp
+    void install_search_routes();    // search_routes.cpp
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 
     store::Store& store_;
     localize::Service& localizer_;
     routing::Service& router_;
+    directory::Service& directory_;
     AppOptions options_;
     Front server_;
 };

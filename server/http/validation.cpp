@@ -136,19 +136,19 @@ std::int64_t parse_id(std::string_view text, std::string_view what) {
     return id;
 }
 
+std::int64_t parse_query_integer(const std::string& s, const char* name, std::int64_t lo, std::int64_t hi) {
+    std::int64_t v = 0;
+    const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || ptr != s.data() + s.size() || v < lo || v > hi)
+        throw invalid_query(std::string("'") + name + "' must be an integer in [" + std::to_string(lo) + ", " +
+                            std::to_string(hi) + "]");
+    return v;
+}
+
 Page parse_page(const std::optional<std::string>& limit, const std::optional<std::string>& offset) {
-    auto parse = [](const std::string& s, const char* name, std::int64_t lo, std::int64_t hi) {
-        std::int64_t v = 0;
-        const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-        if (ec != std::errc() || ptr != s.data() + s.size() || v < lo || v > hi)
-            throw ApiError(400, "invalid_query",
-                           std::string("'") + name + "' must be an integer in [" + std::to_string(lo) + ", " +
-                               std::to_string(hi) + "]");
-        return v;
-    };
     Page p;
-    if (limit) p.limit = parse(*limit, "limit", 1, kMaxPageLimit);
-    if (offset) p.offset = parse(*offset, "offset", 0, std::numeric_limits<std::int64_t>::max() / 2);
+    if (limit) p.limit = parse_query_integer(*limit, "limit", 1, kMaxPageLimit);
+    if (offset) p.offset = parse_query_integer(*offset, "offset", 0, std::numeric_limits<std::int64_t>::max() / 2);
     return p;
 }
 

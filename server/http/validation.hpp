@@ -36,6 +36,8 @@ struct Page {
 };
 inline constexpr std::int64_t kMaxPageLimit = 1000;
 Page parse_page(const std::optional<std::string>& limit, const std::optional<std::string>& offset);
+// A query parameter that must be an integer in [lo, hi] (400 invalid_query naming it otherwise).
+std::int64_t parse_query_integer(const std::string& text, const char* name, std::int64_t lo, std::int64_t hi);
 
 // Refuses any key of object `j` not in `allowed` (422 "unknown field 'where.key'").
 void only_fields(const nlohmann::json& j, std::initializer_list<std::string_view> allowed, const std::string& where);

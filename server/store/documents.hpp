@@ -127,6 +127,17 @@ struct FloorWithPlan {
     plan::Plan plan;
 };
 
+// A floor of a map with what its directory lists (rooms, POIs, the plan's named and tagged
+// spaces) and where the floor is.
+struct FloorDirectory {
+    std::int64_t floor_id = 0;
+    std::int64_t building_id = 0;
+    std::int64_t level = 0;
+    std::vector<Room> rooms;  // by id, with their rectangles
+    std::vector<Poi> pois;    // by id
+    std::optional<plan::Plan> plan;
+};
+
 // Another floor of a floor's map, with its plan when it has one: what a plan's links between
 // floors are checked against.
 struct OtherPlan {

@@ -43,6 +43,7 @@ public:
     StoredPlan put_plan(std::int64_t floor_id, const plan::Plan& plan, const PlanCheck& check) override;
     void remove_plan(std::int64_t floor_id) override;
     std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) override;
+    std::vector<FloorDirectory> directory_of_map(std::int64_t map_id) override;  // sqlite_directory.cpp
 
     std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) override;
     std::vector<StoredRp> rps_of_map(std::int64_t map_id) override;

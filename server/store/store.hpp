@@ -77,6 +77,10 @@ public:
     // Every floor of the map that has a plan, by floor id (NotFound for an unknown map).
     virtual std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) = 0;
 
+    // Every floor of the map (by building, level and id) with its rooms, POIs and plan, from
+    // one snapshot: what the directory search indexes. NotFound for an unknown map.
+    virtual std::vector<FloorDirectory> directory_of_map(std::int64_t map_id) = 0;
+
     // For the localization index. Each is a consistent snapshot.
     virtual std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) = 0;
     virtual std::vector<StoredRp> rps_of_map(std::int64_t map_id) = 0;

@@ -1,0 +1,137 @@
+// What a map's directory lists (directory/places.cpp) and how long the service keeps it
+// (directory/service.cpp), on a real SqliteStore in memory.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "directory/service.hpp"
+#include "store/sqlite_store.hpp"
+
+using namespace locus;
+using locus::store::kind;
+
+namespace {
+
+plan::Space space(std::string name, std::vector<std::string> tags, double x0, double x1, std::optional<std::int64_t> room = {},
+                  std::string space_kind = "room") {
+    plan::Space s;
+    s.name = std::move(name);
+    s.kind = std::move(space_kind);
+    s.tags = std::move(tags);
+    s.shape.outer = {{x0, 0}, {x1, 0}, {x1, 4}, {x0, 4}, {x0, 0}};
+    s.room_id = room;
+    return s;
+}
+
+const directory::Place* named(const directory::MapDirectory& d, const std::string& name) {
+    const auto it = std::find_if(d.places.begin(), d.places.end(), [&](const auto& p) { return p.name == name; });
+    return it == d.places.end() ? nullptr : &*it;
+}
+
+struct Site {
+    store::SqliteStore db{":memory:"};
+    std::int64_t map = 0, building = 0, floor = 0, other_floor = 0;
+    Site() {
+        map = db.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
+        building = db.create(kind("buildings"), map, {{"name", "B"}}).id;
+        floor = db.create(kind("floors"), building, {{"name", "F"}, {"level", 2}, {"width", 50.0}, {"height", 4.0}}).id;
+        other_floor = db.create(kind("floors"), building, {{"name", "G"}, {"level", 0}, {"width", 50.0}, {"height", 4.0}}).id;
+    }
+    std::int64_t room(std::int64_t on, const std::string& name, std::vector<Rect> rects) {
+        return db.create(kind("rooms"), on, store::Fields({{"name", name}}, std::move(rects))).id;
+    }
+};
+
+}  // namespace
+
+TEST(DirectoryPlaces, RoomsTakeTheirSpacesTagsAndUnlinkedSpacesStandAlone) {
+    Site s;
+    const auto office = s.room(s.floor, "Office 12", {{0, 0, 10, 4}});
+    const auto elsewhere = s.room(s.other_floor, "Store", {{0, 0, 2, 2}});
+    s.db.create(kind("pois"), s.floor, {{"name", "Printer"}, {"kind", "printer"}, {"x", 12.0}, {"y", 1.0}});
+    plan::Plan p;
+    p.spaces = {space("Office 12", {"Dr. Rossi"}, 0, 10, office, "office"),
+                space("", {"Anna Müller"}, 0, 10, office),         // a second space of the same room
+                space("Café", {}, 10, 20, std::nullopt, "cafeteria"),
+                space("", {}, 20, 30),                               // nothing to find it by
+                space("Annex", {}, 30, 40, elsewhere)};              // a room of another floor
+    s.db.put_plan(s.floor, p, {});
+    const auto d = directory::build_directory(s.db.directory_of_map(s.map));
+
+    ASSERT_EQ(d.places.size(), 5u);  // Office 12, Store, Printer, Café, Annex
+    EXPECT_EQ(d.index.size(), d.places.size());
+    const auto* room = named(d, "Office 12");
+    ASSERT_NE(room, nullptr);
+    EXPECT_EQ(room->kind, directory::PlaceKind::room);
+    EXPECT_EQ(room->id, office);
+    EXPECT_EQ(room->tags, (std::vector<std::string>{"Dr. Rossi", "Anna Müller"}));
+    EXPECT_EQ(room->category, "office");
+    EXPECT_EQ(room->level, 2);
+    EXPECT_EQ(room->building_id, s.building);
+    EXPECT_DOUBLE_EQ(room->at.x, 5.0);
+    EXPECT_TRUE(room->routed_by_id);
+    const auto* cafe = named(d, "Café");
+    ASSERT_NE(cafe, nullptr);
+    EXPECT_EQ(cafe->kind, directory::PlaceKind::space);
+    EXPECT_FALSE(cafe->routed_by_id);
+    EXPECT_DOUBLE_EQ(cafe->at.x, 15.0);
+    ASSERT_NE(named(d, "Annex"), nullptr);
+    EXPECT_EQ(named(d, "Annex")->kind, directory::PlaceKind::space);
+    EXPECT_EQ(named(d, "Store")->tags, std::vector<std::string>{});  // not linked from its own floor
+    EXPECT_EQ(named(d, "Printer")->category, "printer");
+
+    // The index is built over the same places in the same order.
+    const auto hits = d.index.search("muller", 10);
+    ASSERT_EQ(hits.size(), 1u);
+    EXPECT_EQ(d.places[hits[0].document].id, office);
+}
+
+TEST(DirectoryPlaces, ARoomWithoutRectanglesIsFoundAtItsSpaceOrNotAtAll) {
+    Site s;
+    const auto linked = s.room(s.floor, "Lab", {{20, 0, 30, 4}});
+    const auto bare = s.room(s.floor, "Nowhere", {{40, 0, 45, 4}});
+    s.db.update(kind("rooms"), linked, store::Fields({}, std::vector<Rect>{}));
+    s.db.update(kind("rooms"), bare, store::Fields({}, std::vector<Rect>{}));
+    plan::Plan p;
+    p.spaces = {space("Lab", {}, 0, 10, linked)};
+    s.db.put_plan(s.floor, p, {});
+    const auto d = directory::build_directory(s.db.directory_of_map(s.map));
+    ASSERT_EQ(d.places.size(), 1u);
+    EXPECT_EQ(d.places[0].id, linked);
+    EXPECT_FALSE(d.places[0].routed_by_id);  // {floor_id, x, y}: /route cannot take this room
+    EXPECT_DOUBLE_EQ(d.places[0].at.x, 5.0);
+}
+
+TEST(DirectoryService, AnIndexIsKeptUntilWhatItListsChanges) {
+    Site s;
+    const auto office = s.room(s.floor, "Office", {{0, 0, 10, 4}});
+    directory::Service service(s.db);
+    const auto first = service.of_map(s.map);
+    ASSERT_EQ(first->places.size(), 1u);
+    EXPECT_EQ(service.of_map(s.map), first);  // kept
+
+    // Radio maps and scans are not in the directory.
+    const auto radiomap = s.db.create(kind("radiomaps"), s.floor, {{"name", "R"}}).id;
+    s.db.create(kind("rps"), radiomap, {{"name", "p"}, {"x", 1.0}, {"y", 1.0}});
+    EXPECT_EQ(service.of_map(s.map), first);
+
+    s.db.update(kind("rooms"), office, {{"name", "Library"}});
+    const auto renamed = service.of_map(s.map);
+    EXPECT_NE(renamed, first);
+    EXPECT_EQ(renamed->places.at(0).name, "Library");
+
+    s.db.create(kind("pois"), s.floor, {{"name", "Exit"}, {"x", 1.0}, {"y", 1.0}});
+    EXPECT_EQ(service.of_map(s.map)->places.size(), 2u);
+
+    plan::Plan p;
+    p.spaces = {space("Office", {"Dr. Rossi"}, 0, 10, office)};
+    s.db.put_plan(s.floor, p, {});
+    EXPECT_EQ(service.of_map(s.map)->index.search("rossi", 10).size(), 1u);
+
+    s.db.update(kind("floors"), s.floor, {{"level", 7}});
+    EXPECT_EQ(service.of_map(s.map)->places.at(0).level, 7);
+
+    s.db.remove(kind("floors"), s.floor);
+    EXPECT_TRUE(service.of_map(s.map)->places.empty());
+    EXPECT_THROW(service.of_map(999), store::NotFound);
+}
