@@ -143,6 +143,7 @@ json Client::send(const char* method, const std::string& path, const std::string
             auto& h = conn_->http;
             if (verb == "GET") return h.Get(path);
             if (verb == "POST") return h.Post(path, *body, "application/json");
+            if (verb == "PUT") return h.Put(path, *body, "application/json");
             if (verb == "PATCH") return h.Patch(path, *body, "application/json");
             if (verb == "PUT") return h.Put(path, *body, "application/json");
             return h.Delete(path);
@@ -182,13 +183,13 @@ json Client::post(const std::string& path, const json& body) {
     const std::string text = body.dump();
     return send("POST", path, &text);
 }
-json Client::patch(const std::string& path, const json& body) {
-    const std::string text = body.dump();
-    return send("PATCH", path, &text);
-}
 json Client::put(const std::string& path, const json& body) {
     const std::string text = body.dump();
     return send("PUT", path, &text);
+}
+json Client::patch(const std::string& path, const json& body) {
+    const std::string text = body.dump();
+    return send("PATCH", path, &text);
 }
 void Client::del(const std::string& path) { send("DELETE", path, nullptr); }
 

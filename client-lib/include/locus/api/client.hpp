@@ -50,8 +50,8 @@ public:
     // Generic verbs: `path` starts with '/'. Return the parsed JSON body (null for 204).
     nlohmann::json get(const std::string& path);
     nlohmann::json post(const std::string& path, const nlohmann::json& body);
+    nlohmann::json put(const std::string& path, const nlohmann::json& body);  // a whole document, e.g. a floor's plan
     nlohmann::json patch(const std::string& path, const nlohmann::json& body);
-    nlohmann::json put(const std::string& path, const nlohmann::json& body);
     void del(const std::string& path);
 
     bool healthy();  // one GET /health, no retries
