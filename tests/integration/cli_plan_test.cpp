@@ -19,6 +19,7 @@
 #include "locus/plan/walk_grid.hpp"
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
+#include "text_file.hpp"
 
 using locus::testing::body_of;
 using locus::testing::feature;
@@ -31,19 +32,13 @@ using locus::testing::ServerProcess;
 using nlohmann::json;
 namespace plan = locus::plan;
 
+using locus::testing::slurp;
+using locus::testing::contains;
+
 namespace {
 
 const std::string kCli = LOCUS_CLI_BIN;
 const std::string kData = LOCUS_DATA_DIR;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
