@@ -3,17 +3,14 @@
 // and poi_id it kept.
 #include "http/app.hpp"
 #include "http/plan_json.hpp"
+#include "http/plan_put.hpp"
 #include "http/validation.hpp"
-#include "locus/plan/check.hpp"
 
 namespace locus::http {
 
 using nlohmann::json;
 
 namespace {
-// All of a refused plan's problems in one message, so a user fixes them in one round.
-[[noreturn]] void refuse(const std::vector<std::string>& problems);
-
 // "features[4] (space 'Lab')": where the store's refusal points, in the document as sent
 // (the typed plan lists spaces and connectors apart; the client counts its features).
 std::string feature_label(const json& doc, const store::PlanFeatureRefused& e) {
@@ -32,12 +29,6 @@ std::string feature_label(const json& doc, const store::PlanFeatureRefused& e) {
     return e.feature;
 }
 
-[[noreturn]] void refuse(const std::vector<std::string>& problems) {
-    std::string message = problems.front();
-    for (std::size_t i = 1; i < problems.size() && i < 20; ++i) message += "; " + problems[i];
-    if (problems.size() > 20) message += "; and " + std::to_string(problems.size() - 20) + " more";
-    throw ApiError(422, "invalid_plan", message);
-}
 }  // namespace
 
 void App::install_plan_routes() {
@@ -55,21 +46,10 @@ void App::install_plan_routes() {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
             const json doc = parse_object(req.body);
             const plan::Plan plan = parse_plan(doc);
-            // The geometry the router relies on: simple closed rings, doors on walls, …
-            if (const auto problems = plan::check_plan(plan); !problems.empty()) {
-                std::vector<std::string> messages;
-                for (const auto& p : problems) messages.push_back(p.feature + ": " + p.problem);
-                refuse(messages);
-            }
             try {
-                const auto stored = store_.put_plan(floor_id, plan, [&](const std::vector<store::OtherPlan>& others) {
-                    std::vector<plan::OtherFloor> floors;
-                    for (const auto& o : others) floors.push_back({o.floor_id, o.plan ? &*o.plan : nullptr});
-                    if (const auto problems = plan::link_problems(floor_id, plan, floors); !problems.empty()) refuse(problems);
-                });
-                return std::pair{200, plan_json(stored)};
+                return std::pair{200, plan_json(put_checked_plan(store_, floor_id, plan))};
             } catch (const store::PlanFeatureRefused& e) {
-                refuse({feature_label(doc, e) + ": " + e.what()});
+                throw ApiError(422, "invalid_plan", feature_label(doc, e) + ": " + e.what());
             }
         });
     });

@@ -12,26 +12,21 @@
 #include <sstream>
 
 #include "server_process.hpp"
+#include "text_file.hpp"
 
 using locus::testing::make_temp_dir;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
 
+using locus::testing::slurp;
+using locus::testing::contains;
+
 namespace {
 
 const std::string kCli = LOCUS_CLI_BIN;
 const std::string kSource = LOCUS_SOURCE_DIR;
 const std::string kFixtures = LOCUS_TEST_FIXTURES;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 // A loopback port nobody listens on: bound, then released.
 int closed_port() {

@@ -10,23 +10,19 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "text_file.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
 
+using locus::testing::slurp;
+
 namespace {
 
 const std::string kCli = LOCUS_CLI_BIN;
 std::string fixture(const std::string& name) { return std::string(LOCUS_TEST_FIXTURES) + "/survey/" + name; }
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 // Header first, then the lines sorted: RP creation order depends on the upload threads.
 std::string sorted_lines(const std::string& text) {

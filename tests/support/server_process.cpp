@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include "text_file.hpp"
 
 #ifndef LOCUS_SERVER_BIN
 #error "LOCUS_SERVER_BIN must point at the locus-server binary"
@@ -21,13 +22,6 @@
 namespace locus::testing {
 
 namespace {
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 Response to_response(const httplib::Result& r) {
     Response out;
     if (!r) return out;
