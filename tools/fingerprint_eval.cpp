@@ -116,6 +116,17 @@ match::IndexParams MatcherFlags::params() const {
     return p;
 }
 
+namespace {
+[[noreturn]] void unknown_algorithm(const std::string& name) {
+    throw CommandError("unknown algorithm '" + name + "' (bsb, nn, bsbnn, knn, wknn, bayes, default, yardstick or all)");
+}
+}  // namespace
+
+void check_algorithm_name(const std::string& name) {
+    if (name != "all" && name != "default" && name != "yardstick" && !match::parse_algorithm(name))
+        unknown_algorithm(name);
+}
+
 std::vector<Method> methods_named(const std::string& name, const MatcherFlags& flags, const uji::Data& train,
                                   const std::vector<std::size_t>& train_rows) {
     auto with_flags = [&](match::Algorithm a) {
@@ -138,8 +149,7 @@ std::vector<Method> methods_named(const std::string& name, const MatcherFlags& f
     } else if (auto a = match::parse_algorithm(name)) {
         out.push_back(with_flags(*a));
     } else {
-        throw CommandError("unknown algorithm '" + name +
-                           "' (bsb, nn, bsbnn, knn, wknn, bayes, default, yardstick or all)");
+        unknown_algorithm(name);
     }
     return out;
 }

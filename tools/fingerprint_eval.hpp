@@ -64,6 +64,9 @@ struct MatcherFlags {
 std::vector<Method> methods_named(const std::string& name, const MatcherFlags& flags, const uji::Data& train,
                                   const std::vector<std::size_t>& train_rows);
 
+// Throws CommandError unless `methods_named` knows the name (checked before any file is read).
+void check_algorithm_name(const std::string& name);
+
 // The radio map a method localizes in, from the given training rows.
 match::Index build_index(const Method& method, const uji::Data& train, const std::vector<std::size_t>& train_rows);
 

@@ -144,6 +144,7 @@ nlohmann::json run_database(const fs::path& db, const Args& a) {
 void run(const Args& a) {
     using tools::CommandError;
     if (!fs::is_directory(a.dir)) throw CommandError(a.dir + " is not a directory");
+    eval::check_algorithm_name(a.algorithm);
     const auto dbs = databases(a.dir);
     if (dbs.empty()) throw CommandError("no <DB>/trainingData.csv under " + a.dir);
     a.flags.options();  // an unknown name fails before any database is read
