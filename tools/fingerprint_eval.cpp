@@ -28,6 +28,7 @@ Method yardstick(const uji::Data& train, const std::vector<std::size_t>& train_r
     m.options.k = 3;
     m.options.representation = match::Representation::powed;
     m.options.distance = match::Distance::sorensen;
+    m.options.position_on_voted_floor = false;
     m.params.powed_beta = std::numbers::e;
     // "min" of the paper is one below the lowest RSS of the database, so the weakest reading
     // still counts as heard; the index maps RSS at or below missing_rss to "not heard".

@@ -35,7 +35,7 @@ struct Method {
 // with Applications 42, 2015): kNN with k = 3 over the raw training scans, the "powed"
 // representation (RSS − min)^β / (−min)^β with β = e and min one below the lowest RSS of the
 // training rows, the Sørensen (Bray–Curtis) distance, the floor by vote among the k and the
-// position the mean of the k (of those on the voted floor: the same rule as every matcher).
+// position the mean of the k, whatever their floor.
 Method yardstick(const uji::Data& train, const std::vector<std::size_t>& train_rows);
 
 // What a request with no algorithm and no options gets from the server.

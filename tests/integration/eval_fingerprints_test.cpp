@@ -56,10 +56,17 @@ TEST(EvalFingerprints, YardstickGivesTheHandComputedAnswer) {
     EXPECT_NEAR(row_of(euclid, "hand", "knn")["mean_error_m"].get<double>(), std::hypot(2.0 / 3.0, 14.0 / 3.0), 1e-6);
 }
 
-// vote/: the query equals V1's scan (floor 0), but the next two nearest, V2 and V3, are on
-// floor 1, the true one: the yardstick's vote among its 3 gets the floor that 1-NN misses.
+// vote/: the query equals V1's scan at (0,0) on floor 0, but the next two nearest, V2 (5,0)
+// and V3 (0,5), are on floor 1, the true one: the yardstick's vote among its 3 gets the floor
+// that 1-NN misses. Its position is the mean of all 3, (5/3, 5/3), 1.18 m from the truth
+// (2.5, 2.5); the matchers' own rule, the mean of those on the voted floor, would hit it.
 TEST(EvalFingerprints, YardstickTakesTheFloorByVoteAmongTheThree) {
-    EXPECT_EQ(row_of(run_json({"--algorithm", "yardstick"}), "vote", "yardstick")["floor_hit_rate"].get<double>(), 1.0);
+    const json rows = run_json({"--algorithm", "yardstick"});
+    const json& vote = row_of(rows, "vote", "yardstick");
+    EXPECT_EQ(vote["floor_hit_rate"].get<double>(), 1.0);
+    EXPECT_NEAR(vote["mean_error_m"].get<double>(), std::hypot(2.5 - 5.0 / 3.0, 2.5 - 5.0 / 3.0), 1e-6);
+    const json knn3 = run_json({"--algorithm", "knn", "--k", "3"});
+    EXPECT_NEAR(row_of(knn3, "vote", "knn")["mean_error_m"].get<double>(), 0.0, 1e-9);
     EXPECT_EQ(row_of(run_json({"--algorithm", "knn", "--k", "1"}), "vote", "knn")["floor_hit_rate"].get<double>(),
               0.0);
 }
