@@ -1,11 +1,13 @@
 // Cost of one fusion step on a phone-class CPU: a rule, a Kalman predict+update, and a
-// particle-filter step and fix on the basement-sized plan (run by hand, never by ctest).
+// particle-filter step and fix on the basement-sized plan, as rooms and doors and as the
+// equivalent floor plan (map matching on a server's plan); run by hand, never by ctest.
 #include <benchmark/benchmark.h>
 
 #include <numbers>
 
 #include "locus/fusion/kalman.hpp"
 #include "locus/fusion/particle_filter.hpp"
+#include "locus/fusion/rooms_plan.hpp"
 #include "locus/fusion/rules.hpp"
 
 using namespace locus;
@@ -24,6 +26,11 @@ Walkable corridor_and_rooms() {
     return w;
 }
 
+// Arg 0: rooms and doors; 1: the same floor as a plan (Walkable::from_plan).
+Walkable floor_of(std::int64_t as_plan) {
+    return as_plan ? Walkable::from_plan(rooms_plan(corridor_and_rooms())) : corridor_and_rooms();
+}
+
 void BM_Rule(benchmark::State& state) {
     FusionInput in{{3.0, 0.0}, {0.0, 4.0}, Point{0.0, 0.0}, 5, std::nullopt};
     for (auto _ : state) benchmark::DoNotOptimize(fuse(Rule::proportional, in));
@@ -40,10 +47,26 @@ void BM_KalmanStepAndFix(benchmark::State& state) {
 }
 BENCHMARK(BM_KalmanStepAndFix);
 
+// Map-matched on the plan: arg 0 snaps each step into walkable space (the default), 1 blocks
+// steps at walls. The walk bounces along the corridor and into its walls.
+void BM_KalmanOnPlanStepAndFix(benchmark::State& state) {
+    KalmanConfig c;
+    c.walls_block_steps = state.range(0) != 0;
+    KalmanFilter kf({1.0, 7.0}, c, floor_of(1).floor_plan);
+    double dx = 0.7;
+    for (auto _ : state) {
+        kf.predict({dx, 0.3});
+        kf.update({kf.position().x + 0.5, 7.0}, Eigen::Matrix2d::Identity());
+        if (kf.position().x > 34.0 || kf.position().x < 2.0) dx = -dx;
+    }
+    benchmark::DoNotOptimize(kf.position());
+}
+BENCHMARK(BM_KalmanOnPlanStepAndFix)->Arg(0)->Arg(1);
+
 void BM_ParticleStep(benchmark::State& state) {
     ParticleConfig c;
     c.particles = static_cast<int>(state.range(0));
-    ParticleFilter pf(corridor_and_rooms(), {1.0, 7.25}, c);
+    ParticleFilter pf(floor_of(state.range(1)), {1.0, 7.25}, c);
     double heading = std::numbers::pi / 2.0;
     for (auto _ : state) {
         pf.predict(0.7, heading);
@@ -51,16 +74,23 @@ void BM_ParticleStep(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(pf.position());
 }
-BENCHMARK(BM_ParticleStep)->Arg(250)->Arg(1000)->Arg(4000);
+BENCHMARK(BM_ParticleStep)->ArgsProduct({{250, 1000, 4000}, {0, 1}});
 
 void BM_ParticleFix(benchmark::State& state) {
     ParticleConfig c;
     c.particles = static_cast<int>(state.range(0));
-    ParticleFilter pf(corridor_and_rooms(), {10.0, 7.25}, c);
+    ParticleFilter pf(floor_of(state.range(1)), {10.0, 7.25}, c);
     for (auto _ : state) pf.update({10.5, 7.0}, Eigen::Matrix2d::Identity() * 2.0);
     benchmark::DoNotOptimize(pf.position());
 }
-BENCHMARK(BM_ParticleFix)->Arg(1000);
+BENCHMARK(BM_ParticleFix)->ArgsProduct({{1000}, {0, 1}});
+
+// Building the map matcher from a plan (its walk grid) when a floor's plan arrives.
+void BM_PlanWalkableBuild(benchmark::State& state) {
+    const auto plan = rooms_plan(corridor_and_rooms());
+    for (auto _ : state) benchmark::DoNotOptimize(PlanWalkable(plan));
+}
+BENCHMARK(BM_PlanWalkableBuild);
 
 }  // namespace
 BENCHMARK_MAIN();

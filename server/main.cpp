@@ -12,6 +12,7 @@
 #include "http/app.hpp"
 #include "http/json_text.hpp"
 #include "http/localize_answer.hpp"
+#include "http/bundle_plans.hpp"
 #include "http/store_json.hpp"
 #include "localize/service.hpp"
 #include "routing/service.hpp"
@@ -76,8 +77,13 @@ int main(int argc, char** argv) {
     try {
         locus::store::SqliteStore store(db_path);
         if (demo && !store.has_maps()) {
-            const auto bundle = locus::http::parse_map_bundle(nlohmann::json::parse(locus::server::demo_map_json()));
-            log_event({{"event", "demo_map_created"}, {"map_id", store.import_map_bundle(bundle).id}});
+            const auto doc = nlohmann::json::parse(locus::server::demo_map_json());
+            const auto plans = locus::http::parse_bundle_plans(doc);  // read all before writing any
+            const auto map_id = store.import_map_bundle(locus::http::parse_map_bundle(doc)).id;
+            // The plans need the floor ids the import made; a refused one (a bad demo file) stops
+            // the server with its message, as a bad bundle does.
+            locus::http::put_bundle_plans(store, map_id, plans);
+            log_event({{"event", "demo_map_created"}, {"map_id", map_id}, {"plans", plans.size()}});
         }
         locus::localize::Service localizer(store, locus::http::prepare_answers);
         locus::routing::Service router(store);

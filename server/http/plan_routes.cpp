@@ -1,22 +1,12 @@
 // A floor's plan: GET, PUT (whole document) and DELETE /v1/floors/{id}/plan.
 #include "http/app.hpp"
 #include "http/plan_json.hpp"
+#include "http/plan_put.hpp"
 #include "http/validation.hpp"
-#include "locus/plan/check.hpp"
 
 namespace locus::http {
 
 using nlohmann::json;
-
-namespace {
-// All of a refused plan's problems in one message, so a user fixes them in one round.
-[[noreturn]] void refuse(const std::vector<std::string>& problems) {
-    std::string message = problems.front();
-    for (std::size_t i = 1; i < problems.size() && i < 20; ++i) message += "; " + problems[i];
-    if (problems.size() > 20) message += "; and " + std::to_string(problems.size() - 20) + " more";
-    throw ApiError(422, "invalid_plan", message);
-}
-}  // namespace
 
 void App::install_plan_routes() {
     const std::string path = R"(/v1/floors/(\d+)/plan)";
@@ -32,17 +22,7 @@ void App::install_plan_routes() {
         respond(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
             const plan::Plan plan = parse_plan(parse_object(req.body));
-            // The geometry the router relies on: simple closed rings, doors on walls, …
-            if (const auto problems = plan::check_plan(plan); !problems.empty()) {
-                std::vector<std::string> messages;
-                for (const auto& p : problems) messages.push_back(p.feature + ": " + p.problem);
-                refuse(messages);
-            }
-            const auto stored = store_.put_plan(floor_id, plan, [&](const std::vector<store::OtherPlan>& others) {
-                std::vector<plan::OtherFloor> floors;
-                for (const auto& o : others) floors.push_back({o.floor_id, o.plan ? &*o.plan : nullptr});
-                if (const auto problems = plan::link_problems(floor_id, plan, floors); !problems.empty()) refuse(problems);
-            });
+            const auto stored = put_checked_plan(store_, floor_id, plan);
             return std::pair{200, plan_json(stored)};
         });
     });

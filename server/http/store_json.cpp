@@ -125,7 +125,8 @@ store::MapBundle parse_map_bundle(const json& bundle) {
             const std::string fw = bw + ".floors[" + std::to_string(j) + "]";
             const json& fj = floors[j];
             store::FloorBundle f;
-            f.fields = fields_at(store::kind("floors"), level_of(fj, {"rooms", "pois", "radiomaps"}, fw), fw);
+            // A floor's "plan" is read by parse_bundle_plans (bundle_plans.hpp).
+            f.fields = fields_at(store::kind("floors"), level_of(fj, {"rooms", "pois", "radiomaps", "plan"}, fw), fw);
             const auto& rooms = list_of(fj, "rooms", fw);
             for (std::size_t k = 0; k < rooms.size(); ++k)
                 f.rooms.push_back(fields_at(store::kind("rooms"), level_of(rooms[k], {}, fw + ".rooms[" + std::to_string(k) + "]"),

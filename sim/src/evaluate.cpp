@@ -132,7 +132,8 @@ std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std
         out.push_back({std::string(fusion::to_string(r)), rule_track(r, steps, fixes, start, config.rules)});
 
     {
-        fusion::KalmanFilter kf(start, config.kalman);
+        // Map matching needs a floor plan (walls, door gaps): rooms and doors leave it free.
+        fusion::KalmanFilter kf(start, config.kalman, map ? map->floor_plan : nullptr);
         Track track{{0.0, start}};
         replay_events(
             steps, fixes,

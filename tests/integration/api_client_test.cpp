@@ -193,6 +193,61 @@ TEST(ApiClient, ErrorsCarryTheServersCodeAndAreNotRetried) {
     EXPECT_EQ(c.retries(), 0);
 }
 
+TEST(ApiClient, FloorPlansComeBackAsTheCoreType) {
+    ServerProcess server{{"--quiet"}};
+    api::Client c(fast_retries(server.url()));
+    const Chain ch = make_chain(c);
+    EXPECT_FALSE(c.plan(ch.floor.id));  // a floor without a plan
+
+    plan::Plan p;
+    const auto rect = [](double x0, double x1) { return plan::Ring{{x0, 0}, {x1, 0}, {x1, 10}, {x0, 10}, {x0, 0}}; };
+    p.spaces.push_back({"West", "room", {"Ada"}, {rect(0, 10), {}}, std::nullopt});
+    p.spaces.push_back({"East", "corridor", {}, {rect(10, 20), {}}, std::nullopt});
+    p.walls.push_back({{{10, 0}, {10, 10}}});
+    p.doors.push_back({{10, 5}, {10, 5}, "D"});
+    const plan::Plan stored = c.put_plan(ch.floor.id, p);
+    ASSERT_EQ(stored.spaces.size(), 2u);
+
+    const auto got = c.plan(ch.floor.id);
+    ASSERT_TRUE(got);
+    ASSERT_EQ(got->spaces.size(), 2u);
+    EXPECT_EQ(got->spaces[0].name, "West");
+    EXPECT_EQ(got->spaces[0].tags, std::vector<std::string>{"Ada"});
+    EXPECT_EQ(got->spaces[1].kind, "corridor");
+    EXPECT_DOUBLE_EQ(got->spaces[1].shape.outer[1].x, 20.0);
+    ASSERT_EQ(got->walls.size(), 1u);
+    EXPECT_DOUBLE_EQ(got->walls[0].line[1].y, 10.0);
+    ASSERT_EQ(got->doors.size(), 1u);
+    EXPECT_EQ(got->doors[0].name, "D");
+    EXPECT_DOUBLE_EQ(got->doors[0].a.y, 5.0);
+
+    // An unknown floor is the server's 404, not "no plan".
+    try {
+        c.plan(424242);
+        FAIL() << "an unknown floor must be an error";
+    } catch (const api::ApiError& e) {
+        EXPECT_EQ(e.status(), 404);
+        EXPECT_EQ(e.code(), "not_found");
+    }
+    // A plan the server refuses is its 422, naming the feature; the stored plan stays.
+    plan::Plan bad = p;
+    bad.doors[0].a = bad.doors[0].b = {5, 5};  // in the middle of a room, on no wall
+    try {
+        c.put_plan(ch.floor.id, bad);
+        FAIL() << "a door on no wall must be refused";
+    } catch (const api::ApiError& e) {
+        EXPECT_EQ(e.status(), 422);
+        EXPECT_EQ(e.code(), "invalid_plan");
+        EXPECT_NE(std::string(e.what()).find("doors[0]"), std::string::npos) << e.what();
+    }
+    EXPECT_DOUBLE_EQ(c.plan(ch.floor.id)->doors[0].a.x, 10.0);
+
+    // Deleted, the floor has no plan again.
+    c.del("/v1/floors/" + std::to_string(ch.floor.id) + "/plan");
+    EXPECT_FALSE(c.plan(ch.floor.id));
+    EXPECT_EQ(c.retries(), 0);
+}
+
 TEST(ApiClient, UploadIdsMakeUploadsIdempotent) {
     ServerProcess server{{"--quiet"}};
     api::Client c(fast_retries(server.url()));

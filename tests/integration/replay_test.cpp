@@ -68,3 +68,150 @@ TEST(Replay, UnknownRuleIsRefused) {
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("unknown --rule"), std::string::npos) << r.err;
 }
+
+namespace {
+
+json feature(const std::string& kind, json geometry, json properties = json::object()) {
+    properties["feature"] = kind;
+    return {{"type", "Feature"}, {"geometry", std::move(geometry)}, {"properties", std::move(properties)}};
+}
+json box(double x0, double y0, double x1, double y1) {
+    return {{"type", "Polygon"}, {"coordinates", {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}}}}};
+}
+json line(std::vector<std::pair<double, double>> pts) {
+    json c = json::array();
+    for (const auto& [x, y] : pts) c.push_back({x, y});
+    return {{"type", "LineString"}, {"coordinates", c}};
+}
+
+// The ground scenario's west half as the server's plan: the corridor is walled off at x = 15,
+// where the walk file's corridor runs on to x = 28 (the walk ends in office 4, x > 21).
+json west_half_of_ground() {
+    json f = json::array();
+    f.push_back(feature("space", box(0, 6.2, 12, 10.3), {{"name", "hall"}}));
+    f.push_back(feature("space", box(0, 4, 15, 6.2), {{"name", "corridor"}, {"kind", "corridor"}}));
+    f.push_back(feature("space", box(0, 0, 7, 4), {{"name", "office 1"}}));
+    f.push_back(feature("space", box(7, 0, 14, 4), {{"name", "office 2"}}));
+    f.push_back(feature("wall", line({{0, 4}, {15, 4}})));
+    f.push_back(feature("wall", line({{7, 0}, {7, 4}})));
+    f.push_back(feature("wall", line({{0, 6.2}, {12, 6.2}})));
+    f.push_back(feature("wall", line({{15, 4}, {15, 6.2}})));
+    f.push_back(feature("door", line({{2.5, 4}, {3.5, 4}})));
+    f.push_back(feature("door", line({{9.5, 4}, {10.5, 4}})));
+    f.push_back(feature("door", line({{4, 6.2}, {7, 6.2}})));
+    return {{"type", "FeatureCollection"}, {"features", f}};
+}
+
+double max_x(const json& replay_out, const std::string& method) {
+    for (const auto& t : replay_out.at("tracks"))
+        if (t.at("method") == method) {
+            double m = -1e9;
+            for (const auto& p : t.at("points")) m = std::max(m, p.at("x").get<double>());
+            return m;
+        }
+    ADD_FAILURE() << "no " << method << " track";
+    return 0.0;
+}
+
+}  // namespace
+
+TEST(Replay, FiltersMapMatchOnTheServersPlanWhenTheFloorHasOne) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string walk = s.dir() + "/walk.jsonl";
+    ASSERT_EQ(run_command({LOCUS_CLI_BIN, "sim", "--scenario", "ground", "--seed", "3", "--out", walk}).status, 0);
+    const auto replay = [&](const std::string& walls) {
+        return run_command({LOCUS_CLI_BIN, "replay", "--server", s.url(), "--radiomap", std::to_string(h.radiomap), "--rule",
+                            "all", "--upload-survey", "--walls", walls, walk});
+    };
+
+    // No plan yet: auto falls back to the walk file's rooms, and says so; server refuses.
+    const auto before = replay("auto");
+    ASSERT_EQ(before.status, 0) << before.err;
+    EXPECT_EQ(json::parse(before.out).at("walls"), "file");
+    EXPECT_NE(before.err.find("has no plan"), std::string::npos) << before.err;
+    const auto refused = replay("server");
+    EXPECT_NE(refused.status, 0);
+    EXPECT_NE(refused.err.find("floor " + std::to_string(h.floor)), std::string::npos) << refused.err;
+    // On the file's rooms the filters follow the walk down the corridor past x = 15.
+    EXPECT_GT(max_x(json::parse(before.out), "particle"), 17.0);
+    EXPECT_GT(max_x(json::parse(before.out), "kalman"), 17.0);
+
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(h.floor) + "/plan", west_half_of_ground()).status, 200);
+    for (const std::string walls : {"auto", "server"}) {
+        const auto r = replay(walls);
+        ASSERT_EQ(r.status, 0) << r.err;
+        const json out = json::parse(r.out);
+        EXPECT_EQ(out.at("walls"), "server");
+        EXPECT_EQ(out.at("floor_id"), h.floor);
+        EXPECT_NE(r.err.find("plan from the server: 4 spaces, 4 walls, 3 doors"), std::string::npos) << r.err;
+        // Every particle stays on the server's plan, so no point of the track passes the wall
+        // at x = 15 though the person walks on to x = 22.5; the Kalman filter stops there too.
+        EXPECT_LT(max_x(out, "particle"), 15.0);
+        EXPECT_LT(max_x(out, "kalman"), 15.0);
+        // The rules know no walls.
+        EXPECT_GT(max_x(out, "pdr"), 17.0);
+    }
+    // --walls file ignores the server's plan.
+    const auto file = replay("file");
+    ASSERT_EQ(file.status, 0) << file.err;
+    EXPECT_EQ(json::parse(file.out).at("walls"), "file");
+    EXPECT_EQ(json::parse(file.out).at("tracks"), json::parse(before.out).at("tracks"));
+}
+
+TEST(Replay, UnknownWallsSourceIsRefused) {
+    const auto r = run_command({LOCUS_CLI_BIN, "replay", "--server", "http://127.0.0.1:1", "--radiomap", "1", "--walls",
+                                "ceiling", "/dev/null"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("--walls"), std::string::npos) << r.err;
+}
+
+TEST(SimOnServerPlan, EvaluatesOnTheFloorsPlanAsOnTheConvertedScenario) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::vector<std::string> base = {LOCUS_CLI_BIN, "sim", "--scenario", "basement", "--seed", "5", "--evaluate", "--json"};
+    const auto with = [&](std::vector<std::string> extra) {
+        std::vector<std::string> args = base;
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_command(args);
+    };
+    const std::string floor = std::to_string(h.floor);
+
+    // The floor has no plan yet: refused, naming the floor.
+    const auto none = with({"--server", s.url(), "--floor", floor});
+    EXPECT_NE(none.status, 0);
+    EXPECT_NE(none.err.find("floor " + floor + " has no plan"), std::string::npos) << none.err;
+    // --server and --floor go together.
+    const auto half = with({"--server", s.url()});
+    EXPECT_NE(half.status, 0);
+    EXPECT_NE(half.err.find("--floor"), std::string::npos) << half.err;
+    // --walls names another source than the floor's plan.
+    const auto both = with({"--server", s.url(), "--floor", floor, "--walls", "plan"});
+    EXPECT_NE(both.status, 0);
+    EXPECT_NE(both.err.find("--walls and --floor"), std::string::npos) << both.err;
+
+    // --put-plan stores the scenario's rooms and doors as the floor's plan, then uses it.
+    const auto put = with({"--server", s.url(), "--floor", floor, "--put-plan"});
+    ASSERT_EQ(put.status, 0) << put.err;
+    const auto stored = body_of(s.get("/v1/floors/" + floor + "/plan"));
+    std::map<std::string, int> kinds;
+    for (const auto& f : stored.at("features")) ++kinds[f.at("properties").at("feature").get<std::string>()];
+    EXPECT_EQ(kinds["space"], 7);
+    EXPECT_EQ(kinds["door"], 6);
+    EXPECT_GT(kinds["wall"], 7);
+
+    const auto local = with({"--walls", "plan"});
+    const auto rooms = with({});
+    ASSERT_EQ(local.status, 0) << local.err;
+    ASSERT_EQ(rooms.status, 0) << rooms.err;
+    std::map<std::string, double> on_plan, on_rooms;
+    for (const auto& o : json::parse(local.out)) on_plan[o.at("method")] = o.at("mean_error_m");
+    for (const auto& o : json::parse(rooms.out)) on_rooms[o.at("method")] = o.at("mean_error_m");
+    for (const auto& o : json::parse(put.out)) {
+        EXPECT_EQ(o.at("walls"), "server");
+        EXPECT_DOUBLE_EQ(o.at("mean_error_m").get<double>(), on_plan.at(o.at("method"))) << o.at("method");
+    }
+    // Rules ignore the map; the Kalman filter is map-matched on a plan only.
+    EXPECT_DOUBLE_EQ(on_plan.at("proportional"), on_rooms.at("proportional"));
+    EXPECT_NE(on_plan.at("kalman"), on_rooms.at("kalman"));
+}

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "hierarchy.hpp"
 #include "plan_geojson.hpp"
@@ -146,4 +148,67 @@ TEST(ServerRoute, BadInputIsRefusedNamingWhat) {
     }
     EXPECT_EQ(s.post("/v1/maps/999/route", {{"from", here}, {"to", here}}).status, 404);
     EXPECT_EQ(s.post_raw(route_path(b), "[1]").status, 400);
+}
+
+namespace {
+// The id of the room called `name` on the demo map's floor at `level` (0 or 1).
+std::int64_t demo_room(const ServerProcess& s, int level, const std::string& name) {
+    const auto floors = body_of(s.get("/v1/buildings/1/floors")).at("items");
+    for (const auto& f : floors) {
+        if (f.at("level") != level) continue;
+        const json rooms = body_of(s.get("/v1/floors/" + std::to_string(f.at("id").get<std::int64_t>()) + "/rooms"));
+        for (const auto& r : rooms.at("items"))
+            if (r.at("name") == name) return r.at("id").get<std::int64_t>();
+    }
+    ADD_FAILURE() << "the demo map has no room '" << name << "' at level " << level;
+    return 0;
+}
+}  // namespace
+
+TEST(ServerRoute, TheDemoMapGoesUpstairsByTheStairsAndStepFreeByTheElevator) {
+    ServerProcess s({"--demo"});
+    // Both floors have a plan, its spaces named as the floor's rooms.
+    for (const std::int64_t floor : {1, 2}) {
+        const auto plan = body_of(s.get("/v1/floors/" + std::to_string(floor) + "/plan"));
+        std::set<std::string> spaces, rooms;
+        int connectors = 0;
+        for (const auto& f : plan.at("features")) {
+            if (f.at("properties").at("feature") == "space") spaces.insert(f.at("properties").at("name").get<std::string>());
+            if (f.at("properties").at("feature") == "connector") ++connectors;
+        }
+        const json listed = body_of(s.get("/v1/floors/" + std::to_string(floor) + "/rooms"));
+        for (const auto& r : listed.at("items")) rooms.insert(r.at("name").get<std::string>());
+        EXPECT_EQ(spaces, rooms) << "floor " << floor;
+        EXPECT_EQ(connectors, 2) << "floor " << floor;
+    }
+
+    const auto lab = demo_room(s, 0, "Lab"), server_room = demo_room(s, 1, "Server room");
+    const json request = {{"from", {{"room_id", lab}}}, {"to", {{"room_id", server_room}}}};
+    const auto by_stairs = body_of(s.post("/v1/maps/1/route", request));
+    ASSERT_EQ(by_stairs.at("transfers").size(), 1u);
+    EXPECT_EQ(by_stairs.at("transfers")[0].at("kind"), "stairs");
+    EXPECT_EQ(by_stairs.at("transfers")[0].at("from_level"), 0);
+    EXPECT_EQ(by_stairs.at("transfers")[0].at("to_level"), 1);
+    ASSERT_EQ(by_stairs.at("legs").size(), 2u);
+    EXPECT_EQ(by_stairs.at("legs")[0].at("level"), 0);
+    EXPECT_EQ(by_stairs.at("legs")[1].at("level"), 1);
+    bool says_stairs = false;
+    for (const auto& step : by_stairs.at("steps")) says_stairs = says_stairs || step.at("text") == "Take the stairs up to level 1";
+    EXPECT_TRUE(says_stairs) << by_stairs.at("steps").dump();
+
+    json step_free = request;
+    step_free["options"] = {{"step_free", true}};
+    const auto by_lift = body_of(s.post("/v1/maps/1/route", step_free));
+    ASSERT_EQ(by_lift.at("transfers").size(), 1u);
+    EXPECT_EQ(by_lift.at("transfers")[0].at("kind"), "elevator");
+    // The lift waits longer than the stairs take: the stairs were the quicker way.
+    EXPECT_GT(by_lift.at("time_s").get<double>(), by_stairs.at("time_s").get<double>());
+    // Each way leaves the ground floor where its connector stands on the plan.
+    std::map<std::string, json> at;
+    const json ground = body_of(s.get("/v1/floors/1/plan"));
+    for (const auto& f : ground.at("features"))
+        if (f.at("properties").at("feature") == "connector") at[f.at("properties").at("kind").get<std::string>()] = f.at("geometry").at("coordinates");
+    auto near = [](const json& a, const json& b) { return std::hypot(a[0].get<double>() - b[0].get<double>(), a[1].get<double>() - b[1].get<double>()) < 0.5; };
+    EXPECT_TRUE(near(by_stairs.at("legs")[0].at("path").back(), at.at("stairs"))) << by_stairs.at("legs")[0].dump();
+    EXPECT_TRUE(near(by_lift.at("legs")[0].at("path").back(), at.at("elevator"))) << by_lift.at("legs")[0].dump();
 }

@@ -1,8 +1,11 @@
 // `locus replay`: a recorded or simulated walk through the real PDR, fixes from a running
-// server, one fusion rule (or every method), and the track's error against the truth.
+// server, one fusion rule (or every method), and the track's error against the truth. The
+// particle and Kalman filters map-match on the floor plan the server holds for the radio
+// map's floor when there is one (--walls), else on the walk file's rooms and doors.
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,7 +29,34 @@ struct Args {
     std::string file;
     std::string format = "json";
     bool upload_survey = false;
+    std::string walls = "auto";  // file | server | auto
 };
+
+// What the filters map-match on, and where it came from (said on stderr and in the JSON).
+struct Walls {
+    std::optional<fusion::Walkable> map;
+    std::string source;  // "server", "file" or "none"
+    std::int64_t floor_id = 0;  // the radio map's floor (0 when not asked: --walls file)
+};
+
+Walls choose_walls(api::Client& client, const Args& a, const sim::Walk& walk) {
+    const Walls from_file{walk.map, walk.map ? "file" : "none", 0};
+    if (a.walls == "file") return from_file;
+    const std::int64_t floor_id = client.radiomap(a.radiomap).floor_id;
+    auto plan = client.plan(floor_id);
+    const std::string floor = "floor " + std::to_string(floor_id) + " (radio map " + std::to_string(a.radiomap) + "'s)";
+    if (plan && !plan->spaces.empty()) {
+        std::cerr << "map matching on " << floor << " plan from the server: " << plan->spaces.size() << " spaces, "
+                  << plan->walls.size() << " walls, " << plan->doors.size() << " doors\n";
+        return {fusion::Walkable::from_plan(std::move(*plan)), "server", floor_id};
+    }
+    const std::string why = plan ? floor + " plan on the server has no spaces" : floor + " has no plan on the server";
+    if (a.walls == "server")
+        throw tools::CommandError(why + ": --walls file (or auto) map-matches on the walk file's rooms and doors");
+    std::cerr << (walk.map ? "map matching on the walk file's rooms and doors: " : "no map matching (the walk file has no rooms either): ")
+              << why << "\n";
+    return {walk.map, walk.map ? "file" : "none", floor_id};
+}
 
 // Survey scans in the walk become RPs on the server, each file's scans once (upload ids).
 void upload_survey(api::Client& client, const sim::Walk& walk, std::int64_t radiomap) {
@@ -100,10 +130,12 @@ void run(const Args& a) {
         throw tools::CommandError("no scan of " + a.file + " matched any AP of radio map " + std::to_string(a.radiomap) +
                                   " (" + std::to_string(no_match) + " scans, every one answered no_match): is it the walk's "
                                   "radio map? --upload-survey puts the walk's survey scans into it first");
-    const auto tracks = sim::run_methods(steps, fixes, walk.start, walk.map, cfg);
+    const Walls walls = choose_walls(client, a, walk);
+    const auto tracks = sim::run_methods(steps, fixes, walk.start, walls.map, cfg);
 
     json out = {{"file", a.file}, {"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"steps", steps.size()},
-                {"fixes", fixes.size()}, {"no_match", no_match}, {"tracks", json::array()}};
+                {"fixes", fixes.size()}, {"no_match", no_match}, {"walls", walls.source}, {"tracks", json::array()}};
+    if (walls.floor_id) out["floor_id"] = walls.floor_id;
     for (const auto& t : tracks) {
         if (!all && t.method != a.rule) continue;
         if (a.format == "csv") {
@@ -136,6 +168,11 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn/bayes")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--format", args->format, "json (tracks with errors) or csv")->capture_default_str();
+    cmd->add_option("--walls", args->walls,
+                    "what the particle and Kalman filters map-match on: the server's plan of the radio map's floor, "
+                    "the walk file's rooms and doors, or auto (the server's plan when the floor has one)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "server", "file"}));
     cmd->add_flag("--upload-survey", args->upload_survey,
                   "first create the walk's survey RPs on the radio map and upload their scans (idempotent)");
     cmd->add_option("FILE", args->file, "walk file (locus sim --out, or a recording)")->required()->check(CLI::ExistingFile);

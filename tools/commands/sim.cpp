@@ -1,5 +1,7 @@
 // `locus sim`: the seeded walking simulator (docs/spec.md §7.2). Writes a walk file (--out) and/or
-// scores every positioning method on it (--evaluate); --runs averages consecutive seeds.
+// scores every positioning method on it (--evaluate); --runs averages consecutive seeds. The
+// particle and Kalman filters map-match on the scenario's rooms and doors, on the same floor
+// as a floor plan (--walls plan), or on the plan a server holds for a floor (--server --floor).
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -8,9 +10,12 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "command_registry.hpp"
+#include "locus/api/client.hpp"
+#include "locus/fusion/rooms_plan.hpp"
 #include "sim/evaluate.hpp"
 #include "sim/generator.hpp"
 #include "sim/scenario.hpp"
@@ -39,7 +44,47 @@ struct Args {
     double scale_sigma = fusion::ParticleConfig{}.initial_scale_sigma;
     std::vector<std::string> particle_set;  // key=value overrides of fusion::ParticleConfig
     sim::SimConfig walk;  // defaults of the simulator; the options below override a few
+    std::string walls = "rooms";  // rooms | plan; or the plan of --floor on --server
+    bool walls_given = false;
+    std::string server;
+    std::string api_key;
+    std::int64_t floor = 0;
+    bool put_plan = false;
+    std::string kalman_walls = "snap";  // block | snap
 };
+
+// The floor the filters map-match on, and a word for where it came from.
+struct Walls {
+    fusion::Walkable map;
+    std::string source;  // "rooms", "plan" (converted here) or "server"
+};
+
+Walls choose_walls(const Args& a, const sim::Scenario& sc) {
+    if (a.server.empty() != (a.floor == 0)) throw tools::CommandError("--server and --floor go together");
+    if (a.put_plan && a.floor == 0) throw tools::CommandError("--put-plan needs --server and --floor");
+    if (a.walls_given && a.floor != 0)
+        throw tools::CommandError("--walls and --floor both say what to map-match on: give one of them");
+    if (a.floor == 0) {
+        if (a.walls == "rooms") return {sc.map, "rooms"};
+        return {fusion::Walkable::from_plan(fusion::rooms_plan(sc.map)), "plan"};
+    }
+    api::ClientOptions opts;
+    opts.base_url = a.server;
+    opts.api_key = a.api_key;
+    api::Client client(opts);
+    const std::string floor = "floor " + std::to_string(a.floor);
+    if (a.put_plan) {
+        client.put_plan(a.floor, fusion::rooms_plan(sc.map));
+        std::cerr << "put scenario " << sc.name << "'s rooms and doors on " << floor << " as its plan\n";
+    }
+    auto plan = client.plan(a.floor);
+    if (!plan || plan->spaces.empty())
+        throw tools::CommandError(floor + (plan ? "'s plan has no spaces" : " has no plan") +
+                                  " on the server (--put-plan puts the scenario's there first)");
+    std::cerr << "map matching on " << floor << "'s plan from the server: " << plan->spaces.size() << " spaces, "
+              << plan->walls.size() << " walls, " << plan->doors.size() << " doors\n";
+    return {fusion::Walkable::from_plan(std::move(*plan)), "server"};
+}
 
 // For the particle filter's tuning sweeps (docs/fusion.md): any numeric ParticleConfig field.
 void set_particle_field(fusion::ParticleConfig& c, const std::string& kv) {
@@ -96,15 +141,18 @@ void run(const Args& a) {
     cfg.particle_fix_latency_s = a.particle_latency;
     cfg.particle.initial_scale_sigma = a.scale_sigma;
     for (const std::string& kv : a.particle_set) set_particle_field(cfg.particle, kv);
+    const Walls walls = choose_walls(a, sc);
+    cfg.kalman.walls_block_steps = a.kalman_walls == "block";
 
     std::vector<std::string> order;
     std::map<std::string, sim::Score> sums;
     double distance_abs = 0.0, distance_sq = 0.0;  // PDR distance error, relative
     for (int r = 0; r < a.runs; ++r) {
         const std::uint64_t seed = a.seed + static_cast<std::uint64_t>(r);
-        const sim::Walk walk = sim::simulate(sc, seed, a.walk);
+        sim::Walk walk = sim::simulate(sc, seed, a.walk);
         if (!a.out.empty()) sim::save_walk(a.out, walk);
         if (!a.evaluate) continue;
+        walk.map = walls.map;
         cfg.particle.seed = seed;
         // Traini 2017 reports PDR distance against the walk (57.12 and 44.19 m for 52 m).
         double walked = 0.0;
@@ -128,6 +176,7 @@ void run(const Args& a) {
         for (const std::string& m : order) {
             const sim::Score& s = sums[m];
             nlohmann::ordered_json o = {{"scenario", sc.name},
+                                {"walls", walls.source},
                                 {"method", s.method},
                                 {"mean_error_m", s.mean_error_m},
                                 {"final_error_m", s.final_error_m},
@@ -138,9 +187,10 @@ void run(const Args& a) {
         std::cout << arr.dump(2) << "\n";
         return;
     }
-    std::printf("scenario %s (%.1f m2, walk %.1f m), seeds %llu..%llu, matcher %s\n", sc.name.c_str(), sc.area_m2(),
-                sc.path_length_m(), static_cast<unsigned long long>(a.seed),
-                static_cast<unsigned long long>(a.seed + static_cast<std::uint64_t>(a.runs) - 1), a.algorithm.c_str());
+    std::printf("scenario %s (%.1f m2, walk %.1f m), seeds %llu..%llu, matcher %s, walls %s\n", sc.name.c_str(),
+                sc.area_m2(), sc.path_length_m(), static_cast<unsigned long long>(a.seed),
+                static_cast<unsigned long long>(a.seed + static_cast<std::uint64_t>(a.runs) - 1), a.algorithm.c_str(),
+                walls.source.c_str());
     std::printf("%-20s %10s %10s %10s\n", "method", "mean_m", "final_m", "p95_m");
     for (const std::string& m : order) {
         const sim::Score& s = sums[m];
@@ -188,5 +238,24 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--misalignment", args->walk.misalignment_sigma_rad, "Phone yaw vs walking direction σ, rad")
         ->capture_default_str();
-    cmd->callback([args] { run(*args); });
+    // Map matching: which floor the particle and Kalman filters are constrained by.
+    auto* walls = cmd->add_option("--walls", args->walls,
+                    "rooms (the scenario's rooms and doors) or plan (the same floor as a floor plan, as a server "
+                    "would hold it; the Kalman filter is map-matched too)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"rooms", "plan"}));
+    cmd->add_option("--server", args->server, "with --floor: map-match on that floor's plan on this server");
+    cmd->add_option("--floor", args->floor, "floor whose plan on --server the filters map-match on")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--api-key", args->api_key, "API key (for --put-plan)")->envname("LOCUS_API_KEY");
+    cmd->add_option("--kalman-walls", args->kalman_walls,
+                    "on a floor plan, the Kalman filter's steps are blocked by walls (block) or only snapped "
+                    "into walkable space where they end (snap)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"block", "snap"}));
+    cmd->add_flag("--put-plan", args->put_plan, "first put the scenario's rooms and doors on --floor as its plan");
+    cmd->callback([args, walls] {
+        args->walls_given = walls->count() > 0;
+        run(*args);
+    });
 });

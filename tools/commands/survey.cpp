@@ -28,7 +28,7 @@ struct PlanArgs {
     bool create = false;
 };
 
-void plan(const PlanArgs& a) {
+void plan_survey(const PlanArgs& a) {
     if (a.create && a.radiomap == 0) throw CommandError("--create needs --radiomap ID (the radio map to add the RPs to)");
     api::Client client(a.server.client_options());
     const auto floor = client.floor(a.floor);
@@ -155,7 +155,7 @@ LOCUS_COMMAND("survey", [](CLI::App& app) {
     p->add_option("--cell", pa->cell, "grid cell side, metres")->capture_default_str()->check(CLI::PositiveNumber);
     p->add_option("--radiomap", pa->radiomap, "radio map to create the RPs in (with --create)");
     p->add_flag("--create", pa->create, "create the proposed RPs that do not exist yet");
-    p->callback([pa] { plan(*pa); });
+    p->callback([pa] { plan_survey(*pa); });
 
     auto* u = survey.add_subcommand("upload", "Upload RP scans from JSON-lines or CSV files (see docs/survey.md)");
     auto ua = std::make_shared<UploadArgs>();

@@ -2,6 +2,8 @@
 
 #include <httplib.h>
 
+#include "locus/plan/geojson.hpp"
+
 #include <netdb.h>
 #include <sys/socket.h>
 #include <sys/time.h>
@@ -141,7 +143,9 @@ json Client::send(const char* method, const std::string& path, const std::string
             auto& h = conn_->http;
             if (verb == "GET") return h.Get(path);
             if (verb == "POST") return h.Post(path, *body, "application/json");
+            if (verb == "PUT") return h.Put(path, *body, "application/json");
             if (verb == "PATCH") return h.Patch(path, *body, "application/json");
+            if (verb == "PUT") return h.Put(path, *body, "application/json");
             return h.Delete(path);
         }();
         const int status = r ? r->status : 0;
@@ -178,6 +182,10 @@ json Client::get(const std::string& path) { return send("GET", path, nullptr); }
 json Client::post(const std::string& path, const json& body) {
     const std::string text = body.dump();
     return send("POST", path, &text);
+}
+json Client::put(const std::string& path, const json& body) {
+    const std::string text = body.dump();
+    return send("PUT", path, &text);
 }
 json Client::patch(const std::string& path, const json& body) {
     const std::string text = body.dump();
@@ -293,6 +301,41 @@ json Client::export_radiomap(std::int64_t radiomap_id) { return get("/v1/radioma
 
 RadioMapInfo Client::import_radiomap(std::int64_t floor_id, const json& document) {
     return post("/v1/floors/" + std::to_string(floor_id) + "/radiomaps/import", document).get<RadioMapInfo>();
+}
+
+namespace {
+
+// The server checked the plan before storing it, so a document the codec refuses is the
+// server's fault (or not a Locus server): reported as its answer, like non-JSON.
+plan::Plan plan_from_answer(const json& doc, const std::string& path) {
+    try {
+        return plan::from_geojson(doc);
+    } catch (const plan::GeoJsonError& e) {
+        throw ApiError(200, "invalid_plan", "the server answered " + path + " with a plan the client cannot read: " + e.what());
+    }
+}
+
+std::string plan_path(std::int64_t floor_id) { return "/v1/floors/" + std::to_string(floor_id) + "/plan"; }
+
+}  // namespace
+
+std::optional<plan::Plan> Client::plan(std::int64_t floor_id) {
+    const std::string path = plan_path(floor_id);
+    json doc;
+    try {
+        doc = get(path);
+    } catch (const ApiError& e) {
+        if (e.status() != 404) throw;
+        // 404 is both "no such floor" and "the floor has no plan": only the floor tells.
+        floor(floor_id);  // throws the server's not_found for an unknown floor
+        return std::nullopt;
+    }
+    return plan_from_answer(doc, path);
+}
+
+plan::Plan Client::put_plan(std::int64_t floor_id, const plan::Plan& plan) {
+    const std::string path = plan_path(floor_id);
+    return plan_from_answer(put(path, plan::to_geojson(plan)), path);
 }
 
 LocalizeResult Client::localize_radiomap(std::int64_t radiomap_id, const LocalizeRequest& request) {

@@ -3,14 +3,20 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace locus::fusion {
 
-KalmanFilter::KalmanFilter(Point start, const KalmanConfig& config)
-    : config_(config), x_(start.x, start.y), p_(Eigen::Matrix2d::Identity() * config.initial_sigma_m * config.initial_sigma_m) {}
+KalmanFilter::KalmanFilter(Point start, const KalmanConfig& config, std::shared_ptr<const PlanWalkable> floor_plan)
+    : config_(config), floor_plan_(std::move(floor_plan)), x_(start.x, start.y), p_(Eigen::Matrix2d::Identity() * config.initial_sigma_m * config.initial_sigma_m) {}
 
 void KalmanFilter::predict(Point displacement, bool magnetic_disturbance) {
+    const Point from = position();
     x_ += Eigen::Vector2d(displacement.x, displacement.y);
+    if (floor_plan_) {
+        const Point to = config_.walls_block_steps ? floor_plan_->step(from, position()) : floor_plan_->snap(position());
+        x_ = Eigen::Vector2d(to.x, to.y);
+    }
     const double length = std::hypot(displacement.x, displacement.y);
     const double per_m = magnetic_disturbance ? std::max(config_.step_sigma_per_m, config_.disturbed_sigma_per_m)
                                               : config_.step_sigma_per_m;
@@ -19,6 +25,7 @@ void KalmanFilter::predict(Point displacement, bool magnetic_disturbance) {
 }
 
 bool KalmanFilter::update(Point fix, const Eigen::Matrix2d& r) {
+    if (floor_plan_) fix = floor_plan_->snap(fix);
     const Eigen::Vector2d innovation = Eigen::Vector2d(fix.x, fix.y) - x_;
     const Eigen::Matrix2d s = p_ + r;
     const Eigen::Matrix2d s_inv = s.inverse();
@@ -28,6 +35,10 @@ bool KalmanFilter::update(Point fix, const Eigen::Matrix2d& r) {
     // Joseph form keeps P symmetric positive definite under rounding.
     const Eigen::Matrix2d i_k = Eigen::Matrix2d::Identity() - k;
     p_ = i_k * p_ * i_k.transpose() + k * r * k.transpose();
+    if (floor_plan_) {
+        const Point snapped = floor_plan_->snap(position(), fix);
+        x_ = Eigen::Vector2d(snapped.x, snapped.y);
+    }
     return true;
 }
 

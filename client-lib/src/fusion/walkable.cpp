@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace locus::fusion {
 
@@ -21,11 +22,19 @@ bool segment_within(const Room& room, Point from, Point to) {
 
 }  // namespace
 
+Walkable Walkable::from_plan(locus::plan::Plan plan) {
+    Walkable w;
+    w.floor_plan = std::make_shared<const PlanWalkable>(std::move(plan));
+    return w;
+}
+
 bool Walkable::inside(Point p) const {
+    if (floor_plan) return floor_plan->inside(p);
     return std::any_of(plan.rooms.begin(), plan.rooms.end(), [&](const Room& r) { return r.contains(p); });
 }
 
 bool Walkable::can_move(Point from, Point to) const {
+    if (floor_plan) return floor_plan->can_move(from, to);
     if (!inside(to)) return false;
     if (!walls_between_rooms || !inside(from)) return true;
     for (const Room& room : plan.rooms)

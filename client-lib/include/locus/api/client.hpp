@@ -1,6 +1,6 @@
 #pragma once
 // A small typed client for the Locus REST API (docs/spec.md §2–§4): the map hierarchy, RP scan
-// uploads, radio-map export/import and localization.
+// uploads, radio-map export/import, floor plans and localization.
 //
 // One Client holds one keep-alive connection and is not thread-safe: give each thread its own.
 // Every request has connect/read timeouts; network failures, 5xx and 429 are retried with
@@ -18,6 +18,7 @@
 #include "locus/api/error.hpp"
 #include "locus/api/retry.hpp"
 #include "locus/api/types.hpp"
+#include "locus/plan/plan.hpp"
 
 namespace locus::api {
 
@@ -49,6 +50,7 @@ public:
     // Generic verbs: `path` starts with '/'. Return the parsed JSON body (null for 204).
     nlohmann::json get(const std::string& path);
     nlohmann::json post(const std::string& path, const nlohmann::json& body);
+    nlohmann::json put(const std::string& path, const nlohmann::json& body);  // a whole document, e.g. a floor's plan
     nlohmann::json patch(const std::string& path, const nlohmann::json& body);
     void del(const std::string& path);
 
@@ -88,6 +90,14 @@ public:
     // Merges scans into an RP. Without an upload_id the client makes one up, so that its own
     // retries of this call can never be counted twice.
     UploadResult upload(std::int64_t rp_id, const ScanUpload& upload);
+
+    // A floor's plan (GET /v1/floors/{id}/plan, read with the GeoJSON codec the server
+    // uses); nullopt when the floor has none. An unknown floor throws the server's 404
+    // not_found, as every other call does.
+    std::optional<plan::Plan> plan(std::int64_t floor_id);
+    // Replaces the floor's plan (PUT); returns the plan as stored. A plan the server refuses
+    // throws its 422 invalid_plan naming the feature.
+    plan::Plan put_plan(std::int64_t floor_id, const plan::Plan& plan);
 
     nlohmann::json export_radiomap(std::int64_t radiomap_id);  // locus-radiomap/1 document
     RadioMapInfo import_radiomap(std::int64_t floor_id, const nlohmann::json& document);

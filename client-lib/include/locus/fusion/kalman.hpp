@@ -5,9 +5,20 @@
 //   update:  K = P (P + R)⁻¹,      x ← x + K (z − x),   P ← (I − K) P
 // Q grows with the distance walked (heading and length errors scale with it); R comes from
 // the matcher's candidate spread (fix_covariance).
+//
+// With a floor plan (map matching, docs/fusion.md): a fix outside walkable space is snapped
+// into it before the update, and so is the posterior after it (on the fix's side of a wall
+// it is caught in), and so is the state after each step. The posterior of an update may land
+// on the other side of a wall: the fix is evidence of where the person is, not a movement,
+// and a prior in the wrong room must be able to leave it. Steps may pass walls too unless
+// walls_block_steps: one hypothesis that lags the person stays behind a wall the person went
+// through (a door a metre further on), which cost the ground floor's final error more than
+// the blocking gained (docs/fusion.md); the particle filter is the map matcher that blocks.
 #include <Eigen/Dense>
+#include <memory>
 #include <span>
 
+#include "locus/fusion/plan_walkable.hpp"
 #include "locus/geometry.hpp"
 
 namespace locus::fusion {
@@ -21,11 +32,16 @@ struct KalmanConfig {
     // A fix whose Mahalanobis distance² exceeds this is rejected as an outlier (χ², 2 dof:
     // 13.8 ≈ 0.1 %). ≤ 0 disables the gate.
     double gate_chi2 = 0.0;
+    // With a floor plan: true stops a step at the wall it would cross (PlanWalkable::step:
+    // it slides along the wall, or goes round a door jamb it clipped); false only snaps where
+    // the step ends into walkable space.
+    bool walls_block_steps = false;
 };
 
 class KalmanFilter {
 public:
-    explicit KalmanFilter(Point start, const KalmanConfig& config = {});
+    explicit KalmanFilter(Point start, const KalmanConfig& config = {},
+                          std::shared_ptr<const PlanWalkable> floor_plan = nullptr);
 
     void predict(Point displacement, bool magnetic_disturbance = false);
     // Returns false when the gate rejected the fix (state unchanged).
@@ -36,6 +52,7 @@ public:
 
 private:
     KalmanConfig config_;
+    std::shared_ptr<const PlanWalkable> floor_plan_;
     Eigen::Vector2d x_;
     Eigen::Matrix2d p_;
 };
