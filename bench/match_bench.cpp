@@ -1,14 +1,21 @@
 // Time per localize() query (one iteration = one query, reported in µs) for each matcher
 // over the full UJIIndoorLoc map (933 RPs, 520 WAPs), one thread, plus the cost of building
-// the index. Run by hand:  build/bin/match_bench
+// the index; then the maps issue 14 bounds: TUT6 (3,116 one-scan RPs, queried with its own
+// test scans) and the raw-scan yardstick on both (every UJIIndoorLoc training row an RP).
+// The counter bytes_per_rp is the index's heap size over its RPs.
+// Run by hand:  build/bin/match_bench
 #include <benchmark/benchmark.h>
 
 #include <fstream>
+#include <map>
+#include <string>
+#include <utility>
 #include <memory>
 
 #include "locus/match/localize.hpp"
 // The reader belongs to the CLI sources, which are not a library; compile it in here.
 #include "datasets/uji_csv.hpp"
+#include "fingerprint_eval.hpp"
 
 namespace {
 
@@ -74,6 +81,58 @@ void build_bench(benchmark::State& state) {
     }
 }
 
+// A map from a training file and real queries from a test file (every 10th row of the
+// training file when there is none), for `method`'s algorithm, options and index.
+struct MethodFixture {
+    locus::tools::eval::Method method;
+    match::Index index;
+    std::vector<match::Query> queries;
+};
+
+std::unique_ptr<MethodFixture> method_fixture(const std::string& db, bool yardstick) {
+    namespace ev = locus::tools::eval;
+    const std::string train_path = std::string(LOCUS_DATA_DIR) + "/" + db + "/trainingData.csv";
+    const std::string test_path = std::string(LOCUS_DATA_DIR) + "/" + db + "/testData.csv";
+    if (!std::ifstream(train_path)) return nullptr;
+    auto out = std::make_unique<MethodFixture>();
+    const uji::Data train = uji::read_file(train_path);
+    std::vector<std::size_t> rows(train.rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = i;
+    out->method = yardstick ? ev::yardstick(train, rows) : ev::server_default();
+    out->index = ev::build_index(out->method, train, rows);
+    if (std::ifstream(test_path)) {
+        const uji::Data test = uji::read_file(test_path);
+        for (const auto& row : test.rows)
+            if (!row.heard.empty()) out->queries.push_back(match::Query::from_scans({uji::scan_of(test, row)}));
+    } else {
+        for (std::size_t i = 0; i < train.rows.size(); i += 10)
+            if (!train.rows[i].heard.empty())
+                out->queries.push_back(match::Query::from_scans({uji::scan_of(train, train.rows[i])}));
+    }
+    return out;
+}
+
+// `algorithm` with the server's options (ignored for the yardstick, which brings its own).
+void map_bench(benchmark::State& state, const char* db, bool yardstick, match::Algorithm algorithm) {
+    static std::map<std::pair<std::string, bool>, std::unique_ptr<MethodFixture>> cache;
+    auto& f = cache[{db, yardstick}];
+    if (!f) f = method_fixture(db, yardstick);
+    if (!f) {
+        state.SkipWithError("data set not found under LOCUS_DATA_DIR");
+        return;
+    }
+    const match::Algorithm alg = yardstick ? f->method.algorithm : algorithm;
+    match::Workspace workspace;
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = match::localize(f->index, f->queries[i], alg, f->method.options, workspace);
+        benchmark::DoNotOptimize(r);
+        if (++i == f->queries.size()) i = 0;
+    }
+    state.counters["rps"] = static_cast<double>(f->index.size());
+    state.counters["bytes_per_rp"] = static_cast<double>(f->index.memory_bytes()) / static_cast<double>(f->index.size());
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(localize_bench, bsb, match::Algorithm::bsb)->Unit(benchmark::kMicrosecond);
@@ -85,5 +144,15 @@ BENCHMARK_CAPTURE(localize_bench, bayes, match::Algorithm::bayes)->Unit(benchmar
 BENCHMARK_CAPTURE(localize_bench, bayes_no_cap, match::Algorithm::bayes, 0, true)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(localize_bench, bayes_floor_knn5, match::Algorithm::bayes, 5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(build_bench)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(map_bench, uji_wknn, "ujiindoorloc", false, match::Algorithm::wknn)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(map_bench, uji_raw_yardstick, "ujiindoorloc", true, match::Algorithm::knn)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(map_bench, tut6_wknn, "fingerprint-dbs/TUT6", false, match::Algorithm::wknn)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(map_bench, tut6_bayes, "fingerprint-dbs/TUT6", false, match::Algorithm::bayes)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(map_bench, tut6_yardstick, "fingerprint-dbs/TUT6", true, match::Algorithm::knn)
+    ->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

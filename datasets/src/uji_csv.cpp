@@ -159,4 +159,44 @@ std::vector<match::IndexedRp> indexed_rps(const Data& data, const std::vector<st
     return out;
 }
 
+namespace {
+// Calls f(row index) for the given rows, or for every row when none are given.
+template <typename F>
+void for_rows(const Data& data, const std::vector<std::size_t>& rows, F&& f) {
+    if (rows.empty())
+        for (std::size_t r = 0; r < data.rows.size(); ++r) f(r);
+    else
+        for (auto r : rows) f(r);
+}
+}  // namespace
+
+std::vector<match::IndexedRp> raw_rps(const Data& data, const std::vector<std::size_t>& rows) {
+    std::vector<match::IndexedRp> out;
+    for_rows(data, rows, [&](std::size_t r) {
+        const Row& row = data.rows[r];
+        match::IndexedRp rp;
+        rp.rp.id = static_cast<long long>(out.size()) + 1;
+        rp.rp.at = Point{row.longitude, row.latitude};
+        rp.rp.scans = 1;
+        for (const auto& [column, rss] : row.heard) {
+            RssStats stats;
+            stats.add(rss);
+            rp.rp.measurements.push_back(Measurement{"wifi", bssid_of(data, column), stats});
+        }
+        rp.floor_id = floor_id(row.building, row.floor);
+        rp.building_id = row.building;
+        out.push_back(std::move(rp));
+    });
+    return out;
+}
+
+std::optional<double> min_rss(const Data& data, const std::vector<std::size_t>& rows) {
+    std::optional<double> low;
+    for_rows(data, rows, [&](std::size_t r) {
+        for (const auto& reading : data.rows[r].heard)
+            if (!low || reading.second < *low) low = reading.second;
+    });
+    return low;
+}
+
 }  // namespace locus::datasets::uji

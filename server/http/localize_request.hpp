@@ -9,9 +9,9 @@
 
 namespace locus::http {
 
-// The matcher used when a request names none: the most accurate on UJIIndoorLoc, on the
-// tuning users (2, 4, …, 18) and on the report users (1, 3, …, 17) alike (docs/matchers.md).
-inline constexpr match::Algorithm kDefaultAlgorithm = match::Algorithm::bayes;
+// The matcher used when a request names none (chosen in locus/match/algorithm.hpp, where
+// `locus eval` reads it too).
+inline constexpr match::Algorithm kDefaultAlgorithm = match::kDefaultAlgorithm;
 
 struct LocalizeRequest {
     match::Algorithm algorithm = kDefaultAlgorithm;

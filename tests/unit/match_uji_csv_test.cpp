@@ -109,3 +109,36 @@ TEST(UjiCsv, RealTrainingFileHas933ReferencePoints) {
     EXPECT_EQ(d.rows.size(), 19937u);
     EXPECT_EQ(uji::group_reference_points(d).size(), 933u);
 }
+
+// Raw fingerprints: one one-scan RP per row, in the given order, nothing averaged; the two
+// scans of the first position stay two RPs (their mean would be -52 dBm for WAP001).
+TEST(UjiCsv, RawRpsAreOneScanRpsPerRow) {
+    const uji::Data d = uji::read_file(kTiny);
+    const auto all = uji::raw_rps(d);
+    ASSERT_EQ(all.size(), 5u);
+    EXPECT_EQ(all[0].rp.id, 1);
+    EXPECT_EQ(all[0].rp.scans, 1);
+    ASSERT_EQ(all[0].rp.measurements.size(), 2u);
+    EXPECT_EQ(all[0].rp.measurements[0].bssid.str(), "wap001");
+    EXPECT_DOUBLE_EQ(all[0].rp.measurements[0].stats.mean, -50.0);
+    EXPECT_EQ(all[0].rp.measurements[0].stats.count, 1);
+    EXPECT_DOUBLE_EQ(all[0].rp.measurements[0].stats.variance, 0.0);
+    EXPECT_DOUBLE_EQ(all[1].rp.measurements[0].stats.mean, -54.0);
+    EXPECT_EQ(all[0].floor_id, uji::floor_id(1, 0));
+    EXPECT_EQ(all[4].building_id, 0);
+    EXPECT_TRUE(all[3].rp.measurements.empty());  // a row hearing nothing is an empty RP
+
+    const auto some = uji::raw_rps(d, {4, 1});
+    ASSERT_EQ(some.size(), 2u);
+    EXPECT_EQ(some[0].rp.id, 1);
+    EXPECT_DOUBLE_EQ(some[0].rp.at.x, 5.0);
+    EXPECT_DOUBLE_EQ(some[1].rp.measurements[1].stats.mean, -80.0);
+}
+
+// The yardstick's "min": the lowest valid reading (-130 is a bad sample, already dropped).
+TEST(UjiCsv, MinRssIsTheLowestValidReading) {
+    const uji::Data d = uji::read_file(kTiny);
+    EXPECT_EQ(uji::min_rss(d), -80.0);
+    EXPECT_EQ(uji::min_rss(d, {2}), -60.0);
+    EXPECT_EQ(uji::min_rss(d, {3}), std::nullopt);
+}

@@ -7,6 +7,7 @@
 // RELATIVEPOSITION, USERID, PHONEID, TIMESTAMP. Shared by `locus eval uji` and
 // `locus import uji`.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -67,5 +68,12 @@ inline long long floor_id(int building, int floor) { return building * 100LL + f
 // The groups of `rows` (all when empty) as matcher RPs, ids 1, 2, … in group order, with
 // floor_id(building, floor) and the building as building id.
 std::vector<match::IndexedRp> indexed_rps(const Data& data, const std::vector<std::size_t>& rows = {});
+
+// The given rows (all when empty) as one-scan matcher RPs, one per row in the given order
+// (ids 1, 2, …): the raw fingerprints, with nothing averaged away.
+std::vector<match::IndexedRp> raw_rps(const Data& data, const std::vector<std::size_t>& rows = {});
+
+// The lowest valid RSS heard in the given rows (all when empty), or nullopt if none is.
+std::optional<double> min_rss(const Data& data, const std::vector<std::size_t>& rows = {});
 
 }  // namespace locus::datasets::uji

@@ -9,8 +9,8 @@ namespace locus::match::detail {
 
 Result estimate(const Index& index, Algorithm algorithm, const std::vector<Scored>& ranked, const Chosen& chosen,
                 std::size_t n_listed, const Options& options) {
-    // Only the winning floor's RPs make the position, so a fix never averages points on
-    // different floors.
+    // Only the winning floor's RPs make the position (unless the options say otherwise), so
+    // a fix never averages points on different floors.
     FloorVote vote;
     for (const auto& c : chosen) vote.add(index.rp(c.scored->rp), c.weight);
     const FloorVote::Group& win = vote.winner();
@@ -25,7 +25,8 @@ Result estimate(const Index& index, Algorithm algorithm, const std::vector<Score
     double wsum = 0.0, x = 0.0, y = 0.0;
     for (const auto& c : chosen) {
         const RpInfo& info = index.rp(c.scored->rp);
-        if (info.building_id != win.building || info.floor_id != win.floor) continue;
+        if (options.position_on_voted_floor && (info.building_id != win.building || info.floor_id != win.floor))
+            continue;
         result.rp_ids.push_back(info.id);
         wsum += c.weight;
         x += c.weight * info.at.x;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace locus::match {
 
@@ -89,6 +90,18 @@ Index Index::build(const std::vector<IndexedRp>& rps, const IndexParams& params)
         idx.offsets_.push_back(idx.post_rp_.size());
     }
     return idx;
+}
+
+std::size_t Index::memory_bytes() const {
+    auto bytes = [](const auto& v) { return v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
+    std::size_t n = bytes(rps_) + bytes(offsets_) + bytes(post_rp_) + bytes(post_mean_) + bytes(post_likelihood_) +
+                    bytes(rep_sum_) + bytes(rep_sq_sum_) + bytes(log_miss_sum_) + bytes(strongest_rp_);
+    for (const auto& r : post_rep_) n += bytes(r);
+    // A node holds the key, the value, the next pointer and the cached hash; short BSSIDs
+    // fit the strings' inline buffers.
+    n += ap_ids_.size() * (sizeof(ApKey) + sizeof(std::uint32_t) + 2 * sizeof(void*)) +
+         ap_ids_.bucket_count() * sizeof(void*);
+    return n;
 }
 
 PostingList Index::postings(std::size_t ap) const {

@@ -8,6 +8,11 @@ namespace locus::match {
 
 enum class Algorithm { bsb, nn, bsbnn, knn, wknn, bayes };
 
+// The matcher used when a request names none: the most accurate on UJIIndoorLoc, on the
+// tuning users (2, 4, …, 18) and on the report users (1, 3, …, 17) alike (docs/matchers.md).
+// The server's requests and `locus eval --algorithm default` both read it here.
+inline constexpr Algorithm kDefaultAlgorithm = Algorithm::bayes;
+
 std::optional<Algorithm> parse_algorithm(std::string_view name);
 std::string_view to_string(Algorithm a);
 // Every algorithm, in the order reports list them.

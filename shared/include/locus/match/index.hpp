@@ -93,6 +93,10 @@ public:
     double rep_sq_sum(std::size_t rp, int representation) const { return rep_sq_sum_[rp * 3 + representation]; }
     double log_miss_sum(std::size_t rp) const { return log_miss_sum_[rp]; }
 
+    // Heap bytes the index holds (arrays at their capacity; the AP table estimated from its
+    // node and bucket counts), for the memory cost per RP.
+    std::size_t memory_bytes() const;
+
     // RSS in a representation; the missing value (and anything below it) maps to 0.
     double represent(double rss, int representation) const;
 

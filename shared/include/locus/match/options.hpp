@@ -66,6 +66,10 @@ struct Options {
     double floor_ap_weight = 0.5;
     // How many ranked candidates a Result lists.
     int candidates = 10;
+    // The position is the weighted centroid of the chosen RPs on the voted floor, so a fix
+    // never averages points on different floors. false: of every chosen RP, whatever its
+    // floor, as the literature's kNN does (the yardstick of `locus eval`). Not an API option.
+    bool position_on_voted_floor = true;
 };
 
 }  // namespace locus::match
