@@ -7,8 +7,6 @@
 // Run by hand:
 //   build/bin/plan_store_bench
 #include <benchmark/benchmark.h>
-#include <jpeglib.h>
-#include <png.h>
 
 #include <cmath>
 #include <cstdio>
@@ -17,6 +15,7 @@
 #include <unistd.h>
 
 #include "http/image_header.hpp"
+#include "images/test_images.hpp"
 #include "locus/plan/rects.hpp"
 #include "store/sqlite_store.hpp"
 
@@ -90,47 +89,11 @@ void BM_PutPlanKeepingRooms(benchmark::State& state) {
 BENCHMARK(BM_PutPlanKeepingRooms)->Arg(0)->Arg(1)->ArgNames({"rename_all"})->Unit(benchmark::kMillisecond);
 
 std::string png_of(unsigned w, unsigned h) {
-    png_image image;
-    std::memset(&image, 0, sizeof image);
-    image.version = PNG_IMAGE_VERSION;
-    image.width = w;
-    image.height = h;
-    image.format = PNG_FORMAT_GRAY;
-    std::vector<unsigned char> px(static_cast<std::size_t>(w) * h);
-    for (std::size_t i = 0; i < px.size(); ++i) px[i] = static_cast<unsigned char>((i * 31) % 251);
-    png_alloc_size_t size = 0;
-    png_image_write_to_memory(&image, nullptr, &size, 0, px.data(), 0, nullptr);
-    std::string out(size, '\0');
-    png_image_write_to_memory(&image, out.data(), &size, 0, px.data(), 0, nullptr);
-    out.resize(size);
-    return out;
+    return locus::testing::png_bytes(w, h, PNG_FORMAT_GRAY, locus::testing::image_pattern(w, h, 1));
 }
 
 std::string jpeg_of(unsigned w, unsigned h) {
-    jpeg_compress_struct info;
-    jpeg_error_mgr err;
-    info.err = jpeg_std_error(&err);
-    jpeg_create_compress(&info);
-    unsigned char* buf = nullptr;
-    unsigned long size = 0;
-    jpeg_mem_dest(&info, &buf, &size);
-    info.image_width = w;
-    info.image_height = h;
-    info.input_components = 1;
-    info.in_color_space = JCS_GRAYSCALE;
-    jpeg_set_defaults(&info);
-    jpeg_start_compress(&info, TRUE);
-    std::vector<unsigned char> row(w);
-    while (info.next_scanline < h) {
-        for (unsigned x = 0; x < w; ++x) row[x] = static_cast<unsigned char>((x * 7 + info.next_scanline * 3) % 256);
-        JSAMPROW rows[1] = {row.data()};
-        jpeg_write_scanlines(&info, rows, 1);
-    }
-    jpeg_finish_compress(&info);
-    jpeg_destroy_compress(&info);
-    std::string out(reinterpret_cast<const char*>(buf), size);
-    std::free(buf);
-    return out;
+    return locus::testing::jpeg_bytes(w, h, locus::testing::image_pattern(w, h, 1));
 }
 
 void BM_ImageHeader(benchmark::State& state) {

@@ -4,14 +4,14 @@
 // upload is refused naming the problem, with nothing written.
 #include <gtest/gtest.h>
 #include <httplib.h>
-#include <jpeglib.h>
-#include <png.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
 
 #include "hierarchy.hpp"
+#include "images/test_images.hpp"
 #include "server_process.hpp"
 
 using locus::testing::ServerProcess;
@@ -22,48 +22,14 @@ namespace {
 
 // A w × h grey PNG with a diagonal, written by libpng.
 std::string make_png(unsigned w, unsigned h) {
-    png_image image;
-    std::memset(&image, 0, sizeof image);
-    image.version = PNG_IMAGE_VERSION;
-    image.width = w;
-    image.height = h;
-    image.format = PNG_FORMAT_GRAY;
-    std::vector<unsigned char> pixels(static_cast<std::size_t>(w) * h, 200);
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(w) * h, 200);
     for (unsigned i = 0; i < std::min(w, h); ++i) pixels[static_cast<std::size_t>(i) * w + i] = 0;
-    png_alloc_size_t size = 0;
-    EXPECT_TRUE(png_image_write_to_memory(&image, nullptr, &size, 0, pixels.data(), 0, nullptr));
-    std::string out(size, '\0');
-    EXPECT_TRUE(png_image_write_to_memory(&image, out.data(), &size, 0, pixels.data(), 0, nullptr)) << image.message;
-    out.resize(size);
-    return out;
+    return locus::testing::png_bytes(w, h, PNG_FORMAT_GRAY, pixels);
 }
 
 // A w × h grey JPEG, written by libjpeg.
 std::string make_jpeg(unsigned w, unsigned h) {
-    jpeg_compress_struct info;
-    jpeg_error_mgr err;
-    info.err = jpeg_std_error(&err);
-    jpeg_create_compress(&info);
-    unsigned char* buf = nullptr;
-    unsigned long size = 0;
-    jpeg_mem_dest(&info, &buf, &size);
-    info.image_width = w;
-    info.image_height = h;
-    info.input_components = 1;
-    info.in_color_space = JCS_GRAYSCALE;
-    jpeg_set_defaults(&info);
-    jpeg_start_compress(&info, TRUE);
-    std::vector<unsigned char> row(w);
-    while (info.next_scanline < h) {
-        for (unsigned x = 0; x < w; ++x) row[x] = static_cast<unsigned char>((x * 7 + info.next_scanline * 3) % 256);
-        JSAMPROW rows[1] = {row.data()};
-        jpeg_write_scanlines(&info, rows, 1);
-    }
-    jpeg_finish_compress(&info);
-    jpeg_destroy_compress(&info);
-    std::string out(reinterpret_cast<const char*>(buf), size);
-    std::free(buf);
-    return out;
+    return locus::testing::jpeg_bytes(w, h, locus::testing::image_pattern(w, h, 1));
 }
 
 struct Raw {

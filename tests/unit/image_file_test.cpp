@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "image_file.hpp"
+#include "images/test_images.hpp"
 
 namespace {
 
@@ -36,38 +37,14 @@ std::vector<std::uint8_t> half_black(int channels) {
     return px;
 }
 
+void write_file(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+
 void write_png(const std::string& path, png_uint_32 format, const std::vector<std::uint8_t>& px) {
-    png_image img;
-    std::memset(&img, 0, sizeof img);
-    img.version = PNG_IMAGE_VERSION;
-    img.width = kW;
-    img.height = kH;
-    img.format = format;
-    ASSERT_TRUE(png_image_write_to_file(&img, path.c_str(), 0, px.data(), 0, nullptr)) << img.message;
+    write_file(path, locus::testing::png_bytes(kW, kH, format, px));
 }
 
 void write_jpeg(const std::string& path, const std::vector<std::uint8_t>& rgb) {
-    jpeg_compress_struct c;
-    jpeg_error_mgr err;
-    c.err = jpeg_std_error(&err);
-    jpeg_create_compress(&c);
-    FILE* f = std::fopen(path.c_str(), "wb");
-    ASSERT_NE(f, nullptr);
-    jpeg_stdio_dest(&c, f);
-    c.image_width = kW;
-    c.image_height = kH;
-    c.input_components = 3;
-    c.in_color_space = JCS_RGB;
-    jpeg_set_defaults(&c);
-    jpeg_set_quality(&c, 95, TRUE);
-    jpeg_start_compress(&c, TRUE);
-    while (c.next_scanline < c.image_height) {
-        JSAMPROW row = const_cast<std::uint8_t*>(rgb.data()) + static_cast<std::size_t>(c.next_scanline) * kW * 3;
-        jpeg_write_scanlines(&c, &row, 1);
-    }
-    jpeg_finish_compress(&c);
-    jpeg_destroy_compress(&c);
-    std::fclose(f);
+    write_file(path, locus::testing::jpeg_bytes(kW, kH, rgb, {.space = JCS_RGB, .components = 3, .quality = 95}));
 }
 
 void expect_half_black(const locus::imaging::GreyImage& g, int tolerance) {

@@ -1,15 +1,12 @@
 // read_image_header: what an uploaded plan image is, read with libpng and libjpeg. Images
 // are written here with the same libraries, in the colour spaces a drawing comes in.
 #include <gtest/gtest.h>
-#include <jpeglib.h>
-#include <png.h>
 
-#include <cstdlib>
-#include <cstring>
 #include <vector>
 
 #include "http/api_error.hpp"
 #include "http/image_header.hpp"
+#include "images/test_images.hpp"
 
 using locus::http::ApiError;
 using locus::http::read_image_header;
@@ -17,47 +14,16 @@ using locus::http::read_image_header;
 namespace {
 
 std::string png(unsigned w, unsigned h, png_uint_32 format) {
-    png_image image;
-    std::memset(&image, 0, sizeof image);
-    image.version = PNG_IMAGE_VERSION;
+    png_image image{};
     image.width = w;
     image.height = h;
     image.format = format;
-    std::vector<unsigned char> px(PNG_IMAGE_SIZE(image), 90);
-    png_alloc_size_t size = 0;
-    png_image_write_to_memory(&image, nullptr, &size, 0, px.data(), 0, nullptr);
-    std::string out(size, '\0');
-    EXPECT_TRUE(png_image_write_to_memory(&image, out.data(), &size, 0, px.data(), 0, nullptr));
-    out.resize(size);
-    return out;
+    return locus::testing::png_bytes(w, h, format, std::vector<std::uint8_t>(PNG_IMAGE_SIZE(image), 90));
 }
 
 std::string jpeg(unsigned w, unsigned h, J_COLOR_SPACE space, int components, bool progressive = false) {
-    jpeg_compress_struct info;
-    jpeg_error_mgr err;
-    info.err = jpeg_std_error(&err);
-    jpeg_create_compress(&info);
-    unsigned char* buf = nullptr;
-    unsigned long size = 0;
-    jpeg_mem_dest(&info, &buf, &size);
-    info.image_width = w;
-    info.image_height = h;
-    info.input_components = components;
-    info.in_color_space = space;
-    jpeg_set_defaults(&info);
-    if (progressive) jpeg_simple_progression(&info);
-    jpeg_start_compress(&info, TRUE);
-    std::vector<unsigned char> row(static_cast<std::size_t>(w) * static_cast<std::size_t>(components));
-    while (info.next_scanline < h) {
-        for (std::size_t i = 0; i < row.size(); ++i) row[i] = static_cast<unsigned char>((i * 13 + info.next_scanline * 7) % 256);
-        JSAMPROW rows[1] = {row.data()};
-        jpeg_write_scanlines(&info, rows, 1);
-    }
-    jpeg_finish_compress(&info);
-    jpeg_destroy_compress(&info);
-    std::string out(reinterpret_cast<const char*>(buf), size);
-    std::free(buf);
-    return out;
+    return locus::testing::jpeg_bytes(w, h, locus::testing::image_pattern(w, h, components),
+                                      {.space = space, .components = components, .progressive = progressive});
 }
 
 // The ApiError read_image_header throws, as "status code: message".
