@@ -89,11 +89,17 @@ void BM_PutPlanKeepingRooms(benchmark::State& state) {
 BENCHMARK(BM_PutPlanKeepingRooms)->Arg(0)->Arg(1)->ArgNames({"rename_all"})->Unit(benchmark::kMillisecond);
 
 std::string png_of(unsigned w, unsigned h) {
-    return locus::testing::png_bytes(w, h, PNG_FORMAT_GRAY, locus::testing::image_pattern(w, h, 1));
+    std::vector<std::uint8_t> px(static_cast<std::size_t>(w) * h);
+    for (std::size_t i = 0; i < px.size(); ++i) px[i] = static_cast<std::uint8_t>((i * 31) % 251);
+    return locus::testing::png_bytes(w, h, PNG_FORMAT_GRAY, px);
 }
 
+// A smooth gradient, about as compressible as a scanned drawing.
 std::string jpeg_of(unsigned w, unsigned h) {
-    return locus::testing::jpeg_bytes(w, h, locus::testing::image_pattern(w, h, 1));
+    std::vector<std::uint8_t> px(static_cast<std::size_t>(w) * h);
+    for (unsigned y = 0; y < h; ++y)
+        for (unsigned x = 0; x < w; ++x) px[static_cast<std::size_t>(y) * w + x] = static_cast<std::uint8_t>((x * 7 + y * 3) % 256);
+    return locus::testing::jpeg_bytes(w, h, px);
 }
 
 void BM_ImageHeader(benchmark::State& state) {
