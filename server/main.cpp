@@ -80,9 +80,15 @@ int main(int argc, char** argv) {
             const auto doc = nlohmann::json::parse(locus::server::demo_map_json());
             const auto plans = locus::http::parse_bundle_plans(doc);  // read all before writing any
             const auto map_id = store.import_map_bundle(locus::http::parse_map_bundle(doc)).id;
-            // The plans need the floor ids the import made; a refused one (a bad demo file) stops
-            // the server with its message, as a bad bundle does.
-            locus::http::put_bundle_plans(store, map_id, plans);
+            // The plans need the floor ids the import made; a refused one (a bad demo file) takes
+            // the map back out, so the next start tries again, and stops the server with its
+            // message, as a bad bundle does.
+            try {
+                locus::http::put_bundle_plans(store, map_id, plans);
+            } catch (...) {
+                store.remove(locus::store::kind("maps"), map_id);
+                throw;
+            }
             log_event({{"event", "demo_map_created"}, {"map_id", map_id}, {"plans", plans.size()}});
         }
         locus::localize::Service localizer(store, locus::http::prepare_answers);

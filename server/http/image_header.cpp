@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <csetjmp>
+#include <cstdio>
+#include <semaphore>
 #include <cstring>
 #include <vector>
 
@@ -29,22 +31,66 @@ bool looks_like_jpeg(std::string_view b) {
            static_cast<unsigned char>(b[2]) == 0xFF;
 }
 
-ImageHeader read_png(std::string_view bytes) {
-    png_image image;
-    std::memset(&image, 0, sizeof image);
-    image.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) {
-        const std::string why = image.message;
-        png_image_free(&image);
-        throw invalid_image("the PNG cannot be read: " + why);
+// libpng reports an error through png_error, which must not return: it jumps back to
+// decode_png(), whose frame holds nothing that needs a destructor once the jump is set.
+struct PngInput {
+    std::string_view bytes;
+    std::size_t at = 0;
+    char message[200];
+};
+
+void png_from_memory(png_structp png, png_bytep out, png_size_t length) {
+    auto* in = static_cast<PngInput*>(png_get_io_ptr(png));
+    if (length > in->bytes.size() - in->at) png_error(png, "the data ends before the image does");
+    std::memcpy(out, in->bytes.data() + in->at, length);
+    in->at += length;
+}
+void png_fail(png_structp png, png_const_charp message) {
+    auto* in = static_cast<PngInput*>(png_get_error_ptr(png));
+    std::snprintf(in->message, sizeof in->message, "%s", message);
+    png_longjmp(png, 1);
+}
+void png_ignore_warning(png_structp, png_const_charp) {}
+
+// Decodes every row (CRCs and compressed data checked) into one row's buffer. Returns false
+// with input.message set when libpng refuses the data.
+bool decode_png(PngInput& input, std::vector<png_byte>& row, png_uint_32& width, png_uint_32& height) {
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &input, png_fail, png_ignore_warning);
+    if (!png) return false;
+    png_infop info = png_create_info_struct(png);
+    if (!info || setjmp(png_jmpbuf(png))) {
+        png_destroy_read_struct(&png, &info, nullptr);
+        return false;
     }
-    ImageHeader out{"image/png", static_cast<std::int64_t>(image.width), static_cast<std::int64_t>(image.height)};
-    png_image_free(&image);
-    // The last chunk of every PNG is an empty IEND: length 0, type, CRC.
+    png_set_read_fn(png, &input, png_from_memory);
+    png_read_info(png, info);
+    width = png_get_image_width(png, info);
+    height = png_get_image_height(png, info);
+    if (width > kMaxImageSide || height > kMaxImageSide) {  // refused by its size, undecoded
+        png_destroy_read_struct(&png, &info, nullptr);
+        return true;
+    }
+    const int passes = png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    row.resize(png_get_rowbytes(png, info));
+    for (int pass = 0; pass < passes; ++pass)
+        for (png_uint_32 y = 0; y < height; ++y) png_read_row(png, row.data(), nullptr);
+    png_read_end(png, nullptr);
+    png_destroy_read_struct(&png, &info, nullptr);
+    return true;
+}
+
+ImageHeader read_png(std::string_view bytes) {
+    // The last chunk of every PNG is an empty IEND (length 0, type, CRC): a cheap first test
+    // that the upload arrived whole.
     static constexpr unsigned char kIend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
     if (bytes.size() < 12 || std::memcmp(bytes.data() + bytes.size() - 12, kIend, 12) != 0)
         throw invalid_image("the PNG is truncated: it does not end with its IEND chunk");
-    return out;
+    PngInput input{bytes, 0, {}};
+    std::vector<png_byte> row;
+    png_uint_32 width = 0, height = 0;
+    if (!decode_png(input, row, width, height)) throw invalid_image(std::string("the PNG cannot be read: ") + input.message);
+    return {"image/png", static_cast<std::int64_t>(width), static_cast<std::int64_t>(height)};
 }
 
 // libjpeg reports a fatal error through error_exit, which must not return: it jumps back
@@ -149,6 +195,13 @@ ImageHeader read_image_header(std::string_view bytes, const std::string& type) {
     if (type == "image/jpeg" && !jpeg)
         throw invalid_image(png ? "the body is a PNG but Content-Type says image/jpeg"
                                 : "the body is not a JPEG (it does not start with a JPEG SOI marker)");
+    // Decoding holds up to a row (PNG) or a 1/8-scale buffer (JPEG, ≤ 256 MiB) per upload:
+    // two at a time bound what parallel uploads can take.
+    static std::counting_semaphore<2> decoding(2);
+    decoding.acquire();
+    struct Release {
+        ~Release() { decoding.release(); }
+    } release;
     const ImageHeader h = png ? read_png(bytes) : read_jpeg(bytes);
     if (h.width_px <= 0 || h.height_px <= 0 || h.width_px > kMaxImageSide || h.height_px > kMaxImageSide)
         throw invalid_image("the image is " + std::to_string(h.width_px) + " × " + std::to_string(h.height_px) +

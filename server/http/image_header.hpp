@@ -24,8 +24,9 @@ void require_image_type(const std::string& type);
 // Reads `bytes` as `type` ("image/png" or "image/jpeg"; anything else: ApiError 415
 // unsupported_media_type). Bytes of the other format, a corrupt or truncated file, zero or
 // more than kMaxImageSide pixels a side: ApiError 422 invalid_image saying which. A PNG is
-// read to its header and must end with its IEND chunk; a JPEG is decoded at 1/8 scale to its
-// last scanline, so a cut-off upload is caught without holding the full image in memory.
+// decoded row by row to its IEND chunk (every CRC and the compressed data checked, one row in
+// memory); a JPEG is decoded at 1/8 scale to its last scanline, so a cut-off or corrupt
+// upload is caught without holding the full image in memory. At most two decode at a time.
 ImageHeader read_image_header(std::string_view bytes, const std::string& type);
 
 }  // namespace locus::http

@@ -151,12 +151,20 @@ void App::install_image_routes() {
     server_.Get(path, [this](const httplib::Request& req, httplib::Response& res) {
         guarded(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
+            // A client that has the image is answered from the metadata alone: the bytes (up
+            // to 20 MiB, read under the store's lock) are read only to be sent.
+            if (const auto image = store_.image_of_floor(floor_id); image && client_has(req, image->etag)) {
+                res.set_header("ETag", image->etag);
+                res.set_header("Cache-Control", "no-cache");
+                res.status = 304;
+                return;
+            }
             auto found = store_.image_with_bytes(floor_id);
             if (!found) no_image(floor_id);
             auto& [image, bytes] = *found;
             res.set_header("ETag", image.etag);
             res.set_header("Cache-Control", "no-cache");  // may be kept, but asked again each time (304 when unchanged)
-            if (client_has(req, image.etag)) {
+            if (client_has(req, image.etag)) {  // replaced by the same bytes in between
                 res.status = 304;
                 return;
             }

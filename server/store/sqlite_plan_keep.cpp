@@ -17,6 +17,13 @@ namespace {
 
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
+// A POI's name as the API bounds it (kinds.cpp), which the names the plan makes must keep to.
+std::size_t poi_name_max_length() {
+    for (const auto& f : kind("pois").fields)
+        if (f.name == "name") return f.max_length;
+    return 0;
+}
+
 // A room or POI of the floor as it is before the write.
 struct Existing {
     std::string name;
@@ -225,6 +232,10 @@ void SqliteStore::keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector
         const auto& c = plan.connectors[i];
         std::string name = base_name(c);
         if (uses[name] > 1) name += " (" + c.id + ")";
+        if (const std::size_t max = poi_name_max_length(); name.size() > max)
+            throw PlanFeatureRefused(true, i, connector_label(plan, i), "its POI's name would be " + std::to_string(name.size()) +
+                                                  " bytes long: POI names are at most " + std::to_string(max) +
+                                                  "; shorten the connector's name");
         if (!names.insert(name).second)
             throw PlanFeatureRefused(true, i, connector_label(plan, i), "its POI would be named " + quoted(name) +
                                                   " as another connector's is: POI names are unique on a floor, rename one");

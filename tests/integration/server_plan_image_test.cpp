@@ -191,7 +191,7 @@ TEST_F(PlanImage, BadUploadsAreRefusedNamingTheProblemAndWriteNothing) {
         {"", "image/png", q, 422, "invalid_image", "the body is empty"},
         {truncated_png, "image/png", q, 422, "invalid_image", "the PNG is truncated"},
         {corrupt_header, "image/png", q, 422, "invalid_image", "the PNG cannot be read"},
-        {png.substr(0, 30), "image/png", q, 422, "invalid_image", "the PNG cannot be read"},
+        {png.substr(0, 30), "image/png", q, 422, "invalid_image", "the PNG is truncated"},
         {truncated_jpeg, "image/jpeg", q, 422, "invalid_image", "the JPEG is truncated"},
         {jpeg.substr(0, 40), "image/jpeg", q, 422, "invalid_image", "the JPEG"},
         {make_png(20001, 1), "image/png", q, 422, "invalid_image", "20001 × 1 pixels: each side must be 1 to 20000"},

@@ -224,7 +224,11 @@ TEST_F(PlanRooms, ARefusedPlanChangesNoRoomOrPoi) {
     taken_name["features"][0]["properties"]["room_id"] = rooms.at("Office").at("id");  // "Office" → "Lab"…
     taken_name["features"][1]["properties"]["name"] = "Lonely";  // …and the office space takes a hand-made room's name
     taken_name["features"][1]["properties"]["room_id"] = rooms.at("Lab").at("id");
+    json long_names = office_plan();  // two connectors of one 196-byte name: "… (l1)" would pass 200
+    long_names["features"][3]["properties"]["name"] = std::string(196, 'n');
+    long_names["features"][4]["properties"]["name"] = std::string(196, 'n');
     const std::vector<Case> cases = {
+        {long_names, "): its POI's name would be 201 bytes long: POI names are at most 200"},
         {with_lab_props({{"room_id", elsewhere}}),
          "features[0] (space 'Lab'): room_id " + std::to_string(elsewhere) + " is not a room of floor " + floor},
         {with_lab_props({{"room_id", 99999}}), "features[0] (space 'Lab'): room_id 99999 is not a room of floor " + floor},

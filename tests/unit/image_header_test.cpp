@@ -85,6 +85,16 @@ TEST(ImageHeader, TheTypeTheBytesAndTheSizeMustAgree) {
               "422 invalid_image: the image is 1 × 20001 pixels: each side must be 1 to 20000");
 }
 
+TEST(ImageHeader, APngWhoseImageDataIsDamagedIsRefusedThoughItEndsWell) {
+    const auto whole = locus::testing::png_bytes(300, 200, PNG_FORMAT_RGB, locus::testing::image_pattern(300, 200, 3));
+    const auto idat = whole.find("IDAT");
+    ASSERT_NE(idat, std::string::npos);
+    std::string damaged = whole;
+    damaged[idat + 4 + 100] = static_cast<char>(damaged[idat + 4 + 100] ^ 0x5A);  // compressed data; its CRC no longer holds
+    EXPECT_EQ(refusal(damaged, "image/png").substr(0, 42), "422 invalid_image: the PNG cannot be read:");
+    EXPECT_EQ(refusal(whole, "image/png"), "accepted");
+}
+
 TEST(ImageHeader, MediaTypesAreComparedWithoutParametersOrCase) {
     EXPECT_EQ(locus::http::media_type("Image/PNG; charset=binary"), "image/png");
     EXPECT_EQ(locus::http::media_type(" image/jpeg "), "image/jpeg");

@@ -120,3 +120,31 @@ TEST(PlanRects, ADegeneratePolygonHasNoRects) {
     EXPECT_TRUE(rects_of({{}, {}}).empty());
     EXPECT_TRUE(rects_of({{{1, 1}, {1, 5}, {1, 1}}, {}}).empty());
 }
+
+TEST(PlanRects, ACombOfManyTeethIsJoinedAcrossItsNarrowestGaps) {
+    // A spine x ∈ [0, 1] with 50 teeth to x = 10, each 1 m high with 1 m gaps, except one gap
+    // of 5 m: 50 intervals in the teeth's slab, more than a slab may keep. The narrowest gaps
+    // are joined first, so the one wide gap stays open, and a room never needs more rectangles
+    // than the API allows however many teeth a space has.
+    const auto bottom = [](int i) { return i < 25 ? 2.0 * i : 2.0 * i + 4; };
+    Ring comb = {{0, 0}};
+    for (int i = 0; i < 50; ++i) {
+        if (i > 0) comb.push_back({1, bottom(i)});
+        comb.push_back({10, bottom(i)});
+        comb.push_back({10, bottom(i) + 1});
+        if (i < 49) comb.push_back({1, bottom(i) + 1});
+    }
+    comb.push_back({0, bottom(49) + 1});
+    comb.push_back({0, 0});
+    const auto rs = rects_of({comb, {}});
+    EXPECT_LE(rs.size(), kMaxSlabIntervals + 1);
+    EXPECT_TRUE(disjoint(rs));
+    // The teeth's slab: nothing covers the middle of the wide gap, every tooth is covered.
+    const auto covered = [&](locus::Point p) {
+        for (const auto& r : rs)
+            if (r.contains(p)) return true;
+        return false;
+    };
+    EXPECT_FALSE(covered({5, bottom(24) + 1 + 2.5}));
+    for (int i = 0; i < 50; ++i) EXPECT_TRUE(covered({5, bottom(i) + 0.5})) << "tooth " << i;
+}

@@ -145,7 +145,6 @@ json Client::send(const char* method, const std::string& path, const std::string
             if (verb == "POST") return h.Post(path, *body, "application/json");
             if (verb == "PUT") return h.Put(path, *body, "application/json");
             if (verb == "PATCH") return h.Patch(path, *body, "application/json");
-            if (verb == "PUT") return h.Put(path, *body, "application/json");
             return h.Delete(path);
         }();
         const int status = r ? r->status : 0;

@@ -7,6 +7,24 @@ namespace locus::plan {
 
 namespace {
 
+// Sorted disjoint intervals reduced to at most `max` by joining neighbours across the
+// narrowest gaps, in linear time for any count.
+std::vector<std::pair<double, double>> at_most(std::vector<std::pair<double, double>> in, std::size_t max) {
+    if (in.size() <= max) return in;
+    std::vector<std::pair<double, std::size_t>> gaps;  // (width, index of the gap above interval i)
+    for (std::size_t i = 0; i + 1 < in.size(); ++i) gaps.emplace_back(in[i + 1].first - in[i].second, i);
+    const std::size_t joins = in.size() - max;
+    std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(joins - 1), gaps.end());
+    std::vector<bool> join(in.size(), false);
+    for (std::size_t g = 0; g < joins; ++g) join[gaps[g].second] = true;
+    std::vector<std::pair<double, double>> out;
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        if (i > 0 && join[i - 1]) out.back().second = in[i].second;
+        else out.push_back(in[i]);
+    }
+    return out;
+}
+
 // The covered y-intervals at x: crossings of every ring's non-vertical edges, paired up.
 std::vector<std::pair<double, double>> intervals_at(const Polygon& shape, double x) {
     std::vector<double> ys;
@@ -24,7 +42,7 @@ std::vector<std::pair<double, double>> intervals_at(const Polygon& shape, double
     std::vector<std::pair<double, double>> out;
     for (std::size_t i = 0; i + 1 < ys.size(); i += 2)
         if (ys[i + 1] > ys[i]) out.emplace_back(ys[i], ys[i + 1]);
-    return out;
+    return at_most(std::move(out), kMaxSlabIntervals);
 }
 
 }  // namespace
@@ -52,7 +70,8 @@ std::vector<Rect> rects_of(const Polygon& shape) {
     for (std::size_t s = 0; s + 1 < xs.size(); ++s) {
         const double x0 = xs[s], x1 = xs[s + 1];
         std::vector<Rect> next;
-        for (const auto& [y0, y1] : intervals_at(shape, (x0 + x1) / 2)) {
+        for (const auto& interval : intervals_at(shape, (x0 + x1) / 2)) {
+            const double y0 = interval.first, y1 = interval.second;  // named, not bound: lambdas capture them
             const auto same = std::find_if(open.begin(), open.end(),
                                            [&](const Rect& r) { return r.ymin == y0 && r.ymax == y1 && r.xmax == x0; });
             if (same != open.end()) {

@@ -13,6 +13,10 @@ namespace locus::plan {
 // More slabs than this are merged into this many (see rects_of): a room is a handful of
 // rectangles, not one per vertex of a curved wall.
 inline constexpr std::size_t kMaxRoomSlabs = 64;
+// More covered intervals in one slab than this (a comb-shaped space) are merged across their
+// narrowest gaps, so that a room has at most kMaxRoomSlabs × kMaxSlabIntervals = 960
+// rectangles: within the API's 1000 per room, and cheap to write.
+inline constexpr std::size_t kMaxSlabIntervals = 15;
 
 // Vertical slab decomposition: the polygon (outer ring minus holes, even-odd) is cut at
 // each distinct x of its vertices; within a slab the covered y-intervals are read at the
@@ -21,7 +25,8 @@ inline constexpr std::size_t kMaxRoomSlabs = 64;
 // edge is replaced by its height at the slab's middle, so a triangle or a diagonal wall is
 // approximated (the area is exact per slab for straight edges: the trapezoid's mean height).
 // With more than kMaxRoomSlabs slabs, the cuts are thinned to kMaxRoomSlabs evenly chosen
-// vertex x's, making even rectilinear polygons approximate. Rectangles come ordered by xmin,
+// vertex x's, making even rectilinear polygons approximate; likewise a slab's intervals past
+// kMaxSlabIntervals are joined across their narrowest gaps (the room then covers those gaps). Rectangles come ordered by xmin,
 // then ymin; an empty or degenerate polygon gives none.
 std::vector<Rect> rects_of(const Polygon& shape);
 
