@@ -375,6 +375,11 @@ async function run() {
   const placement = await get(`${image}/placement`, { expect: 200 });
   await get(image, { expect: 200 });
   await get(image, { headers: { 'if-none-match': placement.json?.etag ?? '' }, expect: 304 });
+  await patch(`${image}/placement`, { origin_x: 2.5, rotation_deg: -3 }, { expect: 200 });
+  await patch(`${image}/placement`, { metres_per_pixel: 0 }, { expect: 422 });
+  await patch(`${image}/placement`, { scale: 2 }, { expect: 422, invalid: true });
+  await patch(`${image}/placement`, { origin_x: 1 }, { auth: false, expect: 401, invalid: true });
+  await patch(`/v1/floors/${UNKNOWN}/image/placement`, { origin_x: 1 }, { expect: 404 });
   await sendImage('?metres_per_pixel=0.25', { contentType: 'image/jpeg', expect: 422, direct: true });
   await sendImage('?metres_per_pixel=0.25', { raw: 'not an image', expect: 422 });
   await sendImage('?metres_per_pixel=0.25', { contentType: 'image/gif', expect: 415, invalid: true });

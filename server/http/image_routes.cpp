@@ -1,5 +1,6 @@
 // A floor's plan image: PUT, GET and DELETE /v1/floors/{id}/image (the raw PNG or JPEG), and
-// GET /v1/floors/{id}/image/placement (its size and where it lies on the floor, as JSON).
+// GET/PATCH /v1/floors/{id}/image/placement (its size and where it lies on the floor, as JSON;
+// a PATCH moves, scales or turns it without sending the image again).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -53,6 +54,24 @@ store::ImagePlacement parse_placement(const httplib::Request& req) {
     p.origin_y = query_number(req, "origin_y", -kMaxOrigin, kMaxOrigin, false).value_or(0);
     p.rotation_deg = query_number(req, "rotation_deg", -360, 360, false).value_or(0);
     return p;
+}
+
+// The body of PATCH …/image/placement: any of the four placement members, bounded as the
+// PUT's query parameters are.
+store::PlacementChange parse_placement_change(const std::string& body) {
+    const json j = parse_object(body);
+    only_fields(j, {"metres_per_pixel", "origin_x", "origin_y", "rotation_deg"}, "");
+    store::PlacementChange c;
+    const auto member = [&](const char* name, double lo, double hi) -> std::optional<double> {
+        if (!j.contains(name)) return std::nullopt;
+        return finite_number(j, name, "", lo, hi);
+    };
+    c.metres_per_pixel = member("metres_per_pixel", 0, kMaxMetresPerPixel);
+    if (c.metres_per_pixel && *c.metres_per_pixel <= 0) throw invalid_field("'metres_per_pixel' must be > 0");
+    c.origin_x = member("origin_x", -kMaxOrigin, kMaxOrigin);
+    c.origin_y = member("origin_y", -kMaxOrigin, kMaxOrigin);
+    c.rotation_deg = member("rotation_deg", -360, 360);
+    return c;
 }
 
 // A strong tag of the bytes (FNV-1a, 64 bits, and the length): equal bytes, equal tag, so a
@@ -178,6 +197,12 @@ void App::install_image_routes() {
             const auto image = store_.image_of_floor(floor_id);
             if (!image) no_image(floor_id);
             return std::pair{200, image_json(*image)};
+        });
+    });
+    server_.Patch(path + "/placement", [this](const httplib::Request& req, httplib::Response& res) {
+        respond(req, res, [&] {
+            const auto floor_id = parse_id(req.matches[1].str(), "floor");
+            return std::pair{200, image_json(store_.change_placement(floor_id, parse_placement_change(req.body)))};
         });
     });
     server_.Delete(path, [this](const httplib::Request& req, httplib::Response& res) {

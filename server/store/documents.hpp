@@ -154,6 +154,11 @@ struct ImagePlacement {
     double rotation_deg = 0;
 };
 
+// A change of placement: the members given replace the stored ones (PATCH …/image/placement).
+struct PlacementChange {
+    std::optional<double> metres_per_pixel, origin_x, origin_y, rotation_deg;
+};
+
 // A floor's plan image without its bytes: what the placement GET answers.
 struct FloorImage {
     std::int64_t floor_id = 0;

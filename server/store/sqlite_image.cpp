@@ -71,6 +71,21 @@ std::pair<FloorImage, bool> SqliteStore::put_image(const FloorImage& image, std:
     });
 }
 
+FloorImage SqliteStore::change_placement(std::int64_t floor_id, const PlacementChange& change) {
+    return write([&](std::vector<Change>&) {
+        require_exists(kind("floors"), floor_id);
+        const auto image = read_image(floor_id);
+        if (!image) throw NotFound("floor " + std::to_string(floor_id) + " has no image");
+        const auto& p = image->placement;
+        Stmt s(db_,
+               "UPDATE floor_images SET metres_per_pixel = ?, origin_x = ?, origin_y = ?, rotation_deg = ?, "
+               "updated_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE floor_id = ?");
+        s.bind(1, change.metres_per_pixel.value_or(p.metres_per_pixel)).bind(2, change.origin_x.value_or(p.origin_x));
+        s.bind(3, change.origin_y.value_or(p.origin_y)).bind(4, change.rotation_deg.value_or(p.rotation_deg)).bind(5, floor_id).run();
+        return *read_image(floor_id);
+    });
+}
+
 void SqliteStore::remove_image(std::int64_t floor_id) {
     write([&](std::vector<Change>&) {
         require_exists(kind("floors"), floor_id);

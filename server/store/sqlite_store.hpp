@@ -48,6 +48,7 @@ public:
     std::optional<FloorImage> image_of_floor(std::int64_t floor_id) override;
     std::optional<std::pair<FloorImage, std::string>> image_with_bytes(std::int64_t floor_id) override;
     std::pair<FloorImage, bool> put_image(const FloorImage& image, std::string_view bytes) override;
+    FloorImage change_placement(std::int64_t floor_id, const PlacementChange& change) override;
     void remove_image(std::int64_t floor_id) override;
 
     std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) override;

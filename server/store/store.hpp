@@ -113,6 +113,9 @@ public:
     // Replaces the floor's image; `image` carries what the edge read from the bytes (type,
     // size, tag) and the placement. Returns what is stored and whether there was none before.
     virtual std::pair<FloorImage, bool> put_image(const FloorImage& image, std::string_view bytes) = 0;
+    // Moves, scales or turns the floor's image without sending it again: the members given
+    // replace the stored ones in one transaction. NotFound when the floor has no image.
+    virtual FloorImage change_placement(std::int64_t floor_id, const PlacementChange& change) = 0;
     // NotFound when the floor has no image.
     virtual void remove_image(std::int64_t floor_id) = 0;
 

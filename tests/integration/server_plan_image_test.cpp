@@ -256,6 +256,63 @@ TEST(PlanImageAuth, WritesNeedTheApiKey) {
     EXPECT_EQ(to_raw(c.Get(path)).status, 404);  // nothing was written
     EXPECT_EQ(to_raw(c.Put(path + "?metres_per_pixel=0.1", right, png, "image/png")).status, 201);
     EXPECT_EQ(to_raw(c.Get(path)).body, png);  // reads need no key
+    EXPECT_EQ(to_raw(c.Patch(path + "/placement", R"({"origin_x": 1})", "application/json")).status, 401);
+    EXPECT_EQ(to_raw(c.Patch(path + "/placement", right, R"({"origin_x": 1})", "application/json")).status, 200);
     EXPECT_EQ(to_raw(c.Delete(path)).status, 401);
     EXPECT_EQ(to_raw(c.Delete(path, right)).status, 204);
+}
+
+TEST_F(PlanImage, APatchMovesScalesOrTurnsTheImageWithoutSendingItAgain) {
+    const auto png = make_png(40, 20);
+    const auto put1 = put(png, "image/png", "?metres_per_pixel=0.25&origin_x=3&origin_y=-2");
+    ASSERT_EQ(put1.status, 201) << put1.body;
+    const std::string placement = image + "/placement";
+    auto patch = [&](const std::string& body) {
+        auto c = client();
+        return to_raw(c.Patch(placement, body, "application/json"));
+    };
+    // Only the members given change: turned 90° about its bottom-left corner, still at (3, -2).
+    const auto turned = patch(R"({"rotation_deg": 90})");
+    ASSERT_EQ(turned.status, 200) << turned.body;
+    const auto meta = json::parse(turned.body);
+    EXPECT_EQ(meta.at("metres_per_pixel"), 0.25);
+    EXPECT_EQ(meta.at("origin_x"), 3.0);
+    EXPECT_EQ(meta.at("rotation_deg"), 90.0);
+    EXPECT_NEAR(meta.at("corners")[2][0].get<double>(), -2.0, 1e-9);
+    EXPECT_NEAR(meta.at("corners")[2][1].get<double>(), 8.0, 1e-9);
+    EXPECT_EQ(json::parse(get(placement).body), meta);
+    // The bytes and their tag are the upload's.
+    EXPECT_EQ(get(image).body, png);
+    EXPECT_EQ(meta.at("etag"), json::parse(put1.body).at("etag"));
+
+    const auto before = get(placement).body;
+    struct Case {
+        std::string body;
+        int status;
+        const char* code;
+        const char* message;
+    };
+    const std::vector<Case> bad = {
+        {R"({"metres_per_pixel": 0})", 422, "invalid_field", "'metres_per_pixel' must be > 0"},
+        {R"({"metres_per_pixel": -1})", 422, "out_of_range", "metres_per_pixel"},
+        {R"({"origin_x": "3"})", 422, "invalid_field", "origin_x"},
+        {R"({"origin_y": 1e9})", 422, "out_of_range", "origin_y"},
+        {R"({"rotation_deg": 400})", 422, "out_of_range", "rotation_deg"},
+        {R"({"scale": 2})", 422, "invalid_field", "unknown field 'scale'"},
+        {R"([1, 2])", 400, "invalid_json", ""},
+        {R"({"origin_x": )", 400, "invalid_json", ""},
+    };
+    for (const auto& c : bad) {
+        const auto r = patch(c.body);
+        EXPECT_EQ(r.status, c.status) << c.body << ": " << r.body;
+        EXPECT_EQ(r.error_code(), c.code) << c.body << ": " << r.body;
+        EXPECT_NE(r.body.find(c.message), std::string::npos) << c.message << " not in " << r.body;
+        EXPECT_EQ(get(placement).body, before) << c.body;
+    }
+    // No image, no floor.
+    ASSERT_EQ(to_raw(client().Delete(image)).status, 204);
+    EXPECT_EQ(patch(R"({"origin_x": 1})").status, 404);
+    auto c = client();
+    EXPECT_EQ(to_raw(c.Patch("/v1/floors/987654/image/placement", R"({"origin_x": 1})", "application/json")).error_code(),
+              "not_found");
 }
