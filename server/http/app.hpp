@@ -7,7 +7,9 @@
 #include <cstddef>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <mutex>
 #include <string>
+#include <unordered_set>
 
 #include "directory/service.hpp"
 #include "http/front.hpp"
@@ -55,6 +57,10 @@ private:
     void install_route_routes();     // route_routes.cpp
     void install_search_routes();    // search_routes.cpp
     void install_image_routes();     // image_routes.cpp
+    void install_tune_routes();      // tune_routes.cpp (from install_radiomap_routes)
+    class TuneGuard;
+    std::mutex tuning_mu_;
+    std::unordered_set<std::int64_t> tuning_;  // radio maps being tuned
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 
