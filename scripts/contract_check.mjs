@@ -299,6 +299,15 @@ async function run() {
   await post(`/v1/maps/${map}/localize`, { algorithm: 'wknn', scans: [scan([9, -60])] }, { expect: 200 });
   await post(`/v1/maps/${other}/localize`, live, { expect: 422 });
   await post(`/v1/maps/${UNKNOWN}/localize`, live, { expect: 404 });
+  // Self-tuning: a CV over the radio map's own RPs, stored as its settings.
+  await post(`/v1/radiomaps/${radiomap}/tune`, {}, { expect: 200 });
+  await get(`/v1/radiomaps/${radiomap}`, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, live, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/tune`, { folds: 1 }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/tune`, { fold: 3 }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap2}/tune`, { folds: 5 }, { expect: 422 });
+  await post(`/v1/radiomaps/${UNKNOWN}/tune`, {}, { expect: 404 });
+  await post(`/v1/radiomaps/${radiomap}/tune`, {}, { auth: false, expect: 401, invalid: true });
   // Over the server's --max-body-bytes (the script starts it with 64 KiB), yet valid.
   const big = { scans: [Array.from({ length: 3000 }, (_, i) => ({ bssid: `aa:bb:cc:dd:${String(i % 100).padStart(2, '0')}:${String(i % 97).padStart(2, '0')}`, rss: -50 }))] };
   await post(`/v1/maps/${map}/localize`, big, { expect: 413 });

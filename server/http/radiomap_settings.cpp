@@ -69,15 +69,12 @@ void add_settings(json& radiomap, const std::optional<store::RadiomapSettings>& 
     settings["source"] = stored ? "tuned" : "built-in";
     if (stored) settings["updated_at"] = stored->updated_at;
     radiomap["settings"] = std::move(settings);
-    json tune;  // null
-    if (stored) {
-        try {
-            tune = json::parse(stored->tune);
-        } catch (const json::exception&) {
-            // A damaged row: the settings above already fell back; show no table.
-        }
+    if (!stored) return;
+    try {
+        radiomap["tune"] = json::parse(stored->tune);
+    } catch (const json::exception&) {
+        // A damaged row: the settings above already fell back; show no table.
     }
-    radiomap["tune"] = std::move(tune);
 }
 
 }  // namespace locus::http

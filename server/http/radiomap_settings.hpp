@@ -21,7 +21,7 @@ match::Setting settings_of_text(const std::string& text);
 nlohmann::json tune_json(const match::TuneReport& report, double seconds);
 
 // What GET /v1/radiomaps/{id} adds to the row: "settings" (the built-in defaults when none
-// are stored, with "source": "built-in" or "tuned") and "tune" (the last tune's table, or null).
+// are stored, with "source": "built-in" or "tuned") and "tune" (the last tune's table; absent when never tuned).
 void add_settings(nlohmann::json& radiomap, const std::optional<store::RadiomapSettings>& stored);
 
 }  // namespace locus::http

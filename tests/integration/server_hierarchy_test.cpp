@@ -62,9 +62,8 @@ TEST(ServerHierarchy, CreatesEveryKindAndReadsItBack) {
         auto body = got.body;
         if (std::string(kind) == "radiomaps") {  // read with its matcher settings (none tuned yet)
             EXPECT_EQ(body.at("settings").at("source"), "built-in");
-            EXPECT_TRUE(body.at("tune").is_null());
+            EXPECT_FALSE(body.contains("tune"));
             body.erase("settings");
-            body.erase("tune");
         }
         EXPECT_EQ(body, row) << kind;
     }

@@ -74,7 +74,7 @@ TEST_F(Tune, StoresTheLowestErrorSettingAndLocalizeFollowsItAcrossARestart) {
     const auto before = body_of(s.get(path(rm, "")));
     EXPECT_EQ(before.at("settings").at("source"), "built-in");
     EXPECT_EQ(before.at("settings").at("algorithm"), "bayes");
-    EXPECT_TRUE(before.at("tune").is_null());
+    EXPECT_FALSE(before.contains("tune"));
 
     std::vector<json> queries;
     for (double x : {1.0, 7.5, 13.0, 19.0})
@@ -196,4 +196,20 @@ TEST_F(Tune, ASecondTuneOfTheSameRadioMapWhileOneRunsIsAConflict) {
     }
     EXPECT_GE(ok, 1);
     EXPECT_GE(conflict, 1);
+}
+
+TEST_F(Tune, TheCliTunesAndPrintsTheTableOrSaysWhyNot) {
+    const auto rm = import(grid_map(4, 4, 3.0, 5));
+    const auto r = locus::testing::run_command(
+        {LOCUS_CLI_BIN, "tune", "--server", s.url(), "--radiomap", std::to_string(rm), "--folds", "4"});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("16 RPs, 4-fold CV"), std::string::npos) << r.out;
+    const auto shown = body_of(s.get(path(rm, "")));
+    EXPECT_NE(r.out.find("stored: " + shown.at("settings").at("algorithm").get<std::string>()), std::string::npos) << r.out;
+    EXPECT_EQ(shown.at("tune").at("folds"), 4);
+
+    const auto refused = locus::testing::run_command(
+        {LOCUS_CLI_BIN, "tune", "--server", s.url(), "--radiomap", std::to_string(h.radiomap)});
+    EXPECT_NE(refused.status, 0);
+    EXPECT_NE(refused.err.find("at least 2 RPs"), std::string::npos) << refused.err;
 }
