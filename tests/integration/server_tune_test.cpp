@@ -213,3 +213,25 @@ TEST_F(Tune, TheCliTunesAndPrintsTheTableOrSaysWhyNot) {
     EXPECT_NE(refused.status, 0);
     EXPECT_NE(refused.err.find("at least 2 RPs"), std::string::npos) << refused.err;
 }
+
+TEST_F(Tune, ATuneWhileRpsAreWrittenWorksOnOneSnapshot) {
+    const auto rm = import(grid_map(30, 20, 2.0, 20));
+    auto tune = std::async(std::launch::async, [&] { return s.post(path(rm, "/tune"), {{"folds", 50}}); });
+    int added = 0;
+    for (int i = 0; i < 3; ++i) {
+        const auto rp = locus::testing::make_rp(s, rm, "late" + std::to_string(i), 1.0 + i, 41.0);
+        json scan = json::array();
+        for (int a = 0; a < 20; ++a) scan.push_back({{"bssid", ap(a)}, {"rss", -60.0 - a}});
+        body_of(s.post("/v1/rps/" + std::to_string(rp) + "/scans", {{"scans", json::array({scan})}}));
+        ++added;
+    }
+    const auto table = body_of(tune.get()).at("tune");
+    // The RPs as one transaction saw them: 600, plus the late ones committed before it began
+    // (an RP is created empty, so it is no query until its scans are in).
+    const auto rps = table.at("rps").get<int>(), queries = table.at("queries").get<int>();
+    EXPECT_GE(rps, 600);
+    EXPECT_LE(rps, 600 + added);
+    EXPECT_GE(queries, 600);
+    EXPECT_LE(queries, rps);
+    EXPECT_EQ(body_of(s.get(path(rm, ""))).at("tune"), table);
+}
