@@ -45,7 +45,10 @@ export class RadioLayer {
     this.rps = list.map((rp, i) => ({ ...rp, measurements: (doc.rps[i] && doc.rps[i].measurements) || [] }));
     for (const rp of this.rps) {
       const m = L.marker(ll(rp.x, rp.y), { icon: rpIcon, title: `RP ${rp.name}`, alt: `RP ${rp.name}`, keyboard: true, riseOnHover: true });
-      m.on('click', () => this.select(rp, m).catch((e) => { this.ui.details.textContent = `Error: ${e.message}`; }));
+      const open = () => this.select(rp, m).catch((e) => { this.ui.details.textContent = `Error: ${e.message}`; });
+      m.on('click', open);
+      // Leaflet turns Enter on a focused marker into a popup only: the table is this RP's popup.
+      m.on('keypress', (e) => { if (e.originalEvent.key === 'Enter' || e.originalEvent.key === ' ') open(); });
       m.addTo(this.group);
       this.markers.push(m);
     }

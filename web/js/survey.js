@@ -66,11 +66,13 @@ export class SurveyPlanner {
       point.x = Math.round(p.lng * 100) / 100;
       point.y = Math.round(p.lat * 100) / 100;
     });
-    marker.on('click', () => {
+    const remove = () => {
       this.layer.removeLayer(marker);
       this.points = this.points.filter((q) => q !== point);
       this.update();
-    });
+    };
+    marker.on('click', remove);
+    marker.on('keypress', (e) => { if (e.originalEvent.key === 'Enter' || e.originalEvent.key === 'Delete') remove(); });
     marker.addTo(this.layer);
     this.points.push(point);
   }
