@@ -85,13 +85,13 @@ async function selectMap(id) {
     for (const f of floors) floorNames.set(f.id, `${state.buildings[i].name} / ${f.name}`);
   });
   route.clear();
-  if (state.buildings.length) await selectBuilding(state.buildings[0].id);
+  if (state.buildings.length) await selectBuilding(state.buildings[0].id, undefined, perBuilding[0]);
   else fill($('floor-select'), [], () => '');
 }
 
-async function selectBuilding(id, floorId) {
+async function selectBuilding(id, floorId, floors) {
   $('building-select').value = String(id);
-  state.floors = (await listAll(`/v1/buildings/${id}/floors`)).sort((a, b) => a.level - b.level);
+  state.floors = (floors || await listAll(`/v1/buildings/${id}/floors`)).slice().sort((a, b) => a.level - b.level);
   fill($('floor-select'), state.floors, (f) => `${f.name} (level ${f.level})`);
   const pick = floorId ?? (state.floors.find((f) => f.level === 0) || state.floors[0] || {}).id;
   if (pick !== undefined) await selectFloor(pick);
@@ -110,8 +110,11 @@ async function selectFloor(id) {
   $('floor-select').value = String(id);
   const floor = state.floors.find((f) => f.id === Number(id)) || await get(`/v1/floors/${id}`);
   state.floor = floor;
-  const [rooms, pois, plan, placement, radiomaps] = await Promise.all([
-    listAll(`/v1/floors/${id}/rooms`), listAll(`/v1/floors/${id}/pois`), planOf(id), imagePlacement(id), listAll(`/v1/floors/${id}/radiomaps`),
+  // Everything at once; the radio map's export as soon as its id is known.
+  const radiomapsP = listAll(`/v1/floors/${id}/radiomaps`);
+  const exportP = radiomapsP.then((rms) => (rms.length ? get(`/v1/radiomaps/${rms[0].id}/export`) : null));
+  const [rooms, pois, plan, placement, radiomaps, doc] = await Promise.all([
+    listAll(`/v1/floors/${id}/rooms`), listAll(`/v1/floors/${id}/pois`), planOf(id), imagePlacement(id), radiomapsP, exportP,
   ]);
   if (state.floor !== floor) return;  // another floor was chosen meanwhile
   state.rooms = rooms;
@@ -123,7 +126,7 @@ async function selectFloor(id) {
   fill($('radiomap-select'), radiomaps, (r) => r.name);
   state.radiomapId = radiomaps.length ? radiomaps[0].id : null;
   $('rp-details').innerHTML = '<p>Click a dot (or focus it and press Enter) to see its access points.</p>';
-  await radio.show(floor, state.radiomapId);
+  await radio.show(floor, state.radiomapId, doc);
   applyRadioLayers();
   route.draw();
   survey.reset();

@@ -30,8 +30,10 @@ export class RadioLayer {
     this.markers = [];
   }
 
-  // Loads the radio map's RPs (ids from the list, measurements from one export) and draws them.
-  async show(floor, radiomapId) {
+  // Draws the radio map's RPs from its export (one request: positions and measurements); the
+  // RP ids, needed only to open one, come from the list meanwhile. `doc`: the export when the
+  // caller already asked for it.
+  async show(floor, radiomapId, doc) {
     this.clear();
     this.floor = floor;
     this.radiomapId = radiomapId;
@@ -40,9 +42,10 @@ export class RadioLayer {
       this.fillApSelect();
       return;
     }
-    const [list, doc] = await Promise.all([listAll(`/v1/radiomaps/${radiomapId}/rps`), get(`/v1/radiomaps/${radiomapId}/export`)]);
-    // The export lists RPs in id order, as the list does.
-    this.rps = list.map((rp, i) => ({ ...rp, measurements: (doc.rps[i] && doc.rps[i].measurements) || [] }));
+    this.ids = listAll(`/v1/radiomaps/${radiomapId}/rps`).then((list) => new Map(list.map((rp) => [rp.name, rp.id])));
+    this.ids.catch(() => {});  // reported when an RP is opened
+    if (!doc) doc = await get(`/v1/radiomaps/${radiomapId}/export`);
+    this.rps = doc.rps.map((rp) => ({ ...rp, measurements: rp.measurements || [] }));
     for (const rp of this.rps) {
       const m = L.marker(ll(rp.x, rp.y), { icon: rpIcon, title: `RP ${rp.name}`, alt: `RP ${rp.name}`, keyboard: true, riseOnHover: true });
       const open = () => this.select(rp, m).catch((e) => { this.ui.details.textContent = `Error: ${e.message}`; });
@@ -86,7 +89,9 @@ export class RadioLayer {
   async select(rp, marker) {
     for (const m of this.markers) L.DomUtil.removeClass(m.getElement(), 'selected');
     if (marker.getElement()) L.DomUtil.addClass(marker.getElement(), 'selected');
-    const fresh = await get(`/v1/rps/${rp.id}`);  // the stored state now, not the page's copy
+    const id = (await this.ids).get(rp.name);
+    if (id === undefined) throw new Error(`RP ${rp.name} is no longer in the radio map`);
+    const fresh = await get(`/v1/rps/${id}`);  // the stored state now, not the page's copy
     const rows = fresh.measurements
       .slice().sort((a, b) => b.mean - a.mean)
       .map((m) => `<tr><th scope="row">${esc(m.bssid)}</th><td>${esc(m.type || 'wifi')}</td><td>${m.mean.toFixed(1)}</td>`
