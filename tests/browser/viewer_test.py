@@ -26,6 +26,12 @@ import urllib.request
 import zlib
 
 SKIP = 77
+SHOTS = None  # --screenshots: where to save the main views
+
+
+def shot(driver, name):
+    if SHOTS:
+        driver.save_screenshot(os.path.join(SHOTS, name))
 
 
 def fail(message):
@@ -65,10 +71,10 @@ class Server:
             fail("the server did not start")
         self.url = f"http://127.0.0.1:{self.port}"
 
-    def api(self, path, body=None):
-        data = None if body is None else json.dumps(body).encode()
-        req = urllib.request.Request(self.url + path, data=data, method="GET" if body is None else "POST",
-                                     headers={"Content-Type": "application/json"})
+    def api(self, path, body=None, method=None, content_type="application/json"):
+        data = body if isinstance(body, bytes) or body is None else json.dumps(body).encode()
+        req = urllib.request.Request(self.url + path, data=data, method=method or ("GET" if body is None else "POST"),
+                                     headers={"Content-Type": content_type})
         with urllib.request.urlopen(req, timeout=10) as r:
             return json.loads(r.read())
 
@@ -213,6 +219,7 @@ def desktop_checks(driver, server):
     check(after != before and max(after) - min(after) > 25, f"heat map pixel at {between} m: {before} -> {after}")
     legend = driver.find_element(By.CSS_SELECTOR, ".legend").text
     check("dBm" in legend, f"legend in dBm: {legend!r}")
+    shot(driver, "viewer-heatmap.png")
 
     # Gaps: with a 1 m reach most of the floor is far from any RP.
     gap = driver.find_element(By.ID, "gap-metres")
@@ -245,6 +252,7 @@ def desktop_checks(driver, server):
     check(len(driver.find_elements(By.CSS_SELECTOR, "#map path.route-line")) == 1, "one route line on the map")
     steps = [li.text for li in driver.find_elements(By.CSS_SELECTOR, "#route-steps li.step")]
     check(steps == [s["text"] for s in api_route["steps"]], f"instructions as the API's: {steps}")
+    shot(driver, "viewer-route.png")
 
     # A route to the other floor: one leg drawn per floor, the leg button moves between them.
     upper = next(f for f in floors if f["level"] == 1)
@@ -284,8 +292,28 @@ def desktop_checks(driver, server):
          "Enter on the focused RP shows it")
     check(True, f"Enter on {focused} shows its table")
 
+    # A turned plan image lies where its placement's corners say.
+    server.api(f"/v1/floors/{ground['id']}/image?metres_per_pixel=0.05", grey_png(600, 300), "PUT", "image/png")
+    corners = server.api(f"/v1/floors/{ground['id']}/image/placement", {"rotation_deg": 15, "origin_x": 2}, "PATCH")["corners"]
+    driver.get(server.url + "/")
+    wait_floor(driver, ground["id"])
+    wait(driver, "const i = document.querySelector('img.plan-image.rotated'); return i && i.complete && i.naturalWidth > 0", "the turned plan image")
+    box = driver.execute_script("const r = document.querySelector('img.plan-image.rotated').getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom];")
+    pts = [screen_point(driver, x, y) for x, y in corners]
+    want = [min(p[0] for p in pts), min(p[1] for p in pts), max(p[0] for p in pts), max(p[1] for p in pts)]
+    check(all(abs(a - b) <= 2 for a, b in zip(box, want)), f"turned image spans {[round(v) for v in box]}, its corners {want}")
+
     errors = errors_in_log(driver)
     check(not errors, f"no console errors {errors}")
+
+
+def grey_png(width, height):
+    row = b"\x00" + b"\x80" * width
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(row * height)) + chunk(b"IEND", b""))
 
 
 def phone_checks(driver, server):
@@ -301,6 +329,7 @@ def phone_checks(driver, server):
     check(sizes["inner"] <= 390 and sizes["mapW"] >= sizes["inner"] - 2 and sizes["mapH"] >= 300, "the map spans the phone's width")
     check(sizes["floorRight"] <= sizes["inner"], "the floor picker is on screen")
     check(len(driver.find_elements(By.CSS_SELECTOR, "#map .rp-marker")) > 0, "RPs drawn on a phone")
+    shot(driver, "viewer-phone.png")
     errors = errors_in_log(driver)
     check(not errors, f"no console errors on a phone {errors}")
 
@@ -310,6 +339,8 @@ def main():
     parser.add_argument("--server", required=True, help="the locus-server binary")
     parser.add_argument("--screenshots", help="save the main views' screenshots into this directory")
     args = parser.parse_args()
+    global SHOTS
+    SHOTS = args.screenshots
     missing = [name for name in ("chromium", "chromedriver") if not shutil.which(name)]
     try:
         import selenium  # noqa: F401

@@ -32,7 +32,7 @@ export function poiMarker(poi) {
 export function floorLayers(floor, rooms, pois, plan, placement) {
   const group = L.layerGroup();
   const outline = L.rectangle(L.latLngBounds(ll(0, 0), ll(floor.width, floor.height)),
-    { className: 'floor-outline', interactive: false, fill: !placement, fillOpacity: 0.04 });
+    { className: 'floor-outline', interactive: false, fill: !placement, fillColor: '#d0d7de', fillOpacity: 0.3 });
   group.addLayer(outline);
   let bounds = outline.getBounds();
   if (placement) {

@@ -115,8 +115,10 @@ export class RoutePanel {
       this.ui.steps.appendChild(li);
     };
     legButton(leg);
+    let n = 0;
     for (const s of r.steps) {
       const li = document.createElement('li');
+      li.value = ++n;  // the floors' buttons are items too; the steps count on their own
       li.textContent = s.text;
       li.className = `step step-${s.kind}`;
       this.ui.steps.appendChild(li);
