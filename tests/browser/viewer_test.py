@@ -27,6 +27,7 @@ import zlib
 
 SKIP = 77
 SHOTS = None  # --screenshots: where to save the main views
+CLI = None    # --cli: the locus tool, to compare the survey grid with `locus survey plan`
 
 
 def shot(driver, name):
@@ -178,6 +179,7 @@ def desktop_checks(driver, server):
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
     from selenium.webdriver.support.ui import Select
+    from selenium.webdriver.common.action_chains import ActionChains
 
     buildings = server.api("/v1/maps/1/buildings")["items"]
     floors = sorted(server.api(f"/v1/buildings/{buildings[0]['id']}/floors")["items"], key=lambda f: f["level"])
@@ -267,7 +269,6 @@ def desktop_checks(driver, server):
           "the upper floor's leg drawn after its button")
 
     # Keyboard: Tab reaches the floor picker; arrows change the floor; an RP takes focus and Enter.
-    from selenium.webdriver.common.action_chains import ActionChains
     keys = lambda key: ActionChains(driver).send_keys(key).perform()  # to whatever has the focus, as a user types
     driver.get(server.url + "/")  # a fresh page: the first Tab starts at its top
     wait_floor(driver, ground["id"])
@@ -291,6 +292,37 @@ def desktop_checks(driver, server):
     wait(driver, f"return document.querySelector('#rp-details strong') && 'RP ' + document.querySelector('#rp-details strong').textContent === {json.dumps(focused)}",
          "Enter on the focused RP shows it")
     check(True, f"Enter on {focused} shows its table")
+
+    # The survey planner: its grid is `locus survey plan`'s, a click adds a point, and "Create
+    # RPs" puts them in the radio map (this server has no key).
+    if CLI:
+        driver.find_element(By.ID, "survey-mode").click()
+        cell = driver.find_element(By.ID, "grid-cell")
+        cell.clear()
+        cell.send_keys("2.5")
+        driver.find_element(By.ID, "grid-fill").click()
+        mine = driver.execute_script("return window.locusViewer.survey.planDocument()")
+        out = subprocess.run([CLI, "survey", "plan", "--server", server.url, "--floor", str(upper["id"]), "--cell", "2.5"],
+                             capture_output=True, text=True, timeout=30)
+        theirs = json.loads(out.stdout)
+        same = [(p["name"], round(p["x"], 6), round(p["y"], 6)) for p in mine["points"]] == \
+               [(p["name"], round(p["x"], 6), round(p["y"], 6)) for p in theirs["points"]]
+        check(same and all(mine[k] == theirs[k] for k in ("floor_id", "cell", "required_points", "columns", "rows", "proposed")),
+              f"the viewer's grid is the CLI's: {mine['proposed']} points of {theirs['required_points']}")
+        before = len(mine["points"])
+        px, py = screen_point(driver, 1.0, 1.0)
+        map_el = driver.find_element(By.ID, "map")
+        r = driver.execute_script("const r = arguments[0].getBoundingClientRect(); return [r.left + r.width / 2, r.top + r.height / 2];", map_el)
+        ActionChains(driver).move_to_element_with_offset(map_el, int(px - r[0]), int(py - r[1])).click().perform()
+        check(driver.execute_script("return window.locusViewer.survey.points.length") == before + 1, "a map click adds a planned RP")
+        rm_upper = server.api(f"/v1/floors/{upper['id']}/radiomaps")["items"][0]["id"]
+        total_before = server.api(f"/v1/radiomaps/{rm_upper}/rps?limit=1")["total"]
+        driver.find_element(By.ID, "survey-create").click()
+        wait(driver, "return document.getElementById('status').textContent.startsWith('Created')", "the planned RPs created")
+        total_after = server.api(f"/v1/radiomaps/{rm_upper}/rps?limit=1")["total"]
+        check(total_after == total_before + before + 1, f"radio map has {total_after} RPs, {before + 1} more")
+        wait(driver, f"return document.querySelectorAll('#map .rp-marker').length === {total_after}", "the new RPs drawn")
+        driver.find_element(By.ID, "survey-mode").click()
 
     # A turned plan image lies where its placement's corners say.
     server.api(f"/v1/floors/{ground['id']}/image?metres_per_pixel=0.05", grey_png(600, 300), "PUT", "image/png")
@@ -337,10 +369,12 @@ def phone_checks(driver, server):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--server", required=True, help="the locus-server binary")
+    parser.add_argument("--cli", help="the locus tool (checks the survey grid against `locus survey plan`)")
     parser.add_argument("--screenshots", help="save the main views' screenshots into this directory")
     args = parser.parse_args()
-    global SHOTS
+    global SHOTS, CLI
     SHOTS = args.screenshots
+    CLI = args.cli
     missing = [name for name in ("chromium", "chromedriver") if not shutil.which(name)]
     try:
         import selenium  # noqa: F401
