@@ -141,9 +141,6 @@ export class SurveyPlanner {
       this.viewer.status('This floor has no radio map to add RPs to.');
       return;
     }
-    if (!apiKey()) {
-      this.viewer.askKey('Creating RPs is an edit: enter the API key first (a server without a key takes any).');
-    }
     const existing = new Set(this.viewer.rpNames());
     let created = 0, skipped = 0;
     try {
@@ -154,7 +151,9 @@ export class SurveyPlanner {
       }
     } catch (e) {
       this.viewer.status(`Stopped after ${created} RPs: ${e.message}`);
-      if (e.status === 401) this.viewer.askKey('The server refused the key: enter the API key.');
+      this.viewer.reloadRadio().catch(() => {});
+      if (e.status === 401) this.viewer.askKey(apiKey() ? 'The server refused the key: enter the right API key, then Create RPs again.'
+        : 'Creating RPs is an edit and this server asks for its API key: enter it, Save, then Create RPs again.');
       return;
     }
     this.viewer.status(`Created ${created} RPs (${skipped} already there).`);
