@@ -1,14 +1,11 @@
 #include "http/static_files.hpp"
 
-#include <unistd.h>
-
 #include <array>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
 #include <system_error>
-#include <vector>
 
 #include "http/app.hpp"
 
