@@ -12,13 +12,9 @@ import json
 import math
 import os
 import random
-import shutil
 import statistics
 import struct
-import subprocess
 import sys
-import tempfile
-import time
 import urllib.request
 import zlib
 

@@ -14,7 +14,6 @@ LOCUS_SKIP_BROWSER_TEST=1 turns that into a skip (exit 77) on a machine without 
 """
 import argparse
 import json
-import math
 import os
 import shutil
 import struct
