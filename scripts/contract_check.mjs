@@ -150,6 +150,16 @@ async function run() {
   await get('/health', { expect: 200 });
   await get('/ready', { expect: 200 });
 
+  // The web viewer's files (the server's default roots: its build tree's share/locus/web, Debian's Leaflet)
+  await get('/', { expect: 200 });
+  await get('/web/style.css', { expect: 200 });
+  await get('/web/js/main.js', { expect: 200 });
+  await get('/vendor/leaflet/leaflet.js', { expect: 200 });
+  await get('/vendor/leaflet/images/marker-icon.png', { expect: 200 });
+  await get('/web/missing.css', { expect: 404 });
+  await get('/web/js/.hidden.js', { expect: 400, invalid: true });
+  await get('/vendor/leaflet/leaflet.js.map', { expect: 404 });  // not a type the viewer serves
+
   // Maps
   const map = idOf(await post('/v1/maps', { name: 'Contract campus', description: 'made by the contract check' }, { expect: 201 }), 'a map');
   const other = idOf(await post('/v1/maps', { name: 'Second campus' }, { expect: 201 }), 'a map');

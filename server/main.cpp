@@ -13,6 +13,7 @@
 #include "http/json_text.hpp"
 #include "http/localize_answer.hpp"
 #include "http/bundle_plans.hpp"
+#include "http/static_files.hpp"
 #include "http/store_json.hpp"
 #include "localize/service.hpp"
 #include "routing/service.hpp"
@@ -55,6 +56,10 @@ int main(int argc, char** argv) {
     cli.add_option("--read-timeout", read_s, "seconds to wait for the next bytes of a request body")
         ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
     cli.add_flag("--quiet", quiet, "no access log");
+    std::string web_root = locus::http::default_web_root(), leaflet_root = locus::http::default_leaflet_root;
+    cli.add_option("--web-root", web_root, "the web viewer's files, served at / (empty: no viewer)")->capture_default_str();
+    cli.add_option("--leaflet-root", leaflet_root, "Leaflet's files (Debian's libjs-leaflet), served at /vendor/leaflet/")
+        ->capture_default_str();
     CLI11_PARSE(cli, argc, argv);
 
     // Signals are taken by one thread with sigwait, so shutdown runs as ordinary code.
@@ -94,7 +99,7 @@ int main(int argc, char** argv) {
         locus::localize::Service localizer(store, locus::http::prepare_answers);
         locus::routing::Service router(store);
         locus::directory::Service directory(store);
-        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front});
+        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front, {web_root, leaflet_root}});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);

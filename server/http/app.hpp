@@ -13,6 +13,7 @@
 
 #include "directory/service.hpp"
 #include "http/front.hpp"
+#include "http/static_files.hpp"
 #include "localize/service.hpp"
 #include "locus/plan/route.hpp"
 #include "routing/service.hpp"
@@ -26,6 +27,7 @@ struct AppOptions {
     std::string api_key;  // empty: writes need no key
     bool access_log = true;
     FrontOptions front;   // connections, timeouts, body limit
+    StaticRoots web;      // the web viewer's files (static_files.cpp)
 };
 
 class App {
