@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "../accumulate.hpp"
 #include "../estimate.hpp"
@@ -14,13 +15,12 @@ namespace {
 
 constexpr double kLog2Pi = 1.8378770664093453;  // log(2π)
 
-// Picks the floor first, by posterior mass over every candidate RP (plus, as configured, the
-// loudest APs' home floors and the knn vote of the nearest RPs), and returns that floor's
-// candidates ranked as far as n_listed, or `scored` itself when every candidate is on one
-// floor. Reorders s.known.
-const std::vector<Scored>& floor_pool(const Index& index, const Options& options, Scratch& s,
-                                      const std::vector<Scored>& scored, std::size_t n_listed, double temperature,
-                                      bool floor_knn, std::vector<Scored>& on_floor) {
+// The (building, floor) with the most posterior mass over every candidate RP (plus, as
+// configured, the loudest APs' home floors and the knn vote of the nearest RPs), or nullopt
+// when every candidate is on one floor. Reorders s.known.
+std::optional<FloorVote::Group> floor_vote(const Index& index, const Options& options, Scratch& s,
+                                           const std::vector<Scored>& scored, double temperature, bool floor_knn,
+                                           std::vector<Scored>& scratch) {
     const Scored& best = scored.front();
     const double floor_t = options.floor_temperature > 0.0 ? options.floor_temperature : temperature;
     const double knn_w = floor_knn ? std::clamp(options.floor_knn_weight, 0.0, 1.0) : 0.0;
@@ -46,21 +46,35 @@ const std::vector<Scored>& floor_pool(const Index& index, const Options& options
         }
     }
     if (floor_knn) {
-        std::vector<Scored>& near_rps = on_floor;  // reused as scratch, cleared below
+        std::vector<Scored>& near_rps = scratch;
         near_rps.assign(scored.begin(), scored.end());
         const std::size_t n = std::min(near_rps.size(), static_cast<std::size_t>(options.floor_knn));
         auto closer = [](const Scored& a, const Scored& b) { return a.aux != b.aux ? a.aux < b.aux : a.rp < b.rp; };
         std::partial_sort(near_rps.begin(), near_rps.begin() + static_cast<long>(n), near_rps.end(), closer);
         for (std::size_t j = 0; j < n; ++j) vote.add(index.rp(near_rps[j].rp), knn_w / static_cast<double>(n));
-        on_floor.clear();
+        scratch.clear();
     }
     // One group means every candidate is on that floor (a radio map's index, or a map heard
-    // on one floor only), and `scored` is already that floor's list, ranked.
-    if (vote.size() <= 1) return scored;
-    const FloorVote::Group& g = vote.winner();
+    // on one floor only).
+    if (vote.size() <= 1) return std::nullopt;
+    return vote.winner();
+}
+
+// Picks the position's floor (floor_vote; without the knn vote when it names the floor
+// only) and returns that floor's candidates ranked as far as n_listed, or `scored` itself
+// when every candidate is on one floor. `label`: the floor the answer names, when that is
+// not the position's. Reorders s.known.
+const std::vector<Scored>& floor_pool(const Index& index, const Options& options, Scratch& s,
+                                      const std::vector<Scored>& scored, std::size_t n_listed, double temperature,
+                                      bool floor_knn, std::vector<Scored>& on_floor,
+                                      std::optional<FloorVote::Group>& label) {
+    const bool split = floor_knn && !options.floor_knn_position;
+    const auto g = floor_vote(index, options, s, scored, temperature, floor_knn && !split, on_floor);
+    if (split) label = floor_vote(index, options, s, scored, temperature, true, on_floor);
+    if (!g) return scored;  // `scored` is already that floor's list, ranked
     for (const auto& c : scored) {
         const RpInfo& info = index.rp(c.rp);
-        if (info.building_id == g.building && info.floor_id == g.floor) on_floor.push_back(c);
+        if (info.building_id == g->building && info.floor_id == g->floor) on_floor.push_back(c);
     }
     rank(on_floor, std::min(on_floor.size(), n_listed));
     return on_floor;
@@ -132,13 +146,20 @@ std::optional<Result> localize_bayes(const Index& index, const Query& query, con
     const double temperature = std::max(options.temperature, 1e-9);
     std::vector<Scored>& on_floor = s.on_floor;
     on_floor.clear();
-    const std::vector<Scored>& pool = floor_pool(index, options, s, scored, n_listed, temperature, floor_knn, on_floor);
+    std::optional<FloorVote::Group> label;
+    const std::vector<Scored>& pool =
+        floor_pool(index, options, s, scored, n_listed, temperature, floor_knn, on_floor, label);
 
     const Scored& best = scored.front();
     const Chosen chosen = options.estimate == BayesEstimate::mean
                               ? top_k(pool, k, [&](const Scored& c) { return std::exp((best.key1 - c.key1) / temperature); })
                               : tied_with_best(pool, options.tolerance);
-    return estimate(index, Algorithm::bayes, scored, chosen, n_listed, options);
+    Result r = estimate(index, Algorithm::bayes, scored, chosen, n_listed, options);
+    if (label) {
+        r.building_id = label->building;
+        r.floor_id = label->floor;
+    }
+    return r;
 }
 
 }  // namespace locus::match::detail
