@@ -300,6 +300,8 @@ async function run() {
   await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, limit: 3 }, { expect: 422, invalid: true });
   await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, options: { k: 0 } }, { expect: 422, invalid: true });
   await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, options: { metric: 'cosine' } }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'bayes', ...live, options: { floor_knn: 3, floor_knn_position: false } }, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, options: { floor_knn_position: 'no' } }, { expect: 422, invalid: true });
   await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'magic', ...live }, { expect: 422, invalid: true });
   await post(`/v1/radiomaps/${radiomap}/localize`, { ...live, measurements: [{ bssid: ap(1), rss: -40 }] }, { expect: 422, invalid: true });
   await post(`/v1/radiomaps/${radiomap}/localize`, {}, { expect: 422, invalid: true });

@@ -82,6 +82,8 @@ void MatcherFlags::add_to(CLI::App& cmd) {
                    "bayes: temperature of the floor vote (0 = --temperature)");
     cmd.add_option("--floor-knn", floor_knn, "bayes: nearest RPs by knn distance that also vote for the floor (0 = off)");
     cmd.add_option("--floor-knn-weight", floor_knn_weight, "bayes: share of the knn vote in the floor decision");
+    cmd.add_flag("--floor-knn-floor-only", floor_knn_floor_only,
+                 "bayes: the knn vote names the floor only; the position stays on the posterior's floor");
     cmd.add_option("--floor-aps", floor_aps, "bayes: strongest query APs voting for their home floor (0 = off)");
     cmd.add_option("--floor-ap-weight", floor_ap_weight, "bayes: share of the AP vote in the floor decision");
     cmd.add_flag("--raw-scans", raw_scans,
@@ -101,6 +103,7 @@ match::Options MatcherFlags::options() const {
     if (floor_temperature) o.floor_temperature = *floor_temperature;
     if (floor_knn) o.floor_knn = *floor_knn;
     if (floor_knn_weight) o.floor_knn_weight = *floor_knn_weight;
+    if (floor_knn_floor_only) o.floor_knn_position = false;
     if (floor_aps) o.floor_aps = *floor_aps;
     if (floor_ap_weight) o.floor_ap_weight = *floor_ap_weight;
     if (!representation.empty()) {

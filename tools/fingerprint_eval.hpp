@@ -50,6 +50,7 @@ Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& tra
 struct MatcherFlags {
     std::optional<int> k, bayes_k, floor_knn, floor_aps;
     std::optional<double> floor_temperature, floor_knn_weight, floor_ap_weight;
+    bool floor_knn_floor_only = false;  // --floor-knn-floor-only: Options::floor_knn_position false
     std::optional<double> outlier_sigmas;
     std::optional<double> offset_sigma, temperature, tolerance, gamma, sigma_floor, missing_rss, min_detection, alpha,
         beta;

@@ -45,7 +45,7 @@ match::Options parse_options(const json& j, match::Options o, const std::string&
     if (!j.is_object()) throw invalid_field("'" + where + "' must be an object");
     only_fields(j, {"k", "tolerance", "gamma", "near", "representation", "distance", "sigma_floor", "estimate",
                           "candidates", "temperature", "offset_sigma", "bayes_k", "floor_temperature", "floor_knn",
-                          "floor_knn_weight", "floor_aps", "floor_ap_weight", "outlier_sigmas"},
+                          "floor_knn_weight", "floor_knn_position", "floor_aps", "floor_ap_weight", "outlier_sigmas"},
                       where);
     o.k = bounded_int(j, "k", 1, 100, o.k);
     o.candidates = bounded_int(j, "candidates", 1, 100, o.candidates);
@@ -59,6 +59,11 @@ match::Options parse_options(const json& j, match::Options o, const std::string&
     o.floor_temperature = bounded_number(j, "floor_temperature", 0.0, 1000.0, o.floor_temperature);
     o.floor_knn = bounded_int(j, "floor_knn", 0, 100, o.floor_knn);
     o.floor_knn_weight = bounded_number(j, "floor_knn_weight", 0.0, 1.0, o.floor_knn_weight);
+    if (j.contains("floor_knn_position")) {
+        if (!j.at("floor_knn_position").is_boolean())
+            throw invalid_field("'" + where + ".floor_knn_position' must be true or false");
+        o.floor_knn_position = j.at("floor_knn_position").get<bool>();
+    }
     o.floor_aps = bounded_int(j, "floor_aps", 0, 100, o.floor_aps);
     o.floor_ap_weight = bounded_number(j, "floor_ap_weight", 0.0, 1.0, o.floor_ap_weight);
     o.representation = parse_enum(j, where, "representation", match::parse_representation, o.representation);

@@ -24,6 +24,7 @@ json settings_json(const match::Setting& s) {
                  {"floor_temperature", o.floor_temperature},
                  {"floor_knn", o.floor_knn},
                  {"floor_knn_weight", o.floor_knn_weight},
+                 {"floor_knn_position", o.floor_knn_position},
                  {"floor_aps", o.floor_aps},
                  {"floor_ap_weight", o.floor_ap_weight}};
     return json{{"algorithm", match::to_string(s.algorithm)}, {"options", std::move(options)}};

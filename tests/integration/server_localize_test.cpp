@@ -163,7 +163,7 @@ TEST_F(Localize, EveryOptionIsAccepted) {
     body["algorithm"] = "bayes";
     body["options"] = {{"k", 2}, {"tolerance", 0.1}, {"gamma", 3}, {"representation", "positive"}, {"distance", "manhattan"},
                        {"sigma_floor", 4}, {"estimate", "map"}, {"temperature", 2}, {"offset_sigma", 0}, {"outlier_sigmas", 3}, {"bayes_k", 2},
-                       {"floor_temperature", 1}, {"floor_knn", 2}, {"floor_knn_weight", 0.5}, {"floor_aps", 0},
+                       {"floor_temperature", 1}, {"floor_knn", 2}, {"floor_knn_weight", 0.5}, {"floor_knn_position", false}, {"floor_aps", 0},
                        {"floor_ap_weight", 0.2}, {"candidates", 2}, {"near", {{"x", 18}, {"y", 5}, {"radius", 50}}}};
     const auto r = s.post(path, body);
     ASSERT_EQ(r.status, 200) << r.raw;
@@ -204,6 +204,7 @@ TEST_F(Localize, BadRequestsAreRefused) {
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"floor_ap_weight", 2}}}}, 422, "out_of_range");
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"bayes_k", -1}}}}, 422, "out_of_range");
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"outlier_sigmas", -1}}}}, 422, "out_of_range");
+    expect({{"scans", scan(-50, -50)["scans"]}, {"options", {{"floor_knn_position", "no"}}}}, 422, "invalid_field");
     expect({{"scans", scan(-50, -50)["scans"]}, {"options", 7}}, 422, "invalid_field");
     expect({{"scans", scan(-50, -50)["scans"]}, {"algorithm", 7}}, 422, "invalid_field");
     expect({{"scans", {{{"bssid", "aa"}}}}}, 422, "invalid_field");

@@ -341,6 +341,25 @@ TEST(FloorDetection, BayesFloorVoteMixesPosteriorAndKnnShares) {
     EXPECT_EQ(localize(split_floors(), q, Algorithm::bayes, floor_vote(1, 0.9))->floor_id, 10);
 }
 
+TEST(FloorDetection, KnnVoteCanNameTheFloorWithoutMovingThePosition) {
+    const Query q = query({{"a", -50}});
+    Options o = floor_vote(3, 0.7);
+    o.floor_knn_position = false;
+    const auto label_only = localize(split_floors(), q, Algorithm::bayes, o);
+    const auto posterior_only = localize(split_floors(), q, Algorithm::bayes, floor_vote(0, 0.7));
+    ASSERT_TRUE(label_only && posterior_only);
+    // The knn-heavy vote names floor 20 (as in the test above) ...
+    EXPECT_EQ(label_only->floor_id, 20);
+    // ... but the position, its RPs and the candidates stay floor 10's, as without the knn vote.
+    EXPECT_EQ(label_only->rp_ids, posterior_only->rp_ids);
+    EXPECT_EQ(label_only->rp_ids, (std::vector<long long>{1}));
+    EXPECT_DOUBLE_EQ(label_only->at.x, posterior_only->at.x);
+    EXPECT_EQ(label_only->candidates.front().rp_id, 1);
+    // Where the knn vote agrees with the posterior nothing changes.
+    o.floor_knn_weight = 0.6;
+    EXPECT_EQ(localize(split_floors(), q, Algorithm::bayes, o)->floor_id, 10);
+}
+
 TEST(FloorDetection, FloorTemperatureFlattensOnlyTheFloorVote) {
     // Floor 20's mass 2e^(−2/Tf) passes floor 10's 1 when Tf > 2/ln 2 = 2.885.
     const Query q = query({{"a", -50}});

@@ -98,3 +98,20 @@ TEST(MatchTune, RefusesFewerThanTwoRps) {
     EXPECT_EQ(two.folds, 2u);
     EXPECT_NEAR(two.rows[two.best].mean_horizontal_m, 2.0, 1e-9);
 }
+
+TEST(MatchTune, HybridTiesWithItsBayesOnOneFloorSoTheEarlierCandidateStays) {
+    // On one floor the knn vote has no other floor to name: the hybrid answers exactly as
+    // bayes with the same bayes_k, and the tie keeps the earlier (plain) candidate.
+    const auto grid = tune_grid();
+    std::size_t hybrid = grid.size(), wide = grid.size();
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+        const auto& s = grid[i].setting;
+        if (s.algorithm != Algorithm::bayes || s.options.bayes_k != 20) continue;
+        (s.options.floor_knn > 0 && !s.options.floor_knn_position ? hybrid : wide) = i;
+    }
+    ASSERT_LT(wide, hybrid);
+    ASSERT_LT(hybrid, grid.size());
+    const auto report = tune(corridor(40), grid, level, {.folds = 5, .max_queries = 40});
+    EXPECT_DOUBLE_EQ(report.rows[hybrid].mean_error_m, report.rows[wide].mean_error_m);
+    EXPECT_NE(report.best, hybrid);
+}

@@ -51,6 +51,14 @@ std::vector<TuneCandidate> tune_grid() {
     TuneCandidate wide{"bayes bayes_k=20", Setting{}};
     wide.setting.options.bayes_k = 20;
     grid.push_back(wide);
+    // The hybrid: bayes places the fix, the knn vote of the 5 nearest RPs helps name its
+    // floor (a third of the floor vote) without moving it (docs/matchers.md, phase 3).
+    TuneCandidate hybrid{"bayes bayes_k=20 floor_knn=5 w=0.3 floor only", Setting{}};
+    hybrid.setting.options.bayes_k = 20;
+    hybrid.setting.options.floor_knn = 5;
+    hybrid.setting.options.floor_knn_weight = 0.3;
+    hybrid.setting.options.floor_knn_position = false;
+    grid.push_back(hybrid);
     for (int k : {3, 5, 8}) grid.push_back(candidate(Algorithm::wknn, k));
     grid.push_back(candidate(Algorithm::wknn, 3, Representation::exponential));
     grid.push_back(candidate(Algorithm::wknn, 3, Representation::positive, Distance::euclidean));

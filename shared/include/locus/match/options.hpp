@@ -57,6 +57,11 @@ struct Options {
     // 0 = posterior mass alone. Off by default: why, docs/matchers.md "Tuning notes moved from the code".
     int floor_knn = 0;
     double floor_knn_weight = 0.7;
+    // bayes, with floor_knn > 0: false = the knn vote names only the answer's building and
+    // floor; the position, rp_ids and candidates stay those of the floor the posterior mass
+    // and the AP vote pick (as with floor_knn 0). On UJIIndoorLoc's tuning users the knn vote
+    // gets the floor right more often but its floor's RPs give a worse position (docs/matchers.md).
+    bool floor_knn_position = true;
     // bayes: the floor vote also counts the query's `floor_aps` strongest known APs, each
     // voting for the floor of the RP where it is strongest (Index::strongest_rp), with a
     // total share of floor_ap_weight. Access points sit on a floor, so this needs no

@@ -1,6 +1,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <span>
 
 #include "../accumulate.hpp"
 #include "../estimate.hpp"
@@ -14,25 +16,33 @@ namespace {
 
 constexpr double kLog2Pi = 1.8378770664093453;  // log(2π)
 
-// Picks the floor first, by posterior mass over every candidate RP (plus, as configured, the
-// loudest APs' home floors and the knn vote of the nearest RPs), and returns that floor's
-// candidates ranked as far as n_listed, or `scored` itself when every candidate is on one
-// floor. Reorders s.known.
-const std::vector<Scored>& floor_pool(const Index& index, const Options& options, Scratch& s,
-                                      const std::vector<Scored>& scored, std::size_t n_listed, double temperature,
-                                      bool floor_knn, std::vector<Scored>& on_floor) {
+// Each voter's share of a floor vote: the posterior mass, the loudest APs, the knn neighbours.
+struct Shares {
+    double mass, aps, knn;
+};
+
+Shares shares_of(const Options& options, bool with_knn) {
+    const double knn = with_knn ? std::clamp(options.floor_knn_weight, 0.0, 1.0) : 0.0;
+    const double aps = options.floor_aps > 0 ? std::clamp(options.floor_ap_weight, 0.0, 1.0 - knn) : 0.0;
+    return {1.0 - knn - aps, aps, knn};
+}
+
+// Casts the floor vote once per entry of `shares` into the matching `votes`: posterior mass
+// over every candidate RP, plus, as the shares say, the loudest APs' home floors and the knn
+// vote of the nearest RPs. The voters are worked out once for all. Reorders s.known.
+void cast_floor_votes(const Index& index, const Options& options, Scratch& s, const std::vector<Scored>& scored,
+                      double temperature, std::span<const Shares> shares, std::span<FloorVote> votes,
+                      std::vector<Scored>& scratch) {
     const Scored& best = scored.front();
     const double floor_t = options.floor_temperature > 0.0 ? options.floor_temperature : temperature;
-    const double knn_w = floor_knn ? std::clamp(options.floor_knn_weight, 0.0, 1.0) : 0.0;
-    const double ap_w = options.floor_aps > 0 ? std::clamp(options.floor_ap_weight, 0.0, 1.0 - knn_w) : 0.0;
-    FloorVote vote;
     std::vector<double>& mass_of = s.weights;  // each candidate's unnormalised posterior
     mass_of.clear();
     double mass = 0.0;
     for (const auto& c : scored) mass += mass_of.emplace_back(std::exp((best.key1 - c.key1) / floor_t));
-    for (std::size_t j = 0; j < scored.size(); ++j)
-        vote.add(index.rp(scored[j].rp), (1.0 - knn_w - ap_w) * mass_of[j] / mass);
-    if (ap_w > 0.0) {
+    for (std::size_t v = 0; v < shares.size(); ++v)
+        for (std::size_t j = 0; j < scored.size(); ++j)
+            votes[v].add(index.rp(scored[j].rp), shares[v].mass * mass_of[j] / mass);
+    if (std::any_of(shares.begin(), shares.end(), [](const Shares& sh) { return sh.aps > 0.0; })) {
         // The strongest APs first; an AP whose home RP lies outside `near` does not vote,
         // so the winning floor always has candidates.
         std::vector<Known>& loudest = s.known;
@@ -42,22 +52,41 @@ const std::vector<Scored>& floor_pool(const Index& index, const Options& options
         for (std::size_t j = 0; j < n; ++j) {
             const std::uint32_t home = index.strongest_rp(loudest[j].ap);
             if (outside(index, home, options)) continue;
-            vote.add(index.rp(home), ap_w / static_cast<double>(n));
+            for (std::size_t v = 0; v < shares.size(); ++v)
+                if (shares[v].aps > 0.0) votes[v].add(index.rp(home), shares[v].aps / static_cast<double>(n));
         }
     }
-    if (floor_knn) {
-        std::vector<Scored>& near_rps = on_floor;  // reused as scratch, cleared below
+    if (options.floor_knn > 0) {  // then the last vote is the one that hears the knn neighbours
+        std::vector<Scored>& near_rps = scratch;
         near_rps.assign(scored.begin(), scored.end());
         const std::size_t n = std::min(near_rps.size(), static_cast<std::size_t>(options.floor_knn));
         auto closer = [](const Scored& a, const Scored& b) { return a.aux != b.aux ? a.aux < b.aux : a.rp < b.rp; };
         std::partial_sort(near_rps.begin(), near_rps.begin() + static_cast<long>(n), near_rps.end(), closer);
-        for (std::size_t j = 0; j < n; ++j) vote.add(index.rp(near_rps[j].rp), knn_w / static_cast<double>(n));
-        on_floor.clear();
+        for (std::size_t j = 0; j < n; ++j)
+            votes.back().add(index.rp(near_rps[j].rp), shares.back().knn / static_cast<double>(n));
+        scratch.clear();
     }
+}
+
+// Picks the position's floor by the vote (without the knn neighbours when they name the floor
+// only) and returns that floor's candidates ranked as far as n_listed, or `scored` itself
+// when every candidate is on one floor. `label`: the floor the answer names, when that comes
+// from a second vote with the knn neighbours. Reorders s.known.
+const std::vector<Scored>& floor_pool(const Index& index, const Options& options, Scratch& s,
+                                      const std::vector<Scored>& scored, std::size_t n_listed, double temperature,
+                                      bool floor_knn, std::vector<Scored>& on_floor,
+                                      std::optional<FloorVote::Group>& label) {
+    const bool split = floor_knn && !options.floor_knn_position;
+    const Shares shares[2] = {shares_of(options, floor_knn && !split), shares_of(options, true)};
+    FloorVote votes[2];
+    const std::size_t n_votes = split ? 2 : 1;
+    cast_floor_votes(index, options, s, scored, temperature, std::span(shares, n_votes), std::span(votes, n_votes),
+                     on_floor);
     // One group means every candidate is on that floor (a radio map's index, or a map heard
     // on one floor only), and `scored` is already that floor's list, ranked.
-    if (vote.size() <= 1) return scored;
-    const FloorVote::Group& g = vote.winner();
+    if (split && votes[1].size() > 1) label = votes[1].winner();
+    if (votes[0].size() <= 1) return scored;
+    const FloorVote::Group& g = votes[0].winner();
     for (const auto& c : scored) {
         const RpInfo& info = index.rp(c.rp);
         if (info.building_id == g.building && info.floor_id == g.floor) on_floor.push_back(c);
@@ -132,13 +161,20 @@ std::optional<Result> localize_bayes(const Index& index, const Query& query, con
     const double temperature = std::max(options.temperature, 1e-9);
     std::vector<Scored>& on_floor = s.on_floor;
     on_floor.clear();
-    const std::vector<Scored>& pool = floor_pool(index, options, s, scored, n_listed, temperature, floor_knn, on_floor);
+    std::optional<FloorVote::Group> label;
+    const std::vector<Scored>& pool =
+        floor_pool(index, options, s, scored, n_listed, temperature, floor_knn, on_floor, label);
 
     const Scored& best = scored.front();
     const Chosen chosen = options.estimate == BayesEstimate::mean
                               ? top_k(pool, k, [&](const Scored& c) { return std::exp((best.key1 - c.key1) / temperature); })
                               : tied_with_best(pool, options.tolerance);
-    return estimate(index, Algorithm::bayes, scored, chosen, n_listed, options);
+    Result r = estimate(index, Algorithm::bayes, scored, chosen, n_listed, options);
+    if (label) {
+        r.building_id = label->building;
+        r.floor_id = label->floor;
+    }
+    return r;
 }
 
 }  // namespace locus::match::detail
