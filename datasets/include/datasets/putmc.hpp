@@ -73,3 +73,12 @@ std::vector<std::string> walk_dirs(const std::string& dir);
 double android_azimuth(const OrientSample& q);
 
 }  // namespace locus::datasets::putmc
+
+namespace locus::datasets::putmc {
+
+// PUTMC metres have y pointing down the plan image; a Locus floor's y points up (the image's
+// bottom-left corner at the floor's origin, docs/spec.md §2.1). The floor's height is the
+// image's height in metres, so a point keeps its place on the drawing.
+inline Point to_floor(Point putmc, double floor_height_m) { return {putmc.x, floor_height_m - putmc.y}; }
+
+}  // namespace locus::datasets::putmc

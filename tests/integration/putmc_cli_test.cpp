@@ -1,0 +1,73 @@
+// `locus import putmc` and `locus eval walks` against the real server, on the tiny PUTMC
+// fixture (tests/fixtures/putmc: 4 survey points, a 305 × 105 px drawing, 11 s of walk 1
+// with its first 3 scans).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "server_process.hpp"
+
+using locus::testing::body_of;
+using locus::testing::run_command;
+using locus::testing::ServerProcess;
+using nlohmann::json;
+
+namespace {
+
+const std::string kCli = LOCUS_CLI_BIN;
+const std::string kFixture = LOCUS_TEST_FIXTURES "/putmc";
+
+json run_ok(const std::vector<std::string>& argv) {
+    const auto r = run_command(argv);
+    if (r.status != 0) throw std::runtime_error("exit status " + std::to_string(r.status) + ":\n" + r.err);
+    return json::parse(r.out);
+}
+
+json import_fixture(const ServerProcess& server) {
+    return run_ok({kCli, "import", "putmc", "--server", server.url(), "--map", "PUTMC", "--no-progress", kFixture});
+}
+
+}  // namespace
+
+TEST(ImportPutmc, FloorImagePlanAndRpsOnceEach) {
+    ServerProcess server{{"--quiet"}};
+    const json first = import_fixture(server);
+    EXPECT_EQ(first["rps"], 4);
+    EXPECT_EQ(first["created"], 4);
+    EXPECT_EQ(first["scans"], 4);
+    const double height = 105 / 2.83988631094;
+    const auto floor = body_of(server.get("/v1/floors/" + std::to_string(first["floor_id"].get<int>())));
+    EXPECT_NEAR(floor["width"].get<double>(), 305 / 2.83988631094, 1e-6);
+    EXPECT_NEAR(floor["height"].get<double>(), height, 1e-6);
+    const auto placement = body_of(server.get("/v1/floors/" + std::to_string(first["floor_id"].get<int>()) + "/image/placement"));
+    EXPECT_EQ(placement["width_px"], 305);
+    EXPECT_NEAR(placement["metres_per_pixel"].get<double>(), 1 / 2.83988631094, 1e-9);
+    // The plan made from the drawing is on the floor (its outline is a wall).
+    EXPECT_EQ(server.get("/v1/floors/" + std::to_string(first["floor_id"].get<int>()) + "/plan").status, 200);
+    // RP p1 at the survey's (30.417, 20.293), y flipped to run up the floor.
+    const auto rps = body_of(server.get("/v1/radiomaps/" + std::to_string(first["radiomap_id"].get<int>()) + "/rps"))["items"];
+    ASSERT_EQ(rps.size(), 4u);
+    bool found = false;
+    for (const auto& rp : rps)
+        if (rp["name"] == "p1") {
+            found = true;
+            EXPECT_NEAR(rp["x"].get<double>(), 30.4172467139, 1e-6);
+            EXPECT_NEAR(rp["y"].get<double>(), height - 20.2929559505, 1e-6);
+        }
+    EXPECT_TRUE(found);
+
+    const json again = import_fixture(server);
+    EXPECT_EQ(again["already_uploaded"], 4);
+    EXPECT_EQ(again["created"], 0);
+    EXPECT_EQ(again["floor_id"], first["floor_id"]);
+    EXPECT_EQ(again["radiomap_id"], first["radiomap_id"]);
+}
+
+TEST(ImportPutmc, RefusesADirectoryWithoutTheSurvey) {
+    ServerProcess server{{"--quiet"}};
+    const auto r = run_command({kCli, "import", "putmc", "--server", server.url(), "--no-progress", kFixture + "/trajs"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("neither map/wifi.map"), std::string::npos) << r.err;
+}
