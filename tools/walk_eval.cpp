@@ -149,6 +149,7 @@ WalkResult evaluate_walk(const putmc::Walk& walk, const std::vector<std::optiona
         } else {
             const sim::Fix& f = fx[j++];
             align.add_fix(f.at);
+            if (align.pairs() >= 3) wf.hint(align.offset_rad(), align.mirrored());
             wf.fix(f.at, f.cov);
             wf_track.push_back({f.t_s, wf.position()});
         }

@@ -37,7 +37,24 @@ struct Args {
     bool smooth = false;
     bool walls = true;
     int particles = 2000;
+    std::vector<std::string> tune;  // walk_pf KEY=VALUE (tuning only)
 };
+
+// --walk-pf KEY=VALUE: the walk filter's parameters, for tuning on walks 1–5.
+void apply_tuning(fusion::WalkFilterConfig& c, const std::vector<std::string>& kv) {
+    const std::map<std::string, double*> keys = {
+        {"initial_sigma_m", &c.initial_sigma_m}, {"scale_mean", &c.scale_mean}, {"scale_sigma", &c.scale_sigma},
+        {"heading_sigma_rad", &c.heading_sigma_rad}, {"offset_walk_rad", &c.offset_walk_rad}, {"scale_walk", &c.scale_walk},
+        {"length_sigma", &c.length_sigma}, {"snap_rad", &c.snap_rad}, {"blocked_weight", &c.blocked_weight},
+        {"fix_sigma_m", &c.fix_sigma_m}, {"outlier_floor", &c.outlier_floor}, {"reseed_fraction", &c.reseed_fraction},
+        {"resample_fraction", &c.resample_fraction}, {"hint_share", &c.hint_share}, {"hint_sigma_rad", &c.hint_sigma_rad}};
+    for (const auto& item : kv) {
+        const auto eq = item.find('=');
+        const auto it = keys.find(item.substr(0, eq));
+        if (eq == std::string::npos || it == keys.end()) throw CommandError("--walk-pf: unknown '" + item + "'");
+        *it->second = std::stod(item.substr(eq + 1));
+    }
+}
 
 json stats_json(const walks::Stats& s) {
     return {{"n", s.n}, {"mean_m", s.mean}, {"median_m", s.median}, {"p75_m", s.p75}, {"p95_m", s.p95}};
@@ -72,6 +89,7 @@ void run(const Args& a) {
     cfg.smooth = a.smooth;
     cfg.methods.match_options.k = a.k;
     cfg.walk_filter.particles = a.particles;
+    apply_tuning(cfg.walk_filter, a.tune);
     const auto names = walks::method_names(map.has_value(), a.smooth);
     if (a.method != "all" && std::find(names.begin(), names.end(), a.method) == names.end()) {
         std::string list;
@@ -124,11 +142,20 @@ void run(const Args& a) {
                 {"no_match", no_match_total}, {"walks", json::array()}, {"pooled", json::object()}};
     std::map<std::string, std::vector<double>> pooled;
     for (const auto& r : results) {
-        json w = {{"walk", r.name}, {"scans", r.truth.size()}, {"fixes", r.fixes}, {"steps", r.steps},
+        json truth = json::array();
+        for (const auto& p : r.truth) truth.push_back({p.x, p.y});
+        json w = {{"walk", r.name}, {"truth", truth}, {"scans", r.truth.size()}, {"fixes", r.fixes}, {"steps", r.steps},
                   {"offset_deg", r.offset_deg}, {"mirrored", r.mirrored}, {"methods", json::object()}};
         for (const auto& m : shown) {
             const auto e = walks::errors_of(r, m);
             w["methods"][m] = stats_json(walks::stats_of(e));
+            if (a.json_out)
+                for (const auto& t : r.tracks)
+                    if (t.method == m) {
+                        json pts = json::array();
+                        for (const auto& p : t.at_scan) pts.push_back(p ? json::array({p->x, p->y}) : json());
+                        w["methods"][m]["at_scans"] = pts;
+                    }
             pooled[m].insert(pooled[m].end(), e.begin(), e.end());
         }
         out["walks"].push_back(w);
@@ -184,6 +211,7 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--particles", args->particles, "walk_pf particles")->capture_default_str()->check(CLI::Range(10, 100000));
+    cmd->add_option("--walk-pf", args->tune, "walk_pf parameter KEY=VALUE (tuning)")->group("");
     cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
     cmd->add_flag("--smooth", args->smooth, "also the offline RTS smoother (uses each walk's future: not causal)");
     cmd->add_flag("!--no-walls", args->walls, "ignore the floor's plan (no map matching)");

@@ -52,8 +52,13 @@ WalkFilter::P WalkFilter::fresh(Point around, double sigma) {
         p.at = {around.x + sigma * n(rng_), around.y + sigma * n(rng_)};
         if (!map_ || map_->inside(p.at)) break;
     }
-    p.offset = u(rng_);
-    p.mirror = std::bernoulli_distribution(0.5)(rng_) ? 1.0 : -1.0;
+    if (hint_ && std::bernoulli_distribution(config_.hint_share)(rng_)) {
+        p.offset = pdr::wrap_angle(hint_->first + config_.hint_sigma_rad * n(rng_));
+        p.mirror = hint_->second;
+    } else {
+        p.offset = u(rng_);
+        p.mirror = std::bernoulli_distribution(0.5)(rng_) ? 1.0 : -1.0;
+    }
     p.scale = config_.scale_mean * std::exp(config_.scale_sigma * n(rng_));
     p.weight = 1.0;
     return p;

@@ -38,6 +38,10 @@ struct WalkFilterConfig {
     double outlier_floor = 0.02;
     double reseed_fraction = 0.05;     // re-drawn around each fix
     double resample_fraction = 0.5;
+    // With a rotation hint (HeadingAlignment's, learnt from the fixes so far), this share of
+    // the fresh particles takes it, ±hint_sigma_rad; the rest draw φ and s uniformly.
+    double hint_share = 0.7;
+    double hint_sigma_rad = 0.35;
 };
 
 // The dominant wall direction of a plan, modulo 90° (rad in [0, π/2)), from a length-weighted
@@ -53,6 +57,8 @@ public:
     // A step in the compass frame (ignored before the first fix).
     void step(double length_m, double azimuth_rad);
     void fix(Point at, const Eigen::Matrix2d& cov);
+    // The rotation and mirror the fixes suggest so far: fresh particles lean on it.
+    void hint(double offset_rad, bool mirrored) { hint_ = {offset_rad, mirrored ? -1.0 : 1.0}; }
 
     Point position() const;  // weighted mean; only meaningful once started()
 
@@ -70,6 +76,7 @@ private:
 
     std::optional<Walkable> map_;
     std::optional<double> axis_;
+    std::optional<std::pair<double, double>> hint_;  // offset, mirror
     WalkFilterConfig config_;
     std::mt19937_64 rng_;
     std::vector<P> particles_;
