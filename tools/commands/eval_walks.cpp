@@ -37,23 +37,41 @@ struct Args {
     bool smooth = false;
     bool walls = true;
     int particles = 2000;
-    std::vector<std::string> tune;  // walk_pf KEY=VALUE (tuning only)
+    std::vector<std::string> tune;  // --set KEY=VALUE
 };
 
-// --walk-pf KEY=VALUE: the walk filter's parameters, for tuning on walks 1–5.
-void apply_tuning(fusion::WalkFilterConfig& c, const std::vector<std::string>& kv) {
+// --set KEY=VALUE: a method's parameter, for tuning (on walks 1–5 only: docs/fusion.md).
+// walk_pf's by name, the other methods' as particle.NAME, kalman.NAME, rules.NAME.
+void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
+    auto& c = cfg.walk_filter;
+    auto& pc = cfg.methods.particle;
+    double seed = static_cast<double>(c.seed), particles = pc.particles;
     const std::map<std::string, double*> keys = {
         {"initial_sigma_m", &c.initial_sigma_m}, {"scale_mean", &c.scale_mean}, {"scale_sigma", &c.scale_sigma},
         {"heading_sigma_rad", &c.heading_sigma_rad}, {"offset_walk_rad", &c.offset_walk_rad}, {"scale_walk", &c.scale_walk},
         {"length_sigma", &c.length_sigma}, {"snap_rad", &c.snap_rad}, {"blocked_weight", &c.blocked_weight},
         {"fix_sigma_m", &c.fix_sigma_m}, {"outlier_floor", &c.outlier_floor}, {"reseed_fraction", &c.reseed_fraction},
-        {"resample_fraction", &c.resample_fraction}, {"hint_share", &c.hint_share}, {"hint_sigma_rad", &c.hint_sigma_rad}};
+        {"resample_fraction", &c.resample_fraction}, {"seed", &seed}, {"hint_share", &c.hint_share},
+        {"hint_sigma_rad", &c.hint_sigma_rad}, {"particle.particles", &particles},
+        {"particle.initial_sigma_m", &pc.initial_sigma_m}, {"particle.initial_bias_sigma_rad", &pc.initial_bias_sigma_rad},
+        {"particle.initial_scale_sigma", &pc.initial_scale_sigma}, {"particle.heading_sigma_rad", &pc.heading_sigma_rad},
+        {"particle.bias_walk_sigma_rad", &pc.bias_walk_sigma_rad}, {"particle.length_sigma", &pc.length_sigma},
+        {"particle.blocked_weight", &pc.blocked_weight}, {"particle.outlier_floor", &pc.outlier_floor},
+        {"particle.injection_likelihood", &pc.injection_likelihood}, {"particle.injection_fraction", &pc.injection_fraction},
+        {"particle.latency_s", &cfg.methods.particle_fix_latency_s}, {"fix_sigma_floor_m", &cfg.methods.fix_sigma_floor_m},
+        {"kalman.step_sigma_per_m", &cfg.methods.kalman.step_sigma_per_m}, {"rules.lambda_m", &cfg.methods.rules.lambda_m}};
     for (const auto& item : kv) {
         const auto eq = item.find('=');
         const auto it = keys.find(item.substr(0, eq));
-        if (eq == std::string::npos || it == keys.end()) throw CommandError("--walk-pf: unknown '" + item + "'");
-        *it->second = std::stod(item.substr(eq + 1));
+        if (eq == std::string::npos || it == keys.end()) throw CommandError("--set: unknown parameter '" + item + "'");
+        try {
+            *it->second = std::stod(item.substr(eq + 1));
+        } catch (const std::exception&) {
+            throw CommandError("--set: '" + item + "' is not KEY=NUMBER");
+        }
     }
+    c.seed = static_cast<std::uint64_t>(seed);
+    pc.particles = static_cast<int>(particles);
 }
 
 json stats_json(const walks::Stats& s) {
@@ -89,7 +107,7 @@ void run(const Args& a) {
     cfg.smooth = a.smooth;
     cfg.methods.match_options.k = a.k;
     cfg.walk_filter.particles = a.particles;
-    apply_tuning(cfg.walk_filter, a.tune);
+    apply_tuning(cfg, a.tune);
     const auto names = walks::method_names(map.has_value(), a.smooth);
     if (a.method != "all" && std::find(names.begin(), names.end(), a.method) == names.end()) {
         std::string list;
@@ -136,6 +154,14 @@ void run(const Args& a) {
             std::cerr << "locus: " << walk.name << ": no scan localized (every one answered no_match): skipped in the figures\n";
     }
 
+    if (map) {
+        // A plan that does not line up with the walks (wrong scale, flip or offset) would make
+        // map matching hurt: say how many ground-truth points it holds as walkable.
+        std::size_t inside = 0, total = 0;
+        for (const auto& r : results)
+            for (const auto& p : r.truth) inside += map->inside(p), ++total;
+        std::cerr << inside << " of " << total << " ground-truth points are walkable on the plan\n";
+    }
     const std::vector<std::string> shown = a.method == "all" ? names : std::vector<std::string>{a.method};
     json out = {{"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"k", a.k}, {"walls", map.has_value()},
                 {"causal", "every method but rts_smoother: estimate at a scan from data up to that scan"},
@@ -211,7 +237,7 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--particles", args->particles, "walk_pf particles")->capture_default_str()->check(CLI::Range(10, 100000));
-    cmd->add_option("--walk-pf", args->tune, "walk_pf parameter KEY=VALUE (tuning)")->group("");
+    cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf's by name; particle.*, kalman.*, rules.*)");
     cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
     cmd->add_flag("--smooth", args->smooth, "also the offline RTS smoother (uses each walk's future: not causal)");
     cmd->add_flag("!--no-walls", args->walls, "ignore the floor's plan (no map matching)");

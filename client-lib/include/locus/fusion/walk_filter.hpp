@@ -28,19 +28,19 @@ struct WalkFilterConfig {
     double scale_mean = 1.15;          // initial step scale: lognormal around this...
     double scale_sigma = 0.25;         // ...with this σ of its log
     double heading_sigma_rad = 0.12;   // per-step heading noise
-    double offset_walk_rad = 0.03;     // per-step random walk of φ (compass drift)
+    double offset_walk_rad = 0.15;     // per-step random walk of φ (compass drift)
     double scale_walk = 0.01;          // per-step relative random walk of c
     double length_sigma = 0.1;         // per-step relative length noise
     double snap_rad = 0.45;            // headings this close to a corridor axis take the axis
     int blocked_retries = 2;
-    double blocked_weight = 0.1;
-    double fix_sigma_m = 3.0;          // σ of the fix likelihood (at least; the fix's own cov when larger)
+    double blocked_weight = 0.02;
+    double fix_sigma_m = 2.2;          // σ of the fix likelihood (at least; the fix's own cov when larger)
     double outlier_floor = 0.02;
-    double reseed_fraction = 0.05;     // re-drawn around each fix
+    double reseed_fraction = 0.3;      // re-drawn around each fix
     double resample_fraction = 0.5;
     // With a rotation hint (HeadingAlignment's, learnt from the fixes so far), this share of
     // the fresh particles takes it, ±hint_sigma_rad; the rest draw φ and s uniformly.
-    double hint_share = 0.7;
+    double hint_share = 0.0;
     double hint_sigma_rad = 0.35;
 };
 
