@@ -36,7 +36,13 @@ std::optional<double> corridor_axis(const locus::plan::Plan& plan) {
         if (s > best_sum) best_sum = s, best = b;
     }
     if (best_sum < 0.3 * total) return std::nullopt;  // no axis holds a good share of the walls
-    return (best + 0.5) * (kPi / 2) / kBins;
+    // The window's length-weighted mean bin (offsets from `best`, so the 90° wrap is harmless).
+    double shift = 0.0;
+    for (int d = -2; d <= 2; ++d) shift += d * hist[(best + d + kBins) % kBins];
+    double axis = (best + 0.5 + shift / best_sum) * (kPi / 2) / kBins;
+    if (axis < 0) axis += kPi / 2;
+    if (axis >= kPi / 2) axis -= kPi / 2;
+    return axis;
 }
 
 WalkFilter::WalkFilter(std::optional<Walkable> map, const WalkFilterConfig& config)
