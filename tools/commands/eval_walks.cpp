@@ -240,7 +240,7 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf's by name; particle.*, kalman.*, rules.*)");
     cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
     cmd->add_flag("--smooth", args->smooth, "also the offline RTS smoother (uses each walk's future: not causal)");
-    cmd->add_flag("!--no-walls", args->walls, "ignore the floor's plan (no map matching)");
+    cmd->add_flag_callback("--no-walls", [args] { args->walls = false; }, "ignore the floor's plan (no map matching)");
     cmd->add_option("DIR", args->dir, "PUTMC directory (with trajs/) or one walk directory")->required()->check(CLI::ExistingDirectory);
     cmd->callback([args] { run(*args); });
 });

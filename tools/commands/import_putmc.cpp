@@ -150,7 +150,7 @@ LOCUS_COMMAND("import-putmc", [](CLI::App& app) {
     args->server.add_to(*cmd);
     cmd->add_option("--map", args->map, "map name (created if missing)")->capture_default_str();
     cmd->add_option("--concurrency", args->concurrency, "parallel connections")->capture_default_str()->check(CLI::Range(1, 64));
-    cmd->add_flag("!--no-plan", args->plan, "do not make and PUT the floor plan from the image");
+    cmd->add_flag_callback("--no-plan", [args] { args->plan = false; }, "do not make and PUT the floor plan from the image");
     locus::tools::add_no_progress_flag(*cmd, args->progress);
     cmd->add_option("DIR", args->dir, "the PUTMC directory (holding map/) or its map/ directory")->required()->check(CLI::ExistingDirectory);
     cmd->callback([args] { run(*args); });
