@@ -11,6 +11,7 @@
 
 #include "command_registry.hpp"
 #include "locus/api/client.hpp"
+#include "locus/fusion/walk_filter.hpp"
 #include "sim/evaluate.hpp"
 #include "sim/walk_io.hpp"
 
@@ -23,7 +24,8 @@ struct Args {
     std::string server = "http://127.0.0.1:8080";
     std::string api_key;
     std::int64_t radiomap = 0;
-    std::string rule = "proportional";
+    // The best causal method on real phone walks (docs/fusion.md, "Real walks").
+    std::string rule = "walk_pf";
     std::string algorithm = "wknn";
     int k = 3;
     std::string file;
@@ -86,16 +88,40 @@ json track_json(const sim::NamedTrack& t, const sim::Walk& walk) {
     return out;
 }
 
+// fusion::WalkFilter over the walk: it knows no start and learns the compass's rotation from
+// the fixes (here the PDR heading is already the floor's, so it learns about none); its track
+// begins at the first fix.
+sim::Track walk_pf_track(const std::vector<sim::PdrStep>& steps, const std::vector<sim::Fix>& fixes,
+                         const std::optional<fusion::Walkable>& map, std::uint64_t seed) {
+    fusion::WalkFilterConfig cfg;
+    cfg.seed = seed;
+    fusion::WalkFilter pf(map, cfg);
+    sim::Track track;
+    std::size_t i = 0, j = 0;
+    while (i < steps.size() || j < fixes.size()) {
+        if (j >= fixes.size() || (i < steps.size() && steps[i].t_s <= fixes[j].t_s)) {
+            pf.step(steps[i].length_m, steps[i].heading_rad);
+            if (pf.started()) track.push_back({steps[i].t_s, pf.position()});
+            ++i;
+        } else {
+            pf.fix(fixes[j].at, fixes[j].cov);
+            track.push_back({fixes[j].t_s, pf.position()});
+            ++j;
+        }
+    }
+    return track;
+}
+
 void run(const Args& a) {
     if (a.format != "json" && a.format != "csv") throw tools::CommandError("--format must be json or csv");
     const auto algorithm = match::parse_algorithm(a.algorithm);
     if (!algorithm) throw tools::CommandError("unknown --algorithm '" + a.algorithm + "'");
     const bool all = a.rule == "all";
     const std::vector<std::string> methods = {"pdr", "wifi", "only_wifi", "midpoint", "midpoint_threshold",
-                                              "proportional", "proportional2", "kalman", "particle"};
+                                              "proportional", "proportional2", "kalman", "particle", "walk_pf"};
     if (!all && std::find(methods.begin(), methods.end(), a.rule) == methods.end())
         throw tools::CommandError("unknown --rule '" + a.rule + "' (only_wifi, midpoint, midpoint_threshold, "
-                                  "proportional, proportional2, kalman, particle, pdr, wifi or all)");
+                                  "proportional, proportional2, kalman, particle, walk_pf, pdr, wifi or all)");
 
     const sim::Walk walk = sim::load_walk(a.file);
     api::ClientOptions opts;
@@ -131,7 +157,8 @@ void run(const Args& a) {
                                   " (" + std::to_string(no_match) + " scans, every one answered no_match): is it the walk's "
                                   "radio map? --upload-survey puts the walk's survey scans into it first");
     const Walls walls = choose_walls(client, a, walk);
-    const auto tracks = sim::run_methods(steps, fixes, walk.start, walls.map, cfg);
+    auto tracks = sim::run_methods(steps, fixes, walk.start, walls.map, cfg);
+    if (all || a.rule == "walk_pf") tracks.push_back({"walk_pf", walk_pf_track(steps, fixes, walls.map, walk.seed)});
 
     json out = {{"file", a.file}, {"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"steps", steps.size()},
                 {"fixes", fixes.size()}, {"no_match", no_match}, {"walls", walls.source}, {"tracks", json::array()}};
@@ -164,7 +191,7 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_option("--server", args->server, "server base URL")->capture_default_str();
     cmd->add_option("--api-key", args->api_key, "API key (for --upload-survey)")->envname("LOCUS_API_KEY");
     cmd->add_option("--radiomap", args->radiomap, "radio map to localize against")->required()->check(CLI::PositiveNumber);
-    cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, pdr, wifi, or all")->capture_default_str();
+    cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, or all")->capture_default_str();
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn/bayes")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--format", args->format, "json (tracks with errors) or csv")->capture_default_str();

@@ -1,0 +1,71 @@
+// The real-walk particle filter (fusion::WalkFilter) per PDR step and per fix, on the PUTMC
+// floor's plan made from its drawing (as `locus import putmc` puts it), by particle count; and
+// without a plan. Skipped when the shared data folder is absent.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <optional>
+
+#include "image_file.hpp"
+#include "locus/fusion/walk_filter.hpp"
+#include "locus/imaging/plan_from_image.hpp"
+
+using namespace locus;
+
+namespace {
+
+const std::string kImage = LOCUS_DATA_DIR "/putmc/map/floorplan.png";
+constexpr double kPxPerM = 28.3988631094;
+
+// Built once: making the plan takes about a second.
+const std::optional<fusion::Walkable>& putmc_floor() {
+    static const std::optional<fusion::Walkable> floor = [] {
+        if (!std::filesystem::exists(kImage)) return std::optional<fusion::Walkable>();
+        imaging::FromImageOptions o;
+        o.px_per_m = kPxPerM;
+        return std::optional(fusion::Walkable::from_plan(imaging::plan_from_image(tools::read_grey_image(kImage), o)));
+    }();
+    return floor;
+}
+
+// A corridor point of the PUTMC floor (walk 1's first truth point, y flipped).
+constexpr Point kStart{59.58, 36.94 - 23.27};
+
+// Arg 0: particles; arg 1: 1 = on the plan, 0 = no plan.
+void BM_WalkFilterStep(benchmark::State& state) {
+    std::optional<fusion::Walkable> map;
+    if (state.range(1)) {
+        if (!putmc_floor()) return state.SkipWithError("no PUTMC data");
+        map = putmc_floor();
+    }
+    fusion::WalkFilterConfig cfg;
+    cfg.particles = static_cast<int>(state.range(0));
+    fusion::WalkFilter pf(map, cfg);
+    pf.fix(kStart, Eigen::Matrix2d::Identity() * 4.0);
+    int n = 0;
+    for (auto _ : state) {
+        // Up and down the corridor, a fix every 6 steps to keep the cloud on it.
+        pf.step(0.7, (n / 20) % 2 ? 1.6 : -1.5);
+        if (++n % 6 == 0) {
+            state.PauseTiming();
+            pf.fix(pf.position(), Eigen::Matrix2d::Identity() * 4.0);
+            state.ResumeTiming();
+        }
+    }
+    state.counters["particles"] = static_cast<double>(state.range(0));
+}
+BENCHMARK(BM_WalkFilterStep)->ArgsProduct({{500, 2000, 8000}, {0, 1}})->Unit(benchmark::kMicrosecond);
+
+void BM_WalkFilterFix(benchmark::State& state) {
+    if (!putmc_floor()) return state.SkipWithError("no PUTMC data");
+    fusion::WalkFilterConfig cfg;
+    cfg.particles = static_cast<int>(state.range(0));
+    fusion::WalkFilter pf(putmc_floor(), cfg);
+    pf.fix(kStart, Eigen::Matrix2d::Identity() * 4.0);
+    for (auto _ : state) pf.fix({kStart.x + 1.0, kStart.y}, Eigen::Matrix2d::Identity() * 4.0);
+}
+BENCHMARK(BM_WalkFilterFix)->Arg(2000)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

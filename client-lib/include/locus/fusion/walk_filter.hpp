@@ -1,0 +1,85 @@
+#pragma once
+// A particle filter for phones in buildings nobody calibrated (docs/fusion.md, "Real walks"):
+// it starts from nothing (the first fix), and each particle carries not only where the person
+// is but the unknowns a real phone brings — the rotation φ between the compass and the floor,
+// whether the plan is mirrored against east-north-up (s = ±1), and the walker's step-length
+// scale c. A step at compass azimuth ψ moves a particle by c·L at θ = φ + sψ; the fixes then
+// weed out the wrong rotations, mirrors and scales along with the wrong places. Indoors the
+// compass drifts by tens of degrees along a corridor, so φ random-walks per step; and where
+// the plan's walls run along two axes, a heading within snap_rad of one of them is taken as
+// that axis (people walk along corridors, not at the compass's 20° to them). Walls block
+// moves as in ParticleFilter. A share of the particles is re-drawn around every fix with
+// fresh φ, s and c, so a cloud that settled on a wrong hypothesis can always recover.
+#include <Eigen/Dense>
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <vector>
+
+#include "locus/fusion/walkable.hpp"
+
+namespace locus::fusion {
+
+// Tuned on the PUTMC walks xperia_traj1–5 only (docs/fusion.md); reported on the other seven.
+struct WalkFilterConfig {
+    int particles = 2000;
+    std::uint64_t seed = 1;
+    double initial_sigma_m = 2.0;      // spread around the first fix
+    double scale_mean = 1.15;          // initial step scale: lognormal around this...
+    double scale_sigma = 0.25;         // ...with this σ of its log
+    double heading_sigma_rad = 0.12;   // per-step heading noise
+    double offset_walk_rad = 0.15;     // per-step random walk of φ (compass drift)
+    double scale_walk = 0.01;          // per-step relative random walk of c
+    double length_sigma = 0.1;         // per-step relative length noise
+    double snap_rad = 0.45;            // headings this close to a corridor axis take the axis
+    int blocked_retries = 2;
+    double blocked_weight = 0.02;
+    double fix_sigma_m = 2.2;          // σ of the fix likelihood (at least; the fix's own cov when larger)
+    double outlier_floor = 0.02;
+    double reseed_fraction = 0.3;      // re-drawn around each fix
+    double resample_fraction = 0.5;
+    // With a rotation hint (HeadingAlignment's, learnt from the fixes so far), this share of
+    // the fresh particles takes it, ±hint_sigma_rad; the rest draw φ and s uniformly.
+    double hint_share = 0.0;
+    double hint_sigma_rad = 0.35;
+};
+
+// The dominant wall direction of a plan, modulo 90° (rad in [0, π/2)), from a length-weighted
+// histogram; nullopt when the walls show no clear axis.
+std::optional<double> corridor_axis(const locus::plan::Plan& plan);
+
+class WalkFilter {
+public:
+    // map: walls and spaces (may be empty: then moves are free and headings are not snapped).
+    explicit WalkFilter(std::optional<Walkable> map, const WalkFilterConfig& config = {});
+
+    bool started() const { return !particles_.empty(); }
+    // A step in the compass frame (ignored before the first fix).
+    void step(double length_m, double azimuth_rad);
+    void fix(Point at, const Eigen::Matrix2d& cov);
+    // The rotation and mirror the fixes suggest so far: fresh particles lean on it.
+    void hint(double offset_rad, bool mirrored) { hint_ = {offset_rad, mirrored ? -1.0 : 1.0}; }
+
+    Point position() const;  // weighted mean; only meaningful once started()
+
+private:
+    struct P {
+        Point at;
+        double offset = 0.0;
+        double mirror = 1.0;
+        double scale = 1.0;
+        double weight = 1.0;
+    };
+    P fresh(Point around, double sigma);
+    double snapped(double heading) const;
+    void resample();
+
+    std::optional<Walkable> map_;
+    std::optional<double> axis_;
+    std::optional<std::pair<double, double>> hint_;  // offset, mirror
+    WalkFilterConfig config_;
+    std::mt19937_64 rng_;
+    std::vector<P> particles_;
+};
+
+}  // namespace locus::fusion

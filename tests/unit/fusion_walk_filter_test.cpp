@@ -1,0 +1,109 @@
+// The pieces of real-walk tracking that need no data set: the compass-to-floor rotation and
+// mirror learnt from fixes (HeadingAlignment), the corridor axis of a plan, and the walk filter
+// following a synthetic walk whose compass is turned and mirrored against the floor.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "locus/fusion/heading_alignment.hpp"
+#include "locus/fusion/walk_filter.hpp"
+#include "locus/pdr/heading_convention.hpp"
+
+using locus::Point;
+namespace fusion = locus::fusion;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A rectangle walked clockwise on the floor (30 m × 10 m, 0.7 m steps), as (floor heading, position).
+struct Leg {
+    double heading;
+    int steps;
+};
+const Leg kLoop[] = {{kPi / 2, 43}, {kPi, 14}, {-kPi / 2, 43}, {0.0, 14}, {kPi / 2, 43}};
+
+// The compass azimuth a phone would give for a floor heading, for a floor turned by `offset`
+// and mirrored or not: θ = offset + s·ψ  ⇒  ψ = s·(θ − offset).
+double azimuth_of(double floor_heading, double offset, bool mirrored) {
+    return locus::pdr::wrap_angle((mirrored ? -1.0 : 1.0) * (floor_heading - offset));
+}
+
+}  // namespace
+
+TEST(HeadingAlignment, RecoversRotationAndMirrorFromNoisyFixes) {
+    for (const bool mirrored : {false, true}) {
+        const double offset = 1.1;
+        fusion::HeadingAlignment align;
+        std::mt19937_64 rng(7);
+        std::normal_distribution<double> noise(0.0, 1.5);
+        Point at{5, 5};
+        int n = 0;
+        for (const Leg& leg : kLoop)
+            for (int i = 0; i < leg.steps; ++i) {
+                at = locus::pdr::step(at, 0.7, leg.heading);
+                align.add_step(0.7, azimuth_of(leg.heading, offset, mirrored));
+                if (++n % 6 == 0) align.add_fix({at.x + noise(rng), at.y + noise(rng)});
+            }
+        EXPECT_EQ(align.mirrored(), mirrored);
+        EXPECT_NEAR(locus::pdr::wrap_angle(align.offset_rad() - offset), 0.0, 0.15) << "mirrored " << mirrored;
+        EXPECT_NEAR(align.scale(), 1.0, 0.2);
+        EXPECT_GT(align.correlation(), 0.8);
+    }
+}
+
+TEST(HeadingAlignment, AssumesNothingBeforeEnoughPairs) {
+    fusion::HeadingAlignment align;
+    align.add_fix({0, 0});
+    align.add_step(0.7, 1.0);
+    align.add_fix({0, 0.7});
+    EXPECT_EQ(align.offset_rad(), 0.0);
+    EXPECT_FALSE(align.mirrored());
+    EXPECT_DOUBLE_EQ(align.floor_heading(0.4), 0.4);
+}
+
+TEST(CorridorAxis, FindsTheWallsDirection) {
+    locus::plan::Plan plan;
+    const double a = 0.3;  // walls turned 0.3 rad from the x axis
+    for (int i = 0; i < 5; ++i) {
+        const Point o{i * 3.0, 0.0};
+        plan.walls.push_back({{o, {o.x + 10 * std::cos(a), o.y + 10 * std::sin(a)}}});
+        plan.walls.push_back({{o, {o.x - 4 * std::sin(a), o.y + 4 * std::cos(a)}}});  // the perpendicular ones
+    }
+    const auto axis = fusion::corridor_axis(plan);
+    ASSERT_TRUE(axis.has_value());
+    EXPECT_NEAR(*axis, a, 0.02);
+    EXPECT_FALSE(fusion::corridor_axis(locus::plan::Plan{}).has_value());
+}
+
+TEST(WalkFilter, FollowsAWalkWhoseCompassIsTurnedAndMirrored) {
+    // No plan: the filter must learn rotation and mirror from the fixes alone.
+    fusion::WalkFilterConfig cfg;
+    cfg.seed = 3;
+    fusion::WalkFilter pf(std::nullopt, cfg);
+    EXPECT_FALSE(pf.started());
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> noise(0.0, 2.0);
+    Point at{5, 5};
+    double fix_err = 0.0, pf_err = 0.0;
+    int n = 0, scored = 0;
+    for (int lap = 0; lap < 2; ++lap)
+        for (const Leg& leg : kLoop)
+            for (int i = 0; i < leg.steps; ++i) {
+                at = locus::pdr::step(at, 0.7, leg.heading);
+                pf.step(0.7 / 1.2, azimuth_of(leg.heading, 2.0, true));  // the PDR under-counts length by 1.2×
+                if (++n % 6 == 0) {
+                    const Point fix{at.x + noise(rng), at.y + noise(rng)};
+                    pf.fix(fix, Eigen::Matrix2d::Identity() * 4.0);
+                    if (n > 150) {  // after the first lap's learning
+                        fix_err += locus::distance(fix, at);
+                        pf_err += locus::distance(pf.position(), at);
+                        ++scored;
+                    }
+                }
+            }
+    ASSERT_GT(scored, 20);
+    EXPECT_LT(pf_err / scored, 0.8 * fix_err / scored);
+}

@@ -1,0 +1,117 @@
+// `locus eval walks`' evaluation (tools/walk_eval): causality — cutting a walk after scan i
+// (its accelerometer, orientation and scans, and the fixes) leaves every causal method's
+// estimate at scan i unchanged — and the figures it reports. On the tiny PUTMC fixture and,
+// when the shared data folder is there, on a whole real walk.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "walk_eval.hpp"
+
+namespace putmc = locus::datasets::putmc;
+namespace walks = locus::tools::walks;
+using locus::Point;
+
+namespace {
+
+constexpr double kHeight = 36.938098400633;  // the PUTMC floor's, as import putmc makes it
+
+// Fixes near the truth, off by a fixed pattern (no server here; the HTTP path has its own test).
+std::vector<std::optional<locus::sim::Fix>> fixes_of(const putmc::Walk& w) {
+    std::vector<std::optional<locus::sim::Fix>> out;
+    for (std::size_t i = 0; i < w.scans.size(); ++i) {
+        const Point t = putmc::to_floor(w.truth_of(w.scans[i]), kHeight);
+        locus::sim::Fix f;
+        f.t_s = w.scans[i].t_s;
+        f.at = {t.x + 2.0 * std::sin(1.7 * i), t.y + 1.5 * std::cos(2.3 * i)};
+        f.aps = 20;
+        f.cov = Eigen::Matrix2d::Identity() * 4.0;
+        out.push_back(i % 5 == 3 ? std::nullopt : std::optional(f));  // every fifth scan matched nothing
+    }
+    return out;
+}
+
+putmc::Walk cut_after(const putmc::Walk& w, std::size_t scan) {
+    putmc::Walk c = w;
+    const double t = w.scans[scan].t_s;
+    std::erase_if(c.acc, [&](const putmc::AccSample& s) { return s.t_s > t; });
+    std::erase_if(c.orient, [&](const putmc::OrientSample& s) { return s.t_s > t; });
+    c.scans.resize(scan + 1);
+    return c;
+}
+
+// One open hall over the whole floor, walled round, so the particle filters have a plan.
+locus::fusion::Walkable hall() {
+    locus::plan::Plan plan;
+    locus::plan::Space s;
+    s.name = "hall";
+    s.shape.outer = {{0, 0}, {108, 0}, {108, kHeight}, {0, kHeight}};
+    plan.spaces.push_back(s);
+    plan.walls.push_back({{{0, 0}, {108, 0}, {108, kHeight}, {0, kHeight}, {0, 0}}});
+    return locus::fusion::Walkable::from_plan(plan);
+}
+
+void expect_causal(const putmc::Walk& walk) {
+    const auto fixes = fixes_of(walk);
+    const std::optional<locus::fusion::Walkable> map = hall();
+    walks::Config cfg;
+    cfg.walk_filter.particles = 300;
+    cfg.methods.particle.particles = 300;
+    const auto full = walks::evaluate_walk(walk, fixes, kHeight, map, cfg);
+    ASSERT_GT(full.steps, 0u);
+    for (std::size_t i = 0; i < walk.scans.size(); i += std::max<std::size_t>(1, walk.scans.size() / 4)) {
+        const auto cut = cut_after(walk, i);
+        const std::vector<std::optional<locus::sim::Fix>> cut_fixes(fixes.begin(), fixes.begin() + i + 1);
+        const auto part = walks::evaluate_walk(cut, cut_fixes, kHeight, map, cfg);
+        ASSERT_EQ(part.tracks.size(), full.tracks.size());
+        for (std::size_t m = 0; m < full.tracks.size(); ++m) {
+            const auto& a = full.tracks[m].at_scan[i];
+            const auto& b = part.tracks[m].at_scan[i];
+            ASSERT_EQ(a.has_value(), b.has_value()) << full.tracks[m].method << " at scan " << i;
+            if (a) {
+                EXPECT_EQ(a->x, b->x) << full.tracks[m].method << " at scan " << i;
+                EXPECT_EQ(a->y, b->y) << full.tracks[m].method << " at scan " << i;
+            }
+        }
+    }
+}
+
+}  // namespace
+
+TEST(WalkEval, CuttingTheWalkLeavesEarlierEstimatesUnchangedOnTheFixture) {
+    expect_causal(putmc::read_walk(LOCUS_TEST_FIXTURES "/putmc/trajs/tiny_walk"));
+}
+
+TEST(WalkEval, CuttingTheWalkLeavesEarlierEstimatesUnchangedOnARealWalk) {
+    const std::string dir = std::string(LOCUS_DATA_DIR) + "/putmc/trajs/xperia_traj5";
+    if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " not found: the shared data folder is absent";
+    expect_causal(putmc::read_walk(dir));
+}
+
+TEST(WalkEval, ScoresEveryScanAndWifiIsTheFixHeld) {
+    const auto walk = putmc::read_walk(LOCUS_TEST_FIXTURES "/putmc/trajs/tiny_walk");
+    const auto fixes = fixes_of(walk);
+    const auto r = walks::evaluate_walk(walk, fixes, kHeight, std::nullopt, walks::Config{});
+    EXPECT_EQ(r.truth.size(), 3u);
+    EXPECT_EQ(r.fixes, 3u);
+    const auto wifi = walks::errors_of(r, "wifi");
+    ASSERT_EQ(wifi.size(), 3u);
+    EXPECT_NEAR(wifi[0], std::hypot(2.0 * std::sin(0.0), 1.5 * std::cos(0.0)), 1e-9);
+    EXPECT_NEAR(wifi[1], std::hypot(2.0 * std::sin(1.7), 1.5 * std::cos(2.3)), 1e-9);
+    // No particle filter without a plan, but the walk filter runs free.
+    EXPECT_TRUE(walks::errors_of(r, "particle").empty());
+    EXPECT_EQ(walks::errors_of(r, "walk_pf").size(), 3u);
+    const auto s = walks::stats_of({1.0, 2.0, 3.0, 4.0});
+    EXPECT_DOUBLE_EQ(s.mean, 2.5);
+    EXPECT_DOUBLE_EQ(s.median, 2.5);
+    EXPECT_DOUBLE_EQ(s.p75, 3.25);
+}
+
+TEST(WalkEval, AWalkWithNoFixHasNoEstimate) {
+    const auto walk = putmc::read_walk(LOCUS_TEST_FIXTURES "/putmc/trajs/tiny_walk");
+    const std::vector<std::optional<locus::sim::Fix>> none(walk.scans.size());
+    const auto r = walks::evaluate_walk(walk, none, kHeight, std::nullopt, walks::Config{});
+    EXPECT_EQ(r.fixes, 0u);
+    for (const auto& t : r.tracks) EXPECT_TRUE(walks::errors_of(r, t.method).empty()) << t.method;
+}

@@ -1,0 +1,246 @@
+// `locus eval walks DIR --server URL --radiomap ID`: real phone walks (the PUTMC walks under
+// DIR/trajs, or one walk directory) through the real PDR, each scan localized by the server,
+// and every positioning method; error at each scan's ground-truth point, per walk and pooled.
+// Causal (tools/walk_eval.hpp); --smooth adds an offline smoother, labelled as such. The floor
+// is the radio map's: its height flips PUTMC's y (as `locus import putmc` did) and its plan,
+// when it has one, is what the particle filters map-match on.
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "command_registry.hpp"
+#include "locus/api/client.hpp"
+#include "survey_connect.hpp"
+#include "walk_eval.hpp"
+
+namespace {
+
+using namespace locus;
+using namespace locus::tools;
+namespace putmc = locus::datasets::putmc;
+using nlohmann::json;
+
+struct Args {
+    ServerArgs server;
+    std::string dir;
+    std::int64_t radiomap = 0;
+    std::string method = "all";
+    std::string only;  // comma-separated walk names
+    std::string algorithm = "wknn";
+    int k = 4;
+    bool json_out = false;
+    bool smooth = false;
+    bool walls = true;
+    int particles = 2000;
+    std::vector<std::string> tune;  // --set KEY=VALUE
+};
+
+// --set KEY=VALUE: a method's parameter, for tuning (on walks 1–5 only: docs/fusion.md).
+// walk_pf's by name, the other methods' as particle.NAME, kalman.NAME, rules.NAME.
+void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
+    auto& c = cfg.walk_filter;
+    auto& pc = cfg.methods.particle;
+    double seed = static_cast<double>(c.seed), particles = pc.particles;
+    const std::map<std::string, double*> keys = {
+        {"initial_sigma_m", &c.initial_sigma_m}, {"scale_mean", &c.scale_mean}, {"scale_sigma", &c.scale_sigma},
+        {"heading_sigma_rad", &c.heading_sigma_rad}, {"offset_walk_rad", &c.offset_walk_rad}, {"scale_walk", &c.scale_walk},
+        {"length_sigma", &c.length_sigma}, {"snap_rad", &c.snap_rad}, {"blocked_weight", &c.blocked_weight},
+        {"fix_sigma_m", &c.fix_sigma_m}, {"outlier_floor", &c.outlier_floor}, {"reseed_fraction", &c.reseed_fraction},
+        {"resample_fraction", &c.resample_fraction}, {"seed", &seed}, {"hint_share", &c.hint_share},
+        {"hint_sigma_rad", &c.hint_sigma_rad}, {"particle.particles", &particles},
+        {"particle.initial_sigma_m", &pc.initial_sigma_m}, {"particle.initial_bias_sigma_rad", &pc.initial_bias_sigma_rad},
+        {"particle.initial_scale_sigma", &pc.initial_scale_sigma}, {"particle.heading_sigma_rad", &pc.heading_sigma_rad},
+        {"particle.bias_walk_sigma_rad", &pc.bias_walk_sigma_rad}, {"particle.length_sigma", &pc.length_sigma},
+        {"particle.blocked_weight", &pc.blocked_weight}, {"particle.outlier_floor", &pc.outlier_floor},
+        {"particle.injection_likelihood", &pc.injection_likelihood}, {"particle.injection_fraction", &pc.injection_fraction},
+        {"particle.latency_s", &cfg.methods.particle_fix_latency_s}, {"fix_sigma_floor_m", &cfg.methods.fix_sigma_floor_m},
+        {"kalman.step_sigma_per_m", &cfg.methods.kalman.step_sigma_per_m}, {"rules.lambda_m", &cfg.methods.rules.lambda_m}};
+    for (const auto& item : kv) {
+        const auto eq = item.find('=');
+        const auto it = keys.find(item.substr(0, eq));
+        if (eq == std::string::npos || it == keys.end()) throw CommandError("--set: unknown parameter '" + item + "'");
+        try {
+            *it->second = std::stod(item.substr(eq + 1));
+        } catch (const std::exception&) {
+            throw CommandError("--set: '" + item + "' is not KEY=NUMBER");
+        }
+    }
+    c.seed = static_cast<std::uint64_t>(seed);
+    pc.particles = static_cast<int>(particles);
+}
+
+json stats_json(const walks::Stats& s) {
+    return {{"n", s.n}, {"mean_m", s.mean}, {"median_m", s.median}, {"p75_m", s.p75}, {"p95_m", s.p95}};
+}
+
+void run(const Args& a) {
+    const auto t_start = std::chrono::steady_clock::now();
+    std::vector<std::string> dirs;
+    try {
+        dirs = putmc::walk_dirs(a.dir);
+    } catch (const std::exception& e) {
+        throw CommandError(e.what());
+    }
+    if (!a.only.empty()) {
+        std::set<std::string> keep;
+        std::stringstream ss(a.only);
+        for (std::string w; std::getline(ss, w, ',');) keep.insert(w);
+        std::erase_if(dirs, [&](const std::string& d) { return !keep.count(std::filesystem::path(d).filename().string()); });
+    }
+    if (dirs.empty()) throw CommandError("no walk under '" + a.dir + "' (a directory with acc.map, or one with trajs/ holding them)");
+
+    api::Client client(a.server.client_options());
+    const auto rm = client.radiomap(a.radiomap);
+    const auto floor = client.floor(rm.floor_id);
+    std::optional<fusion::Walkable> map;
+    if (a.walls)
+        if (auto plan = client.plan(rm.floor_id); plan && !plan->spaces.empty()) map = fusion::Walkable::from_plan(std::move(*plan));
+    std::cerr << "floor " << floor.id << " (" << floor.width << " × " << floor.height << " m), "
+              << (map ? "map matching on its plan" : "no plan: no map matching") << "\n";
+
+    walks::Config cfg;
+    cfg.smooth = a.smooth;
+    cfg.methods.match_options.k = a.k;
+    cfg.walk_filter.particles = a.particles;
+    apply_tuning(cfg, a.tune);
+    const auto names = walks::method_names(map.has_value(), a.smooth);
+    if (a.method != "all" && std::find(names.begin(), names.end(), a.method) == names.end()) {
+        std::string list;
+        for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+        throw CommandError("unknown --method '" + a.method + "' (" + list + " or all)");
+    }
+
+    std::vector<walks::WalkResult> results;
+    double http_s = 0.0, filter_s = 0.0;
+    int no_match_total = 0;
+    for (const auto& d : dirs) {
+        putmc::Walk walk;
+        try {
+            walk = putmc::read_walk(d);
+        } catch (const std::exception& e) {
+            throw CommandError(e.what());
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::optional<sim::Fix>> fixes;
+        for (const auto& s : walk.scans) {
+            if (s.readings.empty()) {
+                fixes.push_back(std::nullopt);
+                continue;
+            }
+            api::LocalizeRequest req;
+            req.algorithm = a.algorithm;
+            req.scans = {s.readings};
+            req.options = {{"k", a.k}};
+            try {
+                const auto r = client.localize_radiomap(a.radiomap, req);
+                fixes.push_back(sim::make_fix(s.t_s, static_cast<int>(s.readings.size()), r, a.k, cfg.methods.fix_sigma_floor_m));
+            } catch (const api::ApiError& e) {
+                if (e.code() != "no_match") throw;
+                fixes.push_back(std::nullopt);
+                ++no_match_total;
+            }
+        }
+        const auto t1 = std::chrono::steady_clock::now();
+        results.push_back(walks::evaluate_walk(walk, fixes, floor.height, map, cfg));
+        const auto t2 = std::chrono::steady_clock::now();
+        http_s += std::chrono::duration<double>(t1 - t0).count();
+        filter_s += std::chrono::duration<double>(t2 - t1).count();
+        if (results.back().fixes == 0)
+            std::cerr << "locus: " << walk.name << ": no scan localized (every one answered no_match): skipped in the figures\n";
+    }
+
+    if (map) {
+        // A plan that does not line up with the walks (wrong scale, flip or offset) would make
+        // map matching hurt: say how many ground-truth points it holds as walkable.
+        std::size_t inside = 0, total = 0;
+        for (const auto& r : results)
+            for (const auto& p : r.truth) inside += map->inside(p), ++total;
+        std::cerr << inside << " of " << total << " ground-truth points are walkable on the plan\n";
+    }
+    const std::vector<std::string> shown = a.method == "all" ? names : std::vector<std::string>{a.method};
+    json out = {{"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"k", a.k}, {"walls", map.has_value()},
+                {"causal", "every method but rts_smoother: estimate at a scan from data up to that scan"},
+                {"no_match", no_match_total}, {"walks", json::array()}, {"pooled", json::object()}};
+    std::map<std::string, std::vector<double>> pooled;
+    for (const auto& r : results) {
+        json truth = json::array();
+        for (const auto& p : r.truth) truth.push_back({p.x, p.y});
+        json w = {{"walk", r.name}, {"truth", truth}, {"scans", r.truth.size()}, {"fixes", r.fixes}, {"steps", r.steps},
+                  {"offset_deg", r.offset_deg}, {"mirrored", r.mirrored}, {"methods", json::object()}};
+        for (const auto& m : shown) {
+            const auto e = walks::errors_of(r, m);
+            w["methods"][m] = stats_json(walks::stats_of(e));
+            if (a.json_out)
+                for (const auto& t : r.tracks)
+                    if (t.method == m) {
+                        json pts = json::array();
+                        for (const auto& p : t.at_scan) pts.push_back(p ? json::array({p->x, p->y}) : json());
+                        w["methods"][m]["at_scans"] = pts;
+                    }
+            pooled[m].insert(pooled[m].end(), e.begin(), e.end());
+        }
+        out["walks"].push_back(w);
+    }
+    for (const auto& m : shown) out["pooled"][m] = stats_json(walks::stats_of(pooled[m]));
+    const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    out["seconds"] = {{"total", total_s}, {"localize_http", http_s}, {"pdr_and_filters", filter_s}};
+
+    if (a.json_out) {
+        std::cout << out.dump() << "\n";
+        return;
+    }
+    char line[256];
+    std::snprintf(line, sizeof line, "%-20s %6s %8s %8s %8s %8s\n", "method", "scans", "mean", "median", "p75", "p95");
+    for (const auto& w : out["walks"]) {
+        std::cout << w["walk"].get<std::string>() << " (" << w["scans"] << " scans, " << w["steps"] << " steps, offset "
+                  << static_cast<int>(std::lround(w["offset_deg"].get<double>())) << "°" << (w["mirrored"].get<bool>() ? ", mirrored" : "")
+                  << ")\n"
+                  << line;
+        for (const auto& m : shown) {
+            const auto& s = w["methods"][m];
+            char row[256];
+            std::snprintf(row, sizeof row, "%-20s %6d %8.2f %8.2f %8.2f %8.2f\n", m.c_str(), s["n"].get<int>(),
+                          s["mean_m"].get<double>(), s["median_m"].get<double>(), s["p75_m"].get<double>(), s["p95_m"].get<double>());
+            std::cout << row;
+        }
+    }
+    std::cout << "pooled (" << results.size() << " walks)\n" << line;
+    for (const auto& m : shown) {
+        const auto& s = out["pooled"][m];
+        char row[256];
+        std::snprintf(row, sizeof row, "%-20s %6d %8.2f %8.2f %8.2f %8.2f%s\n", m.c_str(), s["n"].get<int>(), s["mean_m"].get<double>(),
+                      s["median_m"].get<double>(), s["p75_m"].get<double>(), s["p95_m"].get<double>(),
+                      m == "rts_smoother" ? "  (offline: uses future data)" : "");
+        std::cout << row;
+    }
+    std::snprintf(line, sizeof line, "%.2f s (localize over HTTP %.2f s, PDR and filters %.2f s)\n", total_s, http_s, filter_s);
+    std::cerr << line;
+}
+
+}  // namespace
+
+LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
+    auto& eval = locus::tools::group(app, "eval", "Measure the matchers on real data sets");
+    auto* cmd = eval.add_subcommand("walks", "Real phone walks (PUTMC format): every positioning method, error at the scans");
+    auto args = std::make_shared<Args>();
+    args->server.add_to(*cmd);
+    cmd->add_option("--radiomap", args->radiomap, "radio map to localize against (locus import putmc prints it)")
+        ->required()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--method", args->method, "one method, or all")->capture_default_str();
+    cmd->add_option("--walks", args->only, "only these walks (comma-separated directory names)");
+    cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
+    cmd->add_option("--k", args->k, "k for knn/wknn")->capture_default_str()->check(CLI::Range(1, 100));
+    cmd->add_option("--particles", args->particles, "walk_pf particles")->capture_default_str()->check(CLI::Range(10, 100000));
+    cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf's by name; particle.*, kalman.*, rules.*)");
+    cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
+    cmd->add_flag("--smooth", args->smooth, "also the offline RTS smoother (uses each walk's future: not causal)");
+    cmd->add_flag_callback("--no-walls", [args] { args->walls = false; }, "ignore the floor's plan (no map matching)");
+    cmd->add_option("DIR", args->dir, "PUTMC directory (with trajs/) or one walk directory")->required()->check(CLI::ExistingDirectory);
+    cmd->callback([args] { run(*args); });
+});

@@ -1,0 +1,79 @@
+#pragma once
+// `locus eval walks`: real phone walks (PUTMC) through the real PDR, fixes the caller got from
+// the server, and every positioning method, scored at the scans' ground-truth points. Causal
+// by construction: each event (a step, a fix) happens at the time the phone would have it — a
+// step when the detector confirms it, not when it was taken — and every method's estimate at
+// a scan is its state right after that scan's fix. Nothing before a walk's first fix is known
+// (no start point), and the map's rotation (and mirror) against the compass is learnt from
+// the fixes (fusion::HeadingAlignment), never given.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "datasets/putmc.hpp"
+#include "locus/fusion/walkable.hpp"
+#include "locus/fusion/walk_filter.hpp"
+#include "sim/evaluate.hpp"
+
+namespace locus::tools::walks {
+
+// A detected step, in the phone's compass frame.
+struct PhoneStep {
+    double t_s = 0.0;        // when the detector confirmed it (what the phone knows when)
+    double length_m = 0.0;   // Weinberg
+    double azimuth_rad = 0.0;  // the rotation vector's azimuth at the step's own time
+};
+
+// Every step of the walk's accelerometer up to `until_s` (the phone's view at that time).
+std::vector<PhoneStep> detect_steps(const datasets::putmc::Walk& walk, double until_s = INFINITY);
+
+// The methods' parameters on real walks. Chosen on walks xperia_traj1–5 only (docs/fusion.md):
+// the Kalman filter's per-metre step noise is 8× the simulator's (a real indoor compass is off
+// by tens of degrees, the simulator's by a few) and midpoint_threshold's λ is the PDR error
+// seen between fixes here (3 m), not Traini's 4 m; the rest as `locus sim` and `replay` run them.
+inline sim::EvalConfig real_walk_methods() {
+    sim::EvalConfig c;
+    c.kalman.step_sigma_per_m = 4.0;
+    c.rules.lambda_m = 3.0;
+    return c;
+}
+
+struct Config {
+    sim::EvalConfig methods = real_walk_methods();
+    fusion::WalkFilterConfig walk_filter;
+    bool smooth = false;  // also the offline (future-using) smoother
+};
+
+// What one method estimated at each scan (nullopt before the walk's first fix).
+struct MethodTrack {
+    std::string method;
+    std::vector<std::optional<Point>> at_scan;
+};
+
+struct WalkResult {
+    std::string name;
+    std::vector<Point> truth;  // per scan, floor frame
+    std::size_t steps = 0;
+    std::size_t fixes = 0;
+    double offset_deg = 0.0;   // the alignment's final rotation and mirror
+    bool mirrored = false;
+    std::vector<MethodTrack> tracks;
+};
+
+// fixes[i]: the server's fix of scan i (floor frame) or nullopt when it matched nothing.
+// `floor_height_m` flips PUTMC's ground truth into the floor frame (putmc::to_floor).
+WalkResult evaluate_walk(const datasets::putmc::Walk& walk, const std::vector<std::optional<sim::Fix>>& fixes,
+                         double floor_height_m, const std::optional<fusion::Walkable>& map, const Config& config);
+
+// Method names in the order of the report.
+std::vector<std::string> method_names(bool with_map, bool smooth);
+
+struct Stats {
+    std::size_t n = 0;
+    double mean = 0.0, median = 0.0, p75 = 0.0, p95 = 0.0;
+};
+Stats stats_of(std::vector<double> errors);
+// The errors of `method` at the scans it has an estimate for.
+std::vector<double> errors_of(const WalkResult& r, const std::string& method);
+
+}  // namespace locus::tools::walks
