@@ -133,6 +133,7 @@ App::App(store::Store& store, localize::Service& localizer, routing::Service& ro
     install_route_routes();
     install_search_routes();
     install_image_routes();
+    install_transmitter_routes();
 }
 
 bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res) const {

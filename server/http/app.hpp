@@ -55,6 +55,7 @@ private:
     void install_route_routes();     // route_routes.cpp
     void install_search_routes();    // search_routes.cpp
     void install_image_routes();     // image_routes.cpp
+    void install_transmitter_routes();  // transmitter_routes.cpp (+ trilateration, fit, generate)
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 

@@ -1,0 +1,157 @@
+// A floor's transmitters over HTTP against the real server: create in each id form, list, read,
+// patch, delete; every bad input (NaN-free JSON but wrong types, out-of-floor positions,
+// duplicate ids, unknown fields) answers 4xx naming what is wrong and writes nothing.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "hierarchy.hpp"
+#include "server_process.hpp"
+
+using locus::testing::ServerProcess;
+using locus::testing::body_of;
+using nlohmann::json;
+
+namespace {
+
+class Transmitters : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        server = new ServerProcess();
+        h = locus::testing::make_hierarchy(*server);  // floor 30 m × 20 m
+    }
+    static void TearDownTestSuite() {
+        delete server;
+        server = nullptr;
+    }
+    static std::string collection() { return "/v1/floors/" + std::to_string(h.floor) + "/transmitters"; }
+    static std::int64_t count() { return body_of(server->get(collection() + "?limit=1000")).at("total").get<std::int64_t>(); }
+    static void refused(const json& body, int status, const std::string& code, const std::string& words) {
+        const auto before = count();
+        const auto r = server->post(collection(), body);
+        EXPECT_EQ(r.status, status) << body.dump() << " -> " << r.raw;
+        if (r.status == status) {
+            EXPECT_EQ(r.body.at("error").at("code"), code) << r.raw;
+            EXPECT_NE(r.body.at("error").at("message").get<std::string>().find(words), std::string::npos) << r.raw;
+        }
+        EXPECT_EQ(count(), before) << "nothing may be written for " << body.dump();
+    }
+    static inline ServerProcess* server = nullptr;
+    static inline locus::testing::Hierarchy h;
+};
+
+TEST_F(Transmitters, CreateReadPatchDeleteRoundTrip) {
+    const json ap = {{"name", "AP lobby"}, {"type", "wifi"}, {"bssid", "AA-BB-CC-00-11-22"}, {"x", 3.5}, {"y", 4.0},
+                     {"z", 2.5}, {"tx_power", -38.0}, {"path_loss_exponent", 2.4}, {"wall_attenuation", 5.0}};
+    const auto r = server->post(collection(), ap);
+    const json created = body_of(r, 201);
+    const auto id = created.at("id").get<std::int64_t>();
+    EXPECT_EQ(created.at("bssid"), "aa:bb:cc:00:11:22");  // one normal form, as scans use
+    EXPECT_EQ(created.at("floor_id"), h.floor);
+    EXPECT_DOUBLE_EQ(created.at("tx_power").get<double>(), -38.0);
+    const std::string item = "/v1/transmitters/" + std::to_string(id);
+    EXPECT_EQ(body_of(server->get(item)), created);
+
+    const json patched = body_of(server->patch(item, {{"x", 10.0}, {"path_loss_exponent", 3.0}}));
+    EXPECT_DOUBLE_EQ(patched.at("x").get<double>(), 10.0);
+    EXPECT_DOUBLE_EQ(patched.at("y").get<double>(), 4.0);
+    EXPECT_DOUBLE_EQ(patched.at("path_loss_exponent").get<double>(), 3.0);
+
+    const json page = body_of(server->get(collection()));
+    bool listed = false;
+    for (const auto& t : page.at("items")) listed = listed || t.at("id") == id;
+    EXPECT_TRUE(listed);
+
+    EXPECT_EQ(server->del(item).status, 204);
+    EXPECT_EQ(server->get(item).status, 404);
+}
+
+TEST_F(Transmitters, BeaconsByTheirParts) {
+    const json ib = body_of(server->post(collection(), {{"ibeacon", {{"uuid", "F7826DA64FA24E988024BC5B71E0893E"},
+                                                                    {"major", 7}, {"minor", 65535}}},
+                                                        {"x", 1.0}, {"y", 1.0}, {"tx_power", -59.0}}),
+                            201);
+    EXPECT_EQ(ib.at("type"), "ble");
+    EXPECT_EQ(ib.at("bssid"), "f7826da6-4fa2-4e98-8024-bc5b71e0893e:7:65535");
+    EXPECT_DOUBLE_EQ(ib.at("path_loss_exponent").get<double>(), 2.0);  // the default
+    const json ed = body_of(server->post(collection(), {{"eddystone", {{"namespace", "EDD1EBEAC04E5DEFA017"},
+                                                                      {"instance", "0123456789AB"}}},
+                                                        {"x", 2.0}, {"y", 1.0}, {"tx_power", -62.0}}),
+                            201);
+    EXPECT_EQ(ed.at("bssid"), "edd1ebeac04e5defa017:0123456789ab");
+    // The same beacon again, by its text this time: a duplicate.
+    refused({{"type", "ble"}, {"bssid", "EDD1EBEAC04E5DEFA017:0123456789ab"}, {"x", 5.0}, {"y", 5.0}, {"tx_power", -60.0}},
+            409, "conflict", "edd1ebeac04e5defa017:0123456789ab");
+}
+
+TEST_F(Transmitters, BadInputIsRefusedAndWritesNothing) {
+    const json ok = {{"type", "wifi"}, {"bssid", "00:00:00:00:00:01"}, {"x", 1.0}, {"y", 1.0}, {"tx_power", -40.0}};
+    auto with = [&](const char* key, json v) {
+        json b = ok;
+        b[key] = std::move(v);
+        return b;
+    };
+    auto without = [&](const char* key) {
+        json b = ok;
+        b.erase(key);
+        return b;
+    };
+    refused(with("x", 31.0), 422, "out_of_floor", "not on floor");
+    refused(with("y", -0.5), 422, "out_of_floor", "not on floor");
+    refused(with("x", "1"), 422, "invalid_field", "'x'");
+    refused(with("type", "zigbee"), 422, "invalid_field", "'type'");
+    refused(with("bssid", "   "), 422, "invalid_field", "'bssid'");
+    refused(with("tx_power", 90.0), 422, "invalid_field", "'tx_power'");
+    refused(with("path_loss_exponent", 0.0), 422, "invalid_field", "'path_loss_exponent'");
+    refused(with("wall_attenuation", -1.0), 422, "invalid_field", "'wall_attenuation'");
+    refused(with("colour", "red"), 422, "invalid_field", "unknown field 'colour'");
+    refused(without("tx_power"), 422, "invalid_field", "missing field 'tx_power'");
+    refused(without("bssid"), 422, "invalid_field", "missing field 'bssid'");
+    refused(with("ibeacon", {{"uuid", "xyz"}, {"major", 1}, {"minor", 1}}), 422, "invalid_field", "not several");
+}
+
+TEST_F(Transmitters, BeaconPartsAreChecked) {
+    const json base = {{"x", 1.0}, {"y", 1.0}, {"tx_power", -59.0}};
+    auto beacon = [&](json parts, const char* form = "ibeacon") {
+        json b = base;
+        b[form] = std::move(parts);
+        return b;
+    };
+    refused(beacon({{"uuid", "not-a-uuid"}, {"major", 1}, {"minor", 1}}), 422, "invalid_field", "'ibeacon.uuid'");
+    refused(beacon({{"uuid", "f7826da64fa24e988024bc5b71e0893e"}, {"major", 70000}, {"minor", 1}}), 422,
+            "out_of_range", "'ibeacon.major'");
+    refused(beacon({{"uuid", "f7826da64fa24e988024bc5b71e0893e"}, {"major", 1}}), 422, "invalid_field",
+            "missing field 'ibeacon.minor'");
+    refused(beacon({{"namespace", "12"}, {"instance", "0123456789ab"}}, "eddystone"), 422, "invalid_field",
+            "'eddystone.namespace'");
+    json wrong_type = beacon({{"uuid", "f7826da64fa24e988024bc5b71e0893e"}, {"major", 1}, {"minor", 1}});
+    wrong_type["type"] = "wifi";
+    refused(wrong_type, 422, "invalid_field", "'type'");
+}
+
+TEST_F(Transmitters, PatchAndPathsAreChecked) {
+    const json a = body_of(server->post(collection(), {{"type", "wifi"}, {"bssid", "00:00:00:00:00:0a"}, {"x", 1.0},
+                                                       {"y", 1.0}, {"tx_power", -40.0}}),
+                           201);
+    body_of(server->post(collection(), {{"type", "wifi"}, {"bssid", "00:00:00:00:00:0b"}, {"x", 1.0}, {"y", 1.0},
+                                        {"tx_power", -40.0}}),
+            201);
+    const std::string item = "/v1/transmitters/" + std::to_string(a.at("id").get<std::int64_t>());
+    auto r = server->patch(item, {{"y", 25.0}});
+    EXPECT_EQ(r.status, 422);
+    EXPECT_EQ(r.body["error"]["code"], "out_of_floor");
+    r = server->patch(item, {{"bssid", "00-00-00-00-00-0B"}});
+    EXPECT_EQ(r.status, 409);
+    EXPECT_NE(r.raw.find("00:00:00:00:00:0b"), std::string::npos) << r.raw;
+    EXPECT_EQ(body_of(server->get(item)), a) << "a refused patch changes nothing";
+
+    EXPECT_EQ(server->post("/v1/floors/999999/transmitters", {{"type", "wifi"}, {"bssid", "x"}, {"x", 1.0}, {"y", 1.0},
+                                                            {"tx_power", -40.0}})
+                  .status,
+              404);
+    EXPECT_EQ(server->get("/v1/floors/999999/transmitters").status, 404);
+    EXPECT_EQ(server->get("/v1/transmitters/999999").status, 404);
+    EXPECT_EQ(server->post_raw(collection(), "{\"x\": NaN}").status, 400);
+}
+
+}  // namespace
