@@ -3,7 +3,11 @@
 // duplicate ids, unknown fields) answers 4xx naming what is wrong and writes nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <iterator>
 #include <string>
+#include <utility>
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
@@ -152,6 +156,112 @@ TEST_F(Transmitters, PatchAndPathsAreChecked) {
     EXPECT_EQ(server->get("/v1/floors/999999/transmitters").status, 404);
     EXPECT_EQ(server->get("/v1/transmitters/999999").status, 404);
     EXPECT_EQ(server->post_raw(collection(), "{\"x\": NaN}").status, 400);
+}
+
+}  // namespace
+
+namespace {
+
+// Four APs in the corners of a 30 m × 20 m floor and two in the middle, each with its own model.
+struct Layout {
+    std::string bssid;
+    double x, y, tx_power, exponent;
+};
+const Layout kLayout[] = {{"02:00:00:00:00:01", 2, 2, -40, 2.0},   {"02:00:00:00:00:02", 28, 2, -42, 2.2},
+                          {"02:00:00:00:00:03", 28, 18, -38, 2.0}, {"02:00:00:00:00:04", 2, 18, -41, 2.1},
+                          {"02:00:00:00:00:05", 10, 10, -40, 2.0}, {"02:00:00:00:00:06", 20, 10, -40, 2.0}};
+
+double rss_at(const Layout& l, double x, double y) {
+    return l.tx_power - 10.0 * l.exponent * std::log10(std::max(std::hypot(x - l.x, y - l.y), 0.1));
+}
+
+class RangingLocalize : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        server = new ServerProcess();
+        h = locus::testing::make_hierarchy(*server);
+        for (const auto& l : kLayout)
+            body_of(server->post("/v1/floors/" + std::to_string(h.floor) + "/transmitters",
+                                 {{"type", "wifi"}, {"bssid", l.bssid}, {"x", l.x}, {"y", l.y}, {"tx_power", l.tx_power},
+                                  {"path_loss_exponent", l.exponent}}),
+                    201);
+    }
+    static void TearDownTestSuite() {
+        delete server;
+        server = nullptr;
+    }
+    static json measurements_at(double x, double y, std::size_t n = std::size(kLayout)) {
+        json ms = json::array();
+        for (std::size_t i = 0; i < n; ++i) ms.push_back({{"bssid", kLayout[i].bssid}, {"rss", rss_at(kLayout[i], x, y)}});
+        ms.push_back({{"bssid", "0e:ee:ee:ee:ee:ee"}, {"rss", -70.0}});  // an AP of no known position
+        return ms;
+    }
+    static inline ServerProcess* server = nullptr;
+    static inline locus::testing::Hierarchy h;
+};
+
+TEST_F(RangingLocalize, MultilaterationRecoversThePositionOnRadiomapAndMap) {
+    for (const auto& [x, y] : {std::pair{7.0, 5.0}, std::pair{15.0, 12.0}, std::pair{25.0, 16.0}}) {
+        const json body = {{"algorithm", "multilateration"}, {"measurements", measurements_at(x, y)}};
+        for (const std::string& path : {"/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize",
+                                       "/v1/maps/" + std::to_string(h.map) + "/localize"}) {
+            const json a = body_of(server->post(path, body));
+            EXPECT_NEAR(a.at("x").get<double>(), x, 0.01) << path;
+            EXPECT_NEAR(a.at("y").get<double>(), y, 0.01) << path;
+            EXPECT_EQ(a.at("floor_id"), h.floor);
+            EXPECT_EQ(a.at("algorithm"), "multilateration");
+            EXPECT_EQ(a.at("transmitters_heard"), std::size(kLayout));
+            EXPECT_GT(a.at("uncertainty").at("semi_major").get<double>(), 0.0);
+        }
+    }
+}
+
+TEST_F(RangingLocalize, TrilaterationWithTheSeedsCutoffAndScans) {
+    // Near the corner AP and the middle ones: at least three within 10 m.
+    const double x = 6.0, y = 10.0;
+    json scans = json::array();
+    for (int s = 0; s < 5; ++s) scans.push_back(measurements_at(x, y));
+    const json a = body_of(server->post("/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize",
+                                        {{"algorithm", "trilateration"}, {"scans", scans}}));
+    EXPECT_NEAR(a.at("x").get<double>(), x, 0.05);
+    EXPECT_NEAR(a.at("y").get<double>(), y, 0.05);
+    EXPECT_LT(a.at("transmitters_used").get<int>(), a.at("transmitters_heard").get<int>());  // the 10 m cutoff
+    // A cutoff no transmitter passes: no fix, said so.
+    const auto r = server->post("/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize",
+                                {{"algorithm", "trilateration"}, {"scans", scans}, {"options", {{"cutoff", 1.0}}}});
+    EXPECT_EQ(r.status, 422) << r.raw;
+    EXPECT_EQ(r.body["error"]["code"], "no_fix");
+}
+
+TEST_F(RangingLocalize, FewerThanThreeKnownIs422WithTheCount) {
+    for (const char* algorithm : {"trilateration", "multilateration"}) {
+        const auto r = server->post("/v1/maps/" + std::to_string(h.map) + "/localize",
+                                    {{"algorithm", algorithm}, {"measurements", measurements_at(5, 5, 2)}});
+        EXPECT_EQ(r.status, 422) << r.raw;
+        EXPECT_EQ(r.body["error"]["code"], "too_few_transmitters");
+        EXPECT_NE(r.body["error"]["message"].get<std::string>().find("hears 2 known transmitters"), std::string::npos) << r.raw;
+    }
+}
+
+TEST_F(RangingLocalize, BadRequestsNameTheProblem) {
+    const std::string path = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
+    const json ms = measurements_at(5, 5);
+    auto expect = [&](const json& body, int status, const std::string& code, const std::string& words) {
+        const auto r = server->post(path, body);
+        EXPECT_EQ(r.status, status) << body.dump() << " -> " << r.raw;
+        EXPECT_EQ(r.body["error"]["code"], code) << r.raw;
+        EXPECT_NE(r.body["error"]["message"].get<std::string>().find(words), std::string::npos) << r.raw;
+    };
+    expect({{"algorithm", "multilateration"}, {"measurements", ms}, {"options", {{"k", 3}}}}, 422, "invalid_field",
+           "unknown field 'options.k'");
+    expect({{"algorithm", "trilateration"}, {"measurements", ms}, {"options", {{"cutoff", -1}}}}, 422, "out_of_range",
+           "options.cutoff");
+    expect({{"algorithm", "multilateration"}, {"measurements", ms}, {"options", {{"max_iterations", 0.5}}}}, 422,
+           "invalid_field", "options.max_iterations");
+    expect({{"algorithm", "multilateration"}}, 422, "invalid_field", "exactly one of");
+    expect({{"algorithm", "multilateration"}, {"measurements", {{{"bssid", "a"}, {"rss", 5}}}}}, 422, "out_of_range",
+           "measurements[0].rss");
+    EXPECT_EQ(server->post("/v1/radiomaps/999999/localize", {{"algorithm", "multilateration"}, {"measurements", ms}}).status, 404);
 }
 
 }  // namespace
