@@ -91,7 +91,15 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
         const json& m = j.at("measurements");
         if (!m.is_array() || m.empty()) throw invalid_field("'measurements' must be a non-empty array of {bssid, rss}");
         std::vector<Reading> means;
-        for (std::size_t i = 0; i < m.size(); ++i) means.push_back(parse_reading(m[i], "measurements[" + std::to_string(i) + "]"));
+        for (std::size_t i = 0; i < m.size(); ++i) {
+            // "mean" is the fingerprint parser's other spelling of "rss" here.
+            json reading = m[i];
+            if (reading.is_object() && reading.contains("mean") && !reading.contains("rss")) {
+                reading["rss"] = reading["mean"];
+                reading.erase("mean");
+            }
+            means.push_back(parse_reading(reading, "measurements[" + std::to_string(i) + "]"));
+        }
         r.query = match::Query::from_means(means);
     }
     if (j.contains("options")) {
