@@ -1,11 +1,11 @@
 #include "http/transmitter_fields.hpp"
 
-#include <cctype>
 #include <charconv>
 #include <string>
 
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
+#include "locus/ranging/beacon_id.hpp"
 #include "store/kinds.hpp"
 #include "store/store.hpp"
 
@@ -15,22 +15,10 @@ using nlohmann::json;
 
 namespace {
 
-bool hex_of_length(const std::string& s, std::size_t n) {
-    if (s.size() != n) return false;
-    for (char c : s)
-        if (!std::isxdigit(static_cast<unsigned char>(c))) return false;
-    return true;
-}
-
 std::string shortest(double v) {
     char buf[32];
     const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
     return std::string(buf, end);
-}
-
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
 }
 
 std::string required_string(const json& j, const char* field, const std::string& where) {
@@ -49,31 +37,26 @@ std::int64_t uint16_field(const json& j, const char* field, const std::string& w
     return v;
 }
 
-// An iBeacon as "uuid:major:minor": the UUID in its 8-4-4-4-12 form, lower-case.
+// An iBeacon or Eddystone beacon by its parts, as ranging::ibeacon_id and eddystone_id name it.
 std::string ibeacon_id(const json& j) {
     if (!j.is_object()) throw invalid_field("'ibeacon' must be an object {uuid, major, minor}");
     only_fields(j, {"uuid", "major", "minor"}, "ibeacon");
-    std::string uuid = lower(required_string(j, "uuid", "ibeacon"));
-    std::string hex;
-    for (char c : uuid)
-        if (c != '-') hex += c;
-    if (!hex_of_length(hex, 32))
-        throw invalid_field("'ibeacon.uuid' must be a UUID (32 hexadecimal digits, dashes allowed)");
-    uuid = hex.substr(0, 8) + "-" + hex.substr(8, 4) + "-" + hex.substr(12, 4) + "-" + hex.substr(16, 4) + "-" +
-           hex.substr(20);
-    return uuid + ":" + std::to_string(uint16_field(j, "major", "ibeacon")) + ":" +
-           std::to_string(uint16_field(j, "minor", "ibeacon"));
+    const std::string uuid = required_string(j, "uuid", "ibeacon");
+    const auto major = uint16_field(j, "major", "ibeacon"), minor = uint16_field(j, "minor", "ibeacon");
+    const auto id = ranging::ibeacon_id(uuid, major, minor);
+    if (!id) throw invalid_field("'ibeacon.uuid' must be a UUID (32 hexadecimal digits, dashes allowed)");
+    return *id;
 }
 
-// An Eddystone-UID as "namespace:instance" (10 and 6 bytes, in lower-case hex).
 std::string eddystone_id(const json& j) {
     if (!j.is_object()) throw invalid_field("'eddystone' must be an object {namespace, instance}");
     only_fields(j, {"namespace", "instance"}, "eddystone");
-    const std::string ns = lower(required_string(j, "namespace", "eddystone"));
-    const std::string instance = lower(required_string(j, "instance", "eddystone"));
-    if (!hex_of_length(ns, 20)) throw invalid_field("'eddystone.namespace' must be 20 hexadecimal digits");
-    if (!hex_of_length(instance, 12)) throw invalid_field("'eddystone.instance' must be 12 hexadecimal digits");
-    return ns + ":" + instance;
+    const std::string ns = required_string(j, "namespace", "eddystone");
+    const std::string instance = required_string(j, "instance", "eddystone");
+    if (!ranging::eddystone_id(ns, "000000000000")) throw invalid_field("'eddystone.namespace' must be 20 hexadecimal digits");
+    const auto id = ranging::eddystone_id(ns, instance);
+    if (!id) throw invalid_field("'eddystone.instance' must be 12 hexadecimal digits");
+    return *id;
 }
 
 }  // namespace

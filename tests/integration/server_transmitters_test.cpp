@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iterator>
 #include <string>
 #include <utility>
@@ -262,6 +263,60 @@ TEST_F(RangingLocalize, BadRequestsNameTheProblem) {
     expect({{"algorithm", "multilateration"}, {"measurements", {{{"bssid", "a"}, {"rss", 5}}}}}, 422, "out_of_range",
            "measurements[0].rss");
     EXPECT_EQ(server->post("/v1/radiomaps/999999/localize", {{"algorithm", "multilateration"}, {"measurements", ms}}).status, 404);
+}
+
+}  // namespace
+
+namespace {
+
+// `locus import transmitters`: a file of APs and beacons, checked whole before any write;
+// a second import of it updates in place.
+TEST(ImportTransmitters, CsvIntoAFloorTwiceAndRefusedWhole) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);  // 30 m × 20 m
+    const std::string floor = std::to_string(h.floor);
+    const std::string dir = locus::testing::make_temp_dir();
+    const std::string good = dir + "/tx.csv";
+    {
+        std::ofstream f(good);
+        f << "name,type,bssid,x,y,z,tx_power,path_loss_exponent,uuid,major,minor,namespace,instance\n"
+             "\"AP, lobby\",wifi,AA-BB-CC-00-00-01,2,3,2.5,-40,2.2,,,,,\n"
+             "Beacon 7,,,10,5,,-59,,F7826DA6-4FA2-4E98-8024-BC5B71E0893E,1,7,,\n"
+             "Eddy,,,12,6,,-62,,,,,EDD1EBEAC04E5DEFA017,0123456789AB\n";
+    }
+    auto import = [&](const std::string& file) {
+        return locus::testing::run_command({LOCUS_CLI_BIN, "import", "transmitters", file, "--server", s.url(), "--floor", floor});
+    };
+    auto r = import(good);
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_EQ(json::parse(r.out).at("created"), 3);
+    const json page = body_of(s.get("/v1/floors/" + floor + "/transmitters"));
+    ASSERT_EQ(page.at("total"), 3);
+    EXPECT_EQ(page.at("items")[0].at("name"), "AP, lobby");
+    EXPECT_EQ(page.at("items")[0].at("bssid"), "aa:bb:cc:00:00:01");
+    EXPECT_EQ(page.at("items")[1].at("bssid"), "f7826da6-4fa2-4e98-8024-bc5b71e0893e:1:7");
+    EXPECT_EQ(page.at("items")[1].at("type"), "ble");
+    EXPECT_EQ(page.at("items")[2].at("bssid"), "edd1ebeac04e5defa017:0123456789ab");
+
+    r = import(good);
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_EQ(json::parse(r.out).at("created"), 0);
+    EXPECT_EQ(json::parse(r.out).at("updated"), 3);
+    EXPECT_EQ(body_of(s.get("/v1/floors/" + floor + "/transmitters")).at("total"), 3);
+
+    // A bad number on one line and a position off the floor on another: nothing is written.
+    for (const std::string& rows : {std::string("wifi,00:00:00:00:00:09,1,1,-40\nwifi,00:00:00:00:00:0a,abc,1,-40\n"),
+                                    std::string("wifi,00:00:00:00:00:09,1,1,-40\nwifi,00:00:00:00:00:0a,31,1,-40\n")}) {
+        const std::string bad = dir + "/bad.csv";
+        {
+            std::ofstream f(bad);
+            f << "type,bssid,x,y,tx_power\n" << rows;
+        }
+        r = import(bad);
+        EXPECT_NE(r.status, 0);
+        EXPECT_NE(r.err.find("line 3"), std::string::npos) << r.err;
+        EXPECT_EQ(body_of(s.get("/v1/floors/" + floor + "/transmitters")).at("total"), 3) << "nothing written";
+    }
 }
 
 }  // namespace
