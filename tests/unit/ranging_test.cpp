@@ -149,3 +149,55 @@ TEST(Ellipse, AxesAndAngleOfACovariance) {
 }
 
 }  // namespace
+
+#include "locus/ranging/fit.hpp"
+
+namespace {
+
+std::vector<Sample> survey_of(const Transmitter& t, double sigma, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0.0, sigma > 0 ? sigma : 1.0);
+    std::vector<Sample> out;
+    for (double x = 1; x < 30; x += 2.5)
+        for (double y = 1; y < 20; y += 2.5) {
+            const double d = std::hypot(std::hypot(x - t.at.x, y - t.at.y), t.dz);
+            out.push_back({{x, y}, rss_at(t.model, d) + (sigma > 0 ? noise(rng) : 0.0)});
+        }
+    return out;
+}
+
+TEST(Fit, ModelAtAKnownPositionIsExactWithoutNoise) {
+    const Transmitter t{{12.0, 7.0}, 1.5, {-43.0, 2.7}};
+    const auto s = survey_of(t, 0.0, 1);
+    const auto f = fit_model(s, t.at, t.dz);
+    ASSERT_TRUE(f);
+    EXPECT_NEAR(f->model.tx_power, -43.0, 1e-9);
+    EXPECT_NEAR(f->model.exponent, 2.7, 1e-9);
+    EXPECT_NEAR(f->r2, 1.0, 1e-12);
+    EXPECT_NEAR(f->residual_db, 0.0, 1e-9);
+}
+
+TEST(Fit, PositionAndModelFromANoisySurvey) {
+    const Transmitter t{{21.3, 4.2}, 0.0, {-38.0, 2.3}};
+    const auto s = survey_of(t, 2.0, 3);
+    FitOptions o;
+    o.area = {0, 0, 30, 20};
+    const auto f = fit_position_and_model(s, o);
+    ASSERT_TRUE(f);
+    EXPECT_LT(distance(f->at, t.at), 1.0);
+    EXPECT_NEAR(f->model.tx_power, -38.0, 2.0);
+    EXPECT_NEAR(f->model.exponent, 2.3, 0.3);
+    EXPECT_GT(f->r2, 0.8);
+    EXPECT_NEAR(f->residual_db, 2.0, 0.5);
+}
+
+TEST(Fit, TooFewOrDegenerateSamplesAreNothing) {
+    const Transmitter t{{5.0, 5.0}, 0.0, {-40.0, 2.0}};
+    const auto s = survey_of(t, 0.0, 1);
+    EXPECT_FALSE(fit_model(std::span(s).first(2), t.at, 0.0));
+    EXPECT_FALSE(fit_position_and_model(std::span(s).first(3), {}));
+    const std::vector<Sample> ring{{{6, 5}, -40}, {{4, 5}, -41}, {{5, 6}, -42}};  // all 1 m away
+    EXPECT_FALSE(fit_model(ring, t.at, 0.0));
+}
+
+}  // namespace
