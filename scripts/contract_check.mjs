@@ -243,6 +243,12 @@ async function run() {
   await patch(`/v1/transmitters/${tx}`, { tx_power: -41, path_loss_exponent: 2.2 }, { expect: 200 });
   await patch(`/v1/transmitters/${tx}`, { path_loss_exponent: 'steep' }, { expect: 422, invalid: true });
   await patch(`/v1/transmitters/${tx}`, { x: 40 }, { expect: 422 });
+  await post(`/v1/floors/${floor}/transmitters/fit`, { min_rps: 4 }, { expect: 200 });
+  await post(`/v1/floors/${floor}/transmitters/fit?apply=true`, {}, { expect: 200 });
+  await post(`/v1/floors/${floor}/transmitters/fit`, { transmitters: [tx] }, { expect: 422 });
+  await post(`/v1/floors/${floor}/transmitters/fit`, { min_rps: 1 }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/transmitters/fit?apply=yes`, {}, { expect: 400, invalid: true });
+  await post(`/v1/floors/${UNKNOWN}/transmitters/fit`, {}, { expect: 404 });
 
   // Radio maps and reference points
   const radiomap = idOf(await post(`/v1/floors/${floor}/radiomaps`, { name: 'Survey 2026' }, { expect: 201 }), 'a radio map');

@@ -320,3 +320,100 @@ TEST(ImportTransmitters, CsvIntoAFloorTwiceAndRefusedWhole) {
 }
 
 }  // namespace
+
+namespace {
+
+// Calibration: a survey generated from known transmitters (two registered with a wrong
+// model, one not registered at all) gives back their models and the unknown one's position.
+TEST(FitTransmitters, SurveyGivesBackTheModelsAndAPosition) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);  // 30 m × 20 m
+    const std::string floor = std::to_string(h.floor);
+    struct Truth {
+        const char* bssid;
+        double x, y, p, n;
+    };
+    const Truth truth[] = {{"02:00:00:00:20:01", 5, 5, -38, 2.1}, {"02:00:00:00:20:02", 25, 15, -44, 2.8},
+                           {"02:00:00:00:20:03", 18, 6, -41, 2.4}};
+    json rps = json::array();
+    int i = 0;
+    for (double x = 1; x < 30; x += 3)
+        for (double y = 1; y < 20; y += 3) {
+            json ms = json::array();
+            int j = 0;
+            for (const auto& t : truth) {
+                // ±1 dB of deterministic "noise", different per RP and AP.
+                const double noise = ((i * 7 + j * 13) % 5 - 2) * 0.5;
+                const double d = std::max(std::hypot(x - t.x, y - t.y), 0.1);
+                ms.push_back({{"bssid", t.bssid}, {"mean", std::min(t.p - 10 * t.n * std::log10(d) + noise, 0.0)},
+                              {"variance", 4.0}, {"count", 5}});
+                ++j;
+            }
+            rps.push_back({{"name", "rp" + std::to_string(i++)}, {"x", x}, {"y", y}, {"scans", 5}, {"measurements", ms}});
+        }
+    body_of(s.post("/v1/floors/" + floor + "/radiomaps/import", {{"name", "Survey"}, {"rps", rps}}), 201);
+    const auto a = body_of(s.post("/v1/floors/" + floor + "/transmitters",
+                                  {{"type", "wifi"}, {"bssid", truth[0].bssid}, {"x", 5.0}, {"y", 5.0}, {"tx_power", -60.0}}), 201);
+    body_of(s.post("/v1/floors/" + floor + "/transmitters",
+                   {{"type", "wifi"}, {"bssid", truth[1].bssid}, {"x", 25.0}, {"y", 15.0}, {"tx_power", -30.0},
+                    {"path_loss_exponent", 5.0}}), 201);
+
+    const json dry = body_of(s.post("/v1/floors/" + floor + "/transmitters/fit", json::object()));
+    EXPECT_EQ(dry.at("applied"), false);
+    ASSERT_EQ(dry.at("transmitters").size(), 3u) << dry.dump();
+    for (const auto& f : dry.at("transmitters")) {
+        const Truth* t = nullptr;
+        for (const auto& c : truth)
+            if (f.at("bssid") == c.bssid) t = &c;
+        ASSERT_TRUE(t);
+        EXPECT_NEAR(f.at("tx_power").get<double>(), t->p, 1.5) << f.dump();
+        EXPECT_NEAR(f.at("path_loss_exponent").get<double>(), t->n, 0.25) << f.dump();
+        EXPECT_GT(f.at("r2").get<double>(), 0.9) << f.dump();
+        EXPECT_LT(f.at("residual_db").get<double>(), 1.5) << f.dump();
+        EXPECT_NEAR(f.at("x").get<double>(), t->x, 1.0) << f.dump();
+        EXPECT_NEAR(f.at("y").get<double>(), t->y, 1.0) << f.dump();
+        EXPECT_EQ(f.at("position"), t == &truth[2] ? "fitted" : "known");
+    }
+    // Nothing stored without apply.
+    EXPECT_EQ(body_of(s.get("/v1/floors/" + floor + "/transmitters")).at("total"), 2);
+    EXPECT_DOUBLE_EQ(body_of(s.get("/v1/transmitters/" + std::to_string(a.at("id").get<std::int64_t>()))).at("tx_power").get<double>(), -60.0);
+
+    const json applied = body_of(s.post("/v1/floors/" + floor + "/transmitters/fit?apply=true", json::object()));
+    EXPECT_EQ(applied.at("applied"), true);
+    const json page = body_of(s.get("/v1/floors/" + floor + "/transmitters"));
+    ASSERT_EQ(page.at("total"), 3);
+    EXPECT_NEAR(page.at("items")[0].at("tx_power").get<double>(), -38.0, 1.5);
+    EXPECT_NEAR(page.at("items")[2].at("x").get<double>(), 18.0, 1.0);
+    // And the fitted models locate: a scan at (12, 10) from the same truth.
+    json ms = json::array();
+    for (const auto& t : truth) ms.push_back({{"bssid", t.bssid}, {"rss", t.p - 10 * t.n * std::log10(std::hypot(12 - t.x, 10 - t.y))}});
+    const json fix = body_of(s.post("/v1/maps/" + std::to_string(h.map) + "/localize", {{"algorithm", "multilateration"}, {"measurements", ms}}));
+    EXPECT_LT(std::hypot(fix.at("x").get<double>() - 12, fix.at("y").get<double>() - 10), 1.5) << fix.dump();
+}
+
+TEST(FitTransmitters, BadRequestsAreRefusedAndWriteNothing) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string floor = std::to_string(h.floor);
+    locus::testing::make_rp(s, h.radiomap, "only", 3, 3);
+    const auto t = body_of(s.post("/v1/floors/" + floor + "/transmitters",
+                                  {{"type", "wifi"}, {"bssid", "02:00:00:00:30:01"}, {"x", 1.0}, {"y", 1.0}, {"tx_power", -40.0}}), 201);
+    const std::string id = std::to_string(t.at("id").get<std::int64_t>());
+    const std::string path = "/v1/floors/" + floor + "/transmitters/fit";
+    auto r = s.post(path + "?apply=true", {{"transmitters", {t.at("id")}}});
+    EXPECT_EQ(r.status, 422) << r.raw;
+    EXPECT_EQ(r.body["error"]["code"], "too_few_rps");
+    EXPECT_NE(r.raw.find("transmitter " + id), std::string::npos) << r.raw;
+    r = s.post(path + "?apply=maybe", json::object());
+    EXPECT_EQ(r.status, 400) << r.raw;
+    r = s.post(path, {{"min_rps", 2}});
+    EXPECT_EQ(r.status, 422) << r.raw;
+    r = s.post(path, {{"transmitters", {999999}}});
+    EXPECT_EQ(r.status, 404) << r.raw;
+    r = s.post(path, {{"colour", 1}});
+    EXPECT_EQ(r.status, 422) << r.raw;
+    EXPECT_EQ(s.post("/v1/floors/999999/transmitters/fit", json::object()).status, 404);
+    EXPECT_DOUBLE_EQ(body_of(s.get("/v1/transmitters/" + id)).at("tx_power").get<double>(), -40.0);
+}
+
+}  // namespace
