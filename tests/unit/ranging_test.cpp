@@ -201,3 +201,39 @@ TEST(Fit, TooFewOrDegenerateSamplesAreNothing) {
 }
 
 }  // namespace
+
+#include "locus/ranging/propagation.hpp"
+
+namespace {
+
+TEST(Propagation, WallsCrossedMatchABruteForceCount) {
+    std::vector<Segment> walls;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 40.0), len(0.5, 6.0);
+    for (int i = 0; i < 300; ++i) {
+        const Point a{u(rng), u(rng)};
+        walls.push_back(i % 2 ? Segment{a, {a.x + len(rng), a.y}} : Segment{a, {a.x, a.y + len(rng)}});
+    }
+    walls.push_back({{10, 0}, {10, 40}});  // on a cell boundary (cells of 2 m)
+    const WallIndex index(walls, 2.0);
+    for (int q = 0; q < 500; ++q) {
+        const Point a{u(rng), u(rng)};
+        const Point b = q % 10 == 0 ? Point{a.x, u(rng)} : Point{u(rng), u(rng)};  // some vertical paths
+        int brute = 0;
+        for (const auto& w : walls) brute += segments_intersect(a, b, w.a, w.b) ? 1 : 0;
+        ASSERT_EQ(index.crossed(a, b), brute) << a.x << "," << a.y << " -> " << b.x << "," << b.y;
+    }
+}
+
+TEST(Propagation, EachWallCostsItsAttenuation) {
+    const std::vector<ModelledTransmitter> txs{{{{0.0, 0.0}, 0.0, {-40.0, 2.0}}, 5.0}, {{{0.0, 0.0}, 0.0, {-40.0, 2.0}}, std::nullopt}};
+    const WallIndex walls({{{3, -5}, {3, 5}}, {{6, -5}, {6, 5}}});
+    const auto r = modelled_rss({10.0, 0.0}, txs, walls, -100.0);
+    ASSERT_EQ(r.size(), 2u);
+    EXPECT_NEAR(r[0].rss, -60.0 - 10.0, 1e-9);  // two walls of 5 dB
+    EXPECT_NEAR(r[1].rss, -60.0, 1e-9);         // walls not modelled
+    EXPECT_TRUE(modelled_rss({10.0, 0.0}, txs, walls, -65.0).size() == 1);  // below the floor: left out
+    EXPECT_EQ(grid_points({0, 0, 10, 4}, 2.0).size(), 10u);
+}
+
+}  // namespace
