@@ -7,6 +7,7 @@
 #include "http/store_json.hpp"
 #include "http/transmitter_fields.hpp"
 #include "http/transmitter_fit.hpp"
+#include "http/radiomap_generate.hpp"
 #include "http/validation.hpp"
 
 namespace locus::http {
@@ -36,7 +37,8 @@ store::Record naming_duplicates(const store::Fields& f, F&& write) {
 }  // namespace
 
 void App::install_transmitter_routes() {
-    install_transmitter_fit(server_, store_);  // before the item routes: a literal path segment
+    install_transmitter_fit(server_, store_);
+    install_radiomap_generate(server_, store_);
     server_.Post(R"(/v1/floors/(\d+)/transmitters)", [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");

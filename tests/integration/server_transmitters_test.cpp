@@ -417,3 +417,94 @@ TEST(FitTransmitters, BadRequestsAreRefusedAndWriteNothing) {
 }
 
 }  // namespace
+
+namespace {
+
+// A radio map with no survey: the floor's transmitters and its plan's walls.
+TEST(GenerateRadioMap, GridFromTransmittersAndWallsLocalizes) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);  // 30 m × 20 m
+    const std::string floor = std::to_string(h.floor);
+    const auto r0 = s.post("/v1/floors/" + floor + "/radiomaps/generate", {{"name", "Model"}, {"step", 2.0}});
+    EXPECT_EQ(r0.status, 422) << r0.raw;
+    EXPECT_EQ(r0.body["error"]["code"], "no_transmitters");
+    // One wall across the floor at x = 15, 6 dB for the AP that models walls.
+    const json plan = {{"type", "FeatureCollection"},
+                       {"features", {{{"type", "Feature"},
+                                      {"geometry", {{"type", "LineString"}, {"coordinates", {{15, 0}, {15, 20}}}}},
+                                      {"properties", {{"feature", "wall"}}}}}}};
+    const auto put = s.put("/v1/floors/" + floor + "/plan", plan);
+    ASSERT_EQ(put.status, 200) << put.raw;
+    const struct {
+        const char* bssid;
+        double x, y;
+    } aps[] = {{"02:00:00:00:40:01", 3, 3}, {"02:00:00:00:40:02", 27, 3}, {"02:00:00:00:40:03", 15, 17}, {"02:00:00:00:40:04", 8, 12}};
+    for (const auto& a : aps)
+        body_of(s.post("/v1/floors/" + floor + "/transmitters", {{"type", "wifi"}, {"bssid", a.bssid}, {"x", a.x}, {"y", a.y},
+                                                                 {"tx_power", -40.0}, {"path_loss_exponent", 2.0}, {"wall_attenuation", 6.0}}),
+                201);
+    const json g = body_of(s.post("/v1/floors/" + floor + "/radiomaps/generate", {{"name", "Model"}, {"step", 2.0}, {"sigma_db", 3.0}}), 201);
+    EXPECT_EQ(g.at("rp_count"), 150);  // 15 × 10
+    EXPECT_EQ(g.at("walls"), 1);
+    const auto rm = g.at("id").get<std::int64_t>();
+    const json rps = body_of(s.get("/v1/radiomaps/" + std::to_string(rm) + "/rps?limit=1000"));
+    ASSERT_EQ(rps.at("total"), 150);
+    // The RP at (1, 1): AP 1 without a wall; AP 2 at (27, 3) behind the wall at x = 15.
+    const auto first = rps.at("items")[0];
+    EXPECT_EQ(first.at("generated"), 1);
+    const json rp = body_of(s.get("/v1/rps/" + std::to_string(first.at("id").get<std::int64_t>())));
+    for (const auto& m : rp.at("measurements")) {
+        if (m.at("bssid") == "02:00:00:00:40:01") {
+            EXPECT_NEAR(m.at("mean").get<double>(), -40 - 20 * std::log10(std::hypot(2.0, 2.0)), 1e-9);
+        }
+        if (m.at("bssid") == "02:00:00:00:40:02") {
+            EXPECT_NEAR(m.at("mean").get<double>(), -40 - 20 * std::log10(std::hypot(26.0, 2.0)) - 6.0, 1e-9);
+        }
+        EXPECT_DOUBLE_EQ(m.at("variance").get<double>(), 9.0);
+    }
+    // A surveyed RP is not generated.
+    const auto surveyed = locus::testing::make_rp(s, h.radiomap, "by hand", 3, 3);
+    EXPECT_EQ(body_of(s.get("/v1/rps/" + std::to_string(surveyed))).at("generated"), 0);
+    // The generated map answers a scan the model predicts at (9, 7) (AP 3 sits on the wall:
+    // not behind it).
+    json ms = json::array();
+    for (const auto& a : aps) {
+        const double walls = (a.x > 15) != (9 > 15) ? 6.0 : 0.0;
+        ms.push_back({{"bssid", a.bssid}, {"rss", -40 - 20 * std::log10(std::hypot(9 - a.x, 7 - a.y)) - walls}});
+    }
+    const json fix = body_of(s.post("/v1/radiomaps/" + std::to_string(rm) + "/localize", {{"algorithm", "wknn"}, {"measurements", ms}}));
+    EXPECT_LT(std::hypot(fix.at("x").get<double>() - 9, fix.at("y").get<double>() - 7), 1.5) << fix.dump();
+}
+
+TEST(GenerateRadioMap, BadRequestsNameTheProblem) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string floor = std::to_string(h.floor);
+    body_of(s.post("/v1/floors/" + floor + "/transmitters", {{"type", "wifi"}, {"bssid", "02:00:00:00:50:01"}, {"x", 1.0}, {"y", 1.0}, {"tx_power", -40.0}}), 201);
+    const std::string path = "/v1/floors/" + floor + "/radiomaps/generate";
+    auto expect = [&](const json& body, int status, const std::string& code, const std::string& words) {
+        const auto r = s.post(path, body);
+        EXPECT_EQ(r.status, status) << body.dump() << " -> " << r.raw;
+        EXPECT_EQ(r.body["error"]["code"], code) << r.raw;
+        EXPECT_NE(r.raw.find(words), std::string::npos) << r.raw;
+    };
+    expect({{"name", "M"}}, 422, "invalid_field", "missing field 'step'");
+    expect({{"step", 1.0}}, 422, "invalid_field", "missing field 'name'");
+    expect({{"name", "M"}, {"step", 0.0}}, 422, "out_of_range", "'step'");
+    expect({{"name", "M"}, {"step", 1.0}, {"min_rss", 5}}, 422, "out_of_range", "'min_rss'");
+    expect({{"name", "M"}, {"step", 1.0}, {"grid", 1}}, 422, "invalid_field", "unknown field 'grid'");
+    const auto big = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
+                                    {{"name", "Hall"}, {"level", 1}, {"width", 2000.0}, {"height", 2000.0}}), 201);
+    body_of(s.post("/v1/floors/" + std::to_string(big.at("id").get<std::int64_t>()) + "/transmitters",
+                   {{"type", "wifi"}, {"bssid", "02:00:00:00:50:01"}, {"x", 1.0}, {"y", 1.0}, {"tx_power", -40.0}}), 201);
+    const auto r = s.post("/v1/floors/" + std::to_string(big.at("id").get<std::int64_t>()) + "/radiomaps/generate", {{"name", "M"}, {"step", 1.0}});
+    EXPECT_EQ(r.status, 422) << r.raw;
+    EXPECT_NE(r.raw.find("at most 100000"), std::string::npos) << r.raw;
+    // Nothing was written by any of them; a taken name is 409.
+    EXPECT_EQ(body_of(s.get("/v1/floors/" + floor + "/radiomaps")).at("total"), 1);
+    body_of(s.post(path, {{"name", "M"}, {"step", 5.0}}), 201);
+    EXPECT_EQ(s.post(path, {{"name", "M"}, {"step", 5.0}}).status, 409);
+    EXPECT_EQ(s.post("/v1/floors/999999/radiomaps/generate", {{"name", "M"}, {"step", 5.0}}).status, 404);
+}
+
+}  // namespace

@@ -89,7 +89,13 @@ std::vector<ModelledReading> modelled_rss(Point at, std::span<const ModelledTran
         const double d = std::hypot(std::hypot(at.x - t.tx.at.x, at.y - t.tx.at.y), t.tx.dz);
         double rss = rss_at(t.tx.model, d);
         if (rss < min_rss) continue;  // walls only lower it further
-        if (t.wall_attenuation && *t.wall_attenuation > 0) rss -= *t.wall_attenuation * walls.crossed(at, t.tx.at);
+        if (t.wall_attenuation && *t.wall_attenuation > 0) {
+            // The path stops 1 cm short of the transmitter: one mounted on a wall is not behind it.
+            const double flat = std::hypot(at.x - t.tx.at.x, at.y - t.tx.at.y);
+            const double f = flat > 0.01 ? 0.01 / flat : 0.0;
+            const Point end{t.tx.at.x + (at.x - t.tx.at.x) * f, t.tx.at.y + (at.y - t.tx.at.y) * f};
+            rss -= *t.wall_attenuation * walls.crossed(at, end);
+        }
         if (rss < min_rss) continue;
         out.push_back({i, std::min(rss, 0.0)});
     }
