@@ -52,7 +52,7 @@ struct MultilaterationOptions {
     double sigma_db = 4.0;      // shadowing σ of one averaged reading (dB)
     double loss_scale = 1.5;    // Cauchy loss scale, in σ: a residual of loss_scale·σ weighs ½
     int max_iterations = 30;
-    double tolerance = 1e-4;    // m: stop when a step is shorter
+    double tolerance = 1e-3;    // m: stop when a step is shorter
 };
 
 // nullopt when fewer than three transmitters remain (after the cutoff) or every triple is
