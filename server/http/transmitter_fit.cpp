@@ -117,7 +117,11 @@ void install_transmitter_fit(httplib::Server& server, store::Store& store) {
                 store::Fields fields;
             };
             std::vector<Write> writes;
-            for (const auto& [key, h] : heard) {
+            for (const auto& entry : heard) {
+                // Named, not a structured binding: clang 14 (the fuzz build) cannot capture
+                // one in the lambda below.
+                const std::string& key = entry.first;
+                const Heard& h = entry.second;
                 const auto k = known.find(key);
                 const bool is_known = k != known.end();
                 if (!request.named.empty() && (!is_known || !request.named.count(k->second.id))) continue;
