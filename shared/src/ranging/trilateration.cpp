@@ -98,7 +98,10 @@ std::optional<Fix> trilaterate(std::span<const Heard> heard, const Trilateration
         sxy += (p.x - fix.at.x) * (p.y - fix.at.y);
     }
     // The triples' spread: the answer is their mean, so its own spread is σ²/count.
-    fix.uncertainty = ellipse_of(sxx / count / count, syy / count / count, sxy / count / count);
+    fix.sxx = sxx / count / count;
+    fix.syy = syy / count / count;
+    fix.sxy = sxy / count / count;
+    fix.uncertainty = ellipse_of(fix.sxx, fix.syy, fix.sxy);
     fix.rms_residual = std::sqrt((sxx + syy) / count);
     fix.used = static_cast<int>(m);
     return fix;
@@ -232,8 +235,16 @@ std::optional<Fix> multilaterate(std::span<const Heard> heard, const Multilatera
     // The scatter the residuals show, never below the shadowing assumed.
     const double s2 = std::max(o.sigma_db * o.sigma_db, n.weighted_sq / std::max(m - 2.0, 1.0));
     const double det = n.h11 * n.h22 - n.h12 * n.h12;
-    if (det > 1e-12) fix.uncertainty = ellipse_of(s2 * n.h22 / det, s2 * n.h11 / det, -s2 * n.h12 / det);
-    else fix.uncertainty = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0};
+    if (det > 1e-12) {
+        fix.sxx = s2 * n.h22 / det;
+        fix.syy = s2 * n.h11 / det;
+        fix.sxy = -s2 * n.h12 / det;
+        fix.uncertainty = ellipse_of(fix.sxx, fix.syy, fix.sxy);
+    } else {
+        const double inf = std::numeric_limits<double>::infinity();
+        fix.sxx = fix.syy = inf;
+        fix.uncertainty = {inf, inf, 0.0};
+    }
     fix.at = p;
     fix.used = static_cast<int>(heard.size());
     fix.rms_residual = std::sqrt(n.weighted_sq / m);

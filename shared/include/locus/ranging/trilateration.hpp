@@ -36,6 +36,7 @@ Ellipse ellipse_of(double sxx, double syy, double sxy);
 struct Fix {
     Point at;
     Ellipse uncertainty;
+    double sxx = 0, syy = 0, sxy = 0;  // the covariance the ellipse is drawn from (m²), for a filter's R
     int used = 0;             // transmitters that took part
     double rms_residual = 0;  // multilaterate: dB; trilaterate: m (spread of the triples)
     int iterations = 0;       // multilaterate only
