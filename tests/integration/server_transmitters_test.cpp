@@ -234,6 +234,30 @@ TEST_F(RangingLocalize, TrilaterationWithTheSeedsCutoffAndScans) {
     EXPECT_EQ(r.body["error"]["code"], "no_fix");
 }
 
+TEST_F(RangingLocalize, OnAMapTheFloorThatHearsMostAnswers) {
+    const auto upper = body_of(server->post("/v1/buildings/" + std::to_string(h.building) + "/floors",
+                                            {{"name", "Upper"}, {"level", 1}, {"width", 30.0}, {"height", 20.0}}),
+                               201)
+                           .at("id")
+                           .get<std::int64_t>();
+    const Layout up[] = {{"0a:00:00:00:00:01", 5, 5, -40, 2.0}, {"0a:00:00:00:00:02", 25, 5, -40, 2.0},
+                         {"0a:00:00:00:00:03", 15, 15, -40, 2.0}};
+    for (const auto& l : up)
+        body_of(server->post("/v1/floors/" + std::to_string(upper) + "/transmitters",
+                             {{"type", "wifi"}, {"bssid", l.bssid}, {"x", l.x}, {"y", l.y}, {"tx_power", l.tx_power}}),
+                201);
+    // Upstairs at (12, 8): its three APs, and one of the ground floor's through the ceiling.
+    json ms = json::array();
+    for (const auto& l : up) ms.push_back({{"bssid", l.bssid}, {"rss", rss_at(l, 12, 8)}});
+    ms.push_back({{"bssid", kLayout[4].bssid}, {"rss", -80.0}});
+    const json a = body_of(server->post("/v1/maps/" + std::to_string(h.map) + "/localize", {{"algorithm", "multilateration"}, {"measurements", ms}}));
+    EXPECT_EQ(a.at("floor_id"), upper);
+    EXPECT_EQ(a.at("transmitters_heard"), 3);
+    EXPECT_NEAR(a.at("x").get<double>(), 12.0, 0.01);
+    EXPECT_NEAR(a.at("y").get<double>(), 8.0, 0.01);
+    body_of(server->del("/v1/floors/" + std::to_string(upper)), 204);
+}
+
 TEST_F(RangingLocalize, FewerThanThreeKnownIs422WithTheCount) {
     for (const char* algorithm : {"trilateration", "multilateration"}) {
         const auto r = server->post("/v1/maps/" + std::to_string(h.map) + "/localize",
