@@ -234,6 +234,38 @@ async function run() {
   await patch(`/v1/pois/${poi}`, { kind: 'emergency_exit' }, { expect: 200 });
   await patch(`/v1/pois/${poi}`, { x: '1' }, { expect: 422, invalid: true });
 
+  // Transmitters (issue 18): three APs and a beacon at known positions on the 30 m × 15 m floor
+  const txAp = (n) => `02:00:00:00:10:0${n}`;
+  const tx = idOf(await post(`/v1/floors/${floor}/transmitters`, { name: 'AP west', type: 'wifi', bssid: txAp(1), x: 2, y: 2, z: 2.6, tx_power: -40, path_loss_exponent: 2 }, { expect: 201 }), 'a transmitter');
+  await post(`/v1/floors/${floor}/transmitters`, { type: 'wifi', bssid: txAp(2), x: 28, y: 2, tx_power: -40 }, { expect: 201 });
+  await post(`/v1/floors/${floor}/transmitters`, { type: 'wifi', bssid: txAp(3), x: 15, y: 13, tx_power: -40, wall_attenuation: 4 }, { expect: 201 });
+  await post(`/v1/floors/${floor}/transmitters`, { ibeacon: { uuid: 'f7826da6-4fa2-4e98-8024-bc5b71e0893e', major: 1, minor: 2 }, x: 10, y: 7, tx_power: -59 }, { expect: 201 });
+  await post(`/v1/floors/${floor}/transmitters`, { eddystone: { namespace: 'edd1ebeac04e5defa017', instance: '0123456789ab' }, x: 20, y: 7, tx_power: -62 }, { expect: 201 });
+  await post(`/v1/floors/${floor}/transmitters`, { type: 'wifi', bssid: txAp(1), x: 5, y: 5, tx_power: -40 }, { expect: 409 });
+  await post(`/v1/floors/${floor}/transmitters`, { type: 'wifi', bssid: txAp(4), x: 31, y: 5, tx_power: -40 }, { expect: 422 });
+  await post(`/v1/floors/${floor}/transmitters`, { type: 'wifi', bssid: txAp(4), x: 5, y: -1, tx_power: -40 }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/transmitters`, { type: 'wifi', bssid: txAp(4), x: 5, y: 5 }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/transmitters`, { ibeacon: { uuid: 'xyz', major: 1, minor: 2 }, x: 5, y: 5, tx_power: -59 }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${UNKNOWN}/transmitters`, { type: 'wifi', bssid: txAp(4), x: 5, y: 5, tx_power: -40 }, { expect: 404 });
+  await get(`/v1/floors/${floor}/transmitters`, { expect: 200 });
+  await get(`/v1/floors/${UNKNOWN}/transmitters`, { expect: 404 });
+  await get(`/v1/transmitters/${tx}`, { expect: 200 });
+  await patch(`/v1/transmitters/${tx}`, { tx_power: -41, path_loss_exponent: 2.2 }, { expect: 200 });
+  await patch(`/v1/transmitters/${tx}`, { path_loss_exponent: 'steep' }, { expect: 422, invalid: true });
+  await patch(`/v1/transmitters/${tx}`, { x: 40 }, { expect: 422 });
+  await post(`/v1/floors/${floor}/transmitters/fit`, { min_rps: 4 }, { expect: 200 });
+  await post(`/v1/floors/${floor}/transmitters/fit?apply=true`, {}, { expect: 200 });
+  await post(`/v1/floors/${floor}/transmitters/fit`, { transmitters: [tx] }, { expect: 422 });
+  await post(`/v1/floors/${floor}/transmitters/fit`, { min_rps: 1 }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/transmitters/fit?apply=yes`, {}, { expect: 400, invalid: true });
+  await post(`/v1/floors/${UNKNOWN}/transmitters/fit`, {}, { expect: 404 });
+  await post(`/v1/floors/${floor2}/radiomaps/generate`, { name: 'Modelled', step: 5 }, { expect: 422 });
+  await post(`/v1/floors/${floor}/radiomaps/generate`, { name: 'Modelled', step: 2.5, min_rss: -100, sigma_db: 3, phone_height: 1 }, { expect: 201 });
+  await post(`/v1/floors/${floor}/radiomaps/generate`, { name: 'Modelled', step: 2.5 }, { expect: 409 });
+  await post(`/v1/floors/${floor}/radiomaps/generate`, { name: 'Too fine', step: 0.01 }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/radiomaps/generate`, { step: 1 }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${UNKNOWN}/radiomaps/generate`, { name: 'x', step: 1 }, { expect: 404 });
+
   // Radio maps and reference points
   const radiomap = idOf(await post(`/v1/floors/${floor}/radiomaps`, { name: 'Survey 2026' }, { expect: 201 }), 'a radio map');
   const radiomap2 = idOf(await post(`/v1/floors/${floor2}/radiomaps`, { name: 'Basement survey', description: 'no rooms here' }, { expect: 201 }), 'a radio map');
@@ -310,6 +342,14 @@ async function run() {
   await post(`/v1/maps/${map}/localize`, live, { expect: 200 });
   await post(`/v1/maps/${map}/localize`, { algorithm: 'wknn', scans: [scan([9, -60])] }, { expect: 200 });
   await post(`/v1/maps/${other}/localize`, live, { expect: 422 });
+  // Ranging from the floor's transmitters (three APs about 8 m from (8, 6))
+  const ranged = { measurements: [{ bssid: txAp(1), rss: -57 }, { bssid: txAp(2), rss: -68 }, { bssid: txAp(3), rss: -62 }] };
+  await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'multilateration', ...ranged }, { expect: 200 });
+  await post(`/v1/maps/${map}/localize`, { algorithm: 'multilateration', ...ranged, options: { sigma_db: 3, loss_scale: 2, max_iterations: 50, phone_height: 1 } }, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'trilateration', ...ranged, options: { cutoff: 30, vote_slack: 1.25, correct: true, max_transmitters: 12 } }, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'trilateration', ...ranged }, { expect: 422 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'multilateration', measurements: [{ bssid: txAp(1), rss: -57 }] }, { expect: 422 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, { algorithm: 'multilateration', ...ranged, options: { cutoff: -1 } }, { expect: 422, invalid: true });
   await post(`/v1/maps/${UNKNOWN}/localize`, live, { expect: 404 });
   // Self-tuning: a CV over the radio map's own RPs, stored as its settings.
   await post(`/v1/radiomaps/${radiomap}/tune`, {}, { expect: 200 });
@@ -419,6 +459,8 @@ async function run() {
   await del(`/v1/rps/${rp2}`, { auth: false, expect: 401, invalid: true });
   await del(`/v1/rps/${rp2}`, { expect: 204 });
   await del(`/v1/rps/${rp2}`, { expect: 404 });
+  await del(`/v1/transmitters/${tx}`, { expect: 204 });
+  await del(`/v1/transmitters/${tx}`, { expect: 404 });
   await del(`/v1/pois/${poi}`, { expect: 204 });
   await del(`/v1/pois/${poi}`, { expect: 404 });
   await del(`/v1/rooms/${room}`, { expect: 204 });

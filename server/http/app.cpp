@@ -133,6 +133,7 @@ App::App(store::Store& store, localize::Service& localizer, routing::Service& ro
     install_route_routes();
     install_search_routes();
     install_image_routes();
+    install_transmitter_routes();
     install_static_routes(server_, options_.web);
 }
 

@@ -63,6 +63,7 @@ private:
     class TuneGuard;
     std::mutex tuning_mu_;
     std::unordered_set<std::int64_t> tuning_;  // radio maps being tuned
+    void install_transmitter_routes();  // transmitter_routes.cpp (+ trilateration, fit, generate)
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 

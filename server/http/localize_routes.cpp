@@ -6,6 +6,7 @@
 #include "http/app.hpp"
 #include "http/localize_answer.hpp"
 #include "http/localize_request.hpp"
+#include "http/ranging_localize.hpp"
 #include "http/validation.hpp"
 
 namespace locus::http {
@@ -19,6 +20,10 @@ void App::install_localize() {
                      [this, what = what, scope = scope](const httplib::Request& req, httplib::Response& res) {
                          guarded(req, res, [&] {
                              const auto id = parse_id(req.matches[1].str(), what);
+                             if (const auto ranging = parse_ranging_request(req.body)) {
+                                 res.set_content(ranging_answer(store_, scope == Scope::map, id, *ranging), "application/json");
+                                 return;
+                             }
                              const auto request = parse_localize_request(req.body);
                              // Moved in: set_content would copy the answer. As set_content
                              // does, any earlier Content-Type goes.

@@ -82,6 +82,7 @@ struct RpDocument {
     Point at;
     std::int64_t scans = 0;
     std::vector<Measurement> measurements;
+    bool generated = false;  // modelled from the floor's transmitters, not measured (schema 009)
 };
 struct RadioMapDocument {
     Fields fields;  // the radiomap's own: name, description

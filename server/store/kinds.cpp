@@ -39,7 +39,24 @@ const std::vector<Kind>& kinds() {
          "radiomap_id",
          "radiomaps",
          {name_field(), coordinate("x"), coordinate("y"),
-          {.name = "scans", .type = FieldType::Integer, .writable = false}}},
+          {.name = "scans", .type = FieldType::Integer, .writable = false},
+          // 1: modelled from the floor's transmitters (POST …/radiomaps/generate), not surveyed
+          {.name = "generated", .type = FieldType::Integer, .writable = false}}},
+        // schema/009_transmitters.sql; http/transmitter_routes.cpp checks what a field alone
+        // cannot (type, the bssid's form, the position within the floor).
+        {"transmitters",
+         "transmitter",
+         "floor_id",
+         "floors",
+         {{.name = "name", .type = FieldType::Text, .max_length = 200},
+          {.name = "type", .type = FieldType::Text, .required = true, .max_length = 16},
+          {.name = "bssid", .type = FieldType::Text, .required = true, .max_length = 64},
+          coordinate("x"),
+          coordinate("y"),
+          {.name = "z", .type = FieldType::Real, .min = -100, .max = 1000},
+          {.name = "tx_power", .type = FieldType::Real, .required = true, .min = -120, .max = 30},
+          {.name = "path_loss_exponent", .type = FieldType::Real, .min = 1, .max = 8},
+          {.name = "wall_attenuation", .type = FieldType::Real, .min = 0, .max = 60}}},
     };
     return all;
 }

@@ -321,6 +321,10 @@ std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapD
         Fields f;
         f.values = {{"name", rp.name}, {"x", rp.at.x}, {"y", rp.at.y}};
         const std::int64_t rp_id = insert_row(kind("rps"), rm_id, f);
+        if (rp.generated) {  // not a writable field: only a model's radio map sets it
+            Stmt g(db_, "UPDATE rps SET generated = 1 WHERE id = ?");
+            g.bind(1, rp_id).run();
+        }
         merge_measurements(rp_id, rp.measurements, rp.scans);
         if (measurements) *measurements += static_cast<std::int64_t>(rp.measurements.size());
     }
