@@ -18,6 +18,7 @@
 #include "routing/service.hpp"
 #include "store/migrations.hpp"
 #include "store/sqlite_store.hpp"
+#include "tracks/service.hpp"
 
 namespace {
 void log_event(const nlohmann::json& event) {
@@ -55,6 +56,18 @@ int main(int argc, char** argv) {
     cli.add_option("--read-timeout", read_s, "seconds to wait for the next bytes of a request body")
         ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
     cli.add_flag("--quiet", quiet, "no access log");
+    locus::tracks::Options tracks_options;
+    cli.add_option("--track-ttl", tracks_options.ttl_s, "seconds without a fix after which a live track closes")
+        ->capture_default_str()->check(CLI::Range(0.01, 1e7));
+    cli.add_option("--track-retention", tracks_options.retention_s,
+                   "seconds after a track closes (or its fixes were taken) that they are deleted")
+        ->capture_default_str()->check(CLI::Range(0.01, 1e8));
+    cli.add_option("--track-heartbeat", tracks_options.heartbeat_s, "seconds between heartbeat comments on an idle event stream")
+        ->capture_default_str()->check(CLI::Range(0.01, 3600.0));
+    cli.add_option("--max-track-streams", tracks_options.max_streams, "open track event streams; past it, 503 server_busy")
+        ->capture_default_str()->check(CLI::Range(1, 100000));
+    cli.add_option("--max-live-tracks", tracks_options.max_live_tracks, "live tracks at once; past it, opening one answers 503")
+        ->capture_default_str()->check(CLI::Range(1, 10000000));
     CLI11_PARSE(cli, argc, argv);
 
     // Signals are taken by one thread with sigwait, so shutdown runs as ordinary code.
@@ -94,7 +107,8 @@ int main(int argc, char** argv) {
         locus::localize::Service localizer(store, locus::http::prepare_answers);
         locus::routing::Service router(store);
         locus::directory::Service directory(store);
-        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front});
+        locus::tracks::Service tracks(store, tracks_options);
+        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front, &tracks});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);
@@ -102,10 +116,11 @@ int main(int argc, char** argv) {
             log_event({{"event", "error"}, {"message", listen_error}});
             return 1;
         }
-        std::thread signal_waiter([&server, signals] {
+        std::thread signal_waiter([&server, &tracks, signals] {
             int sig = 0;
             sigwait(&signals, &sig);
             log_event({{"event", "shutdown"}, {"signal", sig}});
+            tracks.stop();  // ends the event streams, which would hold their connections open
             server.shut_down();
         });
         log_event({{"event", "listening"}, {"host", host}, {"port", bound}, {"db", db_path}, {"auth", !api_key.empty()},

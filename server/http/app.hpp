@@ -18,12 +18,17 @@
 #include "store/sqlite.hpp"
 #include "store/store.hpp"
 
+namespace locus::tracks {
+class Service;
+}
+
 namespace locus::http {
 
 struct AppOptions {
     std::string api_key;  // empty: writes need no key
     bool access_log = true;
     FrontOptions front;   // connections, timeouts, body limit
+    tracks::Service* tracks = nullptr;  // live tracks (track_routes.cpp); none: no track routes
 };
 
 class App {
@@ -55,6 +60,7 @@ private:
     void install_route_routes();     // route_routes.cpp
     void install_search_routes();    // search_routes.cpp
     void install_image_routes();     // image_routes.cpp
+    void install_track_routes();     // track_routes.cpp
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 
