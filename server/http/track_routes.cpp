@@ -50,8 +50,8 @@ json track_json(const tracks::TrackInfo& t) {
               {"state", tracks::state_name(t.state)},
               {"created_at", t.created_at},
               {"last_fix_at", t.last_fix_at},
-              {"fixes", t.fixes},
-              {"latest", t.latest ? fix_json(*t.latest) : json(nullptr)}};
+              {"fixes", t.fixes}};
+    if (t.latest) j["latest"] = fix_json(*t.latest);  // absent before the first fix
     if (t.ended_at) j["ended_at"] = *t.ended_at;
     return j;
 }
@@ -175,9 +175,9 @@ void App::install_track_routes() {
             if (const auto floor = svc.misplaced_floor(id, fixes))
                 throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
             const auto posted = svc.post(id, fixes);
-            return std::pair{200, json{{"stored", posted.stored},
-                                       {"duplicates", posted.duplicates},
-                                       {"latest", posted.latest ? fix_json(*posted.latest) : json(nullptr)}}};
+            json out = {{"stored", posted.stored}, {"duplicates", posted.duplicates}};
+            if (posted.latest) out["latest"] = fix_json(*posted.latest);
+            return std::pair{200, out};
         });
     });
 
@@ -293,8 +293,6 @@ void App::install_track_routes() {
                 out["relative_bearing_deg"] = nullptr;
                 out["direction"] = nullptr;
             }
-            out["walking_distance_m"] = nullptr;
-            out["route"] = nullptr;
             try {
                 const auto building = router_.building(a.map_id);
                 thread_local plan::RouteScratch scratch;
