@@ -18,7 +18,7 @@ fi
 
 packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev libsqlite3-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libutf8proc-dev libopencv-imgproc-dev libpng-dev
-          libjpeg-dev)
+          libjpeg-dev libssl-dev)
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! command -v npm >/dev/null 2>&1 && packages+=(nodejs npm)
 bash scripts/install_packages.sh "${packages[@]}"
 
