@@ -398,6 +398,11 @@ async function run() {
     await post(`/v1/tracks/${a}/fixes`, { fixes: [{ t: nowS, floor_id: floor, x: 1, y: 1 }] }, own(ta, { expect: 422, invalid: true }));
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1e6, 1)] }, own(ta, { expect: 422, invalid: true }));
     await post(`/v1/tracks/${a}/fixes`, { fixes: Array.from({ length: 1001 }, (_, i) => fixOf(nowS - 20 + i / 100, floor, 1, 1)) }, own(ta, { expect: 413, invalid: true }));
+    // A thin client: a radio fix and steps, fused on the server over the ground floor's plan.
+    await post(`/v1/tracks/${a}/steps`, { fixes: [fixOf(nowS - 1.5, floor, 5, 5)], steps: [{ t: nowS - 1, length_m: 0.7, heading_deg: 90 }] }, own(ta, { expect: 200 }));
+    await post(`/v1/tracks/${b}/steps`, { steps: [{ t: nowS - 0.5, length_m: 0.7, heading_deg: 90 }] }, own(tb, { expect: 422 }));
+    await post(`/v1/tracks/${a}/steps`, { steps: [{ t: nowS, length_m: 7, heading_deg: 90 }] }, own(ta, { expect: 422, invalid: true }));
+    await post(`/v1/tracks/${a}/steps`, { walk: [] }, own(ta, { expect: 422, invalid: true }));
     await get(`/v1/tracks/${UNKNOWN}`, { headers: ta, expect: 403 });
     await get(`/v1/tracks/${a}`, { expect: 401 });
     await get(`/v1/tracks/${a}?limit=5000`, { headers: ta, expect: 400, invalid: true });

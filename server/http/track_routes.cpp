@@ -86,28 +86,49 @@ std::string token_of(const httplib::Request& req, const char* header = "X-Track-
     return token;
 }
 
-std::vector<tracks::Fix> parse_fixes(const json& body, double retention_s) {
-    only_fields(body, {"fixes"}, "");
-    const auto it = body.find("fixes");
-    if (it == body.end() || !it->is_array() || it->empty()) throw invalid_field("'fixes' must be a non-empty array of fixes");
-    if (it->size() > kMaxFixesPerRequest)
-        throw ApiError(413, "batch_too_large", "'fixes' holds " + std::to_string(it->size()) + " fixes; at most " +
-                                                   std::to_string(kMaxFixesPerRequest) + " go in one request");
+// A fix's or step's t: Unix seconds, not far ahead of the server's clock, not older than kept.
+double parse_t(const json& j, const std::string& where, double retention_s) {
     const double now = tracks::Service::now();
+    const double t = finite_number(j, "t", where);
+    if (t > now + kFutureSlackS)
+        throw invalid_field("'" + where + ".t' is " + std::to_string(t - now) + " s ahead of the server's clock (Unix seconds; at most " +
+                            std::to_string(static_cast<int>(kFutureSlackS)) + " s ahead)");
+    if (t < now - retention_s)
+        throw invalid_field("'" + where + ".t' is older than the server keeps fixes (" + std::to_string(retention_s) + " s)");
+    return t;
+}
+
+double parse_heading(const json& j, const std::string& where) {
+    const double h = finite_number(j, "heading_deg", where, -360.0, 360.0);
+    return h < 0 ? h + 360.0 : (h >= 360.0 ? h - 360.0 : h);
+}
+
+// An array member `name` of `body` (absent: empty unless `required`), at most `max` items.
+const json* items_of(const json& body, const char* name, bool required) {
+    const auto it = body.find(name);
+    if (it == body.end() && !required) return nullptr;
+    if (it == body.end() || !it->is_array() || (required && it->empty()))
+        throw invalid_field(std::string("'") + name + "' must be a" + (required ? " non-empty" : "n") + " array");
+    return &*it;
+}
+
+void check_batch_size(std::size_t n) {
+    if (n > kMaxFixesPerRequest)
+        throw ApiError(413, "batch_too_large", "the request holds " + std::to_string(n) + " fixes and steps; at most " +
+                                                   std::to_string(kMaxFixesPerRequest) + " go in one request");
+}
+
+std::vector<tracks::Fix> parse_fix_array(const json* arr, const char* name, double retention_s) {
     std::vector<tracks::Fix> out;
-    out.reserve(it->size());
-    for (std::size_t i = 0; i < it->size(); ++i) {
-        const json& j = (*it)[i];
-        const std::string where = "fixes[" + std::to_string(i) + "]";
+    if (!arr) return out;
+    out.reserve(arr->size());
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+        const json& j = (*arr)[i];
+        const std::string where = std::string(name) + "[" + std::to_string(i) + "]";
         if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {t, floor_id, x, y, accuracy_m, heading_deg?}");
         only_fields(j, {"t", "floor_id", "x", "y", "accuracy_m", "heading_deg"}, where);
         tracks::Fix f;
-        f.t = finite_number(j, "t", where);
-        if (f.t > now + kFutureSlackS)
-            throw invalid_field("'" + where + ".t' is " + std::to_string(f.t - now) + " s ahead of the server's clock (Unix seconds; at most " +
-                                std::to_string(static_cast<int>(kFutureSlackS)) + " s ahead)");
-        if (f.t < now - retention_s)
-            throw invalid_field("'" + where + ".t' is older than the server keeps fixes (" + std::to_string(retention_s) + " s)");
+        f.t = parse_t(j, where, retention_s);
         const auto fl = j.find("floor_id");
         if (fl == j.end() || !fl->is_number_integer() || fl->get<std::int64_t>() <= 0)
             throw invalid_field("'" + where + ".floor_id' must be a positive integer id");
@@ -115,14 +136,32 @@ std::vector<tracks::Fix> parse_fixes(const json& body, double retention_s) {
         f.x = finite_number(j, "x", where, -plan::kMaxPlanCoordinate, plan::kMaxPlanCoordinate);
         f.y = finite_number(j, "y", where, -plan::kMaxPlanCoordinate, plan::kMaxPlanCoordinate);
         f.accuracy_m = finite_number(j, "accuracy_m", where, 0.0, 10'000.0);
-        if (j.contains("heading_deg") && !j["heading_deg"].is_null()) {
-            const double h = finite_number(j, "heading_deg", where, -360.0, 360.0);
-            f.heading_deg = h < 0 ? h + 360.0 : (h >= 360.0 ? h - 360.0 : h);
-        }
+        if (j.contains("heading_deg") && !j["heading_deg"].is_null()) f.heading_deg = parse_heading(j, where);
         out.push_back(f);
     }
     // Stored and streamed in time order, whatever order the batch came in.
     std::stable_sort(out.begin(), out.end(), [](const tracks::Fix& a, const tracks::Fix& b) { return a.t < b.t; });
+    return out;
+}
+
+std::vector<tracks::Fix> parse_fixes(const json& body, double retention_s) {
+    only_fields(body, {"fixes"}, "");
+    const json* arr = items_of(body, "fixes", true);
+    check_batch_size(arr->size());
+    return parse_fix_array(arr, "fixes", retention_s);
+}
+
+std::vector<tracks::Step> parse_steps(const json* arr, double retention_s) {
+    std::vector<tracks::Step> out;
+    if (!arr) return out;
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+        const json& j = (*arr)[i];
+        const std::string where = "steps[" + std::to_string(i) + "]";
+        if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {t, length_m, heading_deg}");
+        only_fields(j, {"t", "length_m", "heading_deg"}, where);
+        out.push_back({parse_t(j, where, retention_s), finite_number(j, "length_m", where, 0.0, 3.0), parse_heading(j, where)});
+    }
+    std::stable_sort(out.begin(), out.end(), [](const tracks::Step& a, const tracks::Step& b) { return a.t < b.t; });
     return out;
 }
 
@@ -177,6 +216,37 @@ void App::install_track_routes() {
             const auto posted = svc.post(id, fixes);
             json out = {{"stored", posted.stored}, {"duplicates", posted.duplicates}};
             if (posted.latest) out["latest"] = fix_json(*posted.latest);
+            return std::pair{200, out};
+        });
+    });
+
+    // Thin clients: raw PDR steps and radio fixes in, the particle filter's fixes out (and stored).
+    server_.Post(R"(/v1/tracks/(\d+)/steps)", [&svc](const httplib::Request& req, httplib::Response& res) {
+        respond_track(req, res, [&] {
+            const auto id = parse_id(req.matches[1].str(), "track");
+            if (svc.authorize(id, token_of(req)) != tracks::Access::owner)
+                throw ApiError(403, "forbidden", "a share token reads a track; only its owner's token posts steps");
+            const json body = parse_object(req.body);
+            only_fields(body, {"steps", "fixes"}, "");
+            const json* steps_json = items_of(body, "steps", false);
+            const json* fixes_json = items_of(body, "fixes", false);
+            const std::size_t n = (steps_json ? steps_json->size() : 0) + (fixes_json ? fixes_json->size() : 0);
+            if (n == 0) throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}) and/or 'fixes' (radio fixes)");
+            check_batch_size(n);
+            const auto steps = parse_steps(steps_json, svc.options().retention_s);
+            const auto radio = parse_fix_array(fixes_json, "fixes", svc.options().retention_s);
+            if (const auto floor = svc.misplaced_floor(id, radio))
+                throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
+            std::pair<tracks::Posted, std::vector<tracks::Fix>> done;
+            try {
+                done = svc.post_raw(id, steps, radio);
+            } catch (const std::invalid_argument& e) {
+                throw ApiError(422, "cannot_fuse", e.what());
+            }
+            json fused = json::array();
+            for (const auto& f : done.second) fused.push_back(fix_json(f));
+            json out = {{"stored", done.first.stored}, {"duplicates", done.first.duplicates}, {"fused", fused}};
+            if (done.first.latest) out["latest"] = fix_json(*done.first.latest);
             return std::pair{200, out};
         });
     });

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "store/kinds.hpp"
+#include "tracks/fusion.hpp"
 #include "tracks/token.hpp"
 
 namespace locus::tracks {
@@ -54,10 +55,17 @@ double Service::now() {
 Service::Service(store::Store& store, Options options)
     : store_(store), options_(options), db_(store.location()) {
     load();
+    subscription_ = store_.subscribe([this](const store::Change& c) {
+        if (c.plan || (c.kind && c.kind->name == "floors")) {
+            std::lock_guard lock(fusion_mu_);
+            walkables_.erase(c.id);
+        }
+    });
     sweeper_ = std::thread([this] { sweeper(); });
 }
 
 Service::~Service() {
+    store_.unsubscribe(subscription_);
     stop();
     if (sweeper_.joinable()) sweeper_.join();
 }
@@ -220,6 +228,37 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
     return out;
 }
 
+std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio) {
+    std::lock_guard fusion_lock(fusion_mu_);
+    {
+        std::lock_guard lock(mu_);
+        if (find(id)->info.state != State::live)
+            throw Refused(Reason::closed, "track " + std::to_string(id) + " is not live; open a new one");
+    }
+    // The filter runs on a copy, kept only once its fixes are stored.
+    const auto it = fusions_.find(id);
+    auto next = it == fusions_.end() ? std::make_shared<ThinFusion>() : std::make_shared<ThinFusion>(*it->second);
+    const auto walkable_of = [this](std::int64_t floor_id) -> std::shared_ptr<const fusion::Walkable> {
+        if (const auto w = walkables_.find(floor_id); w != walkables_.end()) return w->second;
+        const auto stored = store_.plan_of_floor(floor_id);
+        if (!stored) return nullptr;
+        auto w = std::make_shared<const fusion::Walkable>(fusion::Walkable::from_plan(stored->plan));
+        walkables_[floor_id] = w;
+        return w;
+    };
+    std::vector<Fix> fused = next->run(steps, radio, walkable_of);
+    // A radio fix and a step at one t give two fixes: the track keeps the later state. A t
+    // stored by an earlier request (a retry) keeps the first fix, as posted fixes do.
+    std::vector<Fix> kept;
+    for (const Fix& f : fused) {
+        if (!kept.empty() && kept.back().t == f.t) kept.back() = f;
+        else kept.push_back(f);
+    }
+    Posted posted = post(id, kept);
+    fusions_[id] = std::move(next);
+    return {posted, std::move(fused)};
+}
+
 void Service::close(std::int64_t id) {
     const double t = now();
     std::lock_guard db_lock(db_mu_);
@@ -358,6 +397,12 @@ Events Service::next_events(Stream& s) {
 }
 
 void Service::sweep() {
+    const auto ended = sweep_tracks();
+    std::lock_guard fusion_lock(fusion_mu_);  // with no other lock held: post_raw takes it first
+    for (const auto id : ended) fusions_.erase(id);
+}
+
+std::vector<std::int64_t> Service::sweep_tracks() {
     const double t = now();
     std::lock_guard db_lock(db_mu_);
     std::vector<std::shared_ptr<Track>> to_close, to_purge, to_forget;
@@ -400,12 +445,16 @@ void Service::sweep() {
         tr->recent.clear();
     }
     for (const auto& tr : to_forget) tracks_.erase(tr->info.id);
+    std::vector<std::int64_t> ended;
+    for (const auto& [id, tr] : tracks_)
+        if (tr->info.state != State::live) ended.push_back(id);
     if (trimmed) {
         // Counts and latest fixes of tracks that lost old fixes: rare (a track older than the
         // retention period), so they are simply read again.
         for (const auto& [id, tr] : tracks_)
             if (tr->info.latest && tr->info.latest->t < t - options_.retention_s) tr->info.latest.reset();
     }
+    return ended;
 }
 
 void Service::sweeper() {

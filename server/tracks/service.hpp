@@ -22,17 +22,12 @@
 #include <unordered_set>
 #include <vector>
 
+#include "locus/fusion/walkable.hpp"
 #include "store/sqlite.hpp"
 #include "store/store.hpp"
+#include "tracks/fix.hpp"
 
 namespace locus::tracks {
-
-struct Fix {
-    double t = 0;  // Unix seconds, the phone's clock
-    std::int64_t floor_id = 0;
-    double x = 0, y = 0, accuracy_m = 0;
-    std::optional<double> heading_deg;  // clockwise from the floor's +y axis
-};
 
 enum class State { live, closed, gone };
 const char* state_name(State s);
@@ -88,6 +83,8 @@ struct Events {
     bool ended = false;
 };
 
+class ThinFusion;
+
 class Service {
     struct Track;
 
@@ -113,6 +110,10 @@ public:
     // already stored is a duplicate and keeps the first fix.
     std::optional<std::int64_t> misplaced_floor(std::int64_t id, const std::vector<Fix>& fixes);
     Posted post(std::int64_t id, const std::vector<Fix>& fixes);
+    // A thin client's raw steps and radio fixes, fused by client-lib's particle filter
+    // (tracks/fusion.hpp) and stored as the track's fixes; answers them with the post's counts.
+    // std::invalid_argument when the filter cannot run (no plan, steps before any fix).
+    std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio);
     void close(std::int64_t id);
     void remove(std::int64_t id);
 
@@ -146,6 +147,7 @@ public:
     static double now();
 
 private:
+    std::vector<std::int64_t> sweep_tracks();  // closes and purges; answers the tracks no longer live
     std::shared_ptr<Track> find(std::int64_t id) const;  // under mu_; Refused(forbidden) for no such track
     void load();
     void sweeper();
@@ -158,6 +160,10 @@ private:
     std::unordered_map<std::int64_t, std::shared_ptr<Track>> tracks_;
     std::unordered_map<std::int64_t, std::unordered_set<std::int64_t>> floors_of_map_;  // floors seen on each map
     std::size_t streams_ = 0;
+    std::mutex fusion_mu_;  // the two below; taken before db_mu_
+    std::unordered_map<std::int64_t, std::shared_ptr<ThinFusion>> fusions_;
+    std::unordered_map<std::int64_t, std::shared_ptr<const fusion::Walkable>> walkables_;  // by floor; dropped when its plan changes
+    std::size_t subscription_ = 0;
     bool stopping_ = false;
     std::condition_variable sweep_cv_;
     std::thread sweeper_;

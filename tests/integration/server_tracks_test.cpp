@@ -2,15 +2,21 @@
 // share that opens one track only, every bad input refused with nothing written, an event
 // stream that sees a posted fix within a second, the relative position of two tracks against
 // hand-computed values, and tracks closing and going with tiny --track-ttl/--track-retention.
+// Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
+#include "locus/fusion/particle_filter.hpp"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <numbers>
 #include <thread>
 
 #include "hierarchy.hpp"
+#include "locus/plan/geojson.hpp"
+#include "plan_geojson.hpp"
 #include "server_process.hpp"
 
 using locus::testing::Response;
@@ -331,4 +337,62 @@ TEST(ServerTracks, ATrackClosesAfterItsTtlAndGoesAfterRetention) {
     s.stop();
     s.start();
     EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
+}
+
+// A thin client's steps and radio fixes, fused on the server, give exactly what client-lib's
+// particle filter gives on the same inputs here: one code path.
+TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    using locus::testing::feature;
+    const json plan = {{"type", "FeatureCollection"},
+                       {"features", {feature("space", locus::testing::rect_polygon(0, 0, 20, 4), {{"name", "Corridor"}, {"kind", "corridor"}}),
+                                     feature("space", locus::testing::rect_polygon(0, 4, 8, 10), {{"name", "Lab"}}),
+                                     feature("wall", locus::testing::line({{0, 4}, {8, 4}}))}}};
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(h.floor) + "/plan", plan).status, 200);
+    const Track t = open_track(s, h.map);
+    const double t0 = std::floor(unix_now()) - 30;
+    const std::string p = path_of(t, "/steps");
+    // Steps with nowhere to start from are refused, and nothing is stored.
+    json steps_only = {{"steps", {{{"t", t0}, {"length_m", 0.7}, {"heading_deg", 90}}}}};
+    const Response refused = call(s, "POST", p, {t.token}, steps_only.dump());
+    EXPECT_EQ(refused.status, 422);
+    EXPECT_EQ(refused.body["error"]["code"], "cannot_fuse");
+
+    json steps = json::array();
+    for (int i = 1; i <= 6; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    const json body = {{"steps", steps},
+                       {"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 2.0}, {"y", 2.0}, {"accuracy_m", 2.0}},
+                                  {{"t", t0 + 3}, {"floor_id", h.floor}, {"x", 4.5}, {"y", 2.5}, {"accuracy_m", 1.5}}}}};
+    const json got = body_of(call(s, "POST", p, {t.token}, body.dump()));
+    ASSERT_EQ(got["fused"].size(), 8u);
+    EXPECT_EQ(got["stored"], 7);  // the radio fix and the step at t0 + 3: the track keeps the state after both
+
+    // The same in client-lib, on the plan as the server keeps it.
+    json stored = body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/plan"));
+    const auto walkable = locus::fusion::Walkable::from_plan(locus::plan::from_geojson({{"type", "FeatureCollection"}, {"features", stored["features"]}}));
+    locus::fusion::ParticleFilter pf(walkable, {2.0, 2.0});
+    std::vector<locus::Point> expected{pf.position()};
+    auto step = [&] {
+        pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+        expected.push_back(pf.position());
+    };
+    step(), step();
+    pf.update({4.5, 2.5}, Eigen::Matrix2d::Identity() * 1.5 * 1.5);  // the radio fix at t0 + 3 comes before the step at t0 + 3
+    expected.push_back(pf.position());
+    step(), step(), step(), step();
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        EXPECT_NEAR(got["fused"][i]["x"].get<double>(), expected[i].x, 1e-9) << i;
+        EXPECT_NEAR(got["fused"][i]["y"].get<double>(), expected[i].y, 1e-9) << i;
+    }
+    EXPECT_GT(got["fused"][7]["x"].get<double>(), 5.0);  // it walked east
+    // The next request goes on from where this one left the filter.
+    const json more = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 7}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
+    pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+    EXPECT_NEAR(more["fused"][0]["x"].get<double>(), pf.position().x, 1e-9);
+    EXPECT_DOUBLE_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["latest"]["x"].get<double>(), more["fused"][0]["x"].get<double>());
+    // Bad steps: a step longer than 3 m, a floor of no plan, a share token.
+    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 8}, {"length_m", 9}, {"heading_deg", 0}}}}}.dump()).status, 422);
+    EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"steps": []})").status, 422);
+    EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"walk": []})").status, 422);
 }
