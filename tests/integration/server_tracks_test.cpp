@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "hierarchy.hpp"
+#include "locus/api/client.hpp"
 #include "locus/plan/geojson.hpp"
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
@@ -395,4 +396,47 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
     EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 8}, {"length_m", 9}, {"heading_deg", 0}}}}}.dump()).status, 422);
     EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"steps": []})").status, 422);
     EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"walk": []})").status, 422);
+}
+
+// The REST client's track calls against the real server.
+TEST(ServerTracks, ClientTrackCalls) {
+    ServerProcess s({"--quiet", "--api-key", "k2"});
+    s.set_api_key("k2");
+    const auto h = locus::testing::make_hierarchy(s);
+    locus::api::ClientOptions phone_options;
+    phone_options.base_url = s.url();
+    locus::api::Client phone(phone_options);  // no API key: a phone
+    auto operator_options = phone_options;
+    operator_options.api_key = "k2";
+    locus::api::Client op(operator_options);
+
+    const auto ann = phone.open_track(h.map, "ann"), bob = phone.open_track(h.map, "bob");
+    EXPECT_DOUBLE_EQ(ann.ttl_s, 600.0);
+    const double now = unix_now();
+    const auto posted = phone.post_fixes(ann.key, {{now - 1, h.floor, 1, 1, 1, 0.0}, {now - 2, h.floor, 0, 1, 1, std::nullopt}});
+    EXPECT_EQ(posted.stored, 2);
+    EXPECT_EQ(phone.post_fixes(ann.key, {{now - 1, h.floor, 9, 9, 1, std::nullopt}}).duplicates, 1);
+    phone.post_fixes(bob.key, {{now - 1, h.floor, 1, 4, 1, std::nullopt}});
+    const auto state = phone.track(ann.key);
+    EXPECT_EQ(state.state, "live");
+    ASSERT_EQ(state.trail.size(), 2u);
+    EXPECT_DOUBLE_EQ(state.trail[0].x, 0.0);
+    ASSERT_TRUE(state.latest && state.latest->heading_deg);
+    const auto share = phone.share_track(bob.key);
+    const json rel = phone.relative(ann.key, share.key);
+    EXPECT_NEAR(rel["straight_distance_m"].get<double>(), 3.0, 1e-9);
+    EXPECT_EQ(rel["direction"], "ahead");  // ann faces +y (0°), bob is 3 m along +y
+    EXPECT_EQ(op.positions(h.map).size(), 2u);
+    EXPECT_THROW(phone.positions(h.map), locus::api::ApiError);  // the operator's view needs the key
+    phone.revoke_share(bob.key, share.id);
+    EXPECT_THROW(phone.track(share.key), locus::api::ApiError);
+    phone.close_track(ann.key);
+    EXPECT_EQ(phone.track(ann.key).state, "closed");
+    phone.delete_track(ann.key);
+    try {
+        phone.track(ann.key);
+        ADD_FAILURE() << "a deleted track was read";
+    } catch (const locus::api::ApiError& e) {
+        EXPECT_EQ(e.status(), 404);
+    }
 }
