@@ -183,7 +183,7 @@ std::string sse_event(const char* name, const json& data) { return std::string("
 void App::install_track_routes() {
     tracks::Service& svc = *options_.tracks;
 
-    server_.Post("/v1/tracks", [this, &svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Post("/v1/tracks", [&svc](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const json body = parse_object(req.body);
             only_fields(body, {"map_id", "label"}, "");

@@ -39,7 +39,7 @@ struct Options {
     std::size_t max_streams = 100;      // open event streams, all tracks together
     std::size_t max_live_tracks = 10'000;
     std::size_t max_fixes_per_track = 200'000;  // more than two days at one fix a second
-    std::size_t event_buffer = 1024;            // fixes kept per track for streams that fall behind
+    std::size_t event_buffer = 64;  // fixes kept per track for a stream that falls behind (streams wake at each fix)
 };
 
 // Why a request on a track is refused; the HTTP layer gives each its status.
