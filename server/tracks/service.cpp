@@ -60,6 +60,11 @@ Service::Service(store::Store& store, Options options)
             std::lock_guard lock(fusion_mu_);
             walkables_.erase(c.id);
         }
+        // A floor, building or map deleted or moved: which floors are on which map is asked again.
+        if (!c.plan && c.kind && (c.kind->name == "floors" || c.kind->name == "buildings" || c.kind->name == "maps")) {
+            std::lock_guard lock(mu_);
+            floors_of_map_.clear();
+        }
     });
     sweeper_ = std::thread([this] { sweeper(); });
 }
