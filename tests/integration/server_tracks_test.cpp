@@ -165,7 +165,14 @@ TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
     // A good fix before a bad one in the same batch: neither is written.
     EXPECT_EQ(post_fixes(s, t, {fix(now, h.floor, 0, 0), fix(now + 1, h.floor, 0, std::nan(""))}).status, 422);
     EXPECT_EQ(post_fixes(s, t, {fix(now, h.floor, 0, 0), fix(now + 1, other.floor, 0, 0)}).status, 422);
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 0);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 0);  // every refused batch wrote nothing
+
+    // A floor of the map that is deleted is no longer one to post on.
+    const auto extra = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
+                                      {{"name", "Annex"}, {"level", 3}, {"width", 10.0}, {"height", 10.0}}), 201)["id"].get<std::int64_t>();
+    EXPECT_EQ(post_fixes(s, t, {fix(now - 1, extra, 0, 0)}).status, 200);
+    EXPECT_EQ(s.del("/v1/floors/" + std::to_string(extra)).status, 204);
+    EXPECT_EQ(code(post_fixes(s, t, {fix(now, extra, 0, 0)})), "invalid_field");
 
     // Closed: no more fixes, no new shares; closing twice is fine.
     EXPECT_EQ(body_of(call(s, "POST", path_of(t, "/close"), {t.token}, "{}"))["state"], "closed");
