@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "locus/match/localize.hpp"
+#include "locus/match/tune.hpp"
 // The reader belongs to the CLI sources, which are not a library; compile it in here.
 #include "datasets/uji_csv.hpp"
 #include "fingerprint_eval.hpp"
@@ -89,7 +90,12 @@ struct MethodFixture {
     std::vector<match::Query> queries;
 };
 
-std::unique_ptr<MethodFixture> method_fixture(const std::string& db, bool yardstick) {
+// How the map's method is chosen: the server's built-in default, the yardstick, or what
+// POST /v1/radiomaps/{id}/tune would store for the training map (match::tune, untimed).
+enum Mode { kBuiltIn = 0, kYardstick = 1, kTuned = 2 };
+
+std::unique_ptr<MethodFixture> method_fixture(const std::string& db, int mode) {
+    const bool yardstick = mode == kYardstick;
     namespace ev = locus::tools::eval;
     const std::string train_path = std::string(LOCUS_DATA_DIR) + "/" + db + "/trainingData.csv";
     const std::string test_path = std::string(LOCUS_DATA_DIR) + "/" + db + "/testData.csv";
@@ -98,7 +104,10 @@ std::unique_ptr<MethodFixture> method_fixture(const std::string& db, bool yardst
     const uji::Data train = uji::read_file(train_path);
     std::vector<std::size_t> rows(train.rows.size());
     for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = i;
-    out->method = yardstick ? ev::yardstick(train, rows) : ev::server_default();
+    std::string chosen;
+    out->method = yardstick ? ev::yardstick(train, rows)
+                : mode == kTuned ? ev::tuned_default(train, rows, chosen)
+                                 : ev::server_default();
     out->index = ev::build_index(out->method, train, rows);
     if (std::ifstream(test_path)) {
         const uji::Data test = uji::read_file(test_path);
@@ -113,15 +122,16 @@ std::unique_ptr<MethodFixture> method_fixture(const std::string& db, bool yardst
 }
 
 // `algorithm` with the server's options (ignored for the yardstick, which brings its own).
-void map_bench(benchmark::State& state, const char* db, bool yardstick, match::Algorithm algorithm) {
-    static std::map<std::pair<std::string, bool>, std::unique_ptr<MethodFixture>> cache;
-    auto& f = cache[{db, yardstick}];
-    if (!f) f = method_fixture(db, yardstick);
+void map_bench(benchmark::State& state, const char* db, int mode, match::Algorithm algorithm) {
+    static std::map<std::pair<std::string, int>, std::unique_ptr<MethodFixture>> cache;
+    auto& f = cache[{db, mode}];
+    if (!f) f = method_fixture(db, mode);
     if (!f) {
         state.SkipWithError("data set not found under LOCUS_DATA_DIR");
         return;
     }
-    const match::Algorithm alg = yardstick ? f->method.algorithm : algorithm;
+    // The yardstick and the tuned default bring their own algorithm.
+    const match::Algorithm alg = mode != kBuiltIn ? f->method.algorithm : algorithm;
     match::Workspace workspace;
     std::size_t i = 0;
     for (auto _ : state) {
@@ -131,6 +141,24 @@ void map_bench(benchmark::State& state, const char* db, bool yardstick, match::A
     }
     state.counters["rps"] = static_cast<double>(f->index.size());
     state.counters["bytes_per_rp"] = static_cast<double>(f->index.memory_bytes()) / static_cast<double>(f->index.size());
+}
+
+// POST /v1/radiomaps/{id}/tune's work on a whole training map (UJIIndoorLoc: 933 RPs, bound
+// < 60 s on one core), without the HTTP and SQLite around it.
+void tune_bench(benchmark::State& state, const char* db) {
+    const std::string train_path = std::string(LOCUS_DATA_DIR) + "/" + db + "/trainingData.csv";
+    if (!std::ifstream(train_path)) {
+        state.SkipWithError("data set not found under LOCUS_DATA_DIR");
+        return;
+    }
+    const uji::Data train = uji::read_file(train_path);
+    const auto rps = uji::indexed_rps(train);
+    const auto grid = match::tune_grid();
+    for (auto _ : state) {
+        auto r = match::tune(rps, grid, [](long long floor) { return floor % 100; });
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["rps"] = static_cast<double>(rps.size());
 }
 
 }  // namespace
@@ -144,15 +172,22 @@ BENCHMARK_CAPTURE(localize_bench, bayes, match::Algorithm::bayes)->Unit(benchmar
 BENCHMARK_CAPTURE(localize_bench, bayes_no_cap, match::Algorithm::bayes, 0, true)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(localize_bench, bayes_floor_knn5, match::Algorithm::bayes, 5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(build_bench)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(map_bench, uji_wknn, "ujiindoorloc", false, match::Algorithm::wknn)
+BENCHMARK_CAPTURE(map_bench, uji_wknn, "ujiindoorloc", kBuiltIn, match::Algorithm::wknn)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(map_bench, uji_raw_yardstick, "ujiindoorloc", true, match::Algorithm::knn)
+BENCHMARK_CAPTURE(map_bench, uji_raw_yardstick, "ujiindoorloc", kYardstick, match::Algorithm::knn)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(map_bench, tut6_wknn, "fingerprint-dbs/TUT6", false, match::Algorithm::wknn)
+BENCHMARK_CAPTURE(map_bench, tut6_wknn, "fingerprint-dbs/TUT6", kBuiltIn, match::Algorithm::wknn)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(map_bench, tut6_bayes, "fingerprint-dbs/TUT6", false, match::Algorithm::bayes)
+BENCHMARK_CAPTURE(map_bench, tut6_bayes, "fingerprint-dbs/TUT6", kBuiltIn, match::Algorithm::bayes)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(map_bench, tut6_yardstick, "fingerprint-dbs/TUT6", true, match::Algorithm::knn)
+BENCHMARK_CAPTURE(map_bench, tut6_yardstick, "fingerprint-dbs/TUT6", kYardstick, match::Algorithm::knn)
     ->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_CAPTURE(map_bench, uji_tuned_default, "ujiindoorloc", kTuned, match::Algorithm::bayes)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(map_bench, tut6_tuned_default, "fingerprint-dbs/TUT6", kTuned, match::Algorithm::bayes)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(tune_bench, uji, "ujiindoorloc")->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK_CAPTURE(tune_bench, tut6, "fingerprint-dbs/TUT6")->Unit(benchmark::kSecond)->Iterations(1);
 
 BENCHMARK_MAIN();

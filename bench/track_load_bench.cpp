@@ -82,7 +82,7 @@ struct Server {
         topts.max_live_tracks = 100'000;
         tracks = std::make_unique<tracks::Service>(*store, topts);
         http::FrontOptions front;
-        app = std::make_unique<http::App>(*store, *localizer, *router, *directory, http::AppOptions{"", false, front, tracks.get()});
+        app = std::make_unique<http::App>(*store, *localizer, *router, *directory, http::AppOptions{"", false, front, {}, tracks.get()});
         std::string error;
         port = app->server().bind("127.0.0.1", 0, error);
         if (port < 0) throw std::runtime_error(error);

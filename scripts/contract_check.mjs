@@ -150,6 +150,16 @@ async function run() {
   await get('/health', { expect: 200 });
   await get('/ready', { expect: 200 });
 
+  // The web viewer's files (the server's default roots: its build tree's share/locus/web, Debian's Leaflet)
+  await get('/', { expect: 200 });
+  await get('/web/style.css', { expect: 200 });
+  await get('/web/js/main.js', { expect: 200 });
+  await get('/vendor/leaflet/leaflet.js', { expect: 200 });
+  await get('/vendor/leaflet/images/marker-icon.png', { expect: 200 });
+  await get('/web/missing.css', { expect: 404 });
+  await get('/web/js/.hidden.js', { expect: 400, invalid: true });
+  await get('/vendor/leaflet/leaflet.js.map', { expect: 404 });  // not a type the viewer serves
+
   // Maps
   const map = idOf(await post('/v1/maps', { name: 'Contract campus', description: 'made by the contract check' }, { expect: 201 }), 'a map');
   const other = idOf(await post('/v1/maps', { name: 'Second campus' }, { expect: 201 }), 'a map');
@@ -299,6 +309,15 @@ async function run() {
   await post(`/v1/maps/${map}/localize`, { algorithm: 'wknn', scans: [scan([9, -60])] }, { expect: 200 });
   await post(`/v1/maps/${other}/localize`, live, { expect: 422 });
   await post(`/v1/maps/${UNKNOWN}/localize`, live, { expect: 404 });
+  // Self-tuning: a CV over the radio map's own RPs, stored as its settings.
+  await post(`/v1/radiomaps/${radiomap}/tune`, {}, { expect: 200 });
+  await get(`/v1/radiomaps/${radiomap}`, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/localize`, live, { expect: 200 });
+  await post(`/v1/radiomaps/${radiomap}/tune`, { folds: 1 }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap}/tune`, { fold: 3 }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${radiomap2}/tune`, { folds: 5 }, { expect: 422 });
+  await post(`/v1/radiomaps/${UNKNOWN}/tune`, {}, { expect: 404 });
+  await post(`/v1/radiomaps/${radiomap}/tune`, {}, { auth: false, expect: 401, invalid: true });
   // Over the server's --max-body-bytes (the script starts it with 64 KiB), yet valid.
   const big = { scans: [Array.from({ length: 3000 }, (_, i) => ({ bssid: `aa:bb:cc:dd:${String(i % 100).padStart(2, '0')}:${String(i % 97).padStart(2, '0')}`, rss: -50 }))] };
   await post(`/v1/maps/${map}/localize`, big, { expect: 413 });

@@ -6,7 +6,8 @@
 #
 # The targets can also come from LOCUS_TARGETS (space-separated); arguments win.
 # LOCUS_DEVTOOLS=1 also installs what the test command's API checks need: Node.js and npm
-# (Debian's) and the pinned developer tools of package-lock.json (npm ci, into node_modules/).
+# (Debian's) and the pinned developer tools of package-lock.json (npm ci, into node_modules/),
+# and Chromium, its driver and Selenium for the web viewer's browser test.
 # Packages: scripts/install_packages.sh (it waits for a busy package manager).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,8 +19,10 @@ fi
 
 packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev libsqlite3-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libutf8proc-dev libopencv-imgproc-dev libpng-dev
-          libjpeg-dev libssl-dev)
+          libjpeg-dev libssl-dev libjs-leaflet)
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! command -v npm >/dev/null 2>&1 && packages+=(nodejs npm)
+# The web viewer's browser test (tests/browser/): a real headless Chromium driven by Selenium.
+[ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(chromium chromium-driver python3-selenium)
 bash scripts/install_packages.sh "${packages[@]}"
 
 # A copy of the lock file npm ci last installed from: equal means nothing to do.

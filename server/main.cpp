@@ -13,6 +13,7 @@
 #include "http/json_text.hpp"
 #include "http/localize_answer.hpp"
 #include "http/bundle_plans.hpp"
+#include "http/static_files.hpp"
 #include "http/store_json.hpp"
 #include "localize/service.hpp"
 #include "routing/service.hpp"
@@ -68,6 +69,10 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::Range(1, 100000));
     cli.add_option("--max-live-tracks", tracks_options.max_live_tracks, "live tracks at once; past it, opening one answers 503")
         ->capture_default_str()->check(CLI::Range(1, 10000000));
+    std::string web_root = locus::http::default_web_root(), leaflet_root = locus::http::default_leaflet_root;
+    cli.add_option("--web-root", web_root, "the web viewer's files, served at / (empty: no viewer)")->capture_default_str();
+    cli.add_option("--leaflet-root", leaflet_root, "Leaflet's files (Debian's libjs-leaflet), served at /vendor/leaflet/")
+        ->capture_default_str();
     CLI11_PARSE(cli, argc, argv);
 
     // Signals are taken by one thread with sigwait, so shutdown runs as ordinary code.
@@ -108,7 +113,7 @@ int main(int argc, char** argv) {
         locus::routing::Service router(store);
         locus::directory::Service directory(store);
         locus::tracks::Service tracks(store, tracks_options);
-        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front, &tracks});
+        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front, {web_root, leaflet_root}, &tracks});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "command_registry.hpp"
+#include "locus/match/tune.hpp"
 #include "locus/metrics.hpp"
 
 namespace locus::tools::eval {
@@ -41,6 +42,19 @@ Method server_default() {
     Method m;
     m.name = "default";
     m.algorithm = match::kDefaultAlgorithm;
+    return m;
+}
+
+Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& train_rows, std::string& chosen) {
+    const auto grid = match::tune_grid();
+    // floor_id is building·100 + floor (uji::floor_id): the level is what is left of 100.
+    const auto report = match::tune(uji::indexed_rps(train, train_rows), grid,
+                                    [](long long floor) { return floor % 100; });
+    const auto& best = report.rows[report.best];
+    Method m = server_default();
+    m.algorithm = best.setting.algorithm;
+    m.options = best.setting.options;
+    chosen = best.name;
     return m;
 }
 

@@ -41,6 +41,11 @@ Method yardstick(const uji::Data& train, const std::vector<std::size_t>& train_r
 // What a request with no algorithm and no options gets from the server.
 Method server_default();
 
+// What it gets once the radio map built from the training rows has been tuned
+// (POST /v1/radiomaps/{id}/tune's code, match::tune, over those RPs only): the chosen
+// setting, named "default"; `chosen` gets the candidate's name.
+Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& train_rows, std::string& chosen);
+
 // The matcher knobs both eval commands take; unset ones keep the server's defaults.
 struct MatcherFlags {
     std::optional<int> k, bayes_k, floor_knn, floor_aps;

@@ -136,6 +136,7 @@ App::App(store::Store& store, localize::Service& localizer, routing::Service& ro
     install_search_routes();
     install_image_routes();
     if (options_.tracks) install_track_routes();
+    install_static_routes(server_, options_.web);
 }
 
 bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res) const {

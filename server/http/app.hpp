@@ -7,10 +7,13 @@
 #include <cstddef>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <mutex>
 #include <string>
+#include <unordered_set>
 
 #include "directory/service.hpp"
 #include "http/front.hpp"
+#include "http/static_files.hpp"
 #include "localize/service.hpp"
 #include "locus/plan/route.hpp"
 #include "routing/service.hpp"
@@ -28,6 +31,7 @@ struct AppOptions {
     std::string api_key;  // empty: writes need no key
     bool access_log = true;
     FrontOptions front;   // connections, timeouts, body limit
+    StaticRoots web;      // the web viewer's files (static_files.cpp)
     tracks::Service* tracks = nullptr;  // live tracks (track_routes.cpp); none: no track routes
 };
 
@@ -61,6 +65,10 @@ private:
     void install_search_routes();    // search_routes.cpp
     void install_image_routes();     // image_routes.cpp
     void install_track_routes();     // track_routes.cpp
+    void install_tune_routes();      // tune_routes.cpp (from install_radiomap_routes)
+    class TuneGuard;
+    std::mutex tuning_mu_;
+    std::unordered_set<std::int64_t> tuning_;  // radio maps being tuned
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
 

@@ -1,6 +1,7 @@
 // The hierarchy's CRUD routes, one set per kind (store/kinds.hpp): POST and GET on the
 // collection (nested under the parent), GET, PATCH and DELETE on an item.
 #include "http/app.hpp"
+#include "http/radiomap_settings.hpp"
 #include "http/store_json.hpp"
 #include "http/validation.hpp"
 
@@ -49,6 +50,12 @@ void App::install_crud() {
                 const auto id = parse_id(req.matches[1].str(), kp->singular);
                 // An RP is read with its measurements: that is what a client wants from it.
                 if (kp->name == "rps") return std::pair{200, rp_json(store_.rp_with_measurements(id))};
+                // A radio map is read with its matcher settings and its last tune's figures.
+                if (kp->name == "radiomaps") {
+                    auto j = record_json(*kp, store_.get(*kp, id));
+                    add_settings(j, store_.settings_of_radiomap(id));
+                    return std::pair{200, std::move(j)};
+                }
                 return std::pair{200, record_json(*kp, store_.get(*kp, id))};
             });
         });

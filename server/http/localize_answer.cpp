@@ -5,6 +5,7 @@
 
 #include "http/api_error.hpp"
 #include "http/json_text.hpp"
+#include "http/radiomap_settings.hpp"
 #include "locus/match/localize.hpp"
 #include "locus/match/workspace.hpp"
 
@@ -58,11 +59,12 @@ std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& re
     // answer() runs on the HTTP worker thread that handles the request: that thread is the
     // matcher's caller, so it owns the workspace, warm for every request it serves.
     thread_local match::Workspace workspace;
-    const auto result = match::localize(snapshot.index, request.query, request.algorithm, request.options, workspace);
+    const auto setting = resolve(request, snapshot.defaults);
+    const auto result = match::localize(snapshot.index, request.query, setting.algorithm, setting.options, workspace);
     if (!result)
         throw ApiError(422, "no_match",
                        "no reference point shares an access point with the scan" +
-                           std::string(request.options.near ? " within the 'near' subarea" : ""));
+                           std::string(setting.options.near ? " within the 'near' subarea" : ""));
     const auto floor = snapshot.rooms_by_floor.find(result->floor_id);
     const Room* room = floor == snapshot.rooms_by_floor.end() ? nullptr : room_at(floor->second, result->at);
     Writer w;
@@ -99,6 +101,7 @@ std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& re
 }
 
 void prepare_answers(localize::Snapshot& snapshot) {
+    snapshot.defaults = settings_of_text(snapshot.settings_text);
     snapshot.candidate_json.clear();
     snapshot.candidate_json.reserve(snapshot.index.size());
     for (std::size_t i = 0; i < snapshot.index.size(); ++i) {

@@ -16,37 +16,37 @@ using nlohmann::json;
 namespace {
 
 template <typename T, typename Parse>
-T parse_enum(const json& options, const char* field, Parse parse, T fallback) {
-    const auto s = optional_string(options, field, "options", 32);
+T parse_enum(const json& options, const std::string& where, const char* field, Parse parse, T fallback) {
+    const auto s = optional_string(options, field, where, 32);
     if (!s) return fallback;
     const auto v = parse(*s);
-    if (!v) throw invalid_field("'options." + std::string(field) + "' has no value \"" + *s + "\"");
+    if (!v) throw invalid_field("'" + where + "." + std::string(field) + "' has no value \"" + *s + "\"");
     return *v;
 }
 
-int bounded_int(const json& options, const char* field, int lo, int hi, int fallback) {
-    if (!options.contains(field)) return fallback;
-    const auto& v = options.at(field);
-    if (!v.is_number_integer()) throw invalid_field("'options." + std::string(field) + "' must be an integer");
-    const auto n = v.get<std::int64_t>();
-    if (n < lo || n > hi)
-        throw ApiError(422, "out_of_range",
-                       "'options." + std::string(field) + "' must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return static_cast<int>(n);
-}
+}  // namespace
 
-double bounded_number(const json& options, const char* field, double lo, double hi, double fallback) {
-    if (!options.contains(field)) return fallback;
-    return finite_number(options, field, "options", lo, hi);
-}
-
-match::Options parse_options(const json& j) {
-    match::Options o;
-    if (!j.is_object()) throw invalid_field("'options' must be an object");
+match::Options parse_options(const json& j, match::Options o, const std::string& where) {
+    const auto bounded_int = [&](const json& options, const char* field, int lo, int hi, int fallback) {
+        if (!options.contains(field)) return fallback;
+        const auto& v = options.at(field);
+        if (!v.is_number_integer()) throw invalid_field("'" + where + "." + std::string(field) + "' must be an integer");
+        const auto n = v.get<std::int64_t>();
+        if (n < lo || n > hi)
+            throw ApiError(422, "out_of_range",
+                           "'" + where + "." + std::string(field) + "' must be in [" + std::to_string(lo) + ", " +
+                               std::to_string(hi) + "]");
+        return static_cast<int>(n);
+    };
+    const auto bounded_number = [&](const json& options, const char* field, double lo, double hi, double fallback) {
+        if (!options.contains(field)) return fallback;
+        return finite_number(options, field, where, lo, hi);
+    };
+    if (!j.is_object()) throw invalid_field("'" + where + "' must be an object");
     only_fields(j, {"k", "tolerance", "gamma", "near", "representation", "distance", "sigma_floor", "estimate",
                           "candidates", "temperature", "offset_sigma", "bayes_k", "floor_temperature", "floor_knn",
                           "floor_knn_weight", "floor_aps", "floor_ap_weight", "outlier_sigmas"},
-                      "options");
+                      where);
     o.k = bounded_int(j, "k", 1, 100, o.k);
     o.candidates = bounded_int(j, "candidates", 1, 100, o.candidates);
     o.tolerance = bounded_number(j, "tolerance", 0.0, 10.0, o.tolerance);
@@ -61,21 +61,35 @@ match::Options parse_options(const json& j) {
     o.floor_knn_weight = bounded_number(j, "floor_knn_weight", 0.0, 1.0, o.floor_knn_weight);
     o.floor_aps = bounded_int(j, "floor_aps", 0, 100, o.floor_aps);
     o.floor_ap_weight = bounded_number(j, "floor_ap_weight", 0.0, 1.0, o.floor_ap_weight);
-    o.representation = parse_enum(j, "representation", match::parse_representation, o.representation);
-    o.distance = parse_enum(j, "distance", match::parse_distance, o.distance);
-    o.estimate = parse_enum(j, "estimate", match::parse_bayes_estimate, o.estimate);
+    o.representation = parse_enum(j, where, "representation", match::parse_representation, o.representation);
+    o.distance = parse_enum(j, where, "distance", match::parse_distance, o.distance);
+    o.estimate = parse_enum(j, where, "estimate", match::parse_bayes_estimate, o.estimate);
     if (j.contains("near")) {
         const json& n = j.at("near");
-        if (!n.is_object()) throw invalid_field("'options.near' must be an object {x, y, radius}");
+        if (!n.is_object()) throw invalid_field("'" + where + ".near' must be an object {x, y, radius}");
         match::Near near;
-        near.at.x = finite_number(n, "x", "options.near");
-        near.at.y = finite_number(n, "y", "options.near");
-        near.radius = finite_number(n, "radius", "options.near", 0.0);
-        if (!(near.radius > 0.0)) throw ApiError(422, "out_of_range", "'options.near.radius' must be greater than 0");
+        near.at.x = finite_number(n, "x", where + ".near");
+        near.at.y = finite_number(n, "y", where + ".near");
+        near.radius = finite_number(n, "radius", where + ".near", 0.0);
+        if (!(near.radius > 0.0)) throw ApiError(422, "out_of_range", "'" + where + ".near.radius' must be greater than 0");
         o.near = near;
     }
     return o;
 }
+
+match::Setting resolve(const LocalizeRequest& request, const match::Setting& defaults) {
+    match::Setting out;
+    out.algorithm = request.algorithm_given ? request.algorithm : defaults.algorithm;
+    const bool stored_base = out.algorithm == defaults.algorithm;
+    if (request.options_given.is_null()) {
+        out.options = stored_base ? defaults.options : request.options;
+    } else {
+        out.options = stored_base ? parse_options(request.options_given, defaults.options) : request.options;
+    }
+    return out;
+}
+
+namespace {
 
 // The localize body is parsed in one streaming pass (nlohmann's SAX interface) straight into
 // readings: a JSON tree of a 20-AP scan costs ~100 allocations and dominated the request.
@@ -99,11 +113,15 @@ public:
             const auto a = match::parse_algorithm(*algorithm);
             if (!a) throw invalid_field("unknown algorithm \"" + *algorithm + "\" (bsb, nn, bsbnn, knn, wknn, bayes)");
             r.algorithm = *a;
+            r.algorithm_given = true;
         }
         if (has_scans == has_means) throw invalid_field("send exactly one of 'scans' or 'measurements'");
         r.query = has_scans ? match::Query::from_scans(scans) : match::Query::from_means(means);
         if (r.query.aps.empty()) throw invalid_field("the scan holds no reading");
-        if (has_options) r.options = parse_options(options);
+        if (has_options) {
+            r.options = parse_options(options, {});
+            r.options_given = std::move(options);
+        }
         return r;
     }
 

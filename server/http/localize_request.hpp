@@ -1,11 +1,13 @@
 #pragma once
 // The localize request body: {"algorithm", "scans" | "measurements", "options"}.
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "locus/match/algorithm.hpp"
 #include "locus/match/options.hpp"
 #include "locus/match/query.hpp"
+#include "locus/match/tune.hpp"
 
 namespace locus::http {
 
@@ -14,10 +16,21 @@ namespace locus::http {
 inline constexpr match::Algorithm kDefaultAlgorithm = match::kDefaultAlgorithm;
 
 struct LocalizeRequest {
-    match::Algorithm algorithm = kDefaultAlgorithm;
+    match::Algorithm algorithm = kDefaultAlgorithm;  // as named, else the built-in default
     match::Query query;
-    match::Options options;
+    match::Options options;  // as sent, over the built-in defaults
+    bool algorithm_given = false;
+    nlohmann::json options_given;  // the "options" object as sent (checked); null: none
 };
+
+// What the request runs with on an index whose radio map stores `defaults`: whatever the
+// request does not specify comes from them. The stored options are the base only when the
+// request names no algorithm or the stored one (a radio map tuned to wknn k=5 says nothing
+// about bayes's k); the request's own options go on top.
+match::Setting resolve(const LocalizeRequest& request, const match::Setting& defaults);
+
+// The "options" object over `base` (422 for an unknown or bad member). `where` names it.
+match::Options parse_options(const nlohmann::json& j, match::Options base, const std::string& where = "options");
 
 // Throws ApiError (400 invalid_json, 422 invalid_field / out_of_range) for a bad body.
 // The plain body of a phone's fix takes the fast path (plain_localize_request.hpp); every

@@ -179,6 +179,7 @@ std::optional<LocalizeRequest> parse_plain_localize_request(std::string_view bod
         const auto a = match::parse_algorithm(*algorithm);
         if (!a) return std::nullopt;
         r.algorithm = *a;
+        r.algorithm_given = true;
     }
     r.query = match::Query::from_means(readings);  // the same average as from_scans over the scans
     if (r.query.aps.empty()) return std::nullopt;

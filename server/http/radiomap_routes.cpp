@@ -29,6 +29,8 @@ void App::install_radiomap_routes() {
             return std::pair{201, imported_json(store_.import_radiomap(floor_id, doc))};
         });
     });
+
+    install_tune_routes();
 }
 
 }  // namespace locus::http

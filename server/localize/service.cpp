@@ -1,6 +1,7 @@
 #include "localize/service.hpp"
 
 #include <chrono>
+#include <optional>
 #include <string>
 
 namespace locus::localize {
@@ -49,13 +50,16 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
         dirty(scope).erase(id);
     }
     std::vector<store::StoredRp> stored;
+    std::string settings;
     try {
         if (scope == Scope::radiomap) {
             store_.get(store::kind("radiomaps"), id);  // NotFound for an unknown id
             stored = store_.rps_of_radiomap(id);
+            if (auto s = store_.settings_of_radiomap(id)) settings = std::move(s->settings);
         } else {
             store_.get(store::kind("maps"), id);
             stored = store_.rps_of_map(id);
+            settings = common_settings(stored);
         }
     } catch (const store::NotFound&) {
         std::lock_guard lock(mu_);
@@ -70,11 +74,29 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
         rps.push_back({std::move(s.rp), s.floor_id, s.building_id});
     }
     snap->index = match::Index::build(rps);
+    snap->settings_text = std::move(settings);
     if (prepare_) prepare_(*snap);
     std::shared_ptr<const Snapshot> out = snap;
     std::lock_guard lock(mu_);
     table(scope)[id] = out;
     return out;
+}
+
+std::string Service::common_settings(const std::vector<store::StoredRp>& stored) {
+    std::unordered_set<std::int64_t> radiomaps;
+    for (const auto& s : stored) radiomaps.insert(s.radiomap_id);
+    std::optional<std::string> common;
+    for (const auto id : radiomaps) {
+        std::string text;
+        try {
+            if (auto s = store_.settings_of_radiomap(id)) text = std::move(s->settings);
+        } catch (const store::NotFound&) {
+            // Deleted since the RPs were read: its change marks this map stale again.
+        }
+        if (common && *common != text) return {};
+        common = std::move(text);
+    }
+    return common.value_or(std::string());
 }
 
 void Service::mark_dirty(Scope scope, std::int64_t id) {

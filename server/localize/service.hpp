@@ -17,6 +17,7 @@
 
 #include "locus/geometry.hpp"
 #include "locus/match/index.hpp"
+#include "locus/match/tune.hpp"
 #include "store/store.hpp"
 
 namespace locus::localize {
@@ -32,6 +33,12 @@ struct Snapshot {
         std::string tail;  // ,"floor_id":..,"building_id":..,"matched_aps":
     };
     std::unordered_map<long long, CandidateJson> candidate_json;  // by RP id
+    // The radio map's stored settings as the store keeps them (JSON text; empty: none). A
+    // map's index takes its radio maps' settings when all of them (those holding RPs) store
+    // the same, else none: one building's tuned choice is no reason for another's.
+    std::string settings_text;
+    // What a request that does not specify gets: the Prepare hook reads it from settings_text.
+    match::Setting defaults;
 };
 
 class Service {
@@ -57,6 +64,8 @@ private:
     std::unordered_set<std::int64_t>& dirty(Scope scope) { return scope == Scope::radiomap ? dirty_radiomaps_ : dirty_maps_; }
     // The current snapshot; throws store::NotFound for an unknown id.
     std::shared_ptr<const Snapshot> rebuild(Scope scope, std::int64_t id);
+    // The settings every radio map of these RPs stores alike, else empty.
+    std::string common_settings(const std::vector<store::StoredRp>& stored);
     void mark_dirty(Scope scope, std::int64_t id);
     void mark_all_dirty();
     void refresher();

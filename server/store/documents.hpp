@@ -169,6 +169,13 @@ struct FloorImage {
     std::string updated_at;  // ISO 8601, UTC
 };
 
+// A radio map's own matcher settings and the CV figures of the tune that chose them
+// (schema/007_radiomap_settings.sql): JSON text the HTTP layer writes and reads, kept as given.
+struct RadiomapSettings {
+    std::string settings;
+    std::string tune;
+    std::string updated_at;  // ISO 8601, UTC
+};
 // Told to subscribers after each committed write (Store::subscribe), so in-memory indexes can
 // follow whichever code path wrote. Where the row sits in the hierarchy is filled in for the
 // kinds an index depends on (an RP: its radio map; an RP or a radio map: its map), read inside

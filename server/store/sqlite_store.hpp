@@ -51,6 +51,8 @@ public:
     FloorImage change_placement(std::int64_t floor_id, const PlacementChange& change) override;
     void remove_image(std::int64_t floor_id) override;
 
+    std::optional<RadiomapSettings> settings_of_radiomap(std::int64_t radiomap_id) override;  // sqlite_settings.cpp
+    RadiomapSettings put_radiomap_settings(std::int64_t radiomap_id, const RadiomapSettings& settings) override;
     std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) override;
     std::vector<StoredRp> rps_of_map(std::int64_t map_id) override;
     std::vector<Room> rooms_of_floor(std::int64_t floor_id) override;

@@ -119,6 +119,10 @@ public:
     // NotFound when the floor has no image.
     virtual void remove_image(std::int64_t floor_id) = 0;
 
+    // A radio map's stored settings; nullopt when none were stored (NotFound: no such radio map).
+    virtual std::optional<RadiomapSettings> settings_of_radiomap(std::int64_t radiomap_id) = 0;
+    // Replaces them, and publishes a change of the radio map so its index follows.
+    virtual RadiomapSettings put_radiomap_settings(std::int64_t radiomap_id, const RadiomapSettings& settings) = 0;
     // For the localization index. Each is a consistent snapshot.
     virtual std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) = 0;
     virtual std::vector<StoredRp> rps_of_map(std::int64_t map_id) = 0;

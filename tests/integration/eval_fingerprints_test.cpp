@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "server_process.hpp"
 
@@ -135,3 +136,30 @@ TEST(EvalFingerprints, BadInputIsNamed) {
 }
 
 }  // namespace
+
+// --tune: the default is what match::tune picks on the training rows alone, and its row is
+// that setting's figures (the same as naming it).
+TEST(EvalFingerprints, TuneChoosesOnTheTrainingRowsAndReportsTheChoice) {
+    const auto r = run_command({kCli, "eval", "fingerprints", kDbs, "--json", "--algorithm", "default", "--tune"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "hand: tuned default: ")) << r.err;
+    const json rows = json::parse(r.out);
+    const json& hand = row_of(rows, "hand", "default");
+    ASSERT_EQ(hand["tuned"].size(), 1u);
+    // "wknn k=5 powed sorensen" → --algorithm wknn --k 5 --representation powed --distance sorensen
+    std::istringstream name(hand["tuned"][0].get<std::string>());
+    std::string algorithm, k, representation, distance;
+    name >> algorithm >> k >> representation >> distance;
+    ASSERT_NE(algorithm, "bayes") << "hand/ is made for knn: " << hand.dump();
+    ASSERT_EQ(k.rfind("k=", 0), 0u) << hand.dump();
+    std::vector<std::string> named{"--algorithm", algorithm, "--k", k.substr(2)};
+    if (!representation.empty()) named.insert(named.end(), {"--representation", representation, "--distance", distance});
+    EXPECT_DOUBLE_EQ(row_of(run_json(named), "hand", algorithm)["mean_error_m"].get<double>(),
+                     hand["mean_error_m"].get<double>());
+
+    EXPECT_FALSE(row_of(run_json({"--algorithm", "default"}), "hand", "default").contains("tuned"));
+    // With --cv each split tunes on its own training folds.
+    const auto cv = run_command({kCli, "eval", "fingerprints", kDbs, "--json", "--algorithm", "default", "--tune", "--cv", "2"});
+    ASSERT_EQ(cv.status, 0) << cv.err;
+    EXPECT_EQ(row_of(json::parse(cv.out), "hand", "default")["tuned"].size(), 2u);
+}

@@ -59,7 +59,13 @@ TEST(ServerHierarchy, CreatesEveryKindAndReadsItBack) {
                              {"rooms", room.body}, {"pois", poi.body}, {"radiomaps", rm.body}}) {
         const auto got = s.get(id_path(kind, row));
         EXPECT_EQ(got.status, 200) << kind;
-        EXPECT_EQ(got.body, row) << kind;
+        auto body = got.body;
+        if (std::string(kind) == "radiomaps") {  // read with its matcher settings (none tuned yet)
+            EXPECT_EQ(body.at("settings").at("source"), "built-in");
+            EXPECT_FALSE(body.contains("tune"));
+            body.erase("settings");
+        }
+        EXPECT_EQ(body, row) << kind;
     }
     const auto got_rp = s.get(id_path("rps", rp.body));
     EXPECT_EQ(got_rp.body.at("name"), "rp1");

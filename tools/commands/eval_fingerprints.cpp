@@ -35,6 +35,7 @@ struct Args {
     eval::MatcherFlags flags;
     int cv = 0;
     bool json = false;
+    bool tune = false;
 };
 
 // The folders of `dir` that hold a training file, by name.
@@ -112,8 +113,16 @@ nlohmann::json run_database(const fs::path& db, const Args& a) {
     const std::size_t n_methods = eval::methods_named(a.algorithm, a.flags, train, train_sets.front()).size();
     std::vector<std::vector<nlohmann::json>> per_method(n_methods);
     std::size_t skipped = 0, unanswered_total = 0;
+    std::vector<std::string> chosen;  // per split, with --tune
     for (std::size_t s = 0; s < train_sets.size(); ++s) {
-        const auto methods = eval::methods_named(a.algorithm, a.flags, train, train_sets[s]);
+        auto methods = eval::methods_named(a.algorithm, a.flags, train, train_sets[s]);
+        if (a.tune) {
+            // The tune sees this split's training rows only, as the server's sees its RPs.
+            std::string name;
+            for (auto& m : methods)
+                if (m.name == "default") m = eval::tuned_default(train, train_sets[s], name);
+            chosen.push_back(name);
+        }
         const eval::Queries q = eval::queries_of(test, test_sets[s]);
         skipped += q.skipped_empty;
         if (q.queries.empty()) continue;
@@ -131,11 +140,15 @@ nlohmann::json run_database(const fs::path& db, const Args& a) {
               << " (" << skipped << " without any detected WAP skipped";
     if (unanswered_total > 0) std::cerr << ", " << unanswered_total << " answers missing: counted as misses";
     std::cerr << ")\n";
+    for (std::size_t s = 0; s < chosen.size(); ++s)
+        std::cerr << "eval fingerprints: " << name << ": tuned default" << (chosen.size() > 1 ? " (split " + std::to_string(s + 1) + ")" : "")
+                  << ": " << chosen[s] << "\n";
 
     nlohmann::json rows = nlohmann::json::array();
     for (auto& folds : per_method) {
         nlohmann::json row = folds.size() == 1 ? folds.front() : pool(folds);
         row["database"] = name;
+        if (row["algorithm"] == "default" && !chosen.empty()) row["tuned"] = chosen;
         rows.push_back(std::move(row));
     }
     return rows;
@@ -186,5 +199,8 @@ LOCUS_COMMAND("eval fingerprints", [](CLI::App& app) {
                     "leave the test files unread: K-fold CV over each training set, folds by surveyed position")
         ->check(CLI::Range(2, 1000));
     cmd->add_flag("--json", a->json, "print one JSON array, one object per database and method");
+    cmd->add_flag("--tune", a->tune,
+                  "--algorithm default first tunes each training map as "
+                  "POST /v1/radiomaps/{id}/tune does, on the training rows only");
     cmd->callback([a] { run(*a); });
 });

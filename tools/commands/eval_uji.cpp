@@ -33,6 +33,7 @@ struct Args {
     bool oracle = false;
     std::optional<double> covered_within;
     bool json = false;
+    bool tune = false;
     std::string per_query;
 };
 
@@ -88,7 +89,14 @@ void run(const Args& a) {
         for (std::size_t i = 0; i < test.rows.size(); ++i) test_rows.push_back(i);
     }
     if (train_rows.empty()) throw CommandError("no training rows left");
-    const std::vector<eval::Method> methods = eval::methods_named(a.algorithm, a.flags, train, train_rows);
+    std::vector<eval::Method> methods = eval::methods_named(a.algorithm, a.flags, train, train_rows);
+    if (a.tune)
+        for (auto& m : methods)
+            if (m.name == "default") {
+                std::string chosen;
+                m = eval::tuned_default(train, train_rows, chosen);
+                std::cerr << "eval uji: tuned default: " << chosen << "\n";
+            }
 
     // The RP map (one RP per surveyed position) the oracle and --covered-within measure
     // coverage on, whatever map each method localizes in.
@@ -170,5 +178,7 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
     cmd->add_option("--per-query", a->per_query,
                     "write one CSV line per answered query (truth, estimate, error, oracle distance) to this file");
     cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all)");
+    cmd->add_flag("--tune", a->tune,
+                  "--algorithm default first tunes the training map as POST /v1/radiomaps/{id}/tune does");
     cmd->callback([a] { run(*a); });
 });

@@ -1,0 +1,99 @@
+// POST /v1/radiomaps/{id}/tune: cross-validates the radio map's own RPs over a small grid of
+// matcher settings (match::tune), stores the best as the radio map's settings and answers the
+// CV table. It runs on the request's thread over a snapshot of the RPs and holds no lock a
+// localize needs: localize keeps the old settings until the new ones are committed, and the
+// commit's change makes the index pick them up.
+#include <chrono>
+#include <unordered_map>
+
+#include "http/app.hpp"
+#include "http/radiomap_settings.hpp"
+#include "http/validation.hpp"
+#include "locus/match/tune.hpp"
+
+namespace locus::http {
+
+using nlohmann::json;
+
+namespace {
+
+match::TuneLimits parse_tune_body(const std::string& body) {
+    match::TuneLimits limits;
+    if (body.empty()) return limits;
+    const json j = parse_object(body);
+    only_fields(j, {"folds", "max_queries"}, "body");
+    const auto integer = [&](const char* field, std::int64_t lo, std::int64_t hi, std::int64_t fallback) {
+        if (!j.contains(field)) return fallback;
+        const auto& v = j.at(field);
+        if (!v.is_number_integer()) throw invalid_field("'" + std::string(field) + "' must be an integer");
+        const auto n = v.get<std::int64_t>();
+        if (n < lo || n > hi)
+            throw ApiError(422, "out_of_range",
+                           "'" + std::string(field) + "' must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return n;
+    };
+    limits.folds = static_cast<int>(integer("folds", 2, 50, limits.folds));
+    limits.max_queries = static_cast<std::size_t>(integer("max_queries", 10, 5000, static_cast<std::int64_t>(limits.max_queries)));
+    return limits;
+}
+
+}  // namespace
+
+// One tune per radio map at a time: a second one would only compute the same table again.
+class App::TuneGuard {
+public:
+    TuneGuard(App& app, std::int64_t id) : app_(app), id_(id) {
+        std::lock_guard lock(app_.tuning_mu_);
+        if (!app_.tuning_.insert(id_).second)
+            throw ApiError(409, "tune_running", "radiomap " + std::to_string(id_) + " is being tuned already; try again when it is done");
+    }
+    ~TuneGuard() {
+        std::lock_guard lock(app_.tuning_mu_);
+        app_.tuning_.erase(id_);
+    }
+    TuneGuard(const TuneGuard&) = delete;
+    TuneGuard& operator=(const TuneGuard&) = delete;
+
+private:
+    App& app_;
+    std::int64_t id_;
+};
+
+void App::install_tune_routes() {
+    server_.Post(R"(/v1/radiomaps/(\d+)/tune)", [this](const httplib::Request& req, httplib::Response& res) {
+        respond(req, res, [&] {
+            const auto id = parse_id(req.matches[1].str(), "radiomap");
+            const auto limits = parse_tune_body(req.body);
+            store_.get(store::kind("radiomaps"), id);  // 404 before anything else
+            TuneGuard guard(*this, id);
+            const auto t0 = std::chrono::steady_clock::now();
+            auto stored = store_.rps_of_radiomap(id);  // one consistent snapshot
+            std::vector<match::IndexedRp> rps;
+            rps.reserve(stored.size());
+            std::unordered_map<long long, long long> levels;
+            for (auto& s : stored) {
+                if (!levels.count(s.floor_id))
+                    levels[s.floor_id] = store_.get(store::kind("floors"), s.floor_id).fields.get<std::int64_t>("level");
+                rps.push_back({std::move(s.rp), s.floor_id, s.building_id});
+            }
+            const auto grid = match::tune_grid();
+            match::TuneReport report;
+            try {
+                report = match::tune(rps, grid, [&levels](long long floor) { return levels[floor]; }, limits);
+            } catch (const match::TuneRefused& e) {
+                throw ApiError(422, "cannot_tune", "radiomap " + std::to_string(id) + ": " + e.what());
+            }
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const auto& best = report.rows[report.best];
+            json table = tune_json(report, seconds);
+            store::RadiomapSettings settings{settings_json(best.setting).dump(), table.dump(), {}};
+            const auto written = store_.put_radiomap_settings(id, settings);
+            json out{{"radiomap_id", id}, {"settings", settings_json(best.setting)}, {"tune", std::move(table)}};
+            out["settings"]["source"] = "tuned";
+            out["settings"]["updated_at"] = written.updated_at;
+            return std::pair{200, std::move(out)};
+        });
+    });
+}
+
+}  // namespace locus::http
