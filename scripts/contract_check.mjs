@@ -422,6 +422,68 @@ async function run() {
   await get(search('lobby', '&limit=0'), { expect: 400, invalid: true });
   await get(search('lobby', '&limit=many'), { expect: 400, invalid: true });
   await get(`/v1/maps/${UNKNOWN}/search?q=lobby`, { expect: 404 });
+  // Live tracks: two phones on the map, one sharing with the other; fixes, the trail, the
+  // relative position over the plans, the operator's positions, the event stream of a closed
+  // track (its latest fix and its end), then the refusals. Tracks take their own token, not
+  // the API key.
+  {
+    const nowS = Date.now() / 1000;
+    const fixOf = (t, fl, x, y, h) => ({ t, floor_id: fl, x, y, accuracy_m: 1.5, ...(h === undefined ? {} : { heading_deg: h }) });
+    const openedA = await post('/v1/tracks', { map_id: map, label: 'Ann' }, { auth: false, expect: 201 });
+    const openedB = await post('/v1/tracks', { map_id: map }, { auth: false, expect: 201 });
+    const a = openedA.json?.id ?? UNKNOWN;
+    const b = openedB.json?.id ?? UNKNOWN;
+    const ta = { 'x-track-token': openedA.json?.token ?? '' };
+    const tb = { 'x-track-token': openedB.json?.token ?? '' };
+    const own = (headers, opts = {}) => ({ auth: false, headers, ...opts });
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS - 2, floor, 5, 5, 90), fixOf(nowS - 3, floor, 4, 5)] }, own(ta, { expect: 200 }));
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS - 2, floor, 5, 5, 90)] }, own(ta, { expect: 200 }));
+    await post(`/v1/tracks/${b}/fixes`, { fixes: [fixOf(nowS - 1, floor2, 25, 10)] }, own(tb, { expect: 200 }));
+    const share = await post(`/v1/tracks/${b}/shares`, {}, own(tb, { expect: 201 }));
+    const sb = { 'x-track-token': share.json?.token ?? '' };
+    await get(`/v1/tracks/${a}?limit=10`, { headers: ta, expect: 200 });
+    await get(`/v1/tracks/${b}`, { headers: sb, expect: 200 });
+    await get(`/v1/tracks/${a}/relative/${b}`, { headers: { ...ta, 'x-peer-token': sb['x-track-token'] }, expect: 200 });
+    await get(`/v1/maps/${map}/positions`, { auth: true, expect: 200 });
+    await get(`/v1/maps/${map}/positions?floor_id=${floor2}`, { auth: true, expect: 200 });
+    await get(`/v1/maps/${map}/positions`, { expect: 401, invalid: true });
+    await get(`/v1/maps/${map}/positions?floor_id=x`, { auth: true, expect: 400, invalid: true });
+    await get(`/v1/maps/${UNKNOWN}/positions`, { auth: true, expect: 404 });
+    await post('/v1/tracks', { map_id: UNKNOWN }, { auth: false, expect: 422 });
+    await post('/v1/tracks', { map_id: map, colour: 'red' }, { auth: false, expect: 422, invalid: true });
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, { auth: false, expect: 401 });
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(tb, { expect: 403 }));
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(sb, { expect: 403 }));
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, UNKNOWN, 1, 1)] }, own(ta, { expect: 422 }));
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS + 3600, floor, 1, 1)] }, own(ta, { expect: 422 }));
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [{ t: nowS, floor_id: floor, x: 1, y: 1 }] }, own(ta, { expect: 422, invalid: true }));
+    await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1e6, 1)] }, own(ta, { expect: 422, invalid: true }));
+    await post(`/v1/tracks/${a}/fixes`, { fixes: Array.from({ length: 1001 }, (_, i) => fixOf(nowS - 20 + i / 100, floor, 1, 1)) }, own(ta, { expect: 413, invalid: true }));
+    // A thin client: a radio fix and steps, fused on the server over the ground floor's plan.
+    await post(`/v1/tracks/${a}/steps`, { fixes: [fixOf(nowS - 1.5, floor, 5, 5)], steps: [{ t: nowS - 1, length_m: 0.7, heading_deg: 90 }] }, own(ta, { expect: 200 }));
+    await post(`/v1/tracks/${b}/steps`, { steps: [{ t: nowS - 0.5, length_m: 0.7, heading_deg: 90 }] }, own(tb, { expect: 422 }));
+    await post(`/v1/tracks/${a}/steps`, { steps: [{ t: nowS, length_m: 7, heading_deg: 90 }] }, own(ta, { expect: 422, invalid: true }));
+    await post(`/v1/tracks/${a}/steps`, { walk: [] }, own(ta, { expect: 422, invalid: true }));
+    await get(`/v1/tracks/${UNKNOWN}`, { headers: ta, expect: 403 });
+    await get(`/v1/tracks/${a}`, { expect: 401 });
+    await get(`/v1/tracks/${a}?limit=5000`, { headers: ta, expect: 400, invalid: true });
+    await get(`/v1/tracks/${a}/relative/${b}`, { headers: ta, expect: 401 });
+    await get(`/v1/tracks/${b}/relative/${a}`, { headers: { ...sb, 'x-peer-token': ta['x-track-token'] }, expect: 403 });
+    await get(`/v1/tracks/${a}/events`, { headers: { 'x-track-token': 'trk_wrong' }, expect: 403 });
+    await post(`/v1/tracks/${b}/close`, {}, own(tb, { expect: 200 }));
+    await post(`/v1/tracks/${b}/close`, {}, own(sb, { expect: 403 }));
+    // Prism's proxy takes every answer for JSON, so the event stream goes straight to the server.
+    await get(`/v1/tracks/${b}/events`, { headers: tb, expect: 200, direct: true });
+    await get(`/v1/tracks/${b}/events?token=${encodeURIComponent(tb['x-track-token'])}`, { expect: 200, direct: true });
+    await post(`/v1/tracks/${b}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(tb, { expect: 409 }));
+    await post(`/v1/tracks/${b}/shares`, {}, own(tb, { expect: 409 }));
+    await del(`/v1/tracks/${b}/shares/${share.json?.id ?? UNKNOWN}`, own(tb, { expect: 204 }));
+    await del(`/v1/tracks/${b}/shares/${share.json?.id ?? UNKNOWN}`, own(tb, { expect: 404 }));
+    await del(`/v1/tracks/${b}`, { auth: false, expect: 401 });
+    await del(`/v1/tracks/${b}`, own(tb, { expect: 204 }));
+    await get(`/v1/tracks/${b}`, { headers: tb, expect: 404 });
+    await del(`/v1/tracks/${a}`, own(ta, { expect: 204 }));
+  }
   await del(`/v1/floors/${floor2}/plan`, { expect: 204 });
   await del(`/v1/floors/${floor2}/plan`, { expect: 404 });
 

@@ -19,6 +19,7 @@
 #include "routing/service.hpp"
 #include "store/migrations.hpp"
 #include "store/sqlite_store.hpp"
+#include "tracks/service.hpp"
 
 namespace {
 void log_event(const nlohmann::json& event) {
@@ -56,6 +57,18 @@ int main(int argc, char** argv) {
     cli.add_option("--read-timeout", read_s, "seconds to wait for the next bytes of a request body")
         ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
     cli.add_flag("--quiet", quiet, "no access log");
+    locus::tracks::Options tracks_options;
+    cli.add_option("--track-ttl", tracks_options.ttl_s, "seconds without a fix after which a live track closes")
+        ->capture_default_str()->check(CLI::Range(0.01, 1e7));
+    cli.add_option("--track-retention", tracks_options.retention_s,
+                   "seconds after a track closes (or its fixes were taken) that they are deleted")
+        ->capture_default_str()->check(CLI::Range(0.01, 1e8));
+    cli.add_option("--track-heartbeat", tracks_options.heartbeat_s, "seconds between heartbeat comments on an idle event stream")
+        ->capture_default_str()->check(CLI::Range(0.01, 3600.0));
+    cli.add_option("--max-track-streams", tracks_options.max_streams, "open track event streams; past it, 503 server_busy")
+        ->capture_default_str()->check(CLI::Range(1, 100000));
+    cli.add_option("--max-live-tracks", tracks_options.max_live_tracks, "live tracks at once; past it, opening one answers 503")
+        ->capture_default_str()->check(CLI::Range(1, 10000000));
     std::string web_root = locus::http::default_web_root(), leaflet_root = locus::http::default_leaflet_root;
     cli.add_option("--web-root", web_root, "the web viewer's files, served at / (empty: no viewer)")->capture_default_str();
     cli.add_option("--leaflet-root", leaflet_root, "Leaflet's files (Debian's libjs-leaflet), served at /vendor/leaflet/")
@@ -99,7 +112,8 @@ int main(int argc, char** argv) {
         locus::localize::Service localizer(store, locus::http::prepare_answers);
         locus::routing::Service router(store);
         locus::directory::Service directory(store);
-        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front, {web_root, leaflet_root}});
+        locus::tracks::Service tracks(store, tracks_options);
+        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front, {web_root, leaflet_root}, &tracks});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);
@@ -107,10 +121,11 @@ int main(int argc, char** argv) {
             log_event({{"event", "error"}, {"message", listen_error}});
             return 1;
         }
-        std::thread signal_waiter([&server, signals] {
+        std::thread signal_waiter([&server, &tracks, signals] {
             int sig = 0;
             sigwait(&signals, &sig);
             log_event({{"event", "shutdown"}, {"signal", sig}});
+            tracks.stop();  // ends the event streams, which would hold their connections open
             server.shut_down();
         });
         log_event({{"event", "listening"}, {"host", host}, {"port", bound}, {"db", db_path}, {"auth", !api_key.empty()},

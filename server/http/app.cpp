@@ -17,7 +17,9 @@ namespace {
 bool is_read(const httplib::Request& req) {
     if (req.method == "GET" || req.method == "HEAD" || req.method == "OPTIONS") return true;
     // Localizing reads the radio map, routing the plans; phones ask without a key.
-    return req.method == "POST" && (req.path.ends_with("/localize") || req.path.ends_with("/route"));
+    if (req.method == "POST" && (req.path.ends_with("/localize") || req.path.ends_with("/route"))) return true;
+    // A track is opened by a phone and then answers only to its own tokens (track_routes.cpp).
+    return req.path == "/v1/tracks" || req.path.starts_with("/v1/tracks/");
 }
 
 bool same_secret(const std::string& a, const std::string& b) {
@@ -134,6 +136,7 @@ App::App(store::Store& store, localize::Service& localizer, routing::Service& ro
     install_search_routes();
     install_image_routes();
     install_transmitter_routes();
+    if (options_.tracks) install_track_routes();
     install_static_routes(server_, options_.web);
 }
 

@@ -21,6 +21,10 @@
 #include "store/sqlite.hpp"
 #include "store/store.hpp"
 
+namespace locus::tracks {
+class Service;
+}
+
 namespace locus::http {
 
 struct AppOptions {
@@ -28,6 +32,7 @@ struct AppOptions {
     bool access_log = true;
     FrontOptions front;   // connections, timeouts, body limit
     StaticRoots web;      // the web viewer's files (static_files.cpp)
+    tracks::Service* tracks = nullptr;  // live tracks (track_routes.cpp); none: no track routes
 };
 
 class App {
@@ -59,6 +64,7 @@ private:
     void install_route_routes();     // route_routes.cpp
     void install_search_routes();    // search_routes.cpp
     void install_image_routes();     // image_routes.cpp
+    void install_track_routes();     // track_routes.cpp
     void install_tune_routes();      // tune_routes.cpp (from install_radiomap_routes)
     class TuneGuard;
     std::mutex tuning_mu_;

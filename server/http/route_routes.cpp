@@ -10,6 +10,7 @@
 
 #include "http/app.hpp"
 #include "http/plan_json.hpp"
+#include "http/route_json.hpp"
 #include "http/validation.hpp"
 
 namespace locus::http {
@@ -32,6 +33,15 @@ const char* step_kind(plan::StepKind k) {
     }
     return "walk";
 }
+
+std::int64_t positive_id(const json& j, const char* field, const std::string& where) {
+    const auto it = j.find(field);
+    if (!it->is_number_integer() || it->get<std::int64_t>() <= 0)
+        throw invalid_field("'" + where + "." + field + "' must be a positive integer id");
+    return it->get<std::int64_t>();
+}
+
+}  // namespace
 
 json route_json(const plan::Route& r) {
     json legs = json::array(), transfers = json::array(), steps = json::array(), features = json::array();
@@ -63,15 +73,6 @@ json route_json(const plan::Route& r) {
             {"steps", steps},
             {"geojson", {{"type", "FeatureCollection"}, {"features", features}}}};
 }
-
-std::int64_t positive_id(const json& j, const char* field, const std::string& where) {
-    const auto it = j.find(field);
-    if (!it->is_number_integer() || it->get<std::int64_t>() <= 0)
-        throw invalid_field("'" + where + "." + field + "' must be a positive integer id");
-    return it->get<std::int64_t>();
-}
-
-}  // namespace
 
 // A place given as a position, a room (its centre) or a POI, on a floor of this map. An
 // unknown room, POI or floor is a bad field of this request (422), not a missing resource:

@@ -221,3 +221,32 @@ TEST(SimOnServerPlan, EvaluatesOnTheFloorsPlanAsOnTheConvertedScenario) {
     EXPECT_DOUBLE_EQ(on_plan.at("proportional"), on_rooms.at("proportional"));
     EXPECT_NE(on_plan.at("kalman"), on_rooms.at("kalman"));
 }
+
+// `--live`: the fused track goes to the server as a live track, its fixes in time order on the
+// radio map's floor, and is closed at the end.
+TEST(Replay, LivePostsTheFusedTrackAsALiveTrack) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string walk = s.dir() + "/walk.jsonl";
+    ASSERT_EQ(run_command({LOCUS_CLI_BIN, "sim", "--scenario", "basement", "--seed", "2", "--out", walk}).status, 0);
+    const auto r = run_command({LOCUS_CLI_BIN, "replay", "--server", s.url(), "--radiomap", std::to_string(h.radiomap), "--rule",
+                                "proportional", "--upload-survey", "--live", s.url(), "--live-map", std::to_string(h.map),
+                                "--live-speed", "0", walk});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json out = json::parse(r.out);
+    const auto id = out.at("live_track").at("id").get<std::int64_t>();
+    httplib::Client c("127.0.0.1", s.port());
+    const auto got = c.Get("/v1/tracks/" + std::to_string(id) + "?limit=1000",
+                           httplib::Headers{{"X-Track-Token", out["live_track"]["token"].get<std::string>()}});
+    ASSERT_TRUE(got);
+    ASSERT_EQ(got->status, 200) << got->body;
+    const json track = json::parse(got->body);
+    EXPECT_EQ(track["state"], "closed");
+    std::size_t points = 0;
+    for (const auto& t : out["tracks"])
+        if (t["method"] == "proportional") points = t["points"].size();
+    EXPECT_EQ(track["fixes"].get<std::size_t>(), points);
+    ASSERT_FALSE(track["trail"].empty());
+    EXPECT_EQ(track["trail"][0]["floor_id"], h.floor);
+    EXPECT_EQ(run_command({LOCUS_CLI_BIN, "replay", "--server", s.url(), "--radiomap", "1", "--live", s.url(), walk}).status == 0, false);
+}

@@ -2,6 +2,7 @@
 // server, one fusion rule (or every method), and the track's error against the truth. The
 // particle and Kalman filters map-match on the floor plan the server holds for the radio
 // map's floor when there is one (--walls), else on the walk file's rooms and doors.
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "live_track.hpp"
 #include "locus/api/client.hpp"
 #include "locus/fusion/walk_filter.hpp"
 #include "sim/evaluate.hpp"
@@ -32,6 +34,9 @@ struct Args {
     std::string format = "json";
     bool upload_survey = false;
     std::string walls = "auto";  // file | server | auto
+    std::string live;            // a server to post the fused track to as a live track
+    std::int64_t live_map = 0;
+    double live_speed = 1.0;
 };
 
 // What the filters map-match on, and where it came from (said on stderr and in the JSON).
@@ -176,6 +181,23 @@ void run(const Args& a) {
             out["tracks"].push_back(track_json(t, walk));
         }
     }
+    if (!a.live.empty()) {
+        const std::string method = all ? "particle" : a.rule;
+        const auto t = std::find_if(tracks.begin(), tracks.end(), [&](const sim::NamedTrack& nt) { return nt.method == method; });
+        if (t == tracks.end()) throw tools::CommandError("no " + method + " track to post live (the particle filter needs walls)");
+        std::vector<tools::LivePoint> points;
+        for (const auto& p : t->track) points.push_back({p.t_s, p.at});
+        api::ClientOptions live_opts;
+        live_opts.base_url = a.live;
+        api::Client live(live_opts);
+        tools::LiveOptions lo;
+        lo.map_id = a.live_map;
+        lo.floor_id = walls.floor_id ? walls.floor_id : client.radiomap(a.radiomap).floor_id;
+        lo.label = walk.scenario + " seed " + std::to_string(walk.seed) + " (" + method + ")";
+        lo.speed = a.live_speed;
+        const auto key = tools::post_live(live, points, lo, std::cerr);
+        out["live_track"] = {{"id", key.id}, {"token", key.token}, {"method", method}};
+    }
     if (a.format == "json") std::cout << out.dump() << "\n";
     else if (walk.has_truth())
         for (const auto& t : tracks)
@@ -202,6 +224,12 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
         ->check(CLI::IsMember({"auto", "server", "file"}));
     cmd->add_flag("--upload-survey", args->upload_survey,
                   "first create the walk's survey RPs on the radio map and upload their scans (idempotent)");
+    auto* live = cmd->add_option("--live", args->live, "also post the fused track (--rule's; particle for all) to this server as a live track");
+    cmd->add_option("--live-map", args->live_map, "map of the live track (the radio map's floor is its floor)")
+        ->needs(live)->check(CLI::PositiveNumber);
+    cmd->add_option("--live-speed", args->live_speed, "1: post in real time, 10: ten times faster, 0: all at once")
+        ->capture_default_str()->check(CLI::Range(0.0, 1000.0));
+    live->needs(cmd->get_option("--live-map"));
     cmd->add_option("FILE", args->file, "walk file (locus sim --out, or a recording)")->required()->check(CLI::ExistingFile);
     cmd->callback([args] { run(*args); });
 });

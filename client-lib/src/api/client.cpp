@@ -134,18 +134,19 @@ Client::~Client() = default;
 Client::Client(Client&&) noexcept = default;
 Client& Client::operator=(Client&&) noexcept = default;
 
-json Client::send(const char* method, const std::string& path, const std::string* body) {
+json Client::send(const char* method, const std::string& path, const std::string* body, const Headers& headers) {
     const std::string verb = method;
     thread_local std::mt19937 rng{std::random_device{}()};
     std::uniform_real_distribution<double> jitter(0.5, 1.0);
+    const httplib::Headers extra(headers.begin(), headers.end());  // beside the defaults (the API key)
     for (int attempt = 1;; ++attempt) {
         httplib::Result r = [&] {
             auto& h = conn_->http;
-            if (verb == "GET") return h.Get(path);
-            if (verb == "POST") return h.Post(path, *body, "application/json");
-            if (verb == "PUT") return h.Put(path, *body, "application/json");
-            if (verb == "PATCH") return h.Patch(path, *body, "application/json");
-            return h.Delete(path);
+            if (verb == "GET") return h.Get(path, extra);
+            if (verb == "POST") return h.Post(path, extra, *body, "application/json");
+            if (verb == "PUT") return h.Put(path, extra, *body, "application/json");
+            if (verb == "PATCH") return h.Patch(path, extra, *body, "application/json");
+            return h.Delete(path, extra);
         }();
         const int status = r ? r->status : 0;
         if (status >= 200 && status < 300) {

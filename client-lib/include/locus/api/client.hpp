@@ -17,6 +17,7 @@
 
 #include "locus/api/error.hpp"
 #include "locus/api/retry.hpp"
+#include "locus/api/tracks.hpp"
 #include "locus/api/types.hpp"
 #include "locus/plan/plan.hpp"
 
@@ -105,8 +106,24 @@ public:
     LocalizeResult localize_radiomap(std::int64_t radiomap_id, const LocalizeRequest& request);
     LocalizeResult localize_map(std::int64_t map_id, const LocalizeRequest& request);
 
+    // Live tracks (tracks.cpp; README "Live tracks"). A TrackKey is a track's id and a token
+    // that opens it: the owner's, or a share's for the reads.
+    OpenedTrack open_track(std::int64_t map_id, const std::string& label = "");
+    // Retrying is safe: a fix whose t is stored already counts as a duplicate.
+    TrackPosted post_fixes(const TrackKey& track, const std::vector<TrackFix>& fixes);
+    TrackState track(const TrackKey& track, int trail_limit = 100);
+    void close_track(const TrackKey& track);
+    void delete_track(const TrackKey& track);
+    TrackShare share_track(const TrackKey& track);
+    void revoke_share(const TrackKey& track, std::int64_t share_id);
+    // Where `other` is, seen from `track` (its owner's key): the server's answer as it is.
+    nlohmann::json relative(const TrackKey& track, const TrackKey& other);
+    // Every live track's latest fix on the map (needs the API key when the server has one).
+    std::vector<TrackPosition> positions(std::int64_t map_id, std::optional<std::int64_t> floor_id = std::nullopt);
+
 private:
-    nlohmann::json send(const char* method, const std::string& path, const std::string* body);
+    using Headers = std::vector<std::pair<std::string, std::string>>;
+    nlohmann::json send(const char* method, const std::string& path, const std::string* body, const Headers& headers = {});
 
     ClientOptions options_;
     struct Connection;

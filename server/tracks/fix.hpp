@@ -1,0 +1,21 @@
+#pragma once
+// What a track holds: fused fixes; and what a thin client posts instead: PDR steps.
+#include <cstdint>
+#include <optional>
+
+namespace locus::tracks {
+
+struct Fix {
+    double t = 0;  // Unix seconds, the phone's clock
+    std::int64_t floor_id = 0;
+    double x = 0, y = 0, accuracy_m = 0;
+    std::optional<double> heading_deg;  // clockwise from the floor's +y axis
+};
+
+struct Step {
+    double t = 0;
+    double length_m = 0;
+    double heading_deg = 0;  // clockwise from the floor's +y axis, as client-lib's PDR
+};
+
+}  // namespace locus::tracks

@@ -1,0 +1,78 @@
+#pragma once
+// Fusion for thin clients (a web page, a phone without client-lib): they post raw PDR steps
+// and radio fixes, and the server runs client-lib's particle filter (locus::fusion, the very
+// code a phone with the library runs, never a second copy) over the floor's plan and stores
+// the fused fixes on the track. One filter per track, restarted at a radio fix on another
+// floor (steps alone never change floor).
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <stdexcept>
+#include <string>
+
+#include "locus/fusion/particle_filter.hpp"
+#include "tracks/fix.hpp"
+
+namespace locus::tracks {
+
+// A fix from the radio map (POST /v1/maps/{id}/localize, say), the filter's measurement.
+using RadioFix = Fix;
+
+// One track's filter.
+class ThinFusion {
+public:
+    explicit ThinFusion(fusion::ParticleConfig config = {}) : config_(config) {}
+
+    // Runs the steps and radio fixes in time order (a radio fix before a step of equal t) and
+    // answers one fused fix per input. `walkable_of` gives a floor's Walkable (nullptr when it
+    // has no plan: std::invalid_argument). Steps before any radio fix, with no filter yet,
+    // throw std::invalid_argument: the filter needs somewhere to start.
+    template <typename WalkableOf>
+    std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of);
+
+    bool started() const { return filter_.has_value(); }
+
+private:
+    Fix fused(double t, std::optional<double> heading_deg) const;
+
+    fusion::ParticleConfig config_;
+    std::optional<fusion::ParticleFilter> filter_;  // copyable: a request runs on a copy
+    std::int64_t floor_id_ = 0;
+    std::optional<double> heading_deg_;
+};
+
+// The radio fix's covariance: its accuracy as a 1-sigma radius.
+Eigen::Matrix2d fix_covariance(double accuracy_m);
+
+template <typename WalkableOf>
+std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of) {
+    std::vector<Fix> out;
+    std::size_t si = 0, ri = 0;
+    while (si < steps.size() || ri < radio.size()) {
+        const bool take_radio = ri < radio.size() && (si >= steps.size() || radio[ri].t <= steps[si].t);
+        if (take_radio) {
+            const RadioFix& r = radio[ri++];
+            const Point at{r.x, r.y};
+            if (!filter_ || r.floor_id != floor_id_) {
+                std::shared_ptr<const fusion::Walkable> w = walkable_of(r.floor_id);
+                if (!w) throw std::invalid_argument("floor " + std::to_string(r.floor_id) + " has no plan: the particle filter walks on one");
+                filter_.emplace(*w, at, config_);
+                floor_id_ = r.floor_id;
+            } else {
+                filter_->update(at, fix_covariance(r.accuracy_m));
+            }
+            out.push_back(fused(r.t, heading_deg_));
+        } else {
+            const Step& s = steps[si++];
+            if (!filter_) throw std::invalid_argument("steps need a radio fix first (in this request or an earlier one): the filter starts there");
+            filter_->predict(s.length_m, s.heading_deg * 3.14159265358979323846 / 180.0);
+            heading_deg_ = s.heading_deg;
+            out.push_back(fused(s.t, heading_deg_));
+        }
+    }
+    return out;
+}
+
+}  // namespace locus::tracks

@@ -1,0 +1,481 @@
+#include "tracks/service.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "store/kinds.hpp"
+#include "tracks/fusion.hpp"
+#include "tracks/token.hpp"
+
+namespace locus::tracks {
+
+struct Service::Track {
+    TrackInfo info;
+    std::string token_hash;
+    std::map<std::int64_t, std::string> shares;  // share id -> token hash
+    std::uint64_t seq = 0;                       // fixes stored so far, for streams
+    std::deque<std::pair<std::uint64_t, Fix>> recent;
+    std::condition_variable changed;  // waited on with mu_
+};
+
+const char* state_name(State s) {
+    switch (s) {
+        case State::live: return "live";
+        case State::closed: return "closed";
+        case State::gone: return "gone";
+    }
+    return "live";
+}
+
+namespace {
+
+State state_of(const std::string& s) { return s == "live" ? State::live : s == "closed" ? State::closed : State::gone; }
+
+Fix fix_of(store::Stmt& q, int c) {
+    Fix f;
+    f.t = q.real(c);
+    f.floor_id = q.int64(c + 1);
+    f.x = q.real(c + 2);
+    f.y = q.real(c + 3);
+    f.accuracy_m = q.real(c + 4);
+    if (!q.is_null(c + 5)) f.heading_deg = q.real(c + 5);
+    return f;
+}
+
+std::string forbidden_message(std::int64_t id) {
+    return "the token does not open track " + std::to_string(id);
+}
+
+}  // namespace
+
+double Service::now() {
+    return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+Service::Service(store::Store& store, Options options)
+    : store_(store), options_(options), db_(store.location()) {
+    load();
+    subscription_ = store_.subscribe([this](const store::Change& c) {
+        if (c.plan || (c.kind && c.kind->name == "floors")) {
+            std::lock_guard lock(fusion_mu_);
+            walkables_.erase(c.id);
+        }
+        // A floor, building or map deleted or moved: which floors are on which map is asked again.
+        if (!c.plan && c.kind && (c.kind->name == "floors" || c.kind->name == "buildings" || c.kind->name == "maps")) {
+            std::lock_guard lock(mu_);
+            floors_of_map_.clear();
+        }
+    });
+    sweeper_ = std::thread([this] { sweeper(); });
+}
+
+Service::~Service() {
+    store_.unsubscribe(subscription_);
+    stop();
+    if (sweeper_.joinable()) sweeper_.join();
+}
+
+void Service::stop() {
+    std::lock_guard lock(mu_);
+    stopping_ = true;
+    sweep_cv_.notify_all();
+    for (auto& [id, t] : tracks_) t->changed.notify_all();
+}
+
+void Service::load() {
+    std::lock_guard db_lock(db_mu_);
+    std::lock_guard lock(mu_);
+    store::Stmt q(db_, "SELECT id, map_id, label, token_hash, state, created_at, last_fix_at, ended_at FROM tracks");
+    while (q.step()) {
+        auto t = std::make_shared<Track>();
+        t->info.id = q.int64(0);
+        t->info.map_id = q.is_null(1) ? 0 : q.int64(1);
+        t->info.label = q.is_null(2) ? "" : q.text(2);
+        t->token_hash = q.blob(3);
+        t->info.state = state_of(q.text(4));
+        t->info.created_at = q.real(5);
+        t->info.last_fix_at = q.real(6);
+        if (!q.is_null(7)) t->info.ended_at = q.real(7);
+        tracks_[t->info.id] = t;
+    }
+    store::Stmt latest(db_,
+                       "SELECT track_id, t, floor_id, x, y, accuracy_m, heading_deg, n FROM "
+                       "(SELECT track_id, t, floor_id, x, y, accuracy_m, heading_deg, "
+                       "row_number() OVER (PARTITION BY track_id ORDER BY t DESC) AS r, "
+                       "count(*) OVER (PARTITION BY track_id) AS n FROM track_fixes) WHERE r = 1");
+    while (latest.step()) {
+        if (auto it = tracks_.find(latest.int64(0)); it != tracks_.end()) {
+            it->second->info.latest = fix_of(latest, 1);
+            it->second->info.fixes = static_cast<std::size_t>(latest.int64(7));
+        }
+    }
+    store::Stmt shares(db_, "SELECT id, track_id, token_hash FROM track_shares");
+    while (shares.step())
+        if (auto it = tracks_.find(shares.int64(1)); it != tracks_.end()) it->second->shares[shares.int64(0)] = shares.blob(2);
+}
+
+std::shared_ptr<Service::Track> Service::find(std::int64_t id) const {
+    const auto it = tracks_.find(id);
+    if (it == tracks_.end()) throw Refused(Reason::forbidden, forbidden_message(id));
+    return it->second;
+}
+
+Opened Service::open(std::int64_t map_id, const std::string& label) {
+    (void)store_.get(store::kind("maps"), map_id);  // NotFound for an unknown map
+    Opened out;
+    out.token = new_token("trk_");
+    const std::string hash = token_hash(out.token);
+    const double t = now();
+    std::lock_guard db_lock(db_mu_);
+    {
+        std::lock_guard lock(mu_);
+        const auto live = std::count_if(tracks_.begin(), tracks_.end(), [](const auto& kv) { return kv.second->info.state == State::live; });
+        if (static_cast<std::size_t>(live) >= options_.max_live_tracks)
+            throw Refused(Reason::busy, "the server follows " + std::to_string(live) + " live tracks, its most; try again later");
+    }
+    store::Transaction tx(db_);
+    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at) VALUES (?, ?, ?, 'live', ?, ?)");
+    ins.bind(1, map_id);
+    if (label.empty()) ins.bind_null(2);
+    else ins.bind(2, std::string_view(label));
+    ins.bind_blob(3, hash).bind(4, t).bind(5, t);
+    ins.run();
+    const std::int64_t id = db_.last_insert_id();
+    tx.commit();
+    auto track = std::make_shared<Track>();
+    track->info = {id, map_id, label, State::live, t, t, std::nullopt, std::nullopt, 0};
+    track->token_hash = hash;
+    out.info = track->info;
+    std::lock_guard lock(mu_);
+    tracks_[id] = std::move(track);
+    return out;
+}
+
+Access Service::authorize(std::int64_t id, const std::string& token) const {
+    const std::string hash = token_hash(token);
+    std::lock_guard lock(mu_);
+    const auto t = find(id);
+    if (same_hash(hash, t->token_hash)) {
+        if (t->info.state == State::gone) throw Refused(Reason::gone, "track " + std::to_string(id) + " has expired or was deleted; its fixes are gone");
+        return Access::owner;
+    }
+    if (t->info.state != State::gone)
+        for (const auto& [share_id, share_hash] : t->shares)
+            if (same_hash(hash, share_hash)) return Access::share;
+    throw Refused(Reason::forbidden, forbidden_message(id));
+}
+
+std::optional<std::int64_t> Service::misplaced_floor(std::int64_t id, const std::vector<Fix>& fixes) {
+    std::int64_t map_id = 0;
+    std::unordered_set<std::int64_t> unknown;
+    {
+        std::lock_guard lock(mu_);
+        map_id = find(id)->info.map_id;
+        const auto& known = floors_of_map_[map_id];
+        for (const auto& f : fixes)
+            if (!known.contains(f.floor_id)) unknown.insert(f.floor_id);
+    }
+    for (const auto floor_id : unknown) {
+        bool on_map = false;
+        try {
+            const auto floor = store_.get(store::kind("floors"), floor_id);
+            on_map = store_.get(store::kind("buildings"), *floor.parent_id).parent_id == map_id;
+        } catch (const store::NotFound&) {
+        }
+        if (!on_map) return floor_id;
+        std::lock_guard lock(mu_);
+        floors_of_map_[map_id].insert(floor_id);
+    }
+    return std::nullopt;
+}
+
+Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
+    const double t_now = now();
+    std::lock_guard db_lock(db_mu_);  // held to the end: two posts of one track publish in commit order
+    std::shared_ptr<Track> track;
+    {
+        std::lock_guard lock(mu_);
+        track = find(id);
+        if (track->info.state != State::live)
+            throw Refused(Reason::closed, "track " + std::to_string(id) + " is " + state_name(track->info.state) + "; open a new one");
+        if (track->info.fixes + fixes.size() > options_.max_fixes_per_track)
+            throw Refused(Reason::full, "track " + std::to_string(id) + " holds " + std::to_string(track->info.fixes) +
+                                            " fixes; at most " + std::to_string(options_.max_fixes_per_track) + " are kept: open a new track");
+    }
+    Posted out;
+    std::vector<Fix> stored;
+    store::Transaction tx(db_);
+    store::Stmt ins(db_, "INSERT OR IGNORE INTO track_fixes (track_id, t, floor_id, x, y, accuracy_m, heading_deg) VALUES (?, ?, ?, ?, ?, ?, ?)");
+    for (const auto& f : fixes) {
+        ins.bind(1, id).bind(2, f.t).bind(3, f.floor_id).bind(4, f.x).bind(5, f.y).bind(6, f.accuracy_m);
+        if (f.heading_deg) ins.bind(7, *f.heading_deg);
+        else ins.bind_null(7);
+        ins.run();
+        if (db_.changes() == 1) stored.push_back(f);
+        ins.reset();
+    }
+    store::Stmt up(db_, "UPDATE tracks SET last_fix_at = ? WHERE id = ?");
+    up.bind(1, t_now).bind(2, id).run();
+    tx.commit();
+
+    std::lock_guard lock(mu_);
+    track->info.last_fix_at = t_now;
+    track->info.fixes += stored.size();
+    for (const auto& f : stored) {
+        if (!track->info.latest || f.t > track->info.latest->t) track->info.latest = f;
+        track->recent.emplace_back(++track->seq, f);
+        if (track->recent.size() > options_.event_buffer) track->recent.pop_front();
+    }
+    if (!stored.empty()) track->changed.notify_all();
+    out.stored = stored.size();
+    out.duplicates = fixes.size() - stored.size();
+    out.latest = track->info.latest;
+    return out;
+}
+
+std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio) {
+    std::lock_guard fusion_lock(fusion_mu_);
+    {
+        std::lock_guard lock(mu_);
+        if (find(id)->info.state != State::live)
+            throw Refused(Reason::closed, "track " + std::to_string(id) + " is not live; open a new one");
+    }
+    // The filter runs on a copy, kept only once its fixes are stored.
+    const auto it = fusions_.find(id);
+    auto next = it == fusions_.end() ? std::make_shared<ThinFusion>() : std::make_shared<ThinFusion>(*it->second);
+    const auto walkable_of = [this](std::int64_t floor_id) -> std::shared_ptr<const fusion::Walkable> {
+        if (const auto w = walkables_.find(floor_id); w != walkables_.end()) return w->second;
+        const auto stored = store_.plan_of_floor(floor_id);
+        if (!stored) return nullptr;
+        auto w = std::make_shared<const fusion::Walkable>(fusion::Walkable::from_plan(stored->plan));
+        walkables_[floor_id] = w;
+        return w;
+    };
+    std::vector<Fix> fused = next->run(steps, radio, walkable_of);
+    // A radio fix and a step at one t give two fixes: the track keeps the later state. A t
+    // stored by an earlier request (a retry) keeps the first fix, as posted fixes do.
+    std::vector<Fix> kept;
+    for (const Fix& f : fused) {
+        if (!kept.empty() && kept.back().t == f.t) kept.back() = f;
+        else kept.push_back(f);
+    }
+    Posted posted = post(id, kept);
+    fusions_[id] = std::move(next);
+    return {posted, std::move(fused)};
+}
+
+void Service::close(std::int64_t id) {
+    const double t = now();
+    std::lock_guard db_lock(db_mu_);
+    std::shared_ptr<Track> track;
+    {
+        std::lock_guard lock(mu_);
+        track = find(id);
+        if (track->info.state != State::live) return;  // closing twice is closing once
+    }
+    store::Stmt up(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?");
+    up.bind(1, t).bind(2, id).run();
+    std::lock_guard lock(mu_);
+    track->info.state = State::closed;
+    track->info.ended_at = t;
+    track->changed.notify_all();
+}
+
+void Service::remove(std::int64_t id) {
+    const double t = now();
+    std::lock_guard db_lock(db_mu_);
+    std::shared_ptr<Track> track;
+    {
+        std::lock_guard lock(mu_);
+        track = find(id);
+    }
+    store::Transaction tx(db_);
+    store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, id).run();
+    store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, id).run();
+    store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ? WHERE id = ?").bind(1, t).bind(2, id).run();
+    tx.commit();
+    std::lock_guard lock(mu_);
+    track->info.state = State::gone;
+    track->info.ended_at = t;
+    track->info.latest.reset();
+    track->info.fixes = 0;
+    track->info.label.clear();
+    track->shares.clear();
+    track->recent.clear();
+    track->changed.notify_all();
+}
+
+TrackInfo Service::info(std::int64_t id) const {
+    std::lock_guard lock(mu_);
+    return find(id)->info;
+}
+
+std::vector<Fix> Service::trail(std::int64_t id, std::size_t limit) {
+    std::lock_guard db_lock(db_mu_);
+    store::Stmt q(db_, "SELECT t, floor_id, x, y, accuracy_m, heading_deg FROM track_fixes WHERE track_id = ? ORDER BY t DESC LIMIT ?");
+    q.bind(1, id).bind(2, limit);
+    std::vector<Fix> out;
+    while (q.step()) out.push_back(fix_of(q, 0));
+    std::reverse(out.begin(), out.end());
+    return out;
+}
+
+std::vector<TrackInfo> Service::live_on_map(std::int64_t map_id, std::optional<std::int64_t> floor_id) const {
+    std::vector<TrackInfo> out;
+    std::lock_guard lock(mu_);
+    for (const auto& [id, t] : tracks_)
+        if (t->info.map_id == map_id && t->info.state == State::live && t->info.latest &&
+            (!floor_id || t->info.latest->floor_id == *floor_id))
+            out.push_back(t->info);
+    std::sort(out.begin(), out.end(), [](const TrackInfo& a, const TrackInfo& b) { return a.id < b.id; });
+    return out;
+}
+
+Share Service::add_share(std::int64_t id) {
+    Share out;
+    out.track_id = id;
+    out.token = new_token("shr_");
+    const std::string hash = token_hash(out.token);
+    std::lock_guard db_lock(db_mu_);
+    std::shared_ptr<Track> track;
+    {
+        std::lock_guard lock(mu_);
+        track = find(id);
+        if (track->info.state != State::live)
+            throw Refused(Reason::closed, "track " + std::to_string(id) + " is " + state_name(track->info.state) + ": there is nothing to share");
+        if (track->shares.size() >= 100) throw Refused(Reason::full, "track " + std::to_string(id) + " has 100 shares, its most; revoke one first");
+    }
+    store::Stmt ins(db_, "INSERT INTO track_shares (track_id, token_hash, created_at) VALUES (?, ?, ?)");
+    ins.bind(1, id).bind_blob(2, hash).bind(3, now()).run();
+    out.id = db_.last_insert_id();
+    std::lock_guard lock(mu_);
+    track->shares[out.id] = hash;
+    return out;
+}
+
+void Service::revoke_share(std::int64_t id, std::int64_t share_id) {
+    std::lock_guard db_lock(db_mu_);
+    std::shared_ptr<Track> track;
+    {
+        std::lock_guard lock(mu_);
+        track = find(id);
+        if (!track->shares.contains(share_id))
+            throw store::NotFound("track " + std::to_string(id) + " has no share " + std::to_string(share_id));
+    }
+    store::Stmt(db_, "DELETE FROM track_shares WHERE id = ?").bind(1, share_id).run();
+    std::lock_guard lock(mu_);
+    track->shares.erase(share_id);
+}
+
+Service::Stream::~Stream() {
+    std::lock_guard lock(service_.mu_);
+    --service_.streams_;
+}
+
+std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id) {
+    std::lock_guard lock(mu_);
+    auto track = find(id);
+    if (streams_ >= options_.max_streams)
+        throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
+    ++streams_;
+    std::unique_ptr<Stream> s(new Stream(*this, track));
+    s->seen_ = track->seq;
+    return s;
+}
+
+Events Service::next_events(Stream& s) {
+    std::unique_lock lock(mu_);
+    Track& t = *s.track_;
+    Events out;
+    if (!s.started_) {
+        s.started_ = true;
+        if (t.info.latest) out.fixes.push_back(*t.info.latest);
+    } else {
+        t.changed.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s),
+                           [&] { return t.seq > s.seen_ || t.info.state != State::live || stopping_; });
+        for (const auto& [seq, fix] : t.recent)
+            if (seq > s.seen_) out.fixes.push_back(fix);
+        s.seen_ = t.seq;
+    }
+    out.ended = t.info.state != State::live || stopping_;
+    return out;
+}
+
+void Service::sweep() {
+    const auto ended = sweep_tracks();
+    std::lock_guard fusion_lock(fusion_mu_);  // with no other lock held: post_raw takes it first
+    for (const auto id : ended) fusions_.erase(id);
+}
+
+std::vector<std::int64_t> Service::sweep_tracks() {
+    const double t = now();
+    std::lock_guard db_lock(db_mu_);
+    std::vector<std::shared_ptr<Track>> to_close, to_purge, to_forget;
+    {
+        std::lock_guard lock(mu_);
+        for (const auto& [id, tr] : tracks_) {
+            if (tr->info.state == State::live && tr->info.last_fix_at + options_.ttl_s < t) to_close.push_back(tr);
+            else if (tr->info.state == State::closed && tr->info.ended_at && *tr->info.ended_at + options_.retention_s < t) to_purge.push_back(tr);
+            else if (tr->info.state == State::gone && tr->info.ended_at && *tr->info.ended_at + options_.retention_s < t) to_forget.push_back(tr);
+        }
+    }
+    store::Transaction tx(db_);
+    for (const auto& tr : to_close)
+        store::Stmt(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?").bind(1, t).bind(2, tr->info.id).run();
+    for (const auto& tr : to_purge) {
+        store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, tr->info.id).run();
+        store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, tr->info.id).run();
+        store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ? WHERE id = ?")
+            .bind(1, t).bind(2, tr->info.id).run();
+    }
+    for (const auto& tr : to_forget) store::Stmt(db_, "DELETE FROM tracks WHERE id = ?").bind(1, tr->info.id).run();
+    // A long live track keeps only its last retention period of fixes.
+    store::Stmt(db_, "DELETE FROM track_fixes WHERE t < ?").bind(1, t - options_.retention_s).run();
+    const bool trimmed = db_.changes() > 0;
+    tx.commit();
+
+    std::lock_guard lock(mu_);
+    for (const auto& tr : to_close) {
+        tr->info.state = State::closed;
+        tr->info.ended_at = t;
+        tr->changed.notify_all();
+    }
+    for (const auto& tr : to_purge) {
+        tr->info.state = State::gone;
+        tr->info.ended_at = t;
+        tr->info.latest.reset();
+        tr->info.fixes = 0;
+        tr->info.label.clear();
+        tr->shares.clear();
+        tr->recent.clear();
+    }
+    for (const auto& tr : to_forget) tracks_.erase(tr->info.id);
+    std::vector<std::int64_t> ended;
+    for (const auto& [id, tr] : tracks_)
+        if (tr->info.state != State::live) ended.push_back(id);
+    if (trimmed) {
+        // Counts and latest fixes of tracks that lost old fixes: rare (a track older than the
+        // retention period), so they are simply read again.
+        for (const auto& [id, tr] : tracks_)
+            if (tr->info.latest && tr->info.latest->t < t - options_.retention_s) tr->info.latest.reset();
+    }
+    return ended;
+}
+
+void Service::sweeper() {
+    const double period = std::clamp(std::min(options_.ttl_s, options_.retention_s) / 4, 0.05, 5.0);
+    std::unique_lock lock(mu_);
+    while (!stopping_) {
+        sweep_cv_.wait_for(lock, std::chrono::duration<double>(period));
+        if (stopping_) break;
+        lock.unlock();
+        try {
+            sweep();
+        } catch (const std::exception&) {
+            // A storage fault now is retried at the next sweep.
+        }
+        lock.lock();
+    }
+}
+
+}  // namespace locus::tracks

@@ -1,0 +1,172 @@
+#pragma once
+// Live tracks (issue 17): who is where now, for the owner of a track and those it shares with.
+//
+// A track's fixes are rows of the database (schema/008_tracks.sql), written on the service's
+// own SQLite connection to the store's file: a thousand phones posting a fix a second would
+// otherwise queue behind every CRUD and scan write on the store's one lock. What readers ask
+// for often (each track's state, latest fix, token hashes, the last fixes for event streams)
+// is also kept in memory. A sweeper thread closes a track after `ttl_s` without a fix and
+// purges it `retention_s` after it closed: the privacy model (README "Live tracks").
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "locus/fusion/walkable.hpp"
+#include "store/sqlite.hpp"
+#include "store/store.hpp"
+#include "tracks/fix.hpp"
+
+namespace locus::tracks {
+
+enum class State { live, closed, gone };
+const char* state_name(State s);
+
+struct Options {
+    double ttl_s = 600;            // a live track with no fix for this long closes
+    double retention_s = 86'400;   // a closed track's fixes and shares are deleted this long after it closed
+    double heartbeat_s = 15;       // an event stream writes a comment this often when nothing happens
+    std::size_t max_streams = 100;      // open event streams, all tracks together
+    std::size_t max_live_tracks = 10'000;
+    std::size_t max_fixes_per_track = 200'000;  // more than two days at one fix a second
+    std::size_t event_buffer = 64;  // fixes kept per track for a stream that falls behind (streams wake at each fix)
+};
+
+// Why a request on a track is refused; the HTTP layer gives each its status.
+enum class Reason { forbidden, gone, closed, busy, full };
+struct Refused : std::runtime_error {
+    Reason reason;
+    Refused(Reason r, const std::string& what) : std::runtime_error(what), reason(r) {}
+};
+
+enum class Access { owner, share };
+
+struct TrackInfo {
+    std::int64_t id = 0, map_id = 0;
+    std::string label;
+    State state = State::live;
+    double created_at = 0, last_fix_at = 0;
+    std::optional<double> ended_at;
+    std::optional<Fix> latest;  // the fix with the largest t
+    std::size_t fixes = 0;
+};
+
+struct Opened {
+    TrackInfo info;
+    std::string token;
+};
+
+struct Posted {
+    std::size_t stored = 0, duplicates = 0;
+    std::optional<Fix> latest;
+};
+
+struct Share {
+    std::int64_t id = 0, track_id = 0;
+    std::string token;
+};
+
+// What an event stream is to write next: new fixes (in the order they were stored), or only a
+// heartbeat; `ended` once the track closed or went, or the server is stopping.
+struct Events {
+    std::vector<Fix> fixes;
+    bool ended = false;
+};
+
+class ThinFusion;
+
+class Service {
+    struct Track;
+
+public:
+    Service(store::Store& store, Options options);
+    ~Service();
+    Service(const Service&) = delete;
+    Service& operator=(const Service&) = delete;
+
+    const Options& options() const { return options_; }
+    // Wakes every event stream to end and stops the sweeper; called before the HTTP server stops.
+    void stop();
+
+    // A new live track on an existing map (store::NotFound otherwise).
+    Opened open(std::int64_t map_id, const std::string& label);
+    // What `token` may do with track `id`. An unknown track and a wrong token are refused alike
+    // (forbidden), so a token says nothing about tracks it does not open; the owner of a track
+    // that went is told so (gone).
+    Access authorize(std::int64_t id, const std::string& token) const;
+
+    // Fixes must be validated (finite, in range); the first floor not on the track's map is
+    // returned (nothing stored), else nullopt after storing them in one transaction. A t
+    // already stored is a duplicate and keeps the first fix.
+    std::optional<std::int64_t> misplaced_floor(std::int64_t id, const std::vector<Fix>& fixes);
+    Posted post(std::int64_t id, const std::vector<Fix>& fixes);
+    // A thin client's raw steps and radio fixes, fused by client-lib's particle filter
+    // (tracks/fusion.hpp) and stored as the track's fixes; answers them with the post's counts.
+    // std::invalid_argument when the filter cannot run (no plan, steps before any fix).
+    std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio);
+    void close(std::int64_t id);
+    void remove(std::int64_t id);
+
+    TrackInfo info(std::int64_t id) const;
+    // The `limit` latest fixes, oldest first.
+    std::vector<Fix> trail(std::int64_t id, std::size_t limit);
+    std::vector<TrackInfo> live_on_map(std::int64_t map_id, std::optional<std::int64_t> floor_id) const;
+
+    Share add_share(std::int64_t id);
+    void revoke_share(std::int64_t id, std::int64_t share_id);  // store::NotFound for a share not of this track
+
+    class Stream {
+    public:
+        ~Stream();
+
+    private:
+        friend class Service;
+        Stream(Service& s, std::shared_ptr<Track> t) : service_(s), track_(std::move(t)) {}
+        Service& service_;
+        std::shared_ptr<Track> track_;
+        std::uint64_t seen_ = 0;
+        bool started_ = false;
+    };
+    // Refused(busy) past max_streams.
+    std::unique_ptr<Stream> open_stream(std::int64_t id);
+    // The first call answers the latest fix; each later one waits up to heartbeat_s for more.
+    Events next_events(Stream& stream);
+
+    // One sweep now (the sweeper thread's work; tests call it through tiny flags instead).
+    void sweep();
+    static double now();
+
+private:
+    std::vector<std::int64_t> sweep_tracks();  // closes and purges; answers the tracks no longer live
+    std::shared_ptr<Track> find(std::int64_t id) const;  // under mu_; Refused(forbidden) for no such track
+    void load();
+    void sweeper();
+
+    store::Store& store_;
+    Options options_;
+    mutable std::mutex db_mu_;  // the connection; taken before mu_ when both are held
+    store::Db db_;
+    mutable std::mutex mu_;
+    std::unordered_map<std::int64_t, std::shared_ptr<Track>> tracks_;
+    std::unordered_map<std::int64_t, std::unordered_set<std::int64_t>> floors_of_map_;  // floors seen on each map
+    std::size_t streams_ = 0;
+    std::mutex fusion_mu_;  // the two below; taken before db_mu_
+    std::unordered_map<std::int64_t, std::shared_ptr<ThinFusion>> fusions_;
+    std::unordered_map<std::int64_t, std::shared_ptr<const fusion::Walkable>> walkables_;  // by floor; dropped when its plan changes
+    std::size_t subscription_ = 0;
+    bool stopping_ = false;
+    std::condition_variable sweep_cv_;
+    std::thread sweeper_;
+};
+
+}  // namespace locus::tracks

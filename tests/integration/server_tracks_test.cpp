@@ -1,0 +1,449 @@
+// Live tracks over HTTP against the real server: fixes in any order and twice, the trail, a
+// share that opens one track only, every bad input refused with nothing written, an event
+// stream that sees a posted fix within a second, the relative position of two tracks against
+// hand-computed values, and tracks closing and going with tiny --track-ttl/--track-retention.
+// Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
+#include "locus/fusion/particle_filter.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <numbers>
+#include <thread>
+
+#include "hierarchy.hpp"
+#include "locus/api/client.hpp"
+#include "locus/plan/geojson.hpp"
+#include "plan_geojson.hpp"
+#include "server_process.hpp"
+
+using locus::testing::Response;
+using locus::testing::ServerProcess;
+using locus::testing::body_of;
+using nlohmann::json;
+
+namespace {
+
+double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+struct Tokens {
+    Tokens(std::string t = "", std::string p = "") : track(std::move(t)), peer(std::move(p)) {}
+    std::string track, peer, api_key;
+};
+Tokens key(const std::string& api_key) {
+    Tokens t;
+    t.api_key = api_key;
+    return t;
+}
+
+Response call(const ServerProcess& s, const std::string& method, const std::string& path, const Tokens& tokens = {},
+              const std::string& body = "") {
+    httplib::Client c("127.0.0.1", s.port());
+    c.set_read_timeout(5, 0);
+    httplib::Headers h;
+    if (!tokens.track.empty()) h.emplace("X-Track-Token", tokens.track);
+    if (!tokens.peer.empty()) h.emplace("X-Peer-Token", tokens.peer);
+    if (!tokens.api_key.empty()) h.emplace("Authorization", "Bearer " + tokens.api_key);
+    httplib::Result r = method == "GET"      ? c.Get(path.c_str(), h)
+                        : method == "DELETE" ? c.Delete(path.c_str(), h)
+                                             : c.Post(path.c_str(), h, body, "application/json");
+    Response out;
+    if (!r) return out;
+    out.status = r->status;
+    out.raw = r->body;
+    out.body = json::parse(r->body, nullptr, false);
+    return out;
+}
+
+struct Track {
+    std::int64_t id = 0;
+    std::string token;
+};
+
+Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label = "phone") {
+    const json b = body_of(call(s, "POST", "/v1/tracks", {}, json{{"map_id", map}, {"label", label}}.dump()), 201);
+    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
+}
+
+json fix(double t, std::int64_t floor, double x, double y, std::optional<double> heading = std::nullopt) {
+    json f = {{"t", t}, {"floor_id", floor}, {"x", x}, {"y", y}, {"accuracy_m", 1.5}};
+    if (heading) f["heading_deg"] = *heading;
+    return f;
+}
+
+Response post_fixes(const ServerProcess& s, const Track& t, const std::vector<json>& fixes, const std::string& token = "") {
+    json body = json::object();
+    body["fixes"] = json(fixes);
+    return call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/fixes", {token.empty() ? t.token : token}, body.dump());
+}
+
+std::string path_of(const Track& t, const std::string& rest = "") { return "/v1/tracks/" + std::to_string(t.id) + rest; }
+
+}  // namespace
+
+TEST(ServerTracks, FixesInAnyOrderAndTwiceMakeOneOrderedTrail) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track t = open_track(s, h.map);
+    const double t0 = unix_now() - 10;
+    json first = body_of(post_fixes(s, t, {fix(t0 + 2, h.floor, 2, 0), fix(t0, h.floor, 0, 0), fix(t0 + 1, h.floor, 1, 0, 90.0)}));
+    EXPECT_EQ(first["stored"], 3);
+    EXPECT_EQ(first["duplicates"], 0);
+    // A retry of t0 + 1 with other values, and an older fix arriving late.
+    json second = body_of(post_fixes(s, t, {fix(t0 + 1, h.floor, 9, 9), fix(t0 - 1, h.floor, -1, 0)}));
+    EXPECT_EQ(second["stored"], 1);
+    EXPECT_EQ(second["duplicates"], 1);
+    const json got = body_of(call(s, "GET", path_of(t), {t.token}));
+    EXPECT_EQ(got["state"], "live");
+    EXPECT_EQ(got["fixes"], 4);
+    EXPECT_DOUBLE_EQ(got["latest"]["x"].get<double>(), 2.0);  // the largest t, not the last posted
+    ASSERT_EQ(got["trail"].size(), 4u);
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(got["trail"][i]["x"].get<double>(), static_cast<double>(i) - 1.0);
+    EXPECT_DOUBLE_EQ(got["trail"][2]["heading_deg"].get<double>(), 90.0);  // the first of t0 + 1 kept
+    const json two = body_of(call(s, "GET", path_of(t, "?limit=2"), {t.token}));
+    ASSERT_EQ(two["trail"].size(), 2u);
+    EXPECT_DOUBLE_EQ(two["trail"][1]["x"].get<double>(), 2.0);
+}
+
+TEST(ServerTracks, AShareReadsOneTrackUntilRevoked) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
+    body_of(post_fixes(s, a, {fix(unix_now(), h.floor, 1, 1)}));
+    const json share = body_of(call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201);
+    const std::string st = share["token"];
+    EXPECT_EQ(body_of(call(s, "GET", path_of(a), {st}))["label"], "ann");
+    EXPECT_EQ(call(s, "GET", path_of(b), {st}).status, 403);  // one track only
+    EXPECT_EQ(post_fixes(s, a, {fix(unix_now(), h.floor, 2, 2)}, st).status, 403);  // reads, never writes
+    EXPECT_EQ(call(s, "POST", path_of(a, "/shares"), {st}, "{}").status, 403);
+    EXPECT_EQ(call(s, "DELETE", path_of(a), {st}).status, 403);
+    EXPECT_EQ(call(s, "DELETE", path_of(a, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {a.token}).status, 204);
+    EXPECT_EQ(call(s, "GET", path_of(a), {st}).status, 403);
+    EXPECT_EQ(call(s, "DELETE", path_of(a, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {a.token}).status, 404);
+}
+
+TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const auto other = locus::testing::make_hierarchy(s, "Elsewhere");
+    const Track t = open_track(s, h.map);
+    const double now = unix_now();
+    auto code = [](const Response& r) { return r.body.is_object() ? r.body["error"]["code"].get<std::string>() : std::string("?"); };
+
+    EXPECT_EQ(call(s, "POST", "/v1/tracks", {}, R"({"map_id": 999})").status, 422);
+    EXPECT_EQ(call(s, "POST", "/v1/tracks", {}, R"({"map_id": "1"})").status, 422);
+    EXPECT_EQ(call(s, "POST", "/v1/tracks", {}, R"({"map_id": 1, "colour": "red"})").status, 422);
+
+    const Response missing = call(s, "POST", path_of(t, "/fixes"), {}, R"({"fixes": [{"t": 1, "floor_id": 1, "x": 0, "y": 0, "accuracy_m": 1}]})");
+    EXPECT_EQ(missing.status, 401);
+    EXPECT_EQ(code(missing), "unauthorized");
+    const Response wrong = post_fixes(s, t, {fix(now, h.floor, 0, 0)}, "trk_0000");
+    EXPECT_EQ(wrong.status, 403);
+    // An unknown track answers as a wrong token does: a token tells nothing of other tracks.
+    const Response unknown = post_fixes(s, Track{t.id + 100, t.token}, {fix(now, h.floor, 0, 0)});
+    EXPECT_EQ(unknown.status, 403);
+    EXPECT_EQ(code(unknown), code(wrong));
+    EXPECT_EQ(call(s, "GET", "/v1/tracks/999", {t.token}).status, 403);
+
+    const std::string p = path_of(t, "/fixes");
+    EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"fixes": [{"t": NaN, "floor_id": 1, "x": 0, "y": 0, "accuracy_m": 1}]})").status, 400);
+    EXPECT_EQ(post_fixes(s, t, {fix(now, h.floor, 1e308 * 10, 0)}).status, 422);  // infinity is written as null: not a number
+    EXPECT_EQ(code(post_fixes(s, t, {fix(now, h.floor, 1e9, 0)})), "out_of_range");
+    EXPECT_EQ(code(post_fixes(s, t, {fix(now, other.floor, 0, 0)})), "invalid_field");  // a floor of another map
+    EXPECT_EQ(code(post_fixes(s, t, {fix(now, 987654, 0, 0)})), "invalid_field");
+    EXPECT_EQ(code(post_fixes(s, t, {fix(now + 3600, h.floor, 0, 0)})), "invalid_field");  // far in the future
+    EXPECT_EQ(code(post_fixes(s, t, {fix(now, h.floor, 0, 0), json{{"t", now}}})), "invalid_field");
+    EXPECT_EQ(code(post_fixes(s, t, {})), "invalid_field");
+    std::vector<json> many;
+    for (int i = 0; i < 1001; ++i) many.push_back(fix(now - 100 + i * 0.01, h.floor, 0, 0));
+    const Response big = post_fixes(s, t, many);
+    EXPECT_EQ(big.status, 413);
+    EXPECT_EQ(code(big), "batch_too_large");
+    // A good fix before a bad one in the same batch: neither is written.
+    EXPECT_EQ(post_fixes(s, t, {fix(now, h.floor, 0, 0), fix(now + 1, h.floor, 0, std::nan(""))}).status, 422);
+    EXPECT_EQ(post_fixes(s, t, {fix(now, h.floor, 0, 0), fix(now + 1, other.floor, 0, 0)}).status, 422);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 0);  // every refused batch wrote nothing
+
+    // A floor of the map that is deleted is no longer one to post on.
+    const auto extra = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
+                                      {{"name", "Annex"}, {"level", 3}, {"width", 10.0}, {"height", 10.0}}), 201)["id"].get<std::int64_t>();
+    EXPECT_EQ(post_fixes(s, t, {fix(now - 1, extra, 0, 0)}).status, 200);
+    EXPECT_EQ(s.del("/v1/floors/" + std::to_string(extra)).status, 204);
+    EXPECT_EQ(code(post_fixes(s, t, {fix(now, extra, 0, 0)})), "invalid_field");
+
+    // Closed: no more fixes, no new shares; closing twice is fine.
+    EXPECT_EQ(body_of(call(s, "POST", path_of(t, "/close"), {t.token}, "{}"))["state"], "closed");
+    EXPECT_EQ(call(s, "POST", path_of(t, "/close"), {t.token}, "{}").status, 200);
+    EXPECT_EQ(code(post_fixes(s, t, {fix(now, h.floor, 0, 0)})), "track_closed");
+    EXPECT_EQ(code(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}")), "track_closed");
+    EXPECT_EQ(call(s, "GET", path_of(t, "?limit=5000"), {t.token}).status, 400);
+
+    // Deleted: the owner is told it went, anyone else learns nothing.
+    EXPECT_EQ(call(s, "DELETE", path_of(t), {t.token}).status, 204);
+    EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
+    EXPECT_EQ(call(s, "GET", path_of(t), {"trk_guess"}).status, 403);
+}
+
+TEST(ServerTracks, RelativePositionMatchesHandComputedValues) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
+    const double now = unix_now();
+    const std::string rel = "/v1/tracks/" + std::to_string(a.id) + "/relative/" + std::to_string(b.id);
+    body_of(post_fixes(s, a, {fix(now - 2, h.floor, 1, 1, 90.0)}));  // facing +x
+    EXPECT_EQ(call(s, "GET", rel, {a.token, b.token}).status, 409);  // b has no fix yet
+    body_of(post_fixes(s, b, {fix(now - 1, h.floor, 4, 5)}));
+    EXPECT_EQ(call(s, "GET", rel, {a.token}).status, 401);
+    const std::string b_share = body_of(call(s, "POST", path_of(b, "/shares"), {b.token}, "{}"), 201)["token"];
+    const json r = body_of(call(s, "GET", rel, {a.token, b_share}));
+    EXPECT_NEAR(r["straight_distance_m"].get<double>(), 5.0, 1e-9);
+    // b is 3 m along +x and 4 m along +y: bearing atan2(3, 4) = 36.87° clockwise from +y,
+    // 53.13° left of a's heading of 90°.
+    EXPECT_NEAR(r["bearing_deg"].get<double>(), 36.8699, 1e-3);
+    EXPECT_NEAR(r["relative_bearing_deg"].get<double>(), -53.1301, 1e-3);
+    EXPECT_EQ(r["direction"], "ahead, 53\u00b0 left");
+    EXPECT_EQ(r["floor_difference"], 0);
+    EXPECT_NEAR(r["from"]["age_s"].get<double>(), 2.0, 1.0);
+    EXPECT_NEAR(r["to"]["age_s"].get<double>(), 1.0, 1.0);
+    EXPECT_FALSE(r.contains("walking_distance_m"));  // the floor has no plan to walk on
+    EXPECT_TRUE(r.contains("walking_problem"));
+    // a's token for b's side, or b's share for a's side, does not do.
+    EXPECT_EQ(call(s, "GET", rel, {b_share, a.token}).status, 403);
+    EXPECT_EQ(call(s, "GET", rel, {a.token, "shr_nothing"}).status, 403);
+}
+
+TEST(ServerTracks, PositionsNeedTheApiKeyAndListLiveTracks) {
+    ServerProcess s({"--quiet", "--api-key", "k1"});
+    s.set_api_key("k1");
+    const auto h = locus::testing::make_hierarchy(s);
+    s.set_api_key("");
+    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
+    open_track(s, h.map, "no fix yet");
+    body_of(post_fixes(s, a, {fix(unix_now(), h.floor, 1, 1)}));
+    body_of(post_fixes(s, b, {fix(unix_now(), h.floor, 2, 2)}));
+    const std::string p = "/v1/maps/" + std::to_string(h.map) + "/positions";
+    EXPECT_EQ(call(s, "GET", p).status, 401);
+    EXPECT_EQ(call(s, "GET", p, key("wrong")).status, 401);
+    EXPECT_EQ(call(s, "GET", p, {a.token}).status, 401);  // a track's token is not the operator's key
+    const json all = body_of(call(s, "GET", p, key("k1")));
+    ASSERT_EQ(all["positions"].size(), 2u);
+    EXPECT_EQ(all["positions"][0]["label"], "ann");
+    EXPECT_EQ(all["positions"][1]["fix"]["x"], 2.0);
+    EXPECT_EQ(body_of(call(s, "GET", p + "?floor_id=" + std::to_string(h.floor + 1000), key("k1")))["positions"].size(), 0u);
+    EXPECT_EQ(call(s, "GET", p + "?floor_id=x", key("k1")).status, 400);
+    EXPECT_EQ(call(s, "GET", "/v1/maps/999/positions", key("k1")).status, 404);
+    body_of(call(s, "POST", path_of(a, "/close"), {a.token}, "{}"));
+    EXPECT_EQ(body_of(call(s, "GET", p, key("k1")))["positions"].size(), 1u);
+}
+
+namespace {
+
+// Reads an event stream on its own thread, keeping every `data:` line.
+struct Listener {
+    std::mutex mu;
+    std::vector<json> fixes;
+    std::atomic<bool> ended{false}, stop{false};
+    int status = 0;
+    std::thread thread;
+
+    Listener(int port, const std::string& path, const std::string& token) {
+        thread = std::thread([this, port, path, token] {
+            httplib::Client c("127.0.0.1", port);
+            c.set_read_timeout(10, 0);
+            std::string buf;
+            auto r = c.Get(path.c_str(), httplib::Headers{{"X-Track-Token", token}}, [&](const char* data, std::size_t n) {
+                buf.append(data, n);
+                for (std::size_t end; (end = buf.find("\n\n")) != std::string::npos; buf.erase(0, end + 2)) {
+                    const std::string event = buf.substr(0, end);
+                    if (event.starts_with("event: end")) ended = true;
+                    if (const auto d = event.find("data: "); event.starts_with("event: fix") && d != std::string::npos) {
+                        std::lock_guard lock(mu);
+                        fixes.push_back(json::parse(event.substr(d + 6)));
+                    }
+                }
+                return !stop.load();
+            });
+            if (r) status = r->status;
+        });
+    }
+    ~Listener() {
+        stop = true;
+        thread.join();
+    }
+    std::size_t count() {
+        std::lock_guard lock(mu);
+        return fixes.size();
+    }
+    bool wait_for(std::size_t n, double seconds) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        while (count() < n && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        return count() >= n;
+    }
+};
+
+}  // namespace
+
+TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
+    ServerProcess s({"--quiet", "--track-heartbeat", "0.2", "--max-track-streams", "2"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track t = open_track(s, h.map);
+    const double now = unix_now();
+    body_of(post_fixes(s, t, {fix(now - 5, h.floor, 0, 0)}));
+    const std::string share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
+    Listener owner(s.port(), path_of(t, "/events"), t.token);
+    Listener friend_(s.port(), path_of(t, "/events"), share);
+    ASSERT_TRUE(owner.wait_for(1, 2.0));  // the latest fix, at once
+    ASSERT_TRUE(friend_.wait_for(1, 2.0));
+    // A third stream is past --max-track-streams; a wrong token never gets one.
+    EXPECT_EQ(call(s, "GET", path_of(t, "/events"), {t.token}).status, 503);
+    EXPECT_EQ(call(s, "GET", path_of(t, "/events"), {"trk_wrong"}).status, 403);
+
+    for (int i = 0; i < 3; ++i) {
+        const auto posted = std::chrono::steady_clock::now();
+        body_of(post_fixes(s, t, {fix(now + i, h.floor, i + 1.0, 0)}));
+        ASSERT_TRUE(owner.wait_for(2 + i, 1.0)) << "fix " << i;
+        ASSERT_TRUE(friend_.wait_for(2 + i, 1.0)) << "fix " << i;
+        EXPECT_LT(std::chrono::steady_clock::now() - posted, std::chrono::seconds(1));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // heartbeats only: no fix repeated
+    EXPECT_EQ(owner.count(), 4u);
+    EXPECT_DOUBLE_EQ(owner.fixes.back()["x"].get<double>(), 3.0);
+    // Closing ends both streams.
+    body_of(call(s, "POST", path_of(t, "/close"), {t.token}, "{}"));
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (!(owner.ended && friend_.ended) && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    EXPECT_TRUE(owner.ended);
+    EXPECT_TRUE(friend_.ended);
+}
+
+TEST(ServerTracks, ATrackClosesAfterItsTtlAndGoesAfterRetention) {
+    ServerProcess s({"--quiet", "--track-ttl", "0.4", "--track-retention", "1.5"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track t = open_track(s, h.map);
+    body_of(post_fixes(s, t, {fix(unix_now(), h.floor, 1, 1)}));
+    const std::string share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
+    std::string state;
+    for (int i = 0; i < 100 && state != "closed"; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        state = body_of(call(s, "GET", path_of(t), {t.token}))["state"];
+    }
+    EXPECT_EQ(state, "closed");
+    EXPECT_EQ(post_fixes(s, t, {fix(unix_now(), h.floor, 1, 1)}).status, 409);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {share}))["state"], "closed");  // still readable until retention
+    int status = 200;
+    for (int i = 0; i < 100 && status == 200; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        status = call(s, "GET", path_of(t), {t.token}).status;
+    }
+    EXPECT_EQ(status, 404);  // expired: the owner is told, the share opens nothing
+    EXPECT_EQ(call(s, "GET", path_of(t), {share}).status, 403);
+    // Nothing of it is left in the database but its tombstone, and a restart keeps it so.
+    s.stop();
+    s.start();
+    EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
+}
+
+// A thin client's steps and radio fixes, fused on the server, give exactly what client-lib's
+// particle filter gives on the same inputs here: one code path.
+TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    using locus::testing::feature;
+    const json plan = {{"type", "FeatureCollection"},
+                       {"features", {feature("space", locus::testing::rect_polygon(0, 0, 20, 4), {{"name", "Corridor"}, {"kind", "corridor"}}),
+                                     feature("space", locus::testing::rect_polygon(0, 4, 8, 10), {{"name", "Lab"}}),
+                                     feature("wall", locus::testing::line({{0, 4}, {8, 4}}))}}};
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(h.floor) + "/plan", plan).status, 200);
+    const Track t = open_track(s, h.map);
+    const double t0 = std::floor(unix_now()) - 30;
+    const std::string p = path_of(t, "/steps");
+    // Steps with nowhere to start from are refused, and nothing is stored.
+    json steps_only = {{"steps", {{{"t", t0}, {"length_m", 0.7}, {"heading_deg", 90}}}}};
+    const Response refused = call(s, "POST", p, {t.token}, steps_only.dump());
+    EXPECT_EQ(refused.status, 422);
+    EXPECT_EQ(refused.body["error"]["code"], "cannot_fuse");
+
+    json steps = json::array();
+    for (int i = 1; i <= 6; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    const json body = {{"steps", steps},
+                       {"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 2.0}, {"y", 2.0}, {"accuracy_m", 2.0}},
+                                  {{"t", t0 + 3}, {"floor_id", h.floor}, {"x", 4.5}, {"y", 2.5}, {"accuracy_m", 1.5}}}}};
+    const json got = body_of(call(s, "POST", p, {t.token}, body.dump()));
+    ASSERT_EQ(got["fused"].size(), 8u);
+    EXPECT_EQ(got["stored"], 7);  // the radio fix and the step at t0 + 3: the track keeps the state after both
+
+    // The same in client-lib, on the plan as the server keeps it.
+    json stored = body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/plan"));
+    const auto walkable = locus::fusion::Walkable::from_plan(locus::plan::from_geojson({{"type", "FeatureCollection"}, {"features", stored["features"]}}));
+    locus::fusion::ParticleFilter pf(walkable, {2.0, 2.0});
+    std::vector<locus::Point> expected{pf.position()};
+    auto step = [&] {
+        pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+        expected.push_back(pf.position());
+    };
+    step(), step();
+    pf.update({4.5, 2.5}, Eigen::Matrix2d::Identity() * 1.5 * 1.5);  // the radio fix at t0 + 3 comes before the step at t0 + 3
+    expected.push_back(pf.position());
+    step(), step(), step(), step();
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        EXPECT_NEAR(got["fused"][i]["x"].get<double>(), expected[i].x, 1e-9) << i;
+        EXPECT_NEAR(got["fused"][i]["y"].get<double>(), expected[i].y, 1e-9) << i;
+    }
+    EXPECT_GT(got["fused"][7]["x"].get<double>(), 5.0);  // it walked east
+    // The next request goes on from where this one left the filter.
+    const json more = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 7}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
+    pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+    EXPECT_NEAR(more["fused"][0]["x"].get<double>(), pf.position().x, 1e-9);
+    EXPECT_DOUBLE_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["latest"]["x"].get<double>(), more["fused"][0]["x"].get<double>());
+    // Bad steps: a step longer than 3 m, a floor of no plan, a share token.
+    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 8}, {"length_m", 9}, {"heading_deg", 0}}}}}.dump()).status, 422);
+    EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"steps": []})").status, 422);
+    EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"walk": []})").status, 422);
+}
+
+// The REST client's track calls against the real server.
+TEST(ServerTracks, ClientTrackCalls) {
+    ServerProcess s({"--quiet", "--api-key", "k2"});
+    s.set_api_key("k2");
+    const auto h = locus::testing::make_hierarchy(s);
+    locus::api::ClientOptions phone_options;
+    phone_options.base_url = s.url();
+    locus::api::Client phone(phone_options);  // no API key: a phone
+    auto operator_options = phone_options;
+    operator_options.api_key = "k2";
+    locus::api::Client op(operator_options);
+
+    const auto ann = phone.open_track(h.map, "ann"), bob = phone.open_track(h.map, "bob");
+    EXPECT_DOUBLE_EQ(ann.ttl_s, 600.0);
+    const double now = unix_now();
+    const auto posted = phone.post_fixes(ann.key, {{now - 1, h.floor, 1, 1, 1, 0.0}, {now - 2, h.floor, 0, 1, 1, std::nullopt}});
+    EXPECT_EQ(posted.stored, 2);
+    EXPECT_EQ(phone.post_fixes(ann.key, {{now - 1, h.floor, 9, 9, 1, std::nullopt}}).duplicates, 1);
+    phone.post_fixes(bob.key, {{now - 1, h.floor, 1, 4, 1, std::nullopt}});
+    const auto state = phone.track(ann.key);
+    EXPECT_EQ(state.state, "live");
+    ASSERT_EQ(state.trail.size(), 2u);
+    EXPECT_DOUBLE_EQ(state.trail[0].x, 0.0);
+    ASSERT_TRUE(state.latest && state.latest->heading_deg);
+    const auto share = phone.share_track(bob.key);
+    const json rel = phone.relative(ann.key, share.key);
+    EXPECT_NEAR(rel["straight_distance_m"].get<double>(), 3.0, 1e-9);
+    EXPECT_EQ(rel["direction"], "ahead");  // ann faces +y (0°), bob is 3 m along +y
+    EXPECT_EQ(op.positions(h.map).size(), 2u);
+    EXPECT_THROW(phone.positions(h.map), locus::api::ApiError);  // the operator's view needs the key
+    phone.revoke_share(bob.key, share.id);
+    EXPECT_THROW(phone.track(share.key), locus::api::ApiError);
+    phone.close_track(ann.key);
+    EXPECT_EQ(phone.track(ann.key).state, "closed");
+    phone.delete_track(ann.key);
+    try {
+        phone.track(ann.key);
+        ADD_FAILURE() << "a deleted track was read";
+    } catch (const locus::api::ApiError& e) {
+        EXPECT_EQ(e.status(), 404);
+    }
+}
