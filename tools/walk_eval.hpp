@@ -8,6 +8,7 @@
 // the fixes (fusion::HeadingAlignment), never given.
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "datasets/putmc.hpp"
@@ -29,19 +30,27 @@ std::vector<PhoneStep> detect_steps(const datasets::putmc::Walk& walk, double un
 
 // The methods' parameters on real walks. Chosen on walks xperia_traj1–5 only (docs/fusion.md):
 // the Kalman filter's per-metre step noise is 8× the simulator's (a real indoor compass is off
-// by tens of degrees, the simulator's by a few) and midpoint_threshold's λ is the PDR error
-// seen between fixes here (3 m), not Traini's 4 m; the rest as `locus sim` and `replay` run them.
+// by tens of degrees, the simulator's by a few); the five rules run with the seed's exact
+// constants here (Traini's λ = 4 m, N_max 10, γ 2, midpoint ½) and again tuned (below).
 inline sim::EvalConfig real_walk_methods() {
     sim::EvalConfig c;
     c.kalman.step_sigma_per_m = 4.0;
-    c.rules.lambda_m = 3.0;
     return c;
+}
+
+// The rules' parameters chosen on walks 1–5 (docs/fusion.md, "The five rules on real data"),
+// reported as `<rule>_tuned` beside the seed-exact rules.
+inline fusion::RuleParams real_walk_rules() {
+    fusion::RuleParams p;
+    p.lambda_m = 3.0;
+    return p;
 }
 
 struct Config {
     sim::EvalConfig methods = real_walk_methods();
+    fusion::RuleParams tuned_rules = real_walk_rules();
     fusion::WalkFilterConfig walk_filter;
-    bool smooth = false;  // also the offline (future-using) smoother
+    bool smooth = false;  // also the offline (future-using) smoothers
 };
 
 // What one method estimated at each scan (nullopt before the walk's first fix).
@@ -65,6 +74,8 @@ struct WalkResult {
 WalkResult evaluate_walk(const datasets::putmc::Walk& walk, const std::vector<std::optional<sim::Fix>>& fixes,
                          double floor_height_m, const std::optional<fusion::Walkable>& map, const Config& config);
 
+// The rules that have a parameter to tune; each is also reported as `<rule>_tuned`.
+std::vector<std::string_view> tuned_rule_names();
 // Method names in the order of the report.
 std::vector<std::string> method_names(bool with_map, bool smooth);
 
