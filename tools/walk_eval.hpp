@@ -42,7 +42,10 @@ inline sim::EvalConfig real_walk_methods() {
 // reported as `<rule>_tuned` beside the seed-exact rules.
 inline fusion::RuleParams real_walk_rules() {
     fusion::RuleParams p;
-    p.lambda_m = 3.0;
+    p.midpoint_wifi_weight = 0.9;  // 0.5 → 0.9 took midpoint from 3.69 to 2.29 m on walks 1–5
+    p.lambda_m = 100.0;            // with that weight any λ ≤ 20 m was worse: the switch never fires
+    p.n_max = 20;                  // seed's 10: every scan here has ≥ 10 APs, so α = 0 (the fix)
+    p.proportional2_min_r = 0.9;   // the fix's weight at least 0.9 (6.21 → 2.29 m on walks 1–5)
     return p;
 }
 
