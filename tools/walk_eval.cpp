@@ -222,7 +222,9 @@ WalkResult evaluate_walk(const putmc::Walk& walk, const std::vector<std::optiona
         // (both hold the scan's own fix; the forward one everything before, the backward one
         // everything after). Offline: it uses the future.
         const auto fwd = r.tracks[r.tracks.size() - 2].at_scan;  // walk_pf
-        const auto bwd = at_scans_backward(walk_pf_backward(phone, fx, t0, map, wc), scan_t);
+        fusion::WalkFilterConfig bc = wc;
+        bc.particles = config.backward_particles;
+        const auto bwd = at_scans_backward(walk_pf_backward(phone, fx, t0, map, bc), scan_t);
         std::vector<std::optional<Point>> both(scan_t.size());
         for (std::size_t k = 0; k < scan_t.size(); ++k) {
             if (fwd[k] && bwd[k]) both[k] = Point{(fwd[k]->x + bwd[k]->x) / 2, (fwd[k]->y + bwd[k]->y) / 2};

@@ -65,6 +65,9 @@ struct Config {
     fusion::RuleParams tuned_rules = real_walk_rules();
     fusion::WalkFilterConfig walk_filter = real_walk_filter();
     bool smooth = false;  // also the offline (future-using) smoothers
+    // pf_smoother's backward walk_pf: half the forward one's particles keeps the 12-walk run
+    // with --smooth within 30 s (on walks 1–5: docs/fusion.md).
+    int backward_particles = 1000;
 };
 
 // What one method estimated at each scan (nullopt before the walk's first fix).

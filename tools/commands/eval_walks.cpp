@@ -46,7 +46,8 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
     auto& c = cfg.walk_filter;
     auto& pc = cfg.methods.particle;
     auto& rp = cfg.tuned_rules;
-    double seed = static_cast<double>(c.seed), particles = pc.particles, n_max = rp.n_max, gamma = rp.gamma;
+    double seed = static_cast<double>(c.seed), particles = pc.particles, n_max = rp.n_max, gamma = rp.gamma,
+           backward = cfg.backward_particles;
     const std::map<std::string, double*> keys = {
         {"initial_sigma_m", &c.initial_sigma_m}, {"scale_mean", &c.scale_mean}, {"scale_sigma", &c.scale_sigma},
         {"heading_sigma_rad", &c.heading_sigma_rad}, {"offset_walk_rad", &c.offset_walk_rad}, {"scale_walk", &c.scale_walk},
@@ -62,7 +63,8 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
         {"particle.latency_s", &cfg.methods.particle_fix_latency_s}, {"fix_sigma_floor_m", &cfg.methods.fix_sigma_floor_m},
         {"kalman.step_sigma_per_m", &cfg.methods.kalman.step_sigma_per_m}, {"rules.lambda_m", &rp.lambda_m},
         {"rules.midpoint_wifi_weight", &rp.midpoint_wifi_weight}, {"rules.proportional2_min_r", &rp.proportional2_min_r},
-        {"rules.n_max", &n_max}, {"rules.gamma", &gamma}};
+        {"rules.n_max", &n_max}, {"rules.gamma", &gamma},
+        {"smoother.backward_particles", &backward}};
     for (const auto& item : kv) {
         const auto eq = item.find('=');
         const auto it = keys.find(item.substr(0, eq));
@@ -77,6 +79,7 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
     pc.particles = static_cast<int>(particles);
     rp.n_max = static_cast<int>(n_max);
     rp.gamma = static_cast<int>(gamma);
+    cfg.backward_particles = static_cast<int>(backward);
 }
 
 json stats_json(const walks::Stats& s) {
@@ -200,7 +203,7 @@ void run(const Args& a) {
         return;
     }
     char line[256];
-    std::snprintf(line, sizeof line, "%-20s %6s %8s %8s %8s %8s\n", "method", "scans", "mean", "median", "p75", "p95");
+    std::snprintf(line, sizeof line, "%-26s %6s %8s %8s %8s %8s\n", "method", "scans", "mean", "median", "p75", "p95");
     for (const auto& w : out["walks"]) {
         std::cout << w["walk"].get<std::string>() << " (" << w["scans"] << " scans, " << w["steps"] << " steps, offset "
                   << static_cast<int>(std::lround(w["offset_deg"].get<double>())) << "°" << (w["mirrored"].get<bool>() ? ", mirrored" : "")
@@ -209,7 +212,7 @@ void run(const Args& a) {
         for (const auto& m : shown) {
             const auto& s = w["methods"][m];
             char row[256];
-            std::snprintf(row, sizeof row, "%-20s %6d %8.2f %8.2f %8.2f %8.2f\n", m.c_str(), s["n"].get<int>(),
+            std::snprintf(row, sizeof row, "%-26s %6d %8.2f %8.2f %8.2f %8.2f\n", m.c_str(), s["n"].get<int>(),
                           s["mean_m"].get<double>(), s["median_m"].get<double>(), s["p75_m"].get<double>(), s["p95_m"].get<double>());
             std::cout << row;
         }
@@ -218,7 +221,7 @@ void run(const Args& a) {
     for (const auto& m : shown) {
         const auto& s = out["pooled"][m];
         char row[256];
-        std::snprintf(row, sizeof row, "%-20s %6d %8.2f %8.2f %8.2f %8.2f%s\n", m.c_str(), s["n"].get<int>(), s["mean_m"].get<double>(),
+        std::snprintf(row, sizeof row, "%-26s %6d %8.2f %8.2f %8.2f %8.2f%s\n", m.c_str(), s["n"].get<int>(), s["mean_m"].get<double>(),
                       s["median_m"].get<double>(), s["p75_m"].get<double>(), s["p95_m"].get<double>(),
                       m.ends_with("_smoother") ? "  (offline: uses future data)" : "");
         std::cout << row;
