@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "locus/fusion/heading_alignment.hpp"
+#include "locus/fusion/rules.hpp"
 #include "locus/metrics.hpp"
 #include "locus/pdr/step_detector.hpp"
 #include "locus/pdr/step_length.hpp"
@@ -36,11 +37,18 @@ std::vector<PhoneStep> detect_steps(const putmc::Walk& walk, double until_s) {
     return out;
 }
 
+std::vector<std::string_view> tuned_rule_names() { return {"midpoint", "midpoint_threshold", "proportional", "proportional2"}; }
+
 std::vector<std::string> method_names(bool with_map, bool smooth) {
-    std::vector<std::string> m = {"wifi", "pdr", "only_wifi", "midpoint", "midpoint_threshold", "proportional", "proportional2", "kalman"};
+    std::vector<std::string> m = {"wifi", "pdr", "only_wifi", "midpoint", "midpoint_threshold", "proportional", "proportional2"};
+    for (const auto& r : tuned_rule_names()) m.push_back(std::string(r) + "_tuned");
+    m.push_back("kalman");
     if (with_map) m.push_back("particle");
     m.push_back("walk_pf");
-    if (smooth) m.push_back("rts_smoother");
+    if (smooth) {
+        m.push_back("rts_smoother");
+        m.push_back("pf_smoother");
+    }
     return m;
 }
 
@@ -55,6 +63,41 @@ std::vector<std::optional<Point>> at_scans(const sim::Track& track, const std::v
     for (std::size_t i = 0; i < scan_t.size(); ++i) {
         while (j < track.size() && track[j].t_s <= scan_t[i]) last = track[j++].at;
         out[i] = last;
+    }
+    return out;
+}
+
+// The same from a track run backwards in time: the first point at or after each scan time.
+std::vector<std::optional<Point>> at_scans_backward(const sim::Track& reversed, const std::vector<double>& scan_t) {
+    std::vector<std::optional<Point>> out(scan_t.size());
+    std::size_t j = 0;
+    std::optional<Point> last;
+    for (std::size_t i = scan_t.size(); i-- > 0;) {
+        while (j < reversed.size() && reversed[j].t_s >= scan_t[i]) last = reversed[j++].at;
+        out[i] = last;
+    }
+    return out;
+}
+
+// walk_pf run from the walk's end to its start: each step taken backwards (azimuth + π), each
+// fix met in reverse order. Its estimate at a scan uses the scan and everything after it.
+sim::Track walk_pf_backward(const std::vector<PhoneStep>& phone, const std::vector<sim::Fix>& fx, double t0,
+                            const std::optional<fusion::Walkable>& map, const fusion::WalkFilterConfig& wc) {
+    fusion::WalkFilter wf(map, wc);
+    sim::Track out;
+    std::size_t i = phone.size(), j = fx.size();
+    while (i > 0 || j > 0) {
+        // Forwards a step at the fix's time comes before the fix: backwards, after it.
+        if (i == 0 || (j > 0 && fx[j - 1].t_s >= phone[i - 1].t_s)) {
+            const sim::Fix& f = fx[--j];
+            wf.fix(f.at, f.cov);
+            out.push_back({f.t_s, wf.position()});
+        } else {
+            const PhoneStep& s = phone[--i];
+            if (s.t_s < t0) break;
+            wf.step(s.length_m, s.azimuth_rad + std::numbers::pi);
+            if (wf.started()) out.push_back({s.t_s, wf.position()});
+        }
     }
     return out;
 }
@@ -163,12 +206,32 @@ WalkResult evaluate_walk(const putmc::Walk& walk, const std::vector<std::optiona
     for (auto& t : tracks)
         for (auto& p : t.track) p.t_s = std::max(p.t_s, t0);
     // wifi: the last fix, held over a scan that matched nothing.
+    for (const auto& name : tuned_rule_names()) {
+        const auto rule = *fusion::parse_rule(name);
+        tracks.push_back({std::string(name) + "_tuned", sim::rule_track(rule, steps, fx, start, config.tuned_rules)});
+        for (auto& p : tracks.back().track) p.t_s = std::max(p.t_s, t0);
+    }
     for (const auto& name : method_names(map.has_value(), config.smooth)) {
         const auto it = std::find_if(tracks.begin(), tracks.end(), [&](const sim::NamedTrack& t) { return t.method == name; });
         if (it != tracks.end()) r.tracks.push_back({name, at_scans(it->track, scan_t)});
     }
     r.tracks.push_back({"walk_pf", at_scans(wf_track, scan_t)});
-    if (config.smooth) r.tracks.push_back({"rts_smoother", at_scans(rts(steps, fx, start, config.methods.kalman), scan_t)});
+    if (config.smooth) {
+        r.tracks.push_back({"rts_smoother", at_scans(rts(steps, fx, start, config.methods.kalman), scan_t)});
+        // Two-filter particle smoother: walk_pf forwards and backwards, averaged at each scan
+        // (both hold the scan's own fix; the forward one everything before, the backward one
+        // everything after). Offline: it uses the future.
+        const auto fwd = r.tracks[r.tracks.size() - 2].at_scan;  // walk_pf
+        fusion::WalkFilterConfig bc = wc;
+        bc.particles = config.backward_particles;
+        const auto bwd = at_scans_backward(walk_pf_backward(phone, fx, t0, map, bc), scan_t);
+        std::vector<std::optional<Point>> both(scan_t.size());
+        for (std::size_t k = 0; k < scan_t.size(); ++k) {
+            if (fwd[k] && bwd[k]) both[k] = Point{(fwd[k]->x + bwd[k]->x) / 2, (fwd[k]->y + bwd[k]->y) / 2};
+            else both[k] = fwd[k] ? fwd[k] : bwd[k];
+        }
+        r.tracks.push_back({"pf_smoother", both});
+    }
     return r;
 }
 

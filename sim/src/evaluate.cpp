@@ -76,6 +76,21 @@ void replay_events(const std::vector<PdrStep>& steps, const std::vector<Fix>& fi
     }
 }
 
+
+// The fix moved by the PDR displacement of the steps taken in its last `latency` seconds.
+Point latency_corrected(const Fix& f, const std::vector<PdrStep>& steps, double latency_s) {
+    Point at = f.at;
+    if (latency_s <= 0.0) return at;
+    for (const PdrStep& s : steps) {
+        if (s.t_s <= f.t_s - latency_s) continue;
+        if (s.t_s > f.t_s) break;
+        at = pdr::step(at, s.length_m, s.heading_rad);
+    }
+    return at;
+}
+
+}  // namespace
+
 Track rule_track(fusion::Rule rule, const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
                  const fusion::RuleParams& params) {
     Track track{{0.0, start}};
@@ -97,20 +112,6 @@ Track rule_track(fusion::Rule rule, const std::vector<PdrStep>& steps, const std
         });
     return track;
 }
-
-// The fix moved by the PDR displacement of the steps taken in its last `latency` seconds.
-Point latency_corrected(const Fix& f, const std::vector<PdrStep>& steps, double latency_s) {
-    Point at = f.at;
-    if (latency_s <= 0.0) return at;
-    for (const PdrStep& s : steps) {
-        if (s.t_s <= f.t_s - latency_s) continue;
-        if (s.t_s > f.t_s) break;
-        at = pdr::step(at, s.length_m, s.heading_rad);
-    }
-    return at;
-}
-
-}  // namespace
 
 std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
                                     const std::optional<fusion::Walkable>& map, const EvalConfig& config) {

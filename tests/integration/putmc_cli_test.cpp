@@ -85,7 +85,8 @@ TEST(EvalWalks, EveryMethodAtEveryScanThroughTheServer) {
     EXPECT_EQ(w["scans"], 3);
     EXPECT_EQ(w["fixes"], 3);  // the walk's scans hear the survey's APs
     for (const char* m : {"wifi", "pdr", "only_wifi", "midpoint", "midpoint_threshold", "proportional", "proportional2",
-                          "kalman", "particle", "walk_pf", "rts_smoother"}) {
+                          "midpoint_tuned", "midpoint_threshold_tuned", "proportional_tuned", "proportional2_tuned",
+                          "kalman", "particle", "walk_pf", "rts_smoother", "pf_smoother"}) {
         ASSERT_TRUE(out["pooled"].contains(m)) << m;
         EXPECT_EQ(out["pooled"][m]["n"], 3) << m;
         EXPECT_GE(out["pooled"][m]["mean_m"].get<double>(), 0.0) << m;

@@ -131,3 +131,27 @@ TEST(FusionRules, RejectsParametersOutsideTheirDomain) {
     EXPECT_THROW(fuse(Rule::midpoint_threshold, base(), p), std::invalid_argument);
     EXPECT_THROW(fuse(Rule::midpoint, base(-1)), std::invalid_argument);
 }
+
+TEST(FusionRules, TunedWeightsMoveTheFusedPointTowardsTheFix) {
+    // The defaults are the seed's rules exactly; the real-walk tuning moves the weights.
+    RuleParams p;
+    p.midpoint_wifi_weight = 0.75;  // 0.25·(3,0) + 0.75·(0,4)
+    expect_point(fuse(Rule::midpoint, base(), p), 0.75, 3.0);
+    p.lambda_m = 6.0;  // δ = 5 < 6: the weighted midpoint
+    expect_point(fuse(Rule::midpoint_threshold, base(), p), 0.75, 3.0);
+    // proportional2: r = 3/7 < 0.6, so the floor 0.6 is the fix's weight.
+    RuleParams q;
+    q.proportional2_min_r = 0.6;
+    expect_point(fuse(Rule::proportional2, base(), q), 1.2, 2.4);
+    q.proportional2_min_r = 0.2;  // r = 3/7 above the floor: unchanged
+    expect_point(fuse(Rule::proportional2, base(), q), 12.0 / 7.0, 12.0 / 7.0);
+}
+
+TEST(FusionRules, RejectsWeightsOutsideZeroToOne) {
+    RuleParams p;
+    p.midpoint_wifi_weight = 1.5;
+    EXPECT_THROW(fuse(Rule::midpoint, base(), p), std::invalid_argument);
+    p = {};
+    p.proportional2_min_r = -0.1;
+    EXPECT_THROW(fuse(Rule::proportional2, base(), p), std::invalid_argument);
+}

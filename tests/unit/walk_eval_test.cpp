@@ -4,6 +4,7 @@
 // when the shared data folder is there, on a whole real walk.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -114,4 +115,30 @@ TEST(WalkEval, AWalkWithNoFixHasNoEstimate) {
     const auto r = walks::evaluate_walk(walk, none, kHeight, std::nullopt, walks::Config{});
     EXPECT_EQ(r.fixes, 0u);
     for (const auto& t : r.tracks) EXPECT_TRUE(walks::errors_of(r, t.method).empty()) << t.method;
+}
+
+TEST(WalkEval, SmoothersUseTheFutureAndAreLabelledSo) {
+    // The offline smoothers are the only methods not causal: cutting the walk moves their
+    // estimate at an earlier scan. The tuned rules are causal (expect_causal covers them).
+    const auto walk = putmc::read_walk(LOCUS_TEST_FIXTURES "/putmc/trajs/tiny_walk");
+    const auto fixes = fixes_of(walk);
+    walks::Config cfg;
+    cfg.smooth = true;
+    cfg.walk_filter.particles = 300;
+    cfg.methods.particle.particles = 300;
+    const std::optional<locus::fusion::Walkable> map = hall();
+    const auto full = walks::evaluate_walk(walk, fixes, kHeight, map, cfg);
+    const auto part = walks::evaluate_walk(cut_after(walk, 0), {fixes.begin(), fixes.begin() + 1}, kHeight, map, cfg);
+    for (const char* m : {"rts_smoother", "pf_smoother"}) {
+        const auto pick = [&](const walks::WalkResult& r) {
+            for (const auto& t : r.tracks)
+                if (t.method == m) return t.at_scan[0];
+            return std::optional<Point>();
+        };
+        ASSERT_TRUE(pick(full) && pick(part)) << m;
+        EXPECT_GT(locus::distance(*pick(full), *pick(part)), 1e-6) << m << " did not use the rest of the walk";
+    }
+    for (const auto& name : walks::method_names(true, true))
+        EXPECT_TRUE(std::any_of(full.tracks.begin(), full.tracks.end(), [&](const walks::MethodTrack& t) { return t.method == name; }))
+            << name;
 }

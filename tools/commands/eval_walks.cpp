@@ -45,7 +45,9 @@ struct Args {
 void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
     auto& c = cfg.walk_filter;
     auto& pc = cfg.methods.particle;
-    double seed = static_cast<double>(c.seed), particles = pc.particles;
+    auto& rp = cfg.tuned_rules;
+    double seed = static_cast<double>(c.seed), particles = pc.particles, n_max = rp.n_max, gamma = rp.gamma,
+           backward = cfg.backward_particles;
     const std::map<std::string, double*> keys = {
         {"initial_sigma_m", &c.initial_sigma_m}, {"scale_mean", &c.scale_mean}, {"scale_sigma", &c.scale_sigma},
         {"heading_sigma_rad", &c.heading_sigma_rad}, {"offset_walk_rad", &c.offset_walk_rad}, {"scale_walk", &c.scale_walk},
@@ -59,7 +61,10 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
         {"particle.blocked_weight", &pc.blocked_weight}, {"particle.outlier_floor", &pc.outlier_floor},
         {"particle.injection_likelihood", &pc.injection_likelihood}, {"particle.injection_fraction", &pc.injection_fraction},
         {"particle.latency_s", &cfg.methods.particle_fix_latency_s}, {"fix_sigma_floor_m", &cfg.methods.fix_sigma_floor_m},
-        {"kalman.step_sigma_per_m", &cfg.methods.kalman.step_sigma_per_m}, {"rules.lambda_m", &cfg.methods.rules.lambda_m}};
+        {"kalman.step_sigma_per_m", &cfg.methods.kalman.step_sigma_per_m}, {"rules.lambda_m", &rp.lambda_m},
+        {"rules.midpoint_wifi_weight", &rp.midpoint_wifi_weight}, {"rules.proportional2_min_r", &rp.proportional2_min_r},
+        {"rules.n_max", &n_max}, {"rules.gamma", &gamma},
+        {"smoother.backward_particles", &backward}};
     for (const auto& item : kv) {
         const auto eq = item.find('=');
         const auto it = keys.find(item.substr(0, eq));
@@ -72,6 +77,9 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
     }
     c.seed = static_cast<std::uint64_t>(seed);
     pc.particles = static_cast<int>(particles);
+    rp.n_max = static_cast<int>(n_max);
+    rp.gamma = static_cast<int>(gamma);
+    cfg.backward_particles = static_cast<int>(backward);
 }
 
 json stats_json(const walks::Stats& s) {
@@ -164,7 +172,7 @@ void run(const Args& a) {
     }
     const std::vector<std::string> shown = a.method == "all" ? names : std::vector<std::string>{a.method};
     json out = {{"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"k", a.k}, {"walls", map.has_value()},
-                {"causal", "every method but rts_smoother: estimate at a scan from data up to that scan"},
+                {"causal", "every method but the *_smoother ones: estimate at a scan from data up to that scan"},
                 {"no_match", no_match_total}, {"walks", json::array()}, {"pooled", json::object()}};
     std::map<std::string, std::vector<double>> pooled;
     for (const auto& r : results) {
@@ -195,7 +203,7 @@ void run(const Args& a) {
         return;
     }
     char line[256];
-    std::snprintf(line, sizeof line, "%-20s %6s %8s %8s %8s %8s\n", "method", "scans", "mean", "median", "p75", "p95");
+    std::snprintf(line, sizeof line, "%-26s %6s %8s %8s %8s %8s\n", "method", "scans", "mean", "median", "p75", "p95");
     for (const auto& w : out["walks"]) {
         std::cout << w["walk"].get<std::string>() << " (" << w["scans"] << " scans, " << w["steps"] << " steps, offset "
                   << static_cast<int>(std::lround(w["offset_deg"].get<double>())) << "°" << (w["mirrored"].get<bool>() ? ", mirrored" : "")
@@ -204,7 +212,7 @@ void run(const Args& a) {
         for (const auto& m : shown) {
             const auto& s = w["methods"][m];
             char row[256];
-            std::snprintf(row, sizeof row, "%-20s %6d %8.2f %8.2f %8.2f %8.2f\n", m.c_str(), s["n"].get<int>(),
+            std::snprintf(row, sizeof row, "%-26s %6d %8.2f %8.2f %8.2f %8.2f\n", m.c_str(), s["n"].get<int>(),
                           s["mean_m"].get<double>(), s["median_m"].get<double>(), s["p75_m"].get<double>(), s["p95_m"].get<double>());
             std::cout << row;
         }
@@ -213,9 +221,9 @@ void run(const Args& a) {
     for (const auto& m : shown) {
         const auto& s = out["pooled"][m];
         char row[256];
-        std::snprintf(row, sizeof row, "%-20s %6d %8.2f %8.2f %8.2f %8.2f%s\n", m.c_str(), s["n"].get<int>(), s["mean_m"].get<double>(),
+        std::snprintf(row, sizeof row, "%-26s %6d %8.2f %8.2f %8.2f %8.2f%s\n", m.c_str(), s["n"].get<int>(), s["mean_m"].get<double>(),
                       s["median_m"].get<double>(), s["p75_m"].get<double>(), s["p95_m"].get<double>(),
-                      m == "rts_smoother" ? "  (offline: uses future data)" : "");
+                      m.ends_with("_smoother") ? "  (offline: uses future data)" : "");
         std::cout << row;
     }
     std::snprintf(line, sizeof line, "%.2f s (localize over HTTP %.2f s, PDR and filters %.2f s)\n", total_s, http_s, filter_s);
@@ -237,9 +245,9 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--particles", args->particles, "walk_pf particles")->capture_default_str()->check(CLI::Range(10, 100000));
-    cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf's by name; particle.*, kalman.*, rules.*)");
+    cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf's by name; particle.*, kalman.*; rules.* sets the *_tuned rules)");
     cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
-    cmd->add_flag("--smooth", args->smooth, "also the offline RTS smoother (uses each walk's future: not causal)");
+    cmd->add_flag("--smooth", args->smooth, "also the offline smoothers, RTS and forward-backward walk_pf (use each walk's future: not causal)");
     cmd->add_flag_callback("--no-walls", [args] { args->walls = false; }, "ignore the floor's plan (no map matching)");
     cmd->add_option("DIR", args->dir, "PUTMC directory (with trajs/) or one walk directory")->required()->check(CLI::ExistingDirectory);
     cmd->callback([args] { run(*args); });

@@ -22,6 +22,10 @@ void check(const FusionInput& in, const RuleParams& p) {
     if (p.n_max < 1) throw std::invalid_argument("n_max must be at least 1");
     if (p.gamma < 1) throw std::invalid_argument("gamma must be a natural number, at least 1");
     if (!(p.lambda_m >= 0.0)) throw std::invalid_argument("lambda must be >= 0");
+    if (!(p.midpoint_wifi_weight >= 0.0 && p.midpoint_wifi_weight <= 1.0))
+        throw std::invalid_argument("midpoint_wifi_weight must be in [0, 1]");
+    if (!(p.proportional2_min_r >= 0.0 && p.proportional2_min_r <= 1.0))
+        throw std::invalid_argument("proportional2_min_r must be in [0, 1]");
     if (in.aps < 0) throw std::invalid_argument("the number of APs cannot be negative");
 }
 
@@ -59,10 +63,10 @@ Point fuse(Rule rule, const FusionInput& in, const RuleParams& params) {
         case Rule::only_wifi:
             return in.wifi;
         case Rule::midpoint:
-            return lerp(in.pdr, in.wifi, 0.5);
+            return lerp(in.pdr, in.wifi, params.midpoint_wifi_weight);
         case Rule::midpoint_threshold:
             // Strict as in Traini 2017 (δ < λ, docs/spec.md §6.4): at δ == λ the PDR is deemed broken.
-            return distance(in.pdr, in.wifi) < params.lambda_m ? lerp(in.pdr, in.wifi, 0.5) : in.wifi;
+            return distance(in.pdr, in.wifi) < params.lambda_m ? lerp(in.pdr, in.wifi, params.midpoint_wifi_weight) : in.wifi;
         case Rule::proportional: {
             const double alpha = proportional_alpha(distance(in.pdr, prev), distance(in.wifi, prev), in.aps, params);
             return lerp(in.pdr, in.wifi, 1.0 - alpha);
@@ -71,7 +75,8 @@ Point fuse(Rule rule, const FusionInput& in, const RuleParams& params) {
             // Lu et al.: a fix identical to the previous one says the scan did not change, not
             // that the user stood still, so fusing would shorten the walked path.
             if (in.prev_wifi && in.prev_wifi->x == in.wifi.x && in.prev_wifi->y == in.wifi.y) return in.pdr;
-            return lerp(in.pdr, in.wifi, proportional2_r(distance(in.pdr, prev), distance(in.wifi, prev)));
+            return lerp(in.pdr, in.wifi,
+                        std::max(params.proportional2_min_r, proportional2_r(distance(in.pdr, prev), distance(in.wifi, prev))));
         }
     }
     throw std::invalid_argument("unknown fusion rule");

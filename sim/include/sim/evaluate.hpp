@@ -75,6 +75,10 @@ std::vector<Fix> run_matcher(const Walk& walk, const match::Index& index, const 
 // One match result turned into a fix (shared with replay, which gets results from a server).
 Fix make_fix(double t_s, int aps, const match::Result& result, int k, double sigma_floor_m);
 
+// One fusion rule over the walk (the PDR continued from each fused position).
+Track rule_track(fusion::Rule rule, const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
+                 const fusion::RuleParams& params);
+
 // pdr, wifi, the five rules, kalman and (with a map) particle, in the order of docs/spec.md §7.2.
 // A map holding a floor plan (Walkable::from_plan) map-matches the Kalman filter too.
 std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
