@@ -202,32 +202,55 @@ RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_i
     return page;
 }
 
+void SqliteStore::update_row(const Kind& k, std::int64_t id, const Fields& values) {
+    require_exists(k, id);
+    refuse_if_kept(k, id);
+    std::string sets;
+    std::vector<const Value*> bound;
+    for (const auto& f : k.fields) {
+        const auto it = values.values.find(f.name);
+        if (!f.writable || it == values.values.end()) continue;
+        if (!sets.empty()) sets += ", ";
+        sets += std::string(f.name) + " = ?";
+        bound.push_back(&it->second);
+    }
+    if (!bound.empty()) {
+        Stmt s(db_, "UPDATE " + std::string(k.name) + " SET " + sets + " WHERE id = ?");
+        int i = 1;
+        for (const Value* v : bound) bind_value(s, i++, *v);
+        s.bind(i, id);
+        translate_constraints(k, [&] {
+            s.run();
+            return 0;
+        });
+    }
+    if (k.has_rects && values.rects) replace_rects(id, *values.rects);
+}
+
 Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values) {
     return write([&](std::vector<Change>& changes) {
-        require_exists(k, id);
-        refuse_if_kept(k, id);
-        std::string sets;
-        std::vector<const Value*> bound;
-        for (const auto& f : k.fields) {
-            const auto it = values.values.find(f.name);
-            if (!f.writable || it == values.values.end()) continue;
-            if (!sets.empty()) sets += ", ";
-            sets += std::string(f.name) + " = ?";
-            bound.push_back(&it->second);
-        }
-        if (!bound.empty()) {
-            Stmt s(db_, "UPDATE " + std::string(k.name) + " SET " + sets + " WHERE id = ?");
-            int i = 1;
-            for (const Value* v : bound) bind_value(s, i++, *v);
-            s.bind(i, id);
-            translate_constraints(k, [&] {
-                s.run();
-                return 0;
-            });
-        }
-        if (k.has_rects && values.rects) replace_rects(id, *values.rects);
+        update_row(k, id, values);
         changes.push_back(change_of(k, id, false));
         return get_locked(k, id);
+    });
+}
+
+std::vector<Record> SqliteStore::write_rows(const Kind& k, std::optional<std::int64_t> parent_id,
+                                            const std::vector<RowWrite>& rows) {
+    return write([&](std::vector<Change>& changes) {
+        std::vector<std::int64_t> ids;
+        for (const auto& r : rows) {
+            if (r.id) {
+                update_row(k, *r.id, r.fields);
+                ids.push_back(*r.id);
+            } else {
+                ids.push_back(insert_row(k, parent_id, r.fields));
+            }
+            changes.push_back(change_of(k, ids.back(), false));
+        }
+        std::vector<Record> out;
+        for (const auto id : ids) out.push_back(get_locked(k, id));
+        return out;
     });
 }
 

@@ -30,6 +30,8 @@ public:
                     std::int64_t offset) override;
     Record update(const Kind& k, std::int64_t id, const Fields& values) override;
     void remove(const Kind& k, std::int64_t id) override;
+    std::vector<Record> write_rows(const Kind& k, std::optional<std::int64_t> parent_id,
+                                   const std::vector<RowWrite>& rows) override;
 
     RpRecord rp_with_measurements(std::int64_t rp_id) override;
     UploadResult merge_scans(std::int64_t rp_id, const ScanBatch& batch) override;
@@ -70,6 +72,7 @@ private:
     void replace_rects(std::int64_t room_id, const std::vector<Rect>& rects);
     std::vector<Rect> rects_of(std::int64_t room_id);
     std::int64_t insert_row(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values);
+    void update_row(const Kind& k, std::int64_t id, const Fields& values);
     std::int64_t insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements);
     void merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans);
     std::vector<Measurement> measurements_of(std::int64_t rp_id);
