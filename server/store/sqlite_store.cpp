@@ -1,6 +1,7 @@
 #include "store/sqlite_store.hpp"
 
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "store/migrations.hpp"
@@ -330,10 +331,14 @@ UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch
 RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_);
-    RadioMapExport out{get_locked(kind("radiomaps"), radiomap_id), {}};
+    RadioMapExport out{get_locked(kind("radiomaps"), radiomap_id), {}, {}};
     Stmt s(db_, "SELECT id, name, x, y, scans FROM rps WHERE radiomap_id = ? ORDER BY id");
     s.bind(1, radiomap_id);
     while (s.step()) out.rps.push_back({s.text(1), {s.real(2), s.real(3)}, s.int64(4), measurements_of(s.int64(0))});
+    const Kind& tk = kind("transmitters");
+    Stmt t(db_, "SELECT " + column_list(tk) + " FROM transmitters WHERE floor_id = ? ORDER BY id");
+    t.bind(1, out.radiomap.parent_id.value_or(0));
+    while (t.step()) out.transmitters.push_back(row(tk, t));
     tx.commit();
     return out;
 }
@@ -354,6 +359,24 @@ std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapD
     return rm_id;
 }
 
+std::pair<std::int64_t, std::int64_t> SqliteStore::insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
+                                                                       std::vector<Change>& changes) {
+    const Kind& tk = kind("transmitters");
+    Stmt has(db_, "SELECT 1 FROM transmitters WHERE floor_id = ? AND type = ? AND bssid = ?");
+    std::int64_t created = 0, kept = 0;
+    for (const auto& t : txs) {
+        has.reset();
+        has.bind(1, floor_id).bind(2, t.get<std::string>("type")).bind(3, t.get<std::string>("bssid"));
+        if (has.step()) {
+            ++kept;
+            continue;
+        }
+        changes.push_back(change_of(tk, insert_row(tk, floor_id, t), false));
+        ++created;
+    }
+    return {created, kept};
+}
+
 ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) {
     return write([&](std::vector<Change>& changes) {
         ImportedRadioMap out;
@@ -361,6 +384,7 @@ ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const Radio
         out.radiomap = get_locked(kind("radiomaps"), rm_id);
         out.rp_count = static_cast<std::int64_t>(doc.rps.size());
         changes.push_back(change_of(kind("radiomaps"), rm_id, false));
+        std::tie(out.transmitters_created, out.transmitters_kept) = insert_transmitters(floor_id, doc.transmitters, changes);
         return out;
     });
 }
@@ -374,8 +398,10 @@ Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
                 const std::int64_t f_id = insert_row(kind("floors"), b_id, f.fields);
                 for (const auto& r : f.rooms) insert_row(kind("rooms"), f_id, r);
                 for (const auto& p : f.pois) insert_row(kind("pois"), f_id, p);
-                for (const auto& rm : f.radiomaps)
+                for (const auto& rm : f.radiomaps) {
                     changes.push_back(change_of(kind("radiomaps"), insert_radiomap(f_id, rm, nullptr), false));
+                    insert_transmitters(f_id, rm.transmitters, changes);
+                }
             }
         }
         changes.insert(changes.begin(), change_of(kind("maps"), map_id, false));

@@ -74,6 +74,9 @@ private:
     std::int64_t insert_row(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values);
     void update_row(const Kind& k, std::int64_t id, const Fields& values);
     std::int64_t insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements);
+    // A radio map document's transmitters on its floor: (created, kept as already stored).
+    std::pair<std::int64_t, std::int64_t> insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
+                                                              std::vector<Change>& changes);
     void merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans);
     std::vector<Measurement> measurements_of(std::int64_t rp_id);
     std::vector<StoredRp> load_rps(std::string_view where, std::int64_t id);
