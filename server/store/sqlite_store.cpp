@@ -345,7 +345,12 @@ RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
 
 std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements) {
     const std::int64_t rm_id = insert_row(kind("radiomaps"), floor_id, doc.fields);
-    for (const auto& rp : doc.rps) {
+    insert_rps(rm_id, doc.rps, measurements);
+    return rm_id;
+}
+
+void SqliteStore::insert_rps(std::int64_t rm_id, const std::vector<RpDocument>& rps, std::int64_t* measurements) {
+    for (const auto& rp : rps) {
         Fields f;
         f.values = {{"name", rp.name}, {"x", rp.at.x}, {"y", rp.at.y}};
         const std::int64_t rp_id = insert_row(kind("rps"), rm_id, f);
@@ -356,7 +361,18 @@ std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapD
         merge_measurements(rp_id, rp.measurements, rp.scans);
         if (measurements) *measurements += static_cast<std::int64_t>(rp.measurements.size());
     }
-    return rm_id;
+}
+
+ImportedRadioMap SqliteStore::add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) {
+    return write([&](std::vector<Change>& changes) {
+        ImportedRadioMap out;
+        require_exists(kind("radiomaps"), radiomap_id);
+        insert_rps(radiomap_id, rps, &out.measurement_count);
+        out.radiomap = get_locked(kind("radiomaps"), radiomap_id);
+        out.rp_count = static_cast<std::int64_t>(rps.size());
+        changes.push_back(change_of(kind("radiomaps"), radiomap_id, false));
+        return out;
+    });
 }
 
 std::pair<std::int64_t, std::int64_t> SqliteStore::insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,

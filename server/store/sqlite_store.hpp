@@ -38,6 +38,7 @@ public:
 
     RadioMapExport export_radiomap(std::int64_t radiomap_id) override;
     ImportedRadioMap import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) override;
+    ImportedRadioMap add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) override;
     Record import_map_bundle(const MapBundle& bundle) override;
     bool has_maps() override;
 
@@ -74,6 +75,7 @@ private:
     std::int64_t insert_row(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values);
     void update_row(const Kind& k, std::int64_t id, const Fields& values);
     std::int64_t insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements);
+    void insert_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps, std::int64_t* measurements);
     // A radio map document's transmitters on its floor: (created, kept as already stored).
     std::pair<std::int64_t, std::int64_t> insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
                                                               std::vector<Change>& changes);

@@ -91,6 +91,9 @@ public:
 
     virtual RadioMapExport export_radiomap(std::int64_t radiomap_id) = 0;
     virtual ImportedRadioMap import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) = 0;
+    // Adds RPs (with their measurements) to a stored radio map in one transaction; returns
+    // the radio map with the counts added (POST /v1/radiomaps/{id}/densify).
+    virtual ImportedRadioMap add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) = 0;
     virtual Record import_map_bundle(const MapBundle& bundle) = 0;
     virtual bool has_maps() = 0;
 
