@@ -260,7 +260,11 @@ async function run() {
   await post(`/v1/floors/${floor}/transmitters/fit?apply=yes`, {}, { expect: 400, invalid: true });
   await post(`/v1/floors/${UNKNOWN}/transmitters/fit`, {}, { expect: 404 });
   await post(`/v1/floors/${floor2}/radiomaps/generate`, { name: 'Modelled', step: 5 }, { expect: 422 });
-  await post(`/v1/floors/${floor}/radiomaps/generate`, { name: 'Modelled', step: 2.5, min_rss: -100, sigma_db: 3, phone_height: 1 }, { expect: 201 });
+  const modelled = idOf(await post(`/v1/floors/${floor}/radiomaps/generate`, { name: 'Modelled', step: 2.5, min_rss: -100, sigma_db: 3, phone_height: 1 }, { expect: 201 }), 'a radio map');
+  await post(`/v1/radiomaps/${modelled}/densify`, { step: 2, sigma_db: 3 }, { expect: 200 });
+  await post(`/v1/radiomaps/${modelled}/densify`, { step: 0 }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${modelled}/densify`, { step: 2, colour: 1 }, { expect: 422, invalid: true });
+  await post(`/v1/radiomaps/${UNKNOWN}/densify`, { step: 2 }, { expect: 404 });
   await post(`/v1/floors/${floor}/radiomaps/generate`, { name: 'Modelled', step: 2.5 }, { expect: 409 });
   await post(`/v1/floors/${floor}/radiomaps/generate`, { name: 'Too fine', step: 0.01 }, { expect: 422, invalid: true });
   await post(`/v1/floors/${floor}/radiomaps/generate`, { step: 1 }, { expect: 422, invalid: true });

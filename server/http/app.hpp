@@ -14,6 +14,7 @@
 #include "directory/service.hpp"
 #include "http/front.hpp"
 #include "http/static_files.hpp"
+#include "http/transmitter_cache.hpp"
 #include "localize/service.hpp"
 #include "locus/plan/route.hpp"
 #include "routing/service.hpp"
@@ -77,6 +78,7 @@ private:
     localize::Service& localizer_;
     routing::Service& router_;
     directory::Service& directory_;
+    TransmitterCache transmitters_{store_};  // for the ranging localize
     AppOptions options_;
     Front server_;
 };

@@ -21,7 +21,7 @@ void App::install_localize() {
                          guarded(req, res, [&] {
                              const auto id = parse_id(req.matches[1].str(), what);
                              if (const auto ranging = parse_ranging_request(req.body)) {
-                                 res.set_content(ranging_answer(store_, scope == Scope::map, id, *ranging), "application/json");
+                                 res.set_content(ranging_answer(store_, transmitters_, scope == Scope::map, id, *ranging), "application/json");
                                  return;
                              }
                              const auto request = parse_localize_request(req.body);

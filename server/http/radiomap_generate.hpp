@@ -1,5 +1,5 @@
 #pragma once
-// POST /v1/floors/{id}/radiomaps/generate (radiomap_generate.cpp).
+// POST /v1/floors/{id}/radiomaps/generate and POST /v1/radiomaps/{id}/densify (radiomap_generate.cpp).
 #include <httplib.h>
 
 #include "store/store.hpp"

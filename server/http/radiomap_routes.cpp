@@ -1,5 +1,6 @@
 // Survey uploads into one RP, and a radio map's export and import as one document.
 #include "http/app.hpp"
+#include "http/transmitter_fields.hpp"
 #include "http/store_json.hpp"
 #include "http/validation.hpp"
 
@@ -26,6 +27,14 @@ void App::install_radiomap_routes() {
         respond(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
             const auto doc = parse_radiomap_document(parse_object(req.body));
+            if (!doc.transmitters.empty()) {
+                const store::Record floor = store_.get(store::kind("floors"), floor_id);
+                for (std::size_t i = 0; i < doc.transmitters.size(); ++i) try {
+                        check_on_floor(floor, doc.transmitters[i].get<double>("x"), doc.transmitters[i].get<double>("y"));
+                    } catch (const ApiError& e) {
+                        throw ApiError(e.status, e.code, "transmitters[" + std::to_string(i) + "]: " + e.what());
+                    }
+            }
             return std::pair{201, imported_json(store_.import_radiomap(floor_id, doc))};
         });
     });

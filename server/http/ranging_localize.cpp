@@ -44,8 +44,9 @@ std::string key_of(std::string_view type, std::string_view bssid) {
     return k;
 }
 
-void add_floor(store::Store& store, std::int64_t floor_id, double phone_height, std::map<std::string, Known>& out) {
-    for (const auto& r : transmitters_of_floor(store, floor_id)) {
+void add_floor(TransmitterCache& cache, std::int64_t floor_id, double phone_height, std::map<std::string, Known>& out) {
+    const auto txs = cache.of_floor(floor_id);
+    for (const auto& r : *txs) {
         const auto& f = r.fields;
         Known k;
         k.floor_id = floor_id;
@@ -125,13 +126,13 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     return r;
 }
 
-std::string ranging_answer(store::Store& store, bool map_scope, std::int64_t id, const RangingRequest& request) {
+std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request) {
     std::map<std::string, Known> known;
     if (map_scope) {
-        for (std::int64_t floor : floors_of_map(store, id)) add_floor(store, floor, request.phone_height, known);
+        for (std::int64_t floor : floors_of_map(store, id)) add_floor(cache, floor, request.phone_height, known);
     } else {
         const auto radiomap = store.get(store::kind("radiomaps"), id);
-        add_floor(store, radiomap.parent_id.value(), request.phone_height, known);
+        add_floor(cache, radiomap.parent_id.value(), request.phone_height, known);
     }
     // The heard transmitters by floor; the floor that hears most is where the phone is.
     std::map<std::int64_t, std::vector<ranging::Heard>> by_floor;

@@ -7,6 +7,7 @@
 
 #include "locus/match/query.hpp"
 #include "locus/ranging/trilateration.hpp"
+#include "http/transmitter_cache.hpp"
 #include "store/store.hpp"
 
 namespace locus::http {
@@ -27,6 +28,6 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body);
 // transmitters the scan hears most). Throws ApiError 422 too_few_transmitters (with the
 // count heard) when fewer than three known transmitters are heard, 422 no_fix when the
 // method finds no position (every transmitter past the cutoff, or in a line).
-std::string ranging_answer(store::Store& store, bool map_scope, std::int64_t id, const RangingRequest& request);
+std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request);
 
 }  // namespace locus::http

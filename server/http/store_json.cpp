@@ -1,10 +1,12 @@
 #include "http/store_json.hpp"
 
 #include <initializer_list>
+#include <iterator>
 #include <string>
 #include <string_view>
 
 #include "http/api_error.hpp"
+#include "http/transmitter_fields.hpp"
 #include "http/validation.hpp"
 
 namespace locus::http {
@@ -95,18 +97,31 @@ json export_json(const store::RadioMapExport& doc) {
                        {"y", rp.at.y},
                        {"scans", rp.scans},
                        {"measurements", measurements_json(rp.measurements)}});
+    // The floor's transmitters without their ids, as a create body: a calibrated model moves
+    // with the survey (ranging and generate need them on the target floor).
+    json transmitters = json::array();
+    for (const auto& t : doc.transmitters) {
+        json item = record_json(store::kind("transmitters"), t);
+        item.erase("id");
+        item.erase("floor_id");
+        for (auto it = item.begin(); it != item.end();) it = it->is_null() ? item.erase(it) : std::next(it);  // absent = unset
+        transmitters.push_back(std::move(item));
+    }
     const auto& f = doc.radiomap.fields.values;
     return {{"format", "locus-radiomap/1"},
             {"name", value_json(f.at("name"))},
             {"description", value_json(f.at("description"))},
             {"floor_id", doc.radiomap.parent_id.value_or(0)},
-            {"rps", rps}};
+            {"rps", rps},
+            {"transmitters", transmitters}};
 }
 
 json imported_json(const store::ImportedRadioMap& imported) {
     json out = record_json(store::kind("radiomaps"), imported.radiomap);
     out["rp_count"] = imported.rp_count;
     out["measurement_count"] = imported.measurement_count;
+    out["transmitters_created"] = imported.transmitters_created;
+    out["transmitters_kept"] = imported.transmitters_kept;
     return out;
 }
 
@@ -140,6 +155,13 @@ store::MapBundle parse_map_bundle(const json& bundle) {
                 const std::string rw = fw + ".radiomaps[" + std::to_string(k) + "]";
                 try {
                     f.radiomaps.push_back(parse_radiomap_document(radiomaps[k]));
+                    const store::Record floor{0, std::nullopt, f.fields};
+                    const auto& txs = f.radiomaps.back().transmitters;
+                    for (std::size_t t = 0; t < txs.size(); ++t) try {
+                            check_on_floor(floor, txs[t].get<double>("x"), txs[t].get<double>("y"));
+                        } catch (const ApiError& e) {
+                            throw ApiError(e.status, e.code, "transmitters[" + std::to_string(t) + "]: " + e.what());
+                        }
                 } catch (const ApiError& e) {
                     throw ApiError(e.status, e.code, rw + ": " + e.what());
                 }

@@ -112,11 +112,7 @@ void install_transmitter_fit(httplib::Server& server, store::Store& store) {
             ranging::FitOptions options;
             options.area = {0, 0, width, height};
             json fitted = json::array(), skipped = json::array();
-            struct Write {
-                std::optional<std::int64_t> id;
-                store::Fields fields;
-            };
-            std::vector<Write> writes;
+            std::vector<store::RowWrite> writes;
             for (const auto& entry : heard) {
                 // Named, not a structured binding: clang 14 (the fuzz build) cannot capture
                 // one in the lambda below.
@@ -175,15 +171,10 @@ void install_transmitter_fit(httplib::Server& server, store::Store& store) {
                 writes.push_back({is_known ? std::optional(k->second.id) : std::nullopt, std::move(f)});
             }
             if (request.apply) {
-                const store::Kind& tk = store::kind("transmitters");
-                for (std::size_t i = 0; i < writes.size(); ++i) {
-                    if (writes[i].id) {
-                        store.update(tk, *writes[i].id, writes[i].fields);
-                    } else {
-                        const auto row = store.create(tk, floor_id, writes[i].fields);
-                        fitted[i]["id"] = row.id;
-                    }
-                }
+                // One transaction: a refused row (say a transmitter created meanwhile with a
+                // fitted one's bssid) leaves the floor's transmitters as they were.
+                const auto rows = store.write_rows(store::kind("transmitters"), floor_id, writes);
+                for (std::size_t i = 0; i < rows.size(); ++i) fitted[i]["id"] = rows[i].id;
             }
             return std::pair{200, json{{"floor_id", floor_id},
                                        {"rps", rp_count},

@@ -1,5 +1,7 @@
 #include "http/validation.hpp"
 
+#include "http/transmitter_fields.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -323,6 +325,23 @@ store::RadioMapDocument parse_radiomap_document(const json& doc) {
         }
         if (rp.contains("measurements")) typed.measurements = parse_measurements(rp.at("measurements"), where + ".measurements");
         out.rps.push_back(std::move(typed));
+    }
+    if (doc.contains("transmitters")) {
+        const auto& txs = doc.at("transmitters");
+        if (!txs.is_array()) throw invalid_field("'transmitters' must be an array");
+        std::set<std::pair<std::string, std::string>> seen;
+        for (std::size_t i = 0; i < txs.size(); ++i) {
+            const std::string where = "transmitters[" + std::to_string(i) + "]";
+            if (!txs[i].is_object()) throw invalid_field("'" + where + "' must be an object");
+            try {
+                out.transmitters.push_back(transmitter_fields(txs[i], true));
+            } catch (const ApiError& e) {
+                throw ApiError(e.status, e.code, where + ": " + e.what());
+            }
+            const auto& t = out.transmitters.back();
+            if (!seen.insert({t.get<std::string>("type"), t.get<std::string>("bssid")}).second)
+                throw ApiError(409, "conflict", where + ": a transmitter of that type and bssid is already in the document");
+        }
     }
     return out;
 }

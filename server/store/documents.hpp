@@ -87,14 +87,19 @@ struct RpDocument {
 struct RadioMapDocument {
     Fields fields;  // the radiomap's own: name, description
     std::vector<RpDocument> rps;
+    // The floor's transmitters that came with it: each is created on the target floor unless
+    // the floor already has one of that (type, bssid), which is kept as stored.
+    std::vector<Fields> transmitters;
 };
 struct RadioMapExport {
     Record radiomap;
     std::vector<RpDocument> rps;
+    std::vector<Record> transmitters;  // of the radio map's floor, so the map can move with them
 };
 struct ImportedRadioMap {
     Record radiomap;
     std::int64_t rp_count = 0, measurement_count = 0;
+    std::int64_t transmitters_created = 0, transmitters_kept = 0;
 };
 
 // A whole map with its hierarchy (the demo map's format).

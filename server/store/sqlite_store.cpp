@@ -1,6 +1,7 @@
 #include "store/sqlite_store.hpp"
 
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "store/migrations.hpp"
@@ -202,32 +203,55 @@ RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_i
     return page;
 }
 
+void SqliteStore::update_row(const Kind& k, std::int64_t id, const Fields& values) {
+    require_exists(k, id);
+    refuse_if_kept(k, id);
+    std::string sets;
+    std::vector<const Value*> bound;
+    for (const auto& f : k.fields) {
+        const auto it = values.values.find(f.name);
+        if (!f.writable || it == values.values.end()) continue;
+        if (!sets.empty()) sets += ", ";
+        sets += std::string(f.name) + " = ?";
+        bound.push_back(&it->second);
+    }
+    if (!bound.empty()) {
+        Stmt s(db_, "UPDATE " + std::string(k.name) + " SET " + sets + " WHERE id = ?");
+        int i = 1;
+        for (const Value* v : bound) bind_value(s, i++, *v);
+        s.bind(i, id);
+        translate_constraints(k, [&] {
+            s.run();
+            return 0;
+        });
+    }
+    if (k.has_rects && values.rects) replace_rects(id, *values.rects);
+}
+
 Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values) {
     return write([&](std::vector<Change>& changes) {
-        require_exists(k, id);
-        refuse_if_kept(k, id);
-        std::string sets;
-        std::vector<const Value*> bound;
-        for (const auto& f : k.fields) {
-            const auto it = values.values.find(f.name);
-            if (!f.writable || it == values.values.end()) continue;
-            if (!sets.empty()) sets += ", ";
-            sets += std::string(f.name) + " = ?";
-            bound.push_back(&it->second);
-        }
-        if (!bound.empty()) {
-            Stmt s(db_, "UPDATE " + std::string(k.name) + " SET " + sets + " WHERE id = ?");
-            int i = 1;
-            for (const Value* v : bound) bind_value(s, i++, *v);
-            s.bind(i, id);
-            translate_constraints(k, [&] {
-                s.run();
-                return 0;
-            });
-        }
-        if (k.has_rects && values.rects) replace_rects(id, *values.rects);
+        update_row(k, id, values);
         changes.push_back(change_of(k, id, false));
         return get_locked(k, id);
+    });
+}
+
+std::vector<Record> SqliteStore::write_rows(const Kind& k, std::optional<std::int64_t> parent_id,
+                                            const std::vector<RowWrite>& rows) {
+    return write([&](std::vector<Change>& changes) {
+        std::vector<std::int64_t> ids;
+        for (const auto& r : rows) {
+            if (r.id) {
+                update_row(k, *r.id, r.fields);
+                ids.push_back(*r.id);
+            } else {
+                ids.push_back(insert_row(k, parent_id, r.fields));
+            }
+            changes.push_back(change_of(k, ids.back(), false));
+        }
+        std::vector<Record> out;
+        for (const auto id : ids) out.push_back(get_locked(k, id));
+        return out;
     });
 }
 
@@ -307,17 +331,26 @@ UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch
 RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_);
-    RadioMapExport out{get_locked(kind("radiomaps"), radiomap_id), {}};
+    RadioMapExport out{get_locked(kind("radiomaps"), radiomap_id), {}, {}};
     Stmt s(db_, "SELECT id, name, x, y, scans FROM rps WHERE radiomap_id = ? ORDER BY id");
     s.bind(1, radiomap_id);
     while (s.step()) out.rps.push_back({s.text(1), {s.real(2), s.real(3)}, s.int64(4), measurements_of(s.int64(0))});
+    const Kind& tk = kind("transmitters");
+    Stmt t(db_, "SELECT " + column_list(tk) + " FROM transmitters WHERE floor_id = ? ORDER BY id");
+    t.bind(1, out.radiomap.parent_id.value_or(0));
+    while (t.step()) out.transmitters.push_back(row(tk, t));
     tx.commit();
     return out;
 }
 
 std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements) {
     const std::int64_t rm_id = insert_row(kind("radiomaps"), floor_id, doc.fields);
-    for (const auto& rp : doc.rps) {
+    insert_rps(rm_id, doc.rps, measurements);
+    return rm_id;
+}
+
+void SqliteStore::insert_rps(std::int64_t rm_id, const std::vector<RpDocument>& rps, std::int64_t* measurements) {
+    for (const auto& rp : rps) {
         Fields f;
         f.values = {{"name", rp.name}, {"x", rp.at.x}, {"y", rp.at.y}};
         const std::int64_t rp_id = insert_row(kind("rps"), rm_id, f);
@@ -328,7 +361,36 @@ std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapD
         merge_measurements(rp_id, rp.measurements, rp.scans);
         if (measurements) *measurements += static_cast<std::int64_t>(rp.measurements.size());
     }
-    return rm_id;
+}
+
+ImportedRadioMap SqliteStore::add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) {
+    return write([&](std::vector<Change>& changes) {
+        ImportedRadioMap out;
+        require_exists(kind("radiomaps"), radiomap_id);
+        insert_rps(radiomap_id, rps, &out.measurement_count);
+        out.radiomap = get_locked(kind("radiomaps"), radiomap_id);
+        out.rp_count = static_cast<std::int64_t>(rps.size());
+        changes.push_back(change_of(kind("radiomaps"), radiomap_id, false));
+        return out;
+    });
+}
+
+std::pair<std::int64_t, std::int64_t> SqliteStore::insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
+                                                                       std::vector<Change>& changes) {
+    const Kind& tk = kind("transmitters");
+    Stmt has(db_, "SELECT 1 FROM transmitters WHERE floor_id = ? AND type = ? AND bssid = ?");
+    std::int64_t created = 0, kept = 0;
+    for (const auto& t : txs) {
+        has.reset();
+        has.bind(1, floor_id).bind(2, t.get<std::string>("type")).bind(3, t.get<std::string>("bssid"));
+        if (has.step()) {
+            ++kept;
+            continue;
+        }
+        changes.push_back(change_of(tk, insert_row(tk, floor_id, t), false));
+        ++created;
+    }
+    return {created, kept};
 }
 
 ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) {
@@ -338,6 +400,7 @@ ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const Radio
         out.radiomap = get_locked(kind("radiomaps"), rm_id);
         out.rp_count = static_cast<std::int64_t>(doc.rps.size());
         changes.push_back(change_of(kind("radiomaps"), rm_id, false));
+        std::tie(out.transmitters_created, out.transmitters_kept) = insert_transmitters(floor_id, doc.transmitters, changes);
         return out;
     });
 }
@@ -351,8 +414,10 @@ Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
                 const std::int64_t f_id = insert_row(kind("floors"), b_id, f.fields);
                 for (const auto& r : f.rooms) insert_row(kind("rooms"), f_id, r);
                 for (const auto& p : f.pois) insert_row(kind("pois"), f_id, p);
-                for (const auto& rm : f.radiomaps)
+                for (const auto& rm : f.radiomaps) {
                     changes.push_back(change_of(kind("radiomaps"), insert_radiomap(f_id, rm, nullptr), false));
+                    insert_transmitters(f_id, rm.transmitters, changes);
+                }
             }
         }
         changes.insert(changes.begin(), change_of(kind("maps"), map_id, false));

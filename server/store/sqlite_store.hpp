@@ -30,12 +30,15 @@ public:
                     std::int64_t offset) override;
     Record update(const Kind& k, std::int64_t id, const Fields& values) override;
     void remove(const Kind& k, std::int64_t id) override;
+    std::vector<Record> write_rows(const Kind& k, std::optional<std::int64_t> parent_id,
+                                   const std::vector<RowWrite>& rows) override;
 
     RpRecord rp_with_measurements(std::int64_t rp_id) override;
     UploadResult merge_scans(std::int64_t rp_id, const ScanBatch& batch) override;
 
     RadioMapExport export_radiomap(std::int64_t radiomap_id) override;
     ImportedRadioMap import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) override;
+    ImportedRadioMap add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) override;
     Record import_map_bundle(const MapBundle& bundle) override;
     bool has_maps() override;
 
@@ -70,7 +73,12 @@ private:
     void replace_rects(std::int64_t room_id, const std::vector<Rect>& rects);
     std::vector<Rect> rects_of(std::int64_t room_id);
     std::int64_t insert_row(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values);
+    void update_row(const Kind& k, std::int64_t id, const Fields& values);
     std::int64_t insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements);
+    void insert_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps, std::int64_t* measurements);
+    // A radio map document's transmitters on its floor: (created, kept as already stored).
+    std::pair<std::int64_t, std::int64_t> insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
+                                                              std::vector<Change>& changes);
     void merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans);
     std::vector<Measurement> measurements_of(std::int64_t rp_id);
     std::vector<StoredRp> load_rps(std::string_view where, std::int64_t id);

@@ -58,6 +58,12 @@ struct StoredRp {
 
 using ChangeListener = std::function<void(const Change&)>;
 
+// One row of Store::write_rows: an update of row `id` when set, else a new row.
+struct RowWrite {
+    std::optional<std::int64_t> id;
+    Fields fields;
+};
+
 class Store {
 public:
     virtual ~Store() = default;
@@ -74,6 +80,10 @@ public:
                             std::int64_t offset) = 0;
     virtual Record update(const Kind& k, std::int64_t id, const Fields& values) = 0;
     virtual void remove(const Kind& k, std::int64_t id) = 0;
+    // Creates (under parent_id) and updates rows of `k`, in order, in ONE transaction: a
+    // refused row (Conflict, NotFound, …) leaves every row as it was. Returns the written rows.
+    virtual std::vector<Record> write_rows(const Kind& k, std::optional<std::int64_t> parent_id,
+                                           const std::vector<RowWrite>& rows) = 0;
 
     virtual RpRecord rp_with_measurements(std::int64_t rp_id) = 0;
     // Welford-merges each aggregate into the RP's stored one (RssStats::merge).
@@ -81,6 +91,9 @@ public:
 
     virtual RadioMapExport export_radiomap(std::int64_t radiomap_id) = 0;
     virtual ImportedRadioMap import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) = 0;
+    // Adds RPs (with their measurements) to a stored radio map in one transaction; returns
+    // the radio map with the counts added (POST /v1/radiomaps/{id}/densify).
+    virtual ImportedRadioMap add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) = 0;
     virtual Record import_map_bundle(const MapBundle& bundle) = 0;
     virtual bool has_maps() = 0;
 

@@ -120,7 +120,7 @@ TEST(Store, AFailedImportLeavesNoTrace) {
     TempDb t;
     SqliteStore repo(t.path());
     const auto c = make_chain(repo);
-    const locus::store::RadioMapDocument doc{{{"name", "dup"}}, {{"a", {0, 0}, 0, {}}, {"a", {1, 1}, 0, {}}}};
+    const locus::store::RadioMapDocument doc{{{"name", "dup"}}, {{"a", {0, 0}, 0, {}}, {"a", {1, 1}, 0, {}}}, {}};
     EXPECT_THROW(repo.import_radiomap(c.floor, doc), locus::store::Conflict);
     EXPECT_EQ(repo.list(kind("radiomaps"), c.floor, 10, 0).total, 1);
 }
