@@ -3,7 +3,9 @@
 // 1–5 ms between "play" and the sound actually leaving each speaker. Target: error ≤ 2 cm.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -89,4 +91,24 @@ TEST(AcousticRanging, NoChirpInATooShortRecording) {
     EXPECT_TRUE(detect_chirps(short_rec, p).empty());
     TwoWayCounts c;
     EXPECT_FALSE(own_and_remote(short_rec, p, c));
+}
+
+TEST(AcousticRanging, Finds16BitPcmChirpsWhereTheyWerePlaced) {
+    // What the app records: 16-bit PCM. The played chirp (chirp_pcm) at samples 500 and 4000,
+    // the second at a tenth of the level, over ±300 LSB uniform noise.
+    ChirpParams p;
+    const auto played = chirp_pcm(p, 20000.0);
+    std::vector<std::int16_t> rec(8000, 0);
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> noise(-300, 300);
+    for (auto& s : rec) s = std::int16_t(noise(rng));
+    for (std::size_t k = 0; k < played.size(); ++k) {
+        rec[500 + k] = std::int16_t(rec[500 + k] + played[k]);
+        rec[4000 + k] = std::int16_t(rec[4000 + k] + played[k] / 10);
+    }
+    const auto d = detect_chirps(std::span<const std::int16_t>(rec), p);
+    ASSERT_EQ(d.size(), 2u);
+    EXPECT_EQ(d[0].sample, 500u);
+    EXPECT_EQ(d[1].sample, 4000u);
+    EXPECT_GT(d[0].strength, 5.0 * d[1].strength);
 }
