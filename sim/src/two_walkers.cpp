@@ -1,0 +1,128 @@
+#include "sim/two_walkers.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <numbers>
+#include <random>
+
+#include "locus/relative/angle_kalman.hpp"
+
+namespace locus::sim {
+
+namespace {
+
+constexpr double kRad = std::numbers::pi / 180.0;
+
+double quantile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const double at = q * double(v.size() - 1);
+    const auto lo = std::size_t(std::floor(at));
+    const auto hi = std::min(v.size() - 1, lo + 1);
+    return v[lo] + (v[hi] - v[lo]) * (at - double(lo));
+}
+
+double bearing_deg(Point from, Point to) { return std::atan2(to.y - from.y, to.x - from.x) / kRad; }
+
+}  // namespace
+
+const char* method_name(RelativeMethod m) {
+    switch (m) {
+        case RelativeMethod::Rssi: return "rssi";
+        case RelativeMethod::RssiMean: return "rssi-mean";
+        case RelativeMethod::Exact: return "exact";
+    }
+    return "?";
+}
+
+TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+
+    // B anywhere on the circle around A's start; A's own frame (PDR) starts at the truth.
+    const double b_angle = 180.0 * uniform(rng);
+    const Point b{c.start_distance * std::cos(b_angle * kRad), c.start_distance * std::sin(b_angle * kRad)};
+    Point truth{0, 0}, pdr{0, 0};
+    double heading = b_angle + c.initial_spread_deg * uniform(rng);
+
+    relative::DirectionEstimator est(c.estimator);
+    std::deque<double> window;
+    TwoWalkerRun run;
+    auto ranged = [&](double d) {
+        if (m == RelativeMethod::Exact) return d;
+        const double rss = ranging::rss_at(c.link.model, d) + c.shadowing_db * gauss(rng);
+        if (m == RelativeMethod::Rssi) return relative::phone_distance(c.link, rss);
+        window.push_back(rss);
+        while (int(window.size()) > std::max(1, c.rssi_window)) window.pop_front();
+        const std::vector<double> w(window.begin(), window.end());
+        return relative::phone_distance(c.link, w);
+    };
+    const double d0 = distance(truth, b);
+    const double r0 = ranged(d0);
+    run.distance_errors.push_back(std::abs(r0 - d0));
+    est.step(pdr, r0);
+    const int max_steps = int(c.seconds * c.step_hz);
+    for (int k = 1; k <= max_steps; ++k) {
+        // A's intended heading: the estimate's bearing once there is one.
+        if (c.follow_estimate) {
+            if (auto target = est.target()) heading = bearing_deg(pdr, *target);
+            else if (auto dir = est.direction_deg()) heading = *dir;
+        }
+        // The walker turns to `heading` as PDR sees it; the truth is off by the compass bias
+        // and noise, and the step's length differs from the PDR's nominal one.
+        const double true_heading = heading + c.heading_bias_deg + c.heading_sigma_deg * gauss(rng);
+        const double true_len = c.step_length + c.step_length_sigma * gauss(rng);
+        truth = {truth.x + true_len * std::cos(true_heading * kRad), truth.y + true_len * std::sin(true_heading * kRad)};
+        pdr = {pdr.x + c.step_length * std::cos(heading * kRad), pdr.y + c.step_length * std::sin(heading * kRad)};
+        ++run.steps;
+
+        const double d = distance(truth, b);
+        const double r = ranged(d);
+        run.distance_errors.push_back(std::abs(r - d));
+        est.step(pdr, r);
+        if (d <= c.met_distance) {
+            run.met = true;
+            run.met_after_s = double(k) / c.step_hz;
+            break;
+        }
+        std::optional<double> said;
+        if (auto target = est.target()) said = bearing_deg(pdr, *target);
+        else said = est.direction_deg();
+        if (!said) {
+            ++run.steps_without_estimate;
+            continue;
+        }
+        // The walker's frame is the PDR's: its bearing to B is compared with the true one.
+        run.errors_deg.push_back(std::abs(relative::wrap_deg(*said - bearing_deg(truth, b))));
+    }
+    return run;
+}
+
+TwoWalkerSummary evaluate_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::uint64_t seed, int runs) {
+    TwoWalkerSummary s{m};
+    std::vector<double> errors, met_after, dist_err;
+    int steps = 0, without = 0, met = 0;
+    for (int i = 0; i < runs; ++i) {
+        const auto r = run_two_walkers(c, m, seed + std::uint64_t(i));
+        errors.insert(errors.end(), r.errors_deg.begin(), r.errors_deg.end());
+        dist_err.insert(dist_err.end(), r.distance_errors.begin(), r.distance_errors.end());
+        steps += r.steps;
+        without += r.steps_without_estimate;
+        if (r.met) {
+            ++met;
+            met_after.push_back(r.met_after_s);
+        }
+    }
+    s.runs = runs;
+    s.median_error_deg = quantile(errors, 0.5);
+    s.p90_error_deg = quantile(errors, 0.9);
+    s.estimate_coverage = steps ? 1.0 - double(without) / double(steps) : 0.0;
+    s.met_share = runs ? double(met) / double(runs) : 0.0;
+    s.median_met_after_s = quantile(met_after, 0.5);
+    s.median_distance_error = quantile(dist_err, 0.5);
+    return s;
+}
+
+}  // namespace locus::sim
