@@ -296,6 +296,9 @@ void App::install_track_routes() {
         });
         if (!stream) return;  // refused: res holds the error
         res.body.clear();
+        // respond() named the body JSON: left, it would be sent beside text/event-stream and
+        // gzip would hold the events back until its buffer filled.
+        res.headers.erase("Content-Type");
         res.set_header("Cache-Control", "no-store");
         res.set_chunked_content_provider("text/event-stream", [&svc, stream](std::size_t, httplib::DataSink& sink) {
             const auto events = svc.next_events(*stream);
@@ -420,6 +423,9 @@ void App::install_track_routes() {
         });
         if (!stream) return;  // refused: res holds the error
         res.body.clear();
+        // respond() named the body JSON: left, it would be sent beside text/event-stream and
+        // gzip would hold the events back until its buffer filled.
+        res.headers.erase("Content-Type");
         res.set_header("Cache-Control", "no-store");
         res.set_chunked_content_provider("text/event-stream", [&svc, stream](std::size_t, httplib::DataSink& sink) {
             const auto batch = svc.next_map_events(*stream);

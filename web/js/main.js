@@ -174,6 +174,6 @@ $('panel-toggle').addEventListener('click', () => {
 });
 
 // A handle for tests and the first-paint script: the layers, read-only use.
-window.locusViewer = { map, radio, route, survey, state, lastFloorMs: null };
+window.locusViewer = { map, radio, route, survey, state, liveLayer, lastFloorMs: null };
 
 guard(loadMaps)();
