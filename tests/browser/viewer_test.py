@@ -408,6 +408,36 @@ def live_checks(driver, server):
     check(not errors, f"no console errors with live positions {errors}")
 
 
+def quality_checks(driver, server):
+    """The predicted-error layer: one coloured dot per RP the quality endpoint localized on the
+    floor, the worst the reddest, a legend up to the worst error (at least 10 m)."""
+    from selenium.webdriver.common.by import By
+    driver.get(server.url + "/")
+    wait(driver, "return document.body.dataset.floorReady === 'true'", "the floor")
+    floor = driver.execute_script("return window.locusViewer.state.floor.id")
+    rm = driver.execute_script("return window.locusViewer.state.radiomapId")
+    q = server.api(f"/v1/radiomaps/{rm}/quality")
+    here = [r for r in q["rps"] if r["floor_id"] == floor and r["error_m"] is not None]
+    driver.find_element(By.ID, "quality-toggle").click()
+    wait(driver, "return document.querySelector('.quality-legend') !== null", "the predicted-error legend")
+    dots = driver.find_elements(By.CSS_SELECTOR, "#map .quality-rp")
+    check(len(dots) == len(here) > 0, f"{len(dots)} predicted-error dots for {len(here)} RPs localized on the floor")
+    shown = driver.execute_script("return window.locusViewer.quality.shown")
+    worst = max(shown, key=lambda r: r["error_m"])
+    best = min(shown, key=lambda r: r["error_m"])
+    check(abs(worst["error_m"] - max(r["error_m"] for r in here)) < 1e-9, f"the worst RP {worst['name']} at {worst['error_m']:.1f} m, as the API says")
+    red = lambda c: [int(v) for v in c[4:-1].split(",")]
+    check(worst["error_m"] == best["error_m"] or red(worst["colour"])[0] - red(worst["colour"])[1] > red(best["colour"])[0] - red(best["colour"])[1],
+          f"the worst RP redder ({worst['colour']}) than the best ({best['colour']})")
+    legend = driver.find_element(By.CSS_SELECTOR, ".quality-legend").text
+    top = max(10, worst["error_m"])
+    check(legend.strip().endswith(f"{top:.0f}"), f"legend up to {top:.0f} m: {legend!r}")
+    driver.find_element(By.ID, "quality-toggle").click()
+    wait(driver, "return document.querySelectorAll('#map .quality-rp').length === 0 && !document.querySelector('.quality-legend')", "the layer off")
+    errors = errors_in_log(driver)
+    check(not errors, f"no console errors with the predicted-error layer {errors}")
+
+
 def grey_png(width, height):
     row = b"\x00" + b"\x80" * width
 
@@ -491,6 +521,7 @@ def main():
         driver = start_browser(1280, 800)
         desktop_checks(driver, server)
         live_checks(driver, server)
+        quality_checks(driver, server)
         driver.quit()
         driver = start_browser(390, 844)
         phone_checks(driver, server)
