@@ -176,6 +176,11 @@ $('key-form').addEventListener('submit', (e) => {
   e.preventDefault();
   setApiKey($('api-key').value.trim());
   status($('api-key').value.trim() ? 'Key saved in this browser.' : 'Key removed.');
+  // Positions need the key on a keyed server: follow the floor again with it.
+  if (state.floor) {
+    stopLive();
+    stopLive = followFloor({ mapId: state.mapId, floorId: state.floor.id, layer: liveLayer });
+  }
 });
 $('panel-toggle').addEventListener('click', () => {
   const open = document.body.classList.toggle('panel-closed') === false;
