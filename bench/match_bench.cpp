@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "locus/match/localize.hpp"
+#include "locus/match/quality.hpp"
 #include "locus/match/tune.hpp"
 // The reader belongs to the CLI sources, which are not a library; compile it in here.
 #include "datasets/uji_csv.hpp"
@@ -161,6 +162,22 @@ void tune_bench(benchmark::State& state, const char* db) {
     state.counters["rps"] = static_cast<double>(rps.size());
 }
 
+// GET /v1/radiomaps/{id}/quality's work: tune's folds with one setting (the built-in default).
+void quality_bench(benchmark::State& state, const char* db) {
+    const std::string train_path = std::string(LOCUS_DATA_DIR) + "/" + db + "/trainingData.csv";
+    if (!std::ifstream(train_path)) {
+        state.SkipWithError("data set not found under LOCUS_DATA_DIR");
+        return;
+    }
+    const uji::Data train = uji::read_file(train_path);
+    const auto rps = uji::indexed_rps(train);
+    for (auto _ : state) {
+        auto r = match::held_out_errors(rps, match::Setting{}, [](long long floor) { return floor % 100; });
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["rps"] = static_cast<double>(rps.size());
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(localize_bench, bsb, match::Algorithm::bsb)->Unit(benchmark::kMicrosecond);
@@ -189,5 +206,8 @@ BENCHMARK_CAPTURE(map_bench, tut6_tuned_default, "fingerprint-dbs/TUT6", kTuned,
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(tune_bench, uji, "ujiindoorloc")->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_CAPTURE(tune_bench, tut6, "fingerprint-dbs/TUT6")->Unit(benchmark::kSecond)->Iterations(1);
+
+BENCHMARK_CAPTURE(quality_bench, uji, "ujiindoorloc")->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(quality_bench, tut6, "fingerprint-dbs/TUT6")->Unit(benchmark::kMillisecond)->Iterations(3);
 
 BENCHMARK_MAIN();

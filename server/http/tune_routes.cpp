@@ -1,3 +1,7 @@
+// GET /v1/radiomaps/{id}/quality?folds=&max_queries=: each RP's held-out error with the radio
+// map's current settings (match::held_out_errors, tune's folds), for the viewer's
+// predicted-error layer. Read only; bounded as tune is.
+//
 // POST /v1/radiomaps/{id}/tune: cross-validates the radio map's own RPs over a small grid of
 // matcher settings (match::tune), stores the best as the radio map's settings and answers the
 // CV table. It runs on the request's thread over a snapshot of the RPs and holds no lock a
@@ -9,6 +13,7 @@
 #include "http/app.hpp"
 #include "http/radiomap_settings.hpp"
 #include "http/validation.hpp"
+#include "locus/match/quality.hpp"
 #include "locus/match/tune.hpp"
 
 namespace locus::http {
@@ -60,6 +65,51 @@ private:
 };
 
 void App::install_tune_routes() {
+    server_.Get(R"(/v1/radiomaps/(\d+)/quality)", [this](const httplib::Request& req, httplib::Response& res) {
+        respond(req, res, [&] {
+            const auto id = parse_id(req.matches[1].str(), "radiomap");
+            match::TuneLimits limits;
+            if (req.has_param("folds")) limits.folds = static_cast<int>(parse_query_integer(req.get_param_value("folds"), "folds", 2, 50));
+            if (req.has_param("max_queries"))
+                limits.max_queries = static_cast<std::size_t>(parse_query_integer(req.get_param_value("max_queries"), "max_queries", 10, 5000));
+            store_.get(store::kind("radiomaps"), id);  // 404 before anything else
+            const auto stored_settings = store_.settings_of_radiomap(id);
+            const match::Setting setting = stored_settings ? settings_of_text(stored_settings->settings) : match::Setting{};
+            auto stored = store_.rps_of_radiomap(id);  // one consistent snapshot
+            std::vector<match::IndexedRp> rps;
+            rps.reserve(stored.size());
+            std::unordered_map<long long, long long> levels;
+            for (auto& s : stored) {
+                if (!levels.count(s.floor_id))
+                    levels[s.floor_id] = store_.get(store::kind("floors"), s.floor_id).fields.get<std::int64_t>("level");
+                rps.push_back({std::move(s.rp), s.floor_id, s.building_id});
+            }
+            match::QualityReport report;
+            try {
+                report = match::held_out_errors(rps, setting, [&levels](long long floor) { return levels[floor]; }, limits);
+            } catch (const match::TuneRefused& e) {
+                throw ApiError(422, "cannot_assess", "radiomap " + std::to_string(id) + ": " + e.what());
+            }
+            json items = json::array();
+            double sum = 0;
+            for (const auto& q : report.rps) {
+                const auto& r = rps[q.rp];
+                json j = {{"id", r.rp.id}, {"name", r.rp.name}, {"floor_id", r.floor_id}, {"x", r.rp.at.x}, {"y", r.rp.at.y},
+                          {"error_m", nullptr}, {"horizontal_m", nullptr}, {"floor_ok", q.floor_ok}};
+                if (q.error_m) {
+                    j["error_m"] = *q.error_m;
+                    sum += *q.error_m;
+                }
+                if (q.horizontal_m) j["horizontal_m"] = *q.horizontal_m;
+                items.push_back(std::move(j));
+            }
+            json out{{"radiomap_id", id}, {"settings", settings_json(setting)}, {"folds", report.folds}, {"queries", report.queries},
+                     {"subsampled", report.subsampled}, {"mean_error_m", sum / static_cast<double>(report.queries)}, {"rps", std::move(items)}};
+            out["settings"]["source"] = stored_settings ? "tuned" : "built-in";
+            return std::pair{200, std::move(out)};
+        });
+    });
+
     server_.Post(R"(/v1/radiomaps/(\d+)/tune)", [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "radiomap");

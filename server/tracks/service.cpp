@@ -80,6 +80,13 @@ void Service::stop() {
     stopping_ = true;
     sweep_cv_.notify_all();
     for (auto& [id, t] : tracks_) t->changed.notify_all();
+    map_changed_.notify_all();
+}
+
+void Service::publish(const TrackInfo& track, std::optional<Fix> fix) {
+    map_changes_.push_back({++map_seq_, track.map_id, track.id, track.label, fix});
+    if (map_changes_.size() > options_.map_event_buffer) map_changes_.pop_front();
+    map_changed_.notify_all();
 }
 
 void Service::load() {
@@ -221,12 +228,14 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
     std::lock_guard lock(mu_);
     track->info.last_fix_at = t_now;
     track->info.fixes += stored.size();
+    const auto before = track->info.latest;
     for (const auto& f : stored) {
         if (!track->info.latest || f.t > track->info.latest->t) track->info.latest = f;
         track->recent.emplace_back(++track->seq, f);
         if (track->recent.size() > options_.event_buffer) track->recent.pop_front();
     }
     if (!stored.empty()) track->changed.notify_all();
+    if (track->info.latest && (!before || before->t != track->info.latest->t)) publish(track->info, track->info.latest);
     out.stored = stored.size();
     out.duplicates = fixes.size() - stored.size();
     out.latest = track->info.latest;
@@ -279,6 +288,7 @@ void Service::close(std::int64_t id) {
     track->info.state = State::closed;
     track->info.ended_at = t;
     track->changed.notify_all();
+    publish(track->info, std::nullopt);
 }
 
 void Service::remove(std::int64_t id) {
@@ -295,6 +305,7 @@ void Service::remove(std::int64_t id) {
     store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ? WHERE id = ?").bind(1, t).bind(2, id).run();
     tx.commit();
     std::lock_guard lock(mu_);
+    if (track->info.state == State::live) publish(track->info, std::nullopt);
     track->info.state = State::gone;
     track->info.ended_at = t;
     track->info.latest.reset();
@@ -401,6 +412,56 @@ Events Service::next_events(Stream& s) {
     return out;
 }
 
+Service::MapStream::~MapStream() {
+    std::lock_guard lock(service_.mu_);
+    --service_.streams_;
+}
+
+std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id) {
+    std::lock_guard lock(mu_);
+    if (streams_ >= options_.max_streams)
+        throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
+    ++streams_;
+    return std::unique_ptr<MapStream>(new MapStream(*this, map_id, floor_id));
+}
+
+MapEvents Service::next_map_events(MapStream& s) {
+    MapEvents out;
+    if (!s.started_) {
+        // The sequence is read before the snapshot: a change between the two is written twice
+        // (positions are idempotent), never lost.
+        {
+            std::lock_guard lock(mu_);
+            s.seen_ = map_seq_;
+        }
+        const auto now_live = live_on_map(s.map_id_, s.floor_id_);
+        s.started_ = true;
+        for (const auto& t : now_live) {
+            out.events.push_back({MapEvent::Kind::position, t.id, t.label, t.latest});
+            s.shown_.insert(t.id);
+        }
+        std::lock_guard lock(mu_);
+        out.ended = stopping_;
+        return out;
+    }
+    std::unique_lock lock(mu_);
+    map_changed_.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s), [&] { return map_seq_ > s.seen_ || stopping_; });
+    // A stream that fell more than map_event_buffer changes behind misses the oldest: the next
+    // fix of each track shows it again.
+    for (const auto& c : map_changes_) {
+        if (c.seq <= s.seen_ || c.map_id != s.map_id_) continue;
+        if (c.fix && (!s.floor_id_ || c.fix->floor_id == *s.floor_id_)) {
+            out.events.push_back({MapEvent::Kind::position, c.track_id, c.label, c.fix});
+            s.shown_.insert(c.track_id);
+        } else if (s.shown_.erase(c.track_id)) {
+            out.events.push_back({MapEvent::Kind::leave, c.track_id, c.label, c.fix});
+        }
+    }
+    s.seen_ = map_seq_;
+    out.ended = stopping_;
+    return out;
+}
+
 void Service::sweep() {
     const auto ended = sweep_tracks();
     std::lock_guard fusion_lock(fusion_mu_);  // with no other lock held: post_raw takes it first
@@ -439,6 +500,7 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         tr->info.state = State::closed;
         tr->info.ended_at = t;
         tr->changed.notify_all();
+        publish(tr->info, std::nullopt);
     }
     for (const auto& tr : to_purge) {
         tr->info.state = State::gone;

@@ -40,6 +40,7 @@ struct Options {
     std::size_t max_live_tracks = 10'000;
     std::size_t max_fixes_per_track = 200'000;  // more than two days at one fix a second
     std::size_t event_buffer = 64;  // fixes kept per track for a stream that falls behind (streams wake at each fix)
+    std::size_t map_event_buffer = 4096;  // map-level changes kept for positions streams, all maps together
 };
 
 // Why a request on a track is refused; the HTTP layer gives each its status.
@@ -80,6 +81,21 @@ struct Share {
 // heartbeat; `ended` once the track closed or went, or the server is stopping.
 struct Events {
     std::vector<Fix> fixes;
+    bool ended = false;
+};
+
+// What a map's positions stream is to write next (a stream may follow one floor):
+// `position`: a track's new latest fix on the followed floor(s); `leave`: a track shown before
+// left them, to `fix`'s floor, or ended (no fix). `ended` once the server is stopping.
+struct MapEvent {
+    enum class Kind { position, leave };
+    Kind kind = Kind::position;
+    std::int64_t track_id = 0;
+    std::string label;
+    std::optional<Fix> fix;
+};
+struct MapEvents {
+    std::vector<MapEvent> events;
     bool ended = false;
 };
 
@@ -142,12 +158,34 @@ public:
     // The first call answers the latest fix; each later one waits up to heartbeat_s for more.
     Events next_events(Stream& stream);
 
+    // Every live track of a map (or of one of its floors), then their changes: the viewer's live
+    // layer. Shares max_streams with the track streams: Refused(busy) past it.
+    class MapStream {
+    public:
+        ~MapStream();
+
+    private:
+        friend class Service;
+        MapStream(Service& s, std::int64_t map_id, std::optional<std::int64_t> floor_id) : service_(s), map_id_(map_id), floor_id_(floor_id) {}
+        Service& service_;
+        std::int64_t map_id_;
+        std::optional<std::int64_t> floor_id_;
+        std::unordered_set<std::int64_t> shown_;  // tracks whose last position this stream wrote
+        std::uint64_t seen_ = 0;
+        bool started_ = false;
+    };
+    std::unique_ptr<MapStream> open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id);
+    // The first call answers every live track's latest fix; each later one waits up to heartbeat_s for changes.
+    MapEvents next_map_events(MapStream& stream);
+
     // One sweep now (the sweeper thread's work; tests call it through tiny flags instead).
     void sweep();
     static double now();
 
 private:
     std::vector<std::int64_t> sweep_tracks();  // closes and purges; answers the tracks no longer live
+    // Under mu_: a track's new latest fix (or its end, no fix) for the map streams.
+    void publish(const TrackInfo& track, std::optional<Fix> fix);
     std::shared_ptr<Track> find(std::int64_t id) const;  // under mu_; Refused(forbidden) for no such track
     void load();
     void sweeper();
@@ -160,6 +198,15 @@ private:
     std::unordered_map<std::int64_t, std::shared_ptr<Track>> tracks_;
     std::unordered_map<std::int64_t, std::unordered_set<std::int64_t>> floors_of_map_;  // floors seen on each map
     std::size_t streams_ = 0;
+    struct MapChange {
+        std::uint64_t seq;
+        std::int64_t map_id, track_id;
+        std::string label;
+        std::optional<Fix> fix;  // none: the track ended
+    };
+    std::deque<MapChange> map_changes_;  // the latest map_event_buffer, all maps
+    std::uint64_t map_seq_ = 0;
+    std::condition_variable map_changed_;  // waited on with mu_
     std::mutex fusion_mu_;  // the two below; taken before db_mu_
     std::unordered_map<std::int64_t, std::shared_ptr<ThinFusion>> fusions_;
     std::unordered_map<std::int64_t, std::shared_ptr<const fusion::Walkable>> walkables_;  // by floor; dropped when its plan changes

@@ -5,7 +5,8 @@ demo map. Asserts what a user sees: the floor picker lists the building's floors
 has a marker per RP the API lists, an RP's click shows its APs as the API has them, a heat map
 puts colour where RPs are (a screenshot pixel check), gaps are shaded, a searched route is drawn
 as long as the API's route and across floors, keyboard users reach the pickers and RPs, a phone
-screen needs no sideways scrolling, and the browser logged no error.
+screen needs no sideways scrolling, a tracked phone's dot appears within a second of its fix with
+its accuracy circle and follows it to another floor, and the browser logged no error.
 
     viewer_test.py --server build/bin/locus-server
 
@@ -71,10 +72,10 @@ class Server:
             fail("the server did not start")
         self.url = f"http://127.0.0.1:{self.port}"
 
-    def api(self, path, body=None, method=None, content_type="application/json"):
+    def api(self, path, body=None, method=None, content_type="application/json", headers=None):
         data = body if isinstance(body, bytes) or body is None else json.dumps(body).encode()
         req = urllib.request.Request(self.url + path, data=data, method=method or ("GET" if body is None else "POST"),
-                                     headers={"Content-Type": content_type})
+                                     headers={"Content-Type": content_type, **(headers or {})})
         with urllib.request.urlopen(req, timeout=10) as r:
             return json.loads(r.read())
 
@@ -340,6 +341,103 @@ def desktop_checks(driver, server):
     check(not errors, f"no console errors {errors}")
 
 
+def live_checks(driver, server):
+    """A phone's track: its dot appears on the shown floor within a second of its fix, with the
+    accuracy circle's radius, moves with its trail, and follows it to another floor."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import Select
+
+    buildings = server.api("/v1/maps/1/buildings")["items"]
+    floors = sorted(server.api(f"/v1/buildings/{buildings[0]['id']}/floors")["items"], key=lambda f: f["level"])
+    ground = next(f for f in floors if f["level"] == 0)
+    upper = next(f for f in floors if f["id"] != ground["id"])
+    driver.get(server.url + "/")
+    wait_floor(driver, ground["id"])
+    track = server.api("/v1/tracks", {"map_id": 1, "label": "phone 7"}, "POST")
+    token = {"X-Track-Token": track["token"]}
+    devices = "return window.locusViewer.liveLayer.locusDevices !== undefined;"
+    device = ("const d = window.locusViewer.liveLayer.locusDevices; const v = d && d.get(arguments[0]);"
+              "return v ? {x: v.fix.x, y: v.fix.y, floor: v.fix.floor_id, r: v.circle.getRadius(), trail: v.trail.length,"
+              " circle: v.circle.getElement().getBoundingClientRect().width, dot: v.dot.getElement().getBoundingClientRect()} : null;")
+
+    def fix_at(floor, x, y, accuracy):
+        nonlocal posted
+        posted = time.time()  # the phone's send: the dot's delay counts the POST too
+        server.api(f"/v1/tracks/{track['id']}/fixes",
+                   {"fixes": [{"t": time.time(), "floor_id": floor, "x": x, "y": y, "accuracy_m": accuracy}]}, "POST", headers=token)
+
+    posted = time.time()
+
+    def wait_device(script_test, what, within=1.0):
+        deadline = time.time() + within + 2  # judged below, so a slow frame reports a figure rather than a timeout
+        while time.time() < deadline:
+            v = driver.execute_script(device, track["id"])
+            if script_test(v):
+                return v, time.time() - posted
+            time.sleep(0.02)
+        fail(f"timed out waiting for {what}")
+
+    wait(driver, devices, "the live layer following the floor")
+    fix_at(ground["id"], 6.0, 4.0, 2.5)
+    v, took = wait_device(lambda v: v is not None, "the phone's dot")
+    check(took < 1.0, f"the phone's dot appeared {took:.2f} s after its fix")
+    check(abs(v["x"] - 6.0) < 1e-9 and v["floor"] == ground["id"] and v["r"] == 2.5, f"at its fix with the accuracy radius: {v}")
+    px0 = screen_point(driver, 6.0, 4.0)
+    px1 = screen_point(driver, 8.5, 4.0)
+    want = 2 * (px1[0] - px0[0])
+    check(abs(v["circle"] - want) <= 2, f"the accuracy circle is {v['circle']:.0f} px wide, 2 × 2.5 m = {want} px")
+    centre = (v["dot"]["left"] + v["dot"]["width"] / 2, v["dot"]["top"] + v["dot"]["height"] / 2)
+    check(abs(centre[0] - px0[0]) <= 2 and abs(centre[1] - px0[1]) <= 2, f"the dot drawn at {centre}, its fix at {px0}")
+
+    fix_at(ground["id"], 10.0, 5.0, 1.0)
+    v, took = wait_device(lambda v: v is not None and v["x"] == 10.0, "the dot to move")
+    check(took < 1.0 and v["trail"] == 2 and v["r"] == 1.0, f"moved in {took:.2f} s, trail of {v['trail']}, radius {v['r']}")
+
+    fix_at(upper["id"], 3.0, 3.0, 1.5)
+    v, took = wait_device(lambda v: v is None, "the dot to leave the ground floor")
+    check(took < 1.0, f"the phone left the ground floor's view {took:.2f} s after a fix upstairs")
+    Select(driver.find_element(By.ID, "floor-select")).select_by_value(str(upper["id"]))
+    wait_floor(driver, upper["id"])
+    v, took = wait_device(lambda v: v is not None, "the dot upstairs")
+    check(v["floor"] == upper["id"] and v["x"] == 3.0 and v["r"] == 1.5, f"shown upstairs: {v}")
+    check(len(driver.find_elements(By.CSS_SELECTOR, "#map .live-dot")) == 1, "one live dot drawn")
+    shot(driver, "viewer-live.png")
+    server.api(f"/v1/tracks/{track['id']}/close", {}, "POST", headers=token)
+    wait_device(lambda v: v is None, "the closed track's dot to go")
+    errors = errors_in_log(driver)
+    check(not errors, f"no console errors with live positions {errors}")
+
+
+def quality_checks(driver, server):
+    """The predicted-error layer: one coloured dot per RP the quality endpoint localized on the
+    floor, the worst the reddest, a legend up to the worst error (at least 10 m)."""
+    from selenium.webdriver.common.by import By
+    driver.get(server.url + "/")
+    wait(driver, "return document.body.dataset.floorReady === 'true'", "the floor")
+    floor = driver.execute_script("return window.locusViewer.state.floor.id")
+    rm = driver.execute_script("return window.locusViewer.state.radiomapId")
+    q = server.api(f"/v1/radiomaps/{rm}/quality")
+    here = [r for r in q["rps"] if r["floor_id"] == floor and r["error_m"] is not None]
+    driver.find_element(By.ID, "quality-toggle").click()
+    wait(driver, "return document.querySelector('.quality-legend') !== null", "the predicted-error legend")
+    dots = driver.find_elements(By.CSS_SELECTOR, "#map .quality-rp")
+    check(len(dots) == len(here) > 0, f"{len(dots)} predicted-error dots for {len(here)} RPs localized on the floor")
+    shown = driver.execute_script("return window.locusViewer.quality.shown")
+    worst = max(shown, key=lambda r: r["error_m"])
+    best = min(shown, key=lambda r: r["error_m"])
+    check(abs(worst["error_m"] - max(r["error_m"] for r in here)) < 1e-9, f"the worst RP {worst['name']} at {worst['error_m']:.1f} m, as the API says")
+    red = lambda c: [int(v) for v in c[4:-1].split(",")]
+    check(worst["error_m"] == best["error_m"] or red(worst["colour"])[0] - red(worst["colour"])[1] > red(best["colour"])[0] - red(best["colour"])[1],
+          f"the worst RP redder ({worst['colour']}) than the best ({best['colour']})")
+    legend = driver.find_element(By.CSS_SELECTOR, ".quality-legend").text
+    top = max(10, worst["error_m"])
+    check(legend.strip().endswith(f"{top:.0f}"), f"legend up to {top:.0f} m: {legend!r}")
+    driver.find_element(By.ID, "quality-toggle").click()
+    wait(driver, "return document.querySelectorAll('#map .quality-rp').length === 0 && !document.querySelector('.quality-legend')", "the layer off")
+    errors = errors_in_log(driver)
+    check(not errors, f"no console errors with the predicted-error layer {errors}")
+
+
 def grey_png(width, height):
     row = b"\x00" + b"\x80" * width
 
@@ -371,7 +469,9 @@ def key_checks(driver, server):
     wait(driver, "return document.getElementById('status').textContent.startsWith('Created')", "the RPs created with the key")
     check(server.api(f"/v1/radiomaps/{rm}/rps?limit=1")["total"] == total + planned, f"with the key, {planned} RPs created")
     check(driver.execute_script("return localStorage.getItem('locus.apiKey')") == "viewer-test-key", "the key kept in this browser")
-    errors = errors_in_log(driver, expected=["/rps - Failed to load resource: the server responded with a status of 401"])
+    # The live layer asks for positions, which need the key, before it is given.
+    errors = errors_in_log(driver, expected=["/rps - Failed to load resource: the server responded with a status of 401",
+                                             "/positions/events?floor_id="])
     check(not errors, f"no console errors but the refused write {errors}")
 
 
@@ -420,6 +520,8 @@ def main():
     try:
         driver = start_browser(1280, 800)
         desktop_checks(driver, server)
+        live_checks(driver, server)
+        quality_checks(driver, server)
         driver.quit()
         driver = start_browser(390, 844)
         phone_checks(driver, server)

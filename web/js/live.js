@@ -1,10 +1,103 @@
-// Live positions: the hook for the live-tracking API (GET /v1/maps/{id}/positions and its
-// Server-Sent Events stream), which this server does not have yet. The viewer calls
-// followFloor on every floor change and the stop function it returned before the next; an
-// implementation draws each device on `layer` (trail, uncertainty circle) for floor `floorId`
-// and moves it between floors as its fixes say. Until then nothing is drawn and no request is
-// made, so no position is ever invented.
+// Live positions: every device tracked on the shown floor, from the map's positions stream
+// (GET /v1/maps/{id}/positions/events?floor_id=, Server-Sent Events). It is read with fetch and
+// a ReadableStream, not EventSource, because the stream wants the API key's Authorization
+// header, which EventSource cannot send. Each device is a dot with its label, the circle of its
+// accuracy_m and the trail of the positions seen since this floor was shown (the stream gives
+// latest fixes only; older fixes need the track's own token). A `leave` event (the device went to
+// another floor, or its track ended) removes it here; the other floor's stream shows it there.
+import { apiKey } from './api.js';
+import { ll } from './image_layer.js';
+import { esc } from './floor_view.js';
+
+const L = window.L;
+const TRAIL = 50;             // points of trail kept per device
+const RETRY_MS = 2000;        // after a dropped stream (server restart, network)
+
+// The viewer calls this on every floor change, and the returned stop function before the next.
 export function followFloor({ mapId, floorId, layer }) {
-  void mapId; void floorId; void layer;
-  return () => {};
+  const devices = new Map();  // track id → { trail, line, circle, dot, fix }
+  const abort = new AbortController();
+  let stopped = false;
+  layer.clearLayers();
+  layer.locusDevices = devices;  // for tests: read only
+
+  function remove(id) {
+    const d = devices.get(id);
+    if (!d) return;
+    for (const l of [d.line, d.circle, d.dot]) layer.removeLayer(l);
+    devices.delete(id);
+  }
+
+  function place({ track_id: id, label, fix }) {
+    if (fix.floor_id !== floorId) return remove(id);
+    const at = ll(fix.x, fix.y);
+    let d = devices.get(id);
+    if (!d) {
+      const name = label || `track ${id}`;
+      d = {
+        trail: [],
+        line: L.polyline([], { className: 'live-trail', interactive: false }),
+        circle: L.circle(at, { radius: fix.accuracy_m, className: 'live-accuracy', interactive: false }),
+        dot: L.circleMarker(at, { radius: 6, className: 'live-dot' }).bindTooltip(esc(name), { direction: 'top', offset: [0, -6], className: 'label live' }),
+      };
+      for (const l of [d.line, d.circle, d.dot]) layer.addLayer(l);
+      devices.set(id, d);
+    }
+    d.fix = fix;
+    d.trail.push(at);
+    if (d.trail.length > TRAIL) d.trail.shift();
+    d.line.setLatLngs(d.trail);
+    // L.CRS.Simple measures in map units, which are metres here: the radius is accuracy_m.
+    d.circle.setLatLng(at).setRadius(fix.accuracy_m);
+    d.dot.setLatLng(at);
+  }
+
+  function handle(block) {
+    let name = 'message';
+    let data = '';
+    for (const line of block.split('\n')) {
+      if (line.startsWith('event: ')) name = line.slice(7);
+      else if (line.startsWith('data: ')) data += line.slice(6);
+    }
+    if (!data) return;  // a heartbeat comment
+    const ev = JSON.parse(data);
+    if (name === 'position') place(ev);
+    else if (name === 'leave') remove(ev.track_id);
+  }
+
+  async function run() {
+    while (!stopped) {
+      try {
+        const headers = { Accept: 'text/event-stream' };
+        const key = apiKey();
+        if (key) headers.Authorization = `Bearer ${key}`;
+        const res = await fetch(`/v1/maps/${mapId}/positions/events?floor_id=${floorId}`, { headers, signal: abort.signal });
+        // No key (or a wrong one), a map gone: nothing to show, and asking again will not change it.
+        if (!res.ok) {
+          await res.body?.cancel();
+          return;
+        }
+        // The stream starts with every device's position: what was drawn before is stale.
+        for (const id of [...devices.keys()]) remove(id);
+        const reader = res.body.pipeThrough(new TextDecoderStream()).getReader();
+        let buf = '';
+        for (;;) {
+          const { value, done } = await reader.read();
+          if (done) break;
+          buf += value;
+          for (let end; (end = buf.indexOf('\n\n')) >= 0; buf = buf.slice(end + 2)) handle(buf.slice(0, end));
+        }
+      } catch (e) {
+        if (stopped) return;  // aborted by stop()
+      }
+      await new Promise((resolve) => setTimeout(resolve, RETRY_MS));
+    }
+  }
+  run();
+
+  return () => {
+    stopped = true;
+    abort.abort();
+    layer.clearLayers();
+  };
 }

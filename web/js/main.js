@@ -6,6 +6,7 @@ import { RadioLayer } from './radio.js';
 import { RoutePanel } from './route.js';
 import { SurveyPlanner } from './survey.js';
 import { followFloor } from './live.js';
+import { QualityLayer } from './quality.js';
 
 const L = window.L;
 const $ = (id) => document.getElementById(id);
@@ -32,6 +33,7 @@ function fill(select, items, label) {
   select.disabled = items.length === 0;
 }
 
+const quality = new QualityLayer(map, { toggle: $('quality-toggle'), summary: $('quality-summary') });
 const radio = new RadioLayer(map, { details: $('rp-details'), apSelect: $('ap-select'), summary: $('radio-summary'), gapsToggle: $('gaps-toggle'), gapMetres: $('gap-metres') });
 
 const viewer = {
@@ -144,6 +146,13 @@ async function selectFloor(id) {
 function applyRadioLayers() {
   radio.showHeat($('ap-select').value);
   radio.showGaps($('gaps-toggle').checked);
+  showQuality();
+}
+
+function showQuality() {
+  quality.show(state.floor ? state.floor.id : null, state.radiomapId).catch((e) => {
+    $('quality-summary').textContent = `Error: ${e.message}`;
+  });
 }
 
 function guard(fn) {
@@ -161,11 +170,17 @@ $('radiomap-select').addEventListener('change', guard(async (e) => {
 $('ap-select').addEventListener('change', () => radio.showHeat($('ap-select').value));
 $('gaps-toggle').addEventListener('change', () => radio.showGaps($('gaps-toggle').checked));
 $('gap-metres').addEventListener('change', applyRadioLayers);
+$('quality-toggle').addEventListener('change', showQuality);
 $('api-key').value = apiKey();
 $('key-form').addEventListener('submit', (e) => {
   e.preventDefault();
   setApiKey($('api-key').value.trim());
   status($('api-key').value.trim() ? 'Key saved in this browser.' : 'Key removed.');
+  // Positions need the key on a keyed server: follow the floor again with it.
+  if (state.floor) {
+    stopLive();
+    stopLive = followFloor({ mapId: state.mapId, floorId: state.floor.id, layer: liveLayer });
+  }
 });
 $('panel-toggle').addEventListener('click', () => {
   const open = document.body.classList.toggle('panel-closed') === false;
@@ -174,6 +189,6 @@ $('panel-toggle').addEventListener('click', () => {
 });
 
 // A handle for tests and the first-paint script: the layers, read-only use.
-window.locusViewer = { map, radio, route, survey, state, lastFloorMs: null };
+window.locusViewer = { map, radio, route, survey, quality, state, liveLayer, lastFloorMs: null };
 
 guard(loadMaps)();

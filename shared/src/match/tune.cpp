@@ -1,5 +1,7 @@
 #include "locus/match/tune.hpp"
 
+#include "locus/match/quality.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -147,6 +149,60 @@ TuneReport tune(const std::vector<IndexedRp>& rps, std::span<const TuneCandidate
         report.rows.push_back(std::move(row));
     }
     if (queries == 0) throw TuneRefused("no RP of the radio map holds a measurement to localize");
+    return report;
+}
+
+// In this file beside tune: the same folds and the same scans, so the layer shows the errors
+// tune's table averages for the chosen setting.
+QualityReport held_out_errors(const std::vector<IndexedRp>& rps, const Setting& setting, const FloorLevel& level_of,
+                              const TuneLimits& limits, const IndexParams& params) {
+    if (rps.size() < 2)
+        throw TuneRefused("a radio map needs at least 2 RPs (it has " + std::to_string(rps.size()) +
+                          "): each RP is localized against the others");
+    const std::size_t n = rps.size();
+    const std::size_t folds = std::clamp<std::size_t>(static_cast<std::size_t>(std::max(limits.folds, 2)), 2, n);
+    const auto order = shuffled(n);
+    const std::size_t queried = std::min(n, std::max<std::size_t>(limits.max_queries, 1));
+    QualityReport report;
+    report.folds = folds;
+    report.subsampled = queried < n;
+    report.rps.resize(n);
+    for (std::size_t i = 0; i < n; ++i) report.rps[i].rp = i;
+    Workspace workspace;
+    std::vector<IndexedRp> kept;
+    kept.reserve(n);
+    for (std::size_t f = 0; f < folds; ++f) {
+        std::vector<std::size_t> held;
+        kept.clear();
+        for (std::size_t i = 0; i < n; ++i) {
+            if (i % folds == f) {
+                if (i < queried) held.push_back(order[i]);
+            } else {
+                kept.push_back(rps[order[i]]);
+            }
+        }
+        if (held.empty()) continue;
+        const Index index = Index::build(kept, params);
+        for (const auto h : held) {
+            const auto& truth = rps[h];
+            const Query q = query_of(truth.rp);
+            if (q.aps.empty()) continue;
+            ++report.queries;
+            auto& out = report.rps[h];
+            const auto r = localize(index, q, setting.algorithm, setting.options, workspace);
+            if (!r) {
+                out.error_m = kBuildingPenaltyM;
+                continue;
+            }
+            const double e = distance(r->at, truth.rp.at);
+            const bool building_ok = r->building_id == truth.building_id;
+            out.floor_ok = building_ok && r->floor_id == truth.floor_id;
+            const double floors = out.floor_ok ? 0.0 : static_cast<double>(std::llabs(level_of(r->floor_id) - level_of(truth.floor_id)));
+            out.horizontal_m = e;
+            out.error_m = e + kFloorPenaltyM * floors + (building_ok ? 0.0 : kBuildingPenaltyM);
+        }
+    }
+    if (report.queries == 0) throw TuneRefused("no RP of the radio map holds a measurement to localize");
     return report;
 }
 

@@ -1,0 +1,177 @@
+// The map-level positions stream (GET /v1/maps/{id}/positions/events) against the real server:
+// every live track at once, each new fix within a second, a floor-followed stream seeing a
+// track leave for another floor and come back, a closed track leaving, and bad input refused.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <thread>
+
+#include "hierarchy.hpp"
+#include "server_process.hpp"
+
+using locus::testing::ServerProcess;
+using locus::testing::body_of;
+using nlohmann::json;
+
+namespace {
+
+double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+int get_status(const ServerProcess& s, const std::string& path, const std::string& api_key) {
+    httplib::Client c("127.0.0.1", s.port());
+    c.set_read_timeout(5, 0);
+    httplib::Headers h;
+    if (!api_key.empty()) h.emplace("Authorization", "Bearer " + api_key);
+    const auto r = c.Get(path.c_str(), h);
+    return r ? r->status : 0;
+}
+
+struct Track {
+    std::int64_t id = 0;
+    std::string token;
+};
+
+Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label) {
+    const json b = body_of(s.post("/v1/tracks", {{"map_id", map}, {"label", label}}), 201);
+    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
+}
+
+void post_fix(const ServerProcess& s, const Track& t, double time, std::int64_t floor, double x, double y, double accuracy = 1.5) {
+    httplib::Client c("127.0.0.1", s.port());
+    const json body = {{"fixes", json::array({{{"t", time}, {"floor_id", floor}, {"x", x}, {"y", y}, {"accuracy_m", accuracy}}})}};
+    const auto r = c.Post(("/v1/tracks/" + std::to_string(t.id) + "/fixes").c_str(), httplib::Headers{{"X-Track-Token", t.token}},
+                          body.dump(), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+}
+
+// Reads a positions stream on its own thread, keeping each event's name and data.
+struct Listener {
+    std::mutex mu;
+    std::vector<std::pair<std::string, json>> events;
+    std::atomic<bool> stop{false};
+    std::thread thread;
+
+    Listener(int port, const std::string& path, const std::string& api_key) {
+        thread = std::thread([this, port, path, api_key] {
+            httplib::Client c("127.0.0.1", port);
+            c.set_read_timeout(10, 0);
+            std::string buf;
+            c.Get(path.c_str(), httplib::Headers{{"Authorization", "Bearer " + api_key}}, [&](const char* data, std::size_t n) {
+                buf.append(data, n);
+                for (std::size_t end; (end = buf.find("\n\n")) != std::string::npos; buf.erase(0, end + 2)) {
+                    const std::string event = buf.substr(0, end);
+                    const auto d = event.find("\ndata: ");
+                    if (!event.starts_with("event: ") || d == std::string::npos) continue;
+                    std::lock_guard lock(mu);
+                    events.emplace_back(event.substr(7, d - 7), json::parse(event.substr(d + 7)));
+                }
+                return !stop.load();
+            });
+        });
+    }
+    ~Listener() {
+        stop = true;
+        thread.join();
+    }
+    std::vector<std::pair<std::string, json>> seen() {
+        std::lock_guard lock(mu);
+        return events;
+    }
+    // Waits up to `seconds` for the n-th event; answers it, or null.
+    std::optional<std::pair<std::string, json>> wait_for(std::size_t n, double seconds) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        while (std::chrono::steady_clock::now() < until) {
+            {
+                std::lock_guard lock(mu);
+                if (events.size() >= n) return events[n - 1];
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+        return std::nullopt;
+    }
+};
+
+}  // namespace
+
+TEST(ServerPositionsStream, BadInputIsRefused) {
+    ServerProcess s({"--quiet", "--api-key", "k1"});
+    s.set_api_key("k1");
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string p = "/v1/maps/" + std::to_string(h.map) + "/positions/events";
+    EXPECT_EQ(get_status(s, p, ""), 401);
+    EXPECT_EQ(get_status(s, p, "wrong"), 401);
+    EXPECT_EQ(get_status(s, "/v1/maps/999/positions/events", "k1"), 404);
+    EXPECT_EQ(get_status(s, p + "?floor_id=x", "k1"), 400);
+    EXPECT_EQ(get_status(s, p + "?floor_id=0", "k1"), 400);
+    EXPECT_EQ(get_status(s, p + "?floor_id=-3", "k1"), 400);
+}
+
+TEST(ServerPositionsStream, AFollowedFloorSeesTracksComeMoveLeaveAndEnd) {
+    ServerProcess s({"--quiet", "--track-heartbeat", "0.2"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::int64_t upper = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
+                                              {{"name", "First"}, {"level", 1}, {"width", 30.0}, {"height", 20.0}}),
+                                       201)["id"];
+    const double now = unix_now();
+    const Track ann = open_track(s, h.map, "ann"), bob = open_track(s, h.map, "bob");
+    post_fix(s, ann, now - 5, h.floor, 1, 1);
+    post_fix(s, bob, now - 5, upper, 2, 2);
+    const std::string base = "/v1/maps/" + std::to_string(h.map) + "/positions/events";
+    Listener ground(s.port(), base + "?floor_id=" + std::to_string(h.floor), "");
+    Listener all(s.port(), base, "");
+
+    // At once: the tracks on the followed floor, and on the whole map.
+    const auto first = ground.wait_for(1, 2.0);
+    ASSERT_TRUE(first);
+    EXPECT_EQ(first->first, "position");
+    EXPECT_EQ(first->second["track_id"], ann.id);
+    EXPECT_EQ(first->second["label"], "ann");
+    ASSERT_TRUE(all.wait_for(2, 2.0));
+
+    // A new fix within a second, with its accuracy.
+    auto posted = std::chrono::steady_clock::now();
+    post_fix(s, ann, now - 4, h.floor, 5, 6, 3.25);
+    const auto moved = ground.wait_for(2, 1.0);
+    ASSERT_TRUE(moved);
+    EXPECT_LT(std::chrono::steady_clock::now() - posted, std::chrono::seconds(1));
+    EXPECT_EQ(moved->first, "position");
+    EXPECT_DOUBLE_EQ(moved->second["fix"]["x"].get<double>(), 5.0);
+    EXPECT_DOUBLE_EQ(moved->second["fix"]["accuracy_m"].get<double>(), 3.25);
+
+    // Ann goes upstairs: she leaves the ground floor's stream, naming where she went.
+    post_fix(s, ann, now - 3, upper, 5, 6);
+    const auto left = ground.wait_for(3, 1.0);
+    ASSERT_TRUE(left);
+    EXPECT_EQ(left->first, "leave");
+    EXPECT_EQ(left->second["track_id"], ann.id);
+    EXPECT_EQ(left->second["floor_id"], upper);
+    // Bob moves upstairs: nothing for the ground floor.
+    post_fix(s, bob, now - 3, upper, 3, 3);
+    // Bob comes down: he appears.
+    post_fix(s, bob, now - 2, h.floor, 4, 4);
+    const auto came = ground.wait_for(4, 1.0);
+    ASSERT_TRUE(came);
+    EXPECT_EQ(came->first, "position");
+    EXPECT_EQ(came->second["track_id"], bob.id);
+    // Bob's track closes: he leaves, to no floor.
+    const auto r = httplib::Client("127.0.0.1", s.port())
+                       .Post(("/v1/tracks/" + std::to_string(bob.id) + "/close").c_str(), httplib::Headers{{"X-Track-Token", bob.token}}, "{}",
+                             "application/json");
+    ASSERT_TRUE(r);
+    const auto ended = ground.wait_for(5, 1.0);
+    ASSERT_TRUE(ended);
+    EXPECT_EQ(ended->first, "leave");
+    EXPECT_EQ(ended->second["track_id"], bob.id);
+    EXPECT_TRUE(ended->second["floor_id"].is_null());
+
+    // The whole map's stream saw every fix as a position, then Bob's end: 2 + 4 + 1.
+    ASSERT_TRUE(all.wait_for(7, 1.0));
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));  // heartbeats only: nothing repeated
+    const auto events = all.seen();
+    EXPECT_EQ(events.size(), 7u);
+    EXPECT_EQ(events.back().first, "leave");
+    EXPECT_EQ(ground.seen().size(), 5u);
+}
