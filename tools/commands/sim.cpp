@@ -234,6 +234,8 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
                     "Override a particle filter setting, key=value (ParticleConfig field), repeatable");
     // Simulator knobs, for the calibration sweeps of docs/fusion.md.
     cmd->add_option("--scan-duration", args->walk.scan_duration_s, "Channel sweep of a scan, s")->capture_default_str();
+    cmd->add_option("--heading-walk", args->walk.heading_walk_rad_per_sqrt_m,
+                    "Compass rotation's random walk, rad/√m walked (0: the simulator before issue 13)")->capture_default_str();
     cmd->add_option("--drift-db", args->walk.survey_drift_sigma_db, "Survey-to-walk RSS change, dB")->capture_default_str();
     cmd->add_option("--device-offset-db", args->walk.device_offset_sigma_db, "Phone vs survey phone RSS offset σ, dB")
         ->capture_default_str();
