@@ -115,20 +115,31 @@ Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
     }
     const double t_end = t + cfg.stand_after_s;
 
+    // The compass's wandering rotation at each step's start (and the walk's end), from its own
+    // stream so that every other draw of the walk is the same with it on or off.
+    std::seed_seq heading_seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                              static_cast<std::uint32_t>(sc.environment_seed), 0x48454144u};
+    std::mt19937_64 heading_rng(heading_seq);
+    std::vector<double> wander{0.0};
+    for (const PlannedStep& st : steps)
+        wander.push_back(wander.back() + cfg.heading_walk_rad_per_sqrt_m * std::sqrt(st.length) * n01(heading_rng));
+
     // Kinematics on the sample grid first, so rates come from differences of the angles.
     const double dt = 1.0 / cfg.rate_hz;
     const std::size_t n = static_cast<std::size_t>(std::floor(t_end * cfg.rate_hz)) + 1;
-    std::vector<double> arc(n), yaw(n), pitch(n), roll(n), vert(n), fwd(n), lat(n);
+    std::vector<double> arc(n), yaw(n), walk_dir(n), pitch(n), roll(n), vert(n), fwd(n), lat(n);
     std::size_t cur = 0;
     for (std::size_t k = 0; k < n; ++k) {
         const double tk = static_cast<double>(k) * dt;
         while (cur < steps.size() && tk >= steps[cur].t0 + steps[cur].duration) ++cur;
         const bool walking = cur < steps.size() && tk >= steps[cur].t0;
         double sk = cur < steps.size() ? steps[cur].s0 : total;
+        double bias = wander[cur];
         if (walking) {
             const PlannedStep& st = steps[cur];
             const double u = (tk - st.t0) / st.duration;
             sk = st.s0 + st.length * u;
+            bias += u * (wander[cur + 1] - wander[cur]);
             vert[k] = st.amplitude * (std::sin(2.0 * kPi * u) + 0.1 * std::sin(4.0 * kPi * u + 0.6));
             fwd[k] = 0.5 * st.amplitude * std::cos(2.0 * kPi * u);
             lat[k] = 0.3 * st.amplitude * std::sin(kPi * (static_cast<double>(cur) + u));
@@ -138,7 +149,8 @@ Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
             pitch[k] = 0.1;  // held tilted ~6° towards the user
         }
         arc[k] = sk;
-        yaw[k] = heading.at(sk) + misalignment;
+        yaw[k] = heading.at(sk) + misalignment + bias;
+        walk_dir[k] = heading.at(sk);
     }
 
     walk.imu.reserve(n);
@@ -158,7 +170,7 @@ Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
         const Eigen::Matrix3d ry = Eigen::AngleAxisd(roll[k], Eigen::Vector3d::UnitY()).toRotationMatrix();
         const Eigen::Matrix3d r_wd = rz * rx * ry;
 
-        const double walking = yaw[k] - misalignment;
+        const double walking = walk_dir[k];
         const Eigen::Vector3d forward(std::sin(walking), std::cos(walking), 0.0);
         const Eigen::Vector3d right(std::cos(walking), -std::sin(walking), 0.0);
         const Eigen::Vector3d specific_force = fwd[k] * forward + lat[k] * right + Eigen::Vector3d(0, 0, kG + vert[k]);

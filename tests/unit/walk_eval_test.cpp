@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "walk_eval.hpp"
+#include "walk_reality.hpp"
 
 namespace putmc = locus::datasets::putmc;
 namespace walks = locus::tools::walks;
@@ -141,4 +142,22 @@ TEST(WalkEval, SmoothersUseTheFutureAndAreLabelledSo) {
     for (const auto& name : walks::method_names(true, true))
         EXPECT_TRUE(std::any_of(full.tracks.begin(), full.tracks.end(), [&](const walks::MethodTrack& t) { return t.method == name; }))
             << name;
+}
+
+TEST(WalkReality, ErrorCorrelationIsOneForASharedErrorAndMinusOneForOpposite) {
+    // Fixes 3 m apart: the same error vector (a field fixed per place) and the opposite one.
+    walks::RealityStats same, opposite;
+    same.fix_truth = opposite.fix_truth = {{0.0, 0.0}, {3.0, 0.0}, {20.0, 0.0}};
+    same.fix_error = {{1.0, 2.0}, {1.0, 2.0}, {0.0, 0.0}};
+    opposite.fix_error = {{1.0, 2.0}, {-1.0, -2.0}, {0.0, 0.0}};
+    const auto a = walks::error_correlation({same}, {0.0, 4.0, 30.0});
+    ASSERT_EQ(a.size(), 2u);
+    EXPECT_EQ(a[0].pairs, 1u);
+    EXPECT_NEAR(a[0].correlation, 1.0, 1e-12);
+    EXPECT_EQ(a[1].pairs, 2u);
+    EXPECT_NEAR(walks::error_correlation({opposite}, {0.0, 4.0})[0].correlation, -1.0, 1e-12);
+    // Pairs are taken within a walk only.
+    walks::RealityStats first = same, second = same;
+    first.fix_truth.resize(1), first.fix_error.resize(1), second.fix_truth.resize(1), second.fix_error.resize(1);
+    EXPECT_EQ(walks::error_correlation({first, second}, {0.0, 4.0})[0].pairs, 0u);
 }

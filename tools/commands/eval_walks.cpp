@@ -5,6 +5,8 @@
 // is the radio map's: its height flips PUTMC's y (as `locus import putmc` did) and its plan,
 // when it has one, is what the particle filters map-match on.
 #include <chrono>
+#include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -17,6 +19,7 @@
 #include "locus/api/client.hpp"
 #include "survey_connect.hpp"
 #include "walk_eval.hpp"
+#include "walk_reality.hpp"
 
 namespace {
 
@@ -36,6 +39,7 @@ struct Args {
     bool json_out = false;
     bool smooth = false;
     bool walls = true;
+    bool reality = false;  // the statistics the simulator is calibrated to, instead of the methods
     int particles = 2000;
     std::vector<std::string> tune;  // --set KEY=VALUE
 };
@@ -86,6 +90,38 @@ json stats_json(const walks::Stats& s) {
     return {{"n", s.n}, {"mean_m", s.mean}, {"median_m", s.median}, {"p75_m", s.p75}, {"p95_m", s.p95}};
 }
 
+// One line per walk and the pooled figures the simulator's defaults are set from.
+void print_reality(const std::vector<std::string>& dirs, const std::vector<walks::RealityStats>& rs) {
+    constexpr double kDeg = 180.0 / 3.14159265358979323846;
+    double ss4 = 0.0, metres4 = 0.0, ss = 0.0, metres = 0.0, steps_m = 0.0, truth_m = 0.0, err_sq = 0.0, err_sum = 0.0, range_sum = 0.0;
+    std::size_t n_err = 0;
+    std::printf("%-14s %9s %10s %14s %9s %9s\n", "walk", "intervals", "φ range °", "φ walk °/√m", "steps/m", "wifi m");
+    for (std::size_t w = 0; w < rs.size(); ++w) {
+        const auto& r = rs[w];
+        double e = 0.0;
+        for (const auto& v : r.fix_error) e += std::hypot(v.x, v.y), err_sq += v.x * v.x + v.y * v.y;
+        err_sum += e;
+        n_err += r.fix_error.size();
+        ss4 += r.rotation_walk4_sum_sq, metres4 += r.rotation_walk4_metres;
+        ss += r.rotation_walk_sum_sq, metres += r.rotation_walk_metres, steps_m += r.step_metres, truth_m += r.truth_metres;
+        range_sum += r.rotation_range_rad;
+        const double walk_sigma = r.rotation_walk_metres > 0.0 ? std::sqrt(r.rotation_walk_sum_sq / r.rotation_walk_metres) : 0.0;
+        std::printf("%-14s %9zu %10.0f %14.1f %9.2f %9.2f%s\n", std::filesystem::path(dirs[w]).filename().string().c_str(),
+                    r.intervals, r.rotation_range_rad * kDeg, walk_sigma * kDeg, r.truth_metres > 0.0 ? r.step_metres / r.truth_metres : 0.0,
+                    r.fix_error.empty() ? 0.0 : e / static_cast<double>(r.fix_error.size()), r.mirrored ? "  (mirrored)" : "");
+    }
+    if (rs.empty()) return;
+    std::printf("pooled: φ range %.0f° mean per walk; φ random walk %.1f°/√m (%.3f rad/√m), over 4 intervals %.1f°/√m (%.3f rad/√m); steps cover %.2f of the truth's "
+                "scan-to-scan polyline; wifi error %.2f m mean, %.2f m rms per axis\n",
+                range_sum / static_cast<double>(rs.size()) * kDeg, std::sqrt(ss / metres) * kDeg, std::sqrt(ss / metres),
+                std::sqrt(ss4 / metres4) * kDeg, std::sqrt(ss4 / metres4),
+                truth_m > 0.0 ? steps_m / truth_m : 0.0, n_err ? err_sum / static_cast<double>(n_err) : 0.0,
+                n_err ? std::sqrt(err_sq / (2.0 * static_cast<double>(n_err))) : 0.0);
+    std::printf("wifi error correlation between two fixes of a walk, by the distance between their truths:\n");
+    for (const auto& b : walks::error_correlation(rs, {0.0, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0}))
+        std::printf("  %4.0f–%-4.0f m %6.2f  (%zu pairs)\n", b.lo, b.hi, b.correlation, b.pairs);
+}
+
 void run(const Args& a) {
     const auto t_start = std::chrono::steady_clock::now();
     std::vector<std::string> dirs;
@@ -124,6 +160,7 @@ void run(const Args& a) {
     }
 
     std::vector<walks::WalkResult> results;
+    std::vector<walks::RealityStats> reality;
     double http_s = 0.0, filter_s = 0.0;
     int no_match_total = 0;
     for (const auto& d : dirs) {
@@ -154,6 +191,10 @@ void run(const Args& a) {
             }
         }
         const auto t1 = std::chrono::steady_clock::now();
+        if (a.reality) {
+            reality.push_back(walks::reality_of(walk, fixes, floor.height));
+            continue;
+        }
         results.push_back(walks::evaluate_walk(walk, fixes, floor.height, map, cfg));
         const auto t2 = std::chrono::steady_clock::now();
         http_s += std::chrono::duration<double>(t1 - t0).count();
@@ -162,6 +203,10 @@ void run(const Args& a) {
             std::cerr << "locus: " << walk.name << ": no scan localized (every one answered no_match): skipped in the figures\n";
     }
 
+    if (a.reality) {
+        print_reality(dirs, reality);
+        return;
+    }
     if (map) {
         // A plan that does not line up with the walks (wrong scale, flip or offset) would make
         // map matching hurt: say how many ground-truth points it holds as walkable.
@@ -247,6 +292,7 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_option("--particles", args->particles, "walk_pf particles")->capture_default_str()->check(CLI::Range(10, 100000));
     cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf's by name; particle.*, kalman.*; rules.* sets the *_tuned rules)");
     cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
+    cmd->add_flag("--reality", args->reality, "instead of the methods: the walks' compass drift, step coverage and WiFi error correlation (what the simulator is calibrated to)");
     cmd->add_flag("--smooth", args->smooth, "also the offline smoothers, RTS and forward-backward walk_pf (use each walk's future: not causal)");
     cmd->add_flag_callback("--no-walls", [args] { args->walls = false; }, "ignore the floor's plan (no map matching)");
     cmd->add_option("DIR", args->dir, "PUTMC directory (with trajs/) or one walk directory")->required()->check(CLI::ExistingDirectory);

@@ -20,6 +20,7 @@
 #include "sim/generator.hpp"
 #include "sim/scenario.hpp"
 #include "sim/walk_io.hpp"
+#include "walk_reality.hpp"
 
 namespace {
 
@@ -152,6 +153,8 @@ void run(const Args& a) {
     std::vector<std::string> order;
     std::map<std::string, sim::Score> sums;
     double distance_abs = 0.0, distance_sq = 0.0;  // PDR distance error, relative
+    // The WiFi fixes' errors, for the same correlation `locus eval walks --reality` measures.
+    std::vector<tools::walks::RealityStats> radio;
     for (int r = 0; r < a.runs; ++r) {
         const std::uint64_t seed = a.seed + static_cast<std::uint64_t>(r);
         sim::Walk walk = sim::simulate(sc, seed, a.walk);
@@ -165,6 +168,12 @@ void run(const Args& a) {
         const double rel = walked / sc.path_length_m() - 1.0;
         distance_abs += std::abs(rel) / a.runs;
         distance_sq += rel * rel / a.runs;
+        tools::walks::RealityStats& rs = radio.emplace_back();
+        for (const sim::Fix& f : sim::run_matcher(walk, sim::build_index(walk), cfg))
+            if (const auto truth = walk.truth_at(f.t_s)) {
+                rs.fix_error.push_back({f.at.x - truth->x, f.at.y - truth->y});
+                rs.fix_truth.push_back(*truth);
+            }
         for (const sim::Score& s : sim::evaluate(walk, cfg)) {
             if (!sums.count(s.method)) order.push_back(s.method);
             sim::Score& t = sums[s.method];
@@ -203,6 +212,9 @@ void run(const Args& a) {
     }
     std::printf("pdr distance error: mean |e| %.1f %%, rms %.1f %%\n", 100.0 * distance_abs,
                 100.0 * std::sqrt(distance_sq));
+    std::printf("wifi error correlation between two fixes of a walk, by the distance between their truths:\n");
+    for (const auto& b : tools::walks::error_correlation(radio, {0.0, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0}))
+        std::printf("  %4.0f–%-4.0f m %6.2f  (%zu pairs)\n", b.lo, b.hi, b.correlation, b.pairs);
 }
 
 }  // namespace
@@ -234,6 +246,8 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
                     "Override a particle filter setting, key=value (ParticleConfig field), repeatable");
     // Simulator knobs, for the calibration sweeps of docs/fusion.md.
     cmd->add_option("--scan-duration", args->walk.scan_duration_s, "Channel sweep of a scan, s")->capture_default_str();
+    cmd->add_option("--heading-walk", args->walk.heading_walk_rad_per_sqrt_m,
+                    "Compass rotation's random walk, rad/√m walked (0: the simulator before issue 13)")->capture_default_str();
     cmd->add_option("--drift-db", args->walk.survey_drift_sigma_db, "Survey-to-walk RSS change, dB")->capture_default_str();
     cmd->add_option("--device-offset-db", args->walk.device_offset_sigma_db, "Phone vs survey phone RSS offset σ, dB")
         ->capture_default_str();

@@ -31,6 +31,12 @@ struct SimConfig {
     // (it also stands for the residual compass calibration error of the phone). Calibrated
     // to Traini 2017's ground-floor PDR final error, 3.80 and 4.38 m over 26 m.
     double misalignment_sigma_rad = 0.20;  // ≈ 11.5°
+    // ...and the compass's rotation against the walking direction is not fixed either: on the
+    // real PUTMC walks it wanders 80–370° within one walk, a random walk of 0.28 rad/√m
+    // between consecutive scans (0.32 over four), `locus eval walks --reality`. Added to the
+    // phone's yaw per metre walked, so gyroscope and magnetometer agree on it as they do on a
+    // real phone whose fused azimuth drifts. 0 = the fixed offset alone (before issue 13).
+    double heading_walk_rad_per_sqrt_m = 0.28;
     // Sensors.
     double acc_noise = 0.08;        // m/s² per sample
     double acc_bias_sigma = 0.05;   // m/s² per axis, per walk
