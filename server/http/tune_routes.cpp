@@ -1,7 +1,7 @@
 // GET /v1/radiomaps/{id}/quality?folds=&max_queries=: each RP's held-out error with the radio
 // map's current settings (match::held_out_errors, tune's folds), for the viewer's
 // predicted-error layer. Read only; bounded as tune is, and at most kQualityAtOnce run at a
-// time: it is an open GET costing up to ~0.4 s of a core, so a burst answers 503 busy (with
+// time: it is an open GET costing up to ~0.4 s of a core, so a burst answers 503 server_busy (with
 // Retry-After) instead of queueing work that would starve localize.
 //
 // POST /v1/radiomaps/{id}/tune: cross-validates the radio map's own RPs over a small grid of
@@ -72,13 +72,13 @@ namespace {
 constexpr int kQualityAtOnce = 2;
 std::counting_semaphore<kQualityAtOnce> quality_slots(kQualityAtOnce);
 
-// A held slot of quality_slots; none free is 503 busy, not a wait.
+// A held slot of quality_slots; none free is 503 server_busy, not a wait.
 class QualitySlot {
 public:
     explicit QualitySlot(httplib::Response& res) {
         if (!quality_slots.try_acquire()) {
             res.set_header("Retry-After", "1");
-            throw ApiError(503, "busy",
+            throw ApiError(503, "server_busy",
                            std::to_string(kQualityAtOnce) + " quality assessments are running already; retry in a second");
         }
     }
