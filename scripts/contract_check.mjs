@@ -317,6 +317,9 @@ async function run() {
   await post(`/v1/rps/${rp1}/scans`, { scans: [scan([1, -40])] }, { auth: false, expect: 401, invalid: true });
   await get(`/v1/rps/${rp1}`, { expect: 200 });
   await get(`/v1/rps/${UNKNOWN}`, { expect: 404 });
+  await get(`/v1/radiomaps/${radiomap}/rps`, { expect: 200 });  // last_upload_at: a time and null
+  await get(`/v1/radiomaps/${radiomap}/quality`, { expect: 200 });
+  await get(`/v1/radiomaps/${radiomap}/quality?folds=1`, { expect: 400, invalid: true });
 
   // Export and import
   const exported = await get(`/v1/radiomaps/${radiomap}/export`, { expect: 200 });

@@ -1,6 +1,8 @@
 // GET /v1/radiomaps/{id}/quality?folds=&max_queries=: each RP's held-out error with the radio
 // map's current settings (match::held_out_errors, tune's folds), for the viewer's
-// predicted-error layer. Read only; bounded as tune is.
+// predicted-error layer. Read only; bounded as tune is, and at most kQualityAtOnce run at a
+// time: it is an open GET costing up to ~0.4 s of a core, so a burst answers 503 server_busy (with
+// Retry-After) instead of queueing work that would starve localize.
 //
 // POST /v1/radiomaps/{id}/tune: cross-validates the radio map's own RPs over a small grid of
 // matcher settings (match::tune), stores the best as the radio map's settings and answers the
@@ -8,6 +10,7 @@
 // localize needs: localize keeps the old settings until the new ones are committed, and the
 // commit's change makes the index pick them up.
 #include <chrono>
+#include <semaphore>
 #include <unordered_map>
 
 #include "http/app.hpp"
@@ -64,6 +67,28 @@ private:
     std::int64_t id_;
 };
 
+namespace {
+
+constexpr int kQualityAtOnce = 2;
+std::counting_semaphore<kQualityAtOnce> quality_slots(kQualityAtOnce);
+
+// A held slot of quality_slots; none free is 503 server_busy, not a wait.
+class QualitySlot {
+public:
+    explicit QualitySlot(httplib::Response& res) {
+        if (!quality_slots.try_acquire()) {
+            res.set_header("Retry-After", "1");
+            throw ApiError(503, "server_busy",
+                           std::to_string(kQualityAtOnce) + " quality assessments are running already; retry in a second");
+        }
+    }
+    ~QualitySlot() { quality_slots.release(); }
+    QualitySlot(const QualitySlot&) = delete;
+    QualitySlot& operator=(const QualitySlot&) = delete;
+};
+
+}  // namespace
+
 void App::install_tune_routes() {
     server_.Get(R"(/v1/radiomaps/(\d+)/quality)", [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {
@@ -73,6 +98,7 @@ void App::install_tune_routes() {
             if (req.has_param("max_queries"))
                 limits.max_queries = static_cast<std::size_t>(parse_query_integer(req.get_param_value("max_queries"), "max_queries", 10, 5000));
             store_.get(store::kind("radiomaps"), id);  // 404 before anything else
+            const QualitySlot slot(res);  // bad input and 404 cost nothing and are never busy
             const auto stored_settings = store_.settings_of_radiomap(id);
             const match::Setting setting = stored_settings ? settings_of_text(stored_settings->settings) : match::Setting{};
             auto stored = store_.rps_of_radiomap(id);  // one consistent snapshot

@@ -41,7 +41,9 @@ const std::vector<Kind>& kinds() {
          {name_field(), coordinate("x"), coordinate("y"),
           {.name = "scans", .type = FieldType::Integer, .writable = false},
           // 1: modelled from the floor's transmitters (POST …/radiomaps/generate), not surveyed
-          {.name = "generated", .type = FieldType::Integer, .writable = false}}},
+          {.name = "generated", .type = FieldType::Integer, .writable = false},
+          // when a scan upload last changed the RP (schema 010); null until one does
+          {.name = "last_upload_at", .type = FieldType::Text, .writable = false}}},
         // schema/009_transmitters.sql; http/transmitter_routes.cpp checks what a field alone
         // cannot (type, the bssid's form, the position within the floor).
         {"transmitters",

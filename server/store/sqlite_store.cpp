@@ -320,6 +320,8 @@ UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch
         }
         if (fresh) {
             merge_measurements(rp_id, batch.measurements, batch.scans);
+            Stmt at(db_, "UPDATE rps SET last_upload_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?");
+            at.bind(1, rp_id).run();
             changes.push_back(change_of(kind("rps"), rp_id, false));
         }
         result.applied = fresh;

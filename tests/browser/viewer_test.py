@@ -210,6 +210,17 @@ def desktop_checks(driver, server):
     first_row = driver.find_elements(By.CSS_SELECTOR, "#rp-table tbody tr")[0].text
     check(strongest["bssid"] in first_row and f"{strongest['mean']:.1f}" in first_row and str(strongest["count"]) in first_row,
           f"the strongest AP first with its mean and count: {first_row}")
+    # Its last upload: the demo's RPs were imported, so none; after one, the stored time in local time.
+    check(driver.find_element(By.ID, "rp-last-upload").text == "never" and stored["last_upload_at"] is None,
+          "an imported RP's last upload is 'never'")
+    server.api(f"/v1/rps/{rp['id']}/scans", {"scans": [[{"bssid": strongest["bssid"], "rss": -50}]]})
+    at = server.api(f"/v1/rps/{rp['id']}")["last_upload_at"]
+    driver.find_element(By.CSS_SELECTOR, f".rp-marker[title='RP {rp['name']}']").click()
+    wait(driver, f"const t = document.getElementById('rp-last-upload'); return t && t.getAttribute('datetime') === {json.dumps(at)}",
+         "the RP's last upload after a scan upload")
+    local = driver.execute_script(f"return new Date({json.dumps(at)}).toLocaleString()")
+    check(at is not None and driver.find_element(By.ID, "rp-last-upload").text == local,
+          f"the last upload shown in local time: {local}")
 
     # The heat map of an AP colours the floor around the RPs that heard it.
     between = ((rps["items"][0]["x"] + rps["items"][1]["x"]) / 2, rps["items"][0]["y"] + 1.0)

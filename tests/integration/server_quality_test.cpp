@@ -4,7 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
@@ -75,4 +79,58 @@ TEST(ServerQuality, BadInputIsRefused) {
     locus::testing::make_rp(s, h.radiomap, "a", 1, 1);
     locus::testing::make_rp(s, h.radiomap, "b", 2, 2);
     EXPECT_EQ(s.get(p).status, 422);  // RPs without a measurement are no scan
+}
+
+// An open GET costing up to ~0.4 s of a core: at most two run at a time, the rest are told to
+// come back (503 server_busy, Retry-After) rather than queued, and the slots come free again.
+TEST(ServerQuality, ABurstIsBoundedNotQueued) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    json rps = json::array();
+    for (int i = 0; i < 2500; ++i) {
+        const double x = (i % 50) * 0.6, y = (i / 50) * 0.4;
+        json ms = json::array();
+        for (int ap = 0; ap < 8; ++ap) {
+            const double ax = (ap % 4) * 10.0, ay = (ap / 4) * 20.0;
+            const double d = std::hypot(x - ax, y - ay) + 1;
+            ms.push_back({{"type", "wifi"}, {"bssid", "aa:00:00:00:00:0" + std::to_string(ap)},
+                          {"mean", -40 - 20 * std::log10(d)}, {"variance", 4.0}, {"count", 3}});
+        }
+        rps.push_back({{"name", "rp-" + std::to_string(i)}, {"x", x}, {"y", y}, {"scans", 3}, {"measurements", ms}});
+    }
+    const json doc = {{"format", "locus-radiomap/1"}, {"name", "dense"}, {"description", ""}, {"rps", rps}};
+    const auto id = body_of(s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", doc), 201).at("id");
+    const std::string p = "/v1/radiomaps/" + std::to_string(id.get<long long>()) + "/quality?folds=2&max_queries=5000";
+
+    constexpr int kBurst = 8;
+    std::vector<int> status(kBurst);
+    std::vector<std::string> code(kBurst), retry(kBurst);
+    std::atomic<int> ready{0};
+    std::vector<std::thread> threads;
+    for (int i = 0; i < kBurst; ++i)
+        threads.emplace_back([&, i] {
+            httplib::Client c("127.0.0.1", s.port());
+            c.set_read_timeout(60, 0);
+            ++ready;
+            while (ready.load() < kBurst) std::this_thread::yield();
+            const auto r = c.Get(p);
+            if (!r) return;
+            status[i] = r->status;
+            retry[i] = r->get_header_value("Retry-After");
+            if (r->status != 200) code[i] = json::parse(r->body).at("error").at("code").get<std::string>();
+        });
+    for (auto& t : threads) t.join();
+    int ok = 0, busy = 0;
+    for (int i = 0; i < kBurst; ++i) {
+        if (status[i] == 200) ++ok;
+        else {
+            EXPECT_EQ(status[i], 503);
+            EXPECT_EQ(code[i], "server_busy");
+            EXPECT_EQ(retry[i], "1");
+            ++busy;
+        }
+    }
+    EXPECT_GE(ok, 1);
+    EXPECT_GE(busy, 1) << "8 simultaneous assessments of 2500 RPs all ran: nothing bounds them";
+    EXPECT_EQ(s.get(p).status, 200);  // every slot was given back
 }

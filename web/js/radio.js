@@ -99,6 +99,7 @@ export class RadioLayer {
     this.ui.details.innerHTML =
       `<p><strong>${esc(fresh.name)}</strong> at (${fresh.x.toFixed(2)}, ${fresh.y.toFixed(2)}) m, ${fresh.scans} scans,`
       + ` ${fresh.measurements.length} APs</p>`
+      + `<p>Last upload: ${lastUpload(fresh.last_upload_at)}</p>`
       + `<div class="table-wrap"><table id="rp-table"><caption>Per access point, strongest first</caption>`
       + '<thead><tr><th scope="col">AP</th><th scope="col">Type</th><th scope="col">Mean dBm</th>'
       + `<th scope="col">Variance</th><th scope="col">Count</th></tr></thead><tbody>${rows}</tbody></table></div>`;
@@ -153,6 +154,13 @@ export class RadioLayer {
     this.gaps.addTo(this.map);
     this.updateSummary();
   }
+}
+
+// The server's UTC time in the reader's local time; null (imported, generated or created
+// empty) is "never". The <time> keeps the exact value for tools and tests.
+function lastUpload(iso) {
+  if (!iso) return '<time id="rp-last-upload">never</time>';
+  return `<time id="rp-last-upload" datetime="${esc(iso)}">${esc(new Date(iso).toLocaleString())}</time>`;
 }
 
 function legendControl(bssid, lo, hi) {
