@@ -163,7 +163,11 @@ void install_radiomap_generate(httplib::Server& server, store::Store& store) {
                                    std::to_string(kMaxGeneratedRps));
             const FloorModel model = floor_model(store, radiomap.parent_id.value_or(0), o.phone_height);
             // Grid nodes on the box's edges too, so the fill reaches the outermost RPs.
-            const Rect area{box.xmin - step / 2, box.ymin - step / 2, box.xmax + step / 2, box.ymax + step / 2};
+            // Clipped to the floor: an RP by a wall must not put modelled RPs outside the building.
+            const store::Record floor = store.get(store::kind("floors"), radiomap.parent_id.value_or(0));
+            const Rect area{std::max(0.0, box.xmin - step / 2), std::max(0.0, box.ymin - step / 2),
+                            std::min(floor.fields.get<double>("width"), box.xmax + step / 2),
+                            std::min(floor.fields.get<double>("height"), box.ymax + step / 2)};
             std::vector<store::RpDocument> added;
             for (const Point p : ranging::grid_points(area, step)) {
                 bool near = false;

@@ -290,8 +290,7 @@ void App::install_track_routes() {
         std::shared_ptr<tracks::Service::Stream> stream;
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
-            svc.authorize(id, token_of(req));
-            stream = svc.open_stream(id);
+            stream = svc.open_stream(id, token_of(req));
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error

@@ -376,6 +376,7 @@ void Service::revoke_share(std::int64_t id, std::int64_t share_id) {
     store::Stmt(db_, "DELETE FROM track_shares WHERE id = ?").bind(1, share_id).run();
     std::lock_guard lock(mu_);
     track->shares.erase(share_id);
+    track->changed.notify_all();  // its open streams end now
 }
 
 Service::Stream::~Stream() {
@@ -383,13 +384,15 @@ Service::Stream::~Stream() {
     --service_.streams_;
 }
 
-std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id) {
+std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std::string& token) {
+    const bool shared = authorize(id, token) == Access::share;
     std::lock_guard lock(mu_);
     auto track = find(id);
     if (streams_ >= options_.max_streams)
         throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
     ++streams_;
     std::unique_ptr<Stream> s(new Stream(*this, track));
+    if (shared) s->share_hash_ = token_hash(token);
     s->seen_ = track->seq;
     return s;
 }
@@ -398,17 +401,24 @@ Events Service::next_events(Stream& s) {
     std::unique_lock lock(mu_);
     Track& t = *s.track_;
     Events out;
+    const auto revoked = [&] {
+        if (!s.share_hash_) return false;
+        for (const auto& [share_id, share_hash] : t.shares)
+            if (same_hash(*s.share_hash_, share_hash)) return false;
+        return true;
+    };
     if (!s.started_) {
         s.started_ = true;
         if (t.info.latest) out.fixes.push_back(*t.info.latest);
     } else {
         t.changed.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s),
-                           [&] { return t.seq > s.seen_ || t.info.state != State::live || stopping_; });
+                           [&] { return t.seq > s.seen_ || t.info.state != State::live || stopping_ || revoked(); });
         for (const auto& [seq, fix] : t.recent)
             if (seq > s.seen_) out.fixes.push_back(fix);
         s.seen_ = t.seq;
     }
-    out.ended = t.info.state != State::live || stopping_;
+    if (revoked()) out.fixes.clear();  // a revoked reader is told nothing more
+    out.ended = t.info.state != State::live || stopping_ || revoked();
     return out;
 }
 
@@ -493,6 +503,11 @@ std::vector<std::int64_t> Service::sweep_tracks() {
     // A long live track keeps only its last retention period of fixes.
     store::Stmt(db_, "DELETE FROM track_fixes WHERE t < ?").bind(1, t - options_.retention_s).run();
     const bool trimmed = db_.changes() > 0;
+    std::unordered_map<std::int64_t, std::size_t> kept;  // fixes left per track, when some were trimmed
+    if (trimmed) {
+        store::Stmt count(db_, "SELECT track_id, count(*) FROM track_fixes GROUP BY track_id");
+        while (count.step()) kept[count.int64(0)] = static_cast<std::size_t>(count.int64(1));
+    }
     tx.commit();
 
     std::lock_guard lock(mu_);
@@ -517,9 +532,13 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         if (tr->info.state != State::live) ended.push_back(id);
     if (trimmed) {
         // Counts and latest fixes of tracks that lost old fixes: rare (a track older than the
-        // retention period), so they are simply read again.
-        for (const auto& [id, tr] : tracks_)
+        // retention period), so the counts are read again; without this a track posting for
+        // longer than max_fixes_per_track allows would be refused as full.
+        for (const auto& [id, tr] : tracks_) {
             if (tr->info.latest && tr->info.latest->t < t - options_.retention_s) tr->info.latest.reset();
+            const auto left = kept.find(id);
+            tr->info.fixes = left == kept.end() ? 0 : left->second;
+        }
     }
     return ended;
 }

@@ -150,11 +150,13 @@ public:
         Stream(Service& s, std::shared_ptr<Track> t) : service_(s), track_(std::move(t)) {}
         Service& service_;
         std::shared_ptr<Track> track_;
+        std::optional<std::string> share_hash_;  // read with a share: the stream ends when it is revoked
         std::uint64_t seen_ = 0;
         bool started_ = false;
     };
     // Refused(busy) past max_streams.
-    std::unique_ptr<Stream> open_stream(std::int64_t id);
+    // The token is authorised as by authorize(); a stream opened with a share ends when the share is revoked.
+    std::unique_ptr<Stream> open_stream(std::int64_t id, const std::string& token);
     // The first call answers the latest fix; each later one waits up to heartbeat_s for more.
     Events next_events(Stream& stream);
 

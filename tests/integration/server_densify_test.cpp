@@ -75,6 +75,23 @@ TEST(Densify, FillsBetweenTheSurveyWithTheModelAndKeepsSurveyedRps) {
     EXPECT_EQ(rps_of(s, h.radiomap).at("total"), 20);
 }
 
+// The fill's box is the survey's, widened by half a step: with RPs on the floor's edges it had
+// put modelled RPs outside the building.
+TEST(Densify, StaysOnTheFloor) {
+    ServerProcess s;
+    const auto h = locus::testing::make_hierarchy(s);  // floor 30 m × 20 m
+    add_ap(s, h.floor, "02:00:00:00:50:01", 15.0, 10.0);
+    locus::testing::make_rp(s, h.radiomap, "corner", 0.0, 0.0);
+    locus::testing::make_rp(s, h.radiomap, "far corner", 30.0, 20.0);
+    EXPECT_GT(body_of(s.post(densify(h.radiomap), {{"step", 3.0}})).at("added_rps").get<int>(), 0);
+    for (const auto& rp : rps_of(s, h.radiomap).at("items")) {
+        EXPECT_GE(rp.at("x").get<double>(), 0.0) << rp.dump();
+        EXPECT_LE(rp.at("x").get<double>(), 30.0) << rp.dump();
+        EXPECT_GE(rp.at("y").get<double>(), 0.0) << rp.dump();
+        EXPECT_LE(rp.at("y").get<double>(), 20.0) << rp.dump();
+    }
+}
+
 TEST(Densify, BadRequestsNameTheProblemAndAddNothing) {
     ServerProcess s;
     const auto h = locus::testing::make_hierarchy(s);

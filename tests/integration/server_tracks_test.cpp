@@ -320,6 +320,30 @@ TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
     EXPECT_TRUE(friend_.ended);
 }
 
+// A revoked share had kept an open stream receiving every fix for as long as the track lived.
+TEST(ServerTracks, RevokingAShareEndsTheStreamsItOpened) {
+    ServerProcess s({"--quiet", "--track-heartbeat", "0.2"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track t = open_track(s, h.map);
+    const double now = unix_now();
+    body_of(post_fixes(s, t, {fix(now - 5, h.floor, 0, 0)}));
+    const json share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201);
+    Listener owner(s.port(), path_of(t, "/events"), t.token);
+    Listener friend_(s.port(), path_of(t, "/events"), share["token"].get<std::string>());
+    ASSERT_TRUE(owner.wait_for(1, 2.0));
+    ASSERT_TRUE(friend_.wait_for(1, 2.0));
+
+    EXPECT_EQ(call(s, "DELETE", path_of(t, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {t.token}).status, 204);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (!friend_.ended && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    EXPECT_TRUE(friend_.ended) << "the revoked share's stream stayed open";
+    body_of(post_fixes(s, t, {fix(now, h.floor, 7, 0)}));
+    ASSERT_TRUE(owner.wait_for(2, 1.0));  // the owner's stream goes on
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    EXPECT_EQ(friend_.count(), 1u) << "a fix posted after the revocation reached the revoked share";
+    EXPECT_FALSE(owner.ended);
+}
+
 TEST(ServerTracks, ATrackClosesAfterItsTtlAndGoesAfterRetention) {
     ServerProcess s({"--quiet", "--track-ttl", "0.4", "--track-retention", "1.5"});
     const auto h = locus::testing::make_hierarchy(s);
@@ -349,6 +373,26 @@ TEST(ServerTracks, ATrackClosesAfterItsTtlAndGoesAfterRetention) {
 
 // A thin client's steps and radio fixes, fused on the server, give exactly what client-lib's
 // particle filter gives on the same inputs here: one code path.
+// A live track keeps its last retention period of fixes; its count had kept every fix ever
+// posted, so a track posting for days was refused as full.
+TEST(ServerTracks, ALongLiveTrackCountsOnlyTheFixesItKeeps) {
+    ServerProcess s({"--quiet", "--track-ttl", "60", "--track-retention", "1"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track t = open_track(s, h.map);
+    const double start = unix_now();
+    body_of(post_fixes(s, t, {fix(start - 0.2, h.floor, 1, 1), fix(start - 0.1, h.floor, 2, 1)}));
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 2);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));  // both older than the retention period
+    body_of(post_fixes(s, t, {fix(unix_now(), h.floor, 3, 1)}));
+    int fixes = -1;
+    for (int i = 0; i < 100 && fixes != 1; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        fixes = body_of(call(s, "GET", path_of(t), {t.token}))["fixes"].get<int>();
+    }
+    EXPECT_EQ(fixes, 1);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["trail"].size(), 1u);
+}
+
 TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);

@@ -129,6 +129,7 @@ async function selectFloor(id) {
   state.radiomapId = radiomaps.length ? radiomaps[0].id : null;
   $('rp-details').innerHTML = '<p>Click a dot (or focus it and press Enter) to see its access points.</p>';
   await radio.show(floor, state.radiomapId, doc);
+  if (state.floor !== floor) return;  // another floor was chosen while the radio map loaded
   applyRadioLayers();
   route.draw();
   survey.reset();
