@@ -84,7 +84,8 @@ TEST(Densify, StaysOnTheFloor) {
     locus::testing::make_rp(s, h.radiomap, "corner", 0.0, 0.0);
     locus::testing::make_rp(s, h.radiomap, "far corner", 30.0, 20.0);
     EXPECT_GT(body_of(s.post(densify(h.radiomap), {{"step", 3.0}})).at("added_rps").get<int>(), 0);
-    for (const auto& rp : rps_of(s, h.radiomap).at("items")) {
+    const json rps = rps_of(s, h.radiomap);  // kept: a range-for over a temporary's member dangles
+    for (const auto& rp : rps.at("items")) {
         EXPECT_GE(rp.at("x").get<double>(), 0.0) << rp.dump();
         EXPECT_LE(rp.at("x").get<double>(), 30.0) << rp.dump();
         EXPECT_GE(rp.at("y").get<double>(), 0.0) << rp.dump();
