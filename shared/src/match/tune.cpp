@@ -68,29 +68,22 @@ std::vector<TuneCandidate> tune_grid() {
     return grid;
 }
 
-TuneReport tune(const std::vector<IndexedRp>& rps, std::span<const TuneCandidate> grid, const FloorLevel& level_of,
-                const TuneLimits& limits, const IndexParams& params) {
-    if (rps.size() < 2)
-        throw TuneRefused("a radio map needs at least 2 RPs to be tuned (it has " + std::to_string(rps.size()) +
-                          "): each RP is localized against the others");
-    if (grid.empty()) throw TuneRefused("no candidate settings to compare");
+// The folds tune and held_out_errors share: fold f holds out every position i of the shuffled
+// order with i % folds == f; of those, only the first `queried` positions are localized (the
+// subsample). visit(index, h, query) runs for each held-out RP h that holds a measurement,
+// against the index of the other folds' RPs.
+struct Folds {
+    std::size_t folds = 0, queried = 0;
+};
+template <class Visit>
+Folds for_each_held_out(const std::vector<IndexedRp>& rps, const TuneLimits& limits, const IndexParams& params, Visit visit) {
     const std::size_t n = rps.size();
     const std::size_t folds = std::clamp<std::size_t>(static_cast<std::size_t>(std::max(limits.folds, 2)), 2, n);
     const auto order = shuffled(n);
     const std::size_t queried = std::min(n, std::max<std::size_t>(limits.max_queries, 1));
-
-    struct Sums {
-        double evaal = 0.0, horizontal = 0.0;
-        std::size_t answered = 0, floor_hits = 0, building_hits = 0, unanswered = 0;
-    };
-    std::vector<Sums> sums(grid.size());
-    std::size_t queries = 0;
-    Workspace workspace;
     std::vector<IndexedRp> kept;
     kept.reserve(n);
     for (std::size_t f = 0; f < folds; ++f) {
-        // Fold f holds out every position i of the shuffled order with i % folds == f; of
-        // those, only the first `queried` positions are localized (the subsample).
         std::vector<std::size_t> held;
         kept.clear();
         for (std::size_t i = 0; i < n; ++i) {
@@ -103,37 +96,57 @@ TuneReport tune(const std::vector<IndexedRp>& rps, std::span<const TuneCandidate
         if (held.empty()) continue;
         const Index index = Index::build(kept, params);
         for (const auto h : held) {
-            const auto& truth = rps[h];
-            const Query q = query_of(truth.rp);
+            const Query q = query_of(rps[h].rp);
             if (q.aps.empty()) continue;  // an RP with no measurement is no scan
-            ++queries;
-            for (std::size_t c = 0; c < grid.size(); ++c) {
-                auto& s = sums[c];
-                const auto r = localize(index, q, grid[c].setting.algorithm, grid[c].setting.options, workspace);
-                if (!r) {
-                    ++s.unanswered;
-                    s.evaal += kBuildingPenaltyM;
-                    continue;
-                }
-                const double e = distance(r->at, truth.rp.at);
-                const bool building_ok = r->building_id == truth.building_id;
-                const bool floor_ok = building_ok && r->floor_id == truth.floor_id;
-                ++s.answered;
-                s.horizontal += e;
-                s.building_hits += building_ok;
-                s.floor_hits += floor_ok;
-                double floors = 0.0;
-                if (!floor_ok)
-                    floors = static_cast<double>(std::llabs(level_of(r->floor_id) - level_of(truth.floor_id)));
-                s.evaal += e + kFloorPenaltyM * floors + (building_ok ? 0.0 : kBuildingPenaltyM);
-            }
+            visit(index, h, q);
         }
     }
+    return {folds, queried};
+}
+
+TuneReport tune(const std::vector<IndexedRp>& rps, std::span<const TuneCandidate> grid, const FloorLevel& level_of,
+                const TuneLimits& limits, const IndexParams& params) {
+    if (rps.size() < 2)
+        throw TuneRefused("a radio map needs at least 2 RPs to be tuned (it has " + std::to_string(rps.size()) +
+                          "): each RP is localized against the others");
+    if (grid.empty()) throw TuneRefused("no candidate settings to compare");
+    const std::size_t n = rps.size();
+    struct Sums {
+        double evaal = 0.0, horizontal = 0.0;
+        std::size_t answered = 0, floor_hits = 0, building_hits = 0, unanswered = 0;
+    };
+    std::vector<Sums> sums(grid.size());
+    std::size_t queries = 0;
+    Workspace workspace;
+    const Folds f = for_each_held_out(rps, limits, params, [&](const Index& index, std::size_t h, const Query& q) {
+        const auto& truth = rps[h];
+        ++queries;
+        for (std::size_t c = 0; c < grid.size(); ++c) {
+            auto& s = sums[c];
+            const auto r = localize(index, q, grid[c].setting.algorithm, grid[c].setting.options, workspace);
+            if (!r) {
+                ++s.unanswered;
+                s.evaal += kBuildingPenaltyM;
+                continue;
+            }
+            const double e = distance(r->at, truth.rp.at);
+            const bool building_ok = r->building_id == truth.building_id;
+            const bool floor_ok = building_ok && r->floor_id == truth.floor_id;
+            ++s.answered;
+            s.horizontal += e;
+            s.building_hits += building_ok;
+            s.floor_hits += floor_ok;
+            double floors = 0.0;
+            if (!floor_ok)
+                floors = static_cast<double>(std::llabs(level_of(r->floor_id) - level_of(truth.floor_id)));
+            s.evaal += e + kFloorPenaltyM * floors + (building_ok ? 0.0 : kBuildingPenaltyM);
+        }
+    });
     TuneReport report;
     report.rps = n;
-    report.folds = folds;
+    report.folds = f.folds;
     report.queries = queries;
-    report.subsampled = queried < n;
+    report.subsampled = f.queried < n;
     const double nq = queries > 0 ? static_cast<double>(queries) : 1.0;
     for (std::size_t c = 0; c < grid.size(); ++c) {
         const auto& s = sums[c];
@@ -160,48 +173,28 @@ QualityReport held_out_errors(const std::vector<IndexedRp>& rps, const Setting& 
         throw TuneRefused("a radio map needs at least 2 RPs (it has " + std::to_string(rps.size()) +
                           "): each RP is localized against the others");
     const std::size_t n = rps.size();
-    const std::size_t folds = std::clamp<std::size_t>(static_cast<std::size_t>(std::max(limits.folds, 2)), 2, n);
-    const auto order = shuffled(n);
-    const std::size_t queried = std::min(n, std::max<std::size_t>(limits.max_queries, 1));
     QualityReport report;
-    report.folds = folds;
-    report.subsampled = queried < n;
     report.rps.resize(n);
     for (std::size_t i = 0; i < n; ++i) report.rps[i].rp = i;
     Workspace workspace;
-    std::vector<IndexedRp> kept;
-    kept.reserve(n);
-    for (std::size_t f = 0; f < folds; ++f) {
-        std::vector<std::size_t> held;
-        kept.clear();
-        for (std::size_t i = 0; i < n; ++i) {
-            if (i % folds == f) {
-                if (i < queried) held.push_back(order[i]);
-            } else {
-                kept.push_back(rps[order[i]]);
-            }
+    const Folds f = for_each_held_out(rps, limits, params, [&](const Index& index, std::size_t h, const Query& q) {
+        const auto& truth = rps[h];
+        ++report.queries;
+        auto& out = report.rps[h];
+        const auto r = localize(index, q, setting.algorithm, setting.options, workspace);
+        if (!r) {
+            out.error_m = kBuildingPenaltyM;
+            return;
         }
-        if (held.empty()) continue;
-        const Index index = Index::build(kept, params);
-        for (const auto h : held) {
-            const auto& truth = rps[h];
-            const Query q = query_of(truth.rp);
-            if (q.aps.empty()) continue;
-            ++report.queries;
-            auto& out = report.rps[h];
-            const auto r = localize(index, q, setting.algorithm, setting.options, workspace);
-            if (!r) {
-                out.error_m = kBuildingPenaltyM;
-                continue;
-            }
-            const double e = distance(r->at, truth.rp.at);
-            const bool building_ok = r->building_id == truth.building_id;
-            out.floor_ok = building_ok && r->floor_id == truth.floor_id;
-            const double floors = out.floor_ok ? 0.0 : static_cast<double>(std::llabs(level_of(r->floor_id) - level_of(truth.floor_id)));
-            out.horizontal_m = e;
-            out.error_m = e + kFloorPenaltyM * floors + (building_ok ? 0.0 : kBuildingPenaltyM);
-        }
-    }
+        const double e = distance(r->at, truth.rp.at);
+        const bool building_ok = r->building_id == truth.building_id;
+        out.floor_ok = building_ok && r->floor_id == truth.floor_id;
+        const double floors = out.floor_ok ? 0.0 : static_cast<double>(std::llabs(level_of(r->floor_id) - level_of(truth.floor_id)));
+        out.horizontal_m = e;
+        out.error_m = e + kFloorPenaltyM * floors + (building_ok ? 0.0 : kBuildingPenaltyM);
+    });
+    report.folds = f.folds;
+    report.subsampled = f.queried < n;
     if (report.queries == 0) throw TuneRefused("no RP of the radio map holds a measurement to localize");
     return report;
 }
