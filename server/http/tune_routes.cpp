@@ -87,6 +87,24 @@ public:
     QualitySlot& operator=(const QualitySlot&) = delete;
 };
 
+// A radio map's RPs as the matchers index them, read once (one consistent snapshot), and the
+// level of each floor they are on, for the floor penalty.
+struct Snapshot {
+    std::vector<match::IndexedRp> rps;
+    std::unordered_map<long long, long long> levels;
+};
+Snapshot snapshot_of(store::Store& store, std::int64_t radiomap_id) {
+    Snapshot out;
+    auto stored = store.rps_of_radiomap(radiomap_id);
+    out.rps.reserve(stored.size());
+    for (auto& s : stored) {
+        if (!out.levels.count(s.floor_id))
+            out.levels[s.floor_id] = store.get(store::kind("floors"), s.floor_id).fields.get<std::int64_t>("level");
+        out.rps.push_back({std::move(s.rp), s.floor_id, s.building_id});
+    }
+    return out;
+}
+
 }  // namespace
 
 void App::install_tune_routes() {
@@ -101,25 +119,17 @@ void App::install_tune_routes() {
             const QualitySlot slot(res);  // bad input and 404 cost nothing and are never busy
             const auto stored_settings = store_.settings_of_radiomap(id);
             const match::Setting setting = stored_settings ? settings_of_text(stored_settings->settings) : match::Setting{};
-            auto stored = store_.rps_of_radiomap(id);  // one consistent snapshot
-            std::vector<match::IndexedRp> rps;
-            rps.reserve(stored.size());
-            std::unordered_map<long long, long long> levels;
-            for (auto& s : stored) {
-                if (!levels.count(s.floor_id))
-                    levels[s.floor_id] = store_.get(store::kind("floors"), s.floor_id).fields.get<std::int64_t>("level");
-                rps.push_back({std::move(s.rp), s.floor_id, s.building_id});
-            }
+            Snapshot snap = snapshot_of(store_, id);  // named, not bound: clang 14 lambdas cannot capture bindings
             match::QualityReport report;
             try {
-                report = match::held_out_errors(rps, setting, [&levels](long long floor) { return levels[floor]; }, limits);
+                report = match::held_out_errors(snap.rps, setting, [&snap](long long floor) { return snap.levels[floor]; }, limits);
             } catch (const match::TuneRefused& e) {
                 throw ApiError(422, "cannot_assess", "radiomap " + std::to_string(id) + ": " + e.what());
             }
             json items = json::array();
             double sum = 0;
             for (const auto& q : report.rps) {
-                const auto& r = rps[q.rp];
+                const auto& r = snap.rps[q.rp];
                 json j = {{"id", r.rp.id}, {"name", r.rp.name}, {"floor_id", r.floor_id}, {"x", r.rp.at.x}, {"y", r.rp.at.y},
                           {"error_m", nullptr}, {"horizontal_m", nullptr}, {"floor_ok", q.floor_ok}};
                 if (q.error_m) {
@@ -143,19 +153,11 @@ void App::install_tune_routes() {
             store_.get(store::kind("radiomaps"), id);  // 404 before anything else
             TuneGuard guard(*this, id);
             const auto t0 = std::chrono::steady_clock::now();
-            auto stored = store_.rps_of_radiomap(id);  // one consistent snapshot
-            std::vector<match::IndexedRp> rps;
-            rps.reserve(stored.size());
-            std::unordered_map<long long, long long> levels;
-            for (auto& s : stored) {
-                if (!levels.count(s.floor_id))
-                    levels[s.floor_id] = store_.get(store::kind("floors"), s.floor_id).fields.get<std::int64_t>("level");
-                rps.push_back({std::move(s.rp), s.floor_id, s.building_id});
-            }
+            Snapshot snap = snapshot_of(store_, id);  // named, not bound: clang 14 lambdas cannot capture bindings
             const auto grid = match::tune_grid();
             match::TuneReport report;
             try {
-                report = match::tune(rps, grid, [&levels](long long floor) { return levels[floor]; }, limits);
+                report = match::tune(snap.rps, grid, [&snap](long long floor) { return snap.levels[floor]; }, limits);
             } catch (const match::TuneRefused& e) {
                 throw ApiError(422, "cannot_tune", "radiomap " + std::to_string(id) + ": " + e.what());
             }
