@@ -179,6 +179,16 @@ std::string direction_text(double relative_deg) {
 
 std::string sse_event(const char* name, const json& data) { return std::string("event: ") + name + "\ndata: " + json_text(data) + "\n\n"; }
 
+// Turns an answered-200 response into a Server-Sent Events stream fed by `provider`.
+void begin_event_stream(httplib::Response& res, httplib::ContentProviderWithoutLength provider) {
+    res.body.clear();
+    // respond() named the body JSON: left, it would be sent beside text/event-stream and
+    // gzip would hold the events back until its buffer filled.
+    res.headers.erase("Content-Type");
+    res.set_header("Cache-Control", "no-store");
+    res.set_chunked_content_provider("text/event-stream", std::move(provider));
+}
+
 }  // namespace
 
 void App::install_track_routes() {
@@ -294,12 +304,7 @@ void App::install_track_routes() {
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error
-        res.body.clear();
-        // respond() named the body JSON: left, it would be sent beside text/event-stream and
-        // gzip would hold the events back until its buffer filled.
-        res.headers.erase("Content-Type");
-        res.set_header("Cache-Control", "no-store");
-        res.set_chunked_content_provider("text/event-stream", [&svc, stream](std::size_t, httplib::DataSink& sink) {
+        begin_event_stream(res, [&svc, stream](std::size_t, httplib::DataSink& sink) {
             const auto events = svc.next_events(*stream);
             std::string out;
             for (const auto& f : events.fixes) out += sse_event("fix", fix_json(f));
@@ -421,12 +426,7 @@ void App::install_track_routes() {
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error
-        res.body.clear();
-        // respond() named the body JSON: left, it would be sent beside text/event-stream and
-        // gzip would hold the events back until its buffer filled.
-        res.headers.erase("Content-Type");
-        res.set_header("Cache-Control", "no-store");
-        res.set_chunked_content_provider("text/event-stream", [&svc, stream](std::size_t, httplib::DataSink& sink) {
+        begin_event_stream(res, [&svc, stream](std::size_t, httplib::DataSink& sink) {
             const auto batch = svc.next_map_events(*stream);
             std::string out;
             for (const auto& e : batch.events) {
