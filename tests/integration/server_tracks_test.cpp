@@ -449,6 +449,108 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
     EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"walk": []})").status, 422);
 }
 
+// A thin client's scans are localized as the map's localize endpoint answers them (the same
+// index, the radio map's default algorithm) and taken by the particle filter as its radio fixes:
+// the fused fixes are client-lib's on those fixes. A bad scan anywhere in a batch writes nothing
+// and leaves the filter where it was.
+TEST(ServerTracks, ServerFusionLocalizesScansLikeTheLocalizeEndpoint) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    using locus::testing::feature;
+    const json plan = {{"type", "FeatureCollection"},
+                       {"features", {feature("space", locus::testing::rect_polygon(0, 0, 20, 4), {{"name", "Corridor"}, {"kind", "corridor"}})}}};
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(h.floor) + "/plan", plan).status, 200);
+    const auto m = [](const std::string& bssid, double mean) {
+        return json{{"type", "wifi"}, {"bssid", bssid}, {"mean", mean}, {"variance", 4.0}, {"count", 10}};
+    };
+    json rps = json::array();
+    for (int i = 0; i < 5; ++i) {
+        const double x = 2.0 + 4.0 * i;
+        rps.push_back({{"name", "rp" + std::to_string(i)}, {"x", x}, {"y", 2.0}, {"scans", 10},
+                       {"measurements", {m("aa:00:00:00:00:01", -35 - 2.0 * x), m("aa:00:00:00:00:02", -75 + 2.0 * x)}}});
+    }
+    ASSERT_EQ(s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", json{{"name", "corridor"}, {"rps", rps}}).status, 201);
+    const auto readings = [](double ap1, double ap2) {
+        return json::array({{{"bssid", "AA:00:00:00:00:01"}, {"rss", ap1}}, {{"type", "wifi"}, {"bssid", "aa:00:00:00:00:02"}, {"rss", ap2}}});
+    };
+    const json west = readings(-40, -72), middle = readings(-55, -57);
+    const Track t = open_track(s, h.map);
+    const double t0 = std::floor(unix_now()) - 30;
+    const std::string p = path_of(t, "/steps");
+
+    // Bad scans, alone or beside good steps: 4xx, nothing stored.
+    const json good_steps = {{{"t", t0 + 1}, {"length_m", 0.7}, {"heading_deg", 90.0}}};
+    for (const json& bad : {json{{"t", t0}, {"readings", json::array()}},
+                            json{{"t", t0}, {"readings", {{{"bssid", "not-a-mac"}, {"rss", -50}}}}},
+                            json{{"t", t0}, {"readings", {{{"bssid", "aa:00:00:00:00:01"}, {"rss", 20}}}}},
+                            json{{"t", t0}, {"readings", {{{"bssid", "aa:00:00:00:00:01"}, {"rss", "strong"}}}}},
+                            json{{"t", t0}, {"readings", {{{"bssid", "bb:00:00:00:00:09"}, {"rss", -50}}}}},  // no RP hears it
+                            json{{"t", t0}, {"readings", west}, {"floor_id", h.floor}},
+                            json{{"t", unix_now() + 3600}, {"readings", west}},
+                            json{{"readings", west}},
+                            json(west)}) {
+        const Response r = call(s, "POST", p, {t.token}, json{{"steps", good_steps}, {"scans", {bad}}}.dump());
+        EXPECT_EQ(r.status, 422) << bad.dump() << " " << r.raw;
+        EXPECT_TRUE(r.body["error"].contains("code")) << r.raw;
+    }
+    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"scans", json::object()}}.dump()).status, 422);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 0);
+
+    // The first scan starts the filter, steps walk it east, the second scan corrects it.
+    json steps = json::array();
+    for (int i = 1; i <= 8; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    const json body = {{"steps", steps}, {"scans", {{{"t", t0 + 4.5}, {"readings", middle}}, {{"t", t0}, {"readings", west}}}}};
+    const json got = body_of(call(s, "POST", p, {t.token}, body.dump()));
+    ASSERT_EQ(got["fused"].size(), 10u);
+    EXPECT_EQ(got["stored"], 10);
+    ASSERT_EQ(got["scan_fixes"].size(), 2u);
+
+    // Each scan's fix is where the map's localize endpoint puts that scan.
+    const std::string localize = "/v1/maps/" + std::to_string(h.map) + "/localize";
+    std::vector<json> answers;
+    for (const json* r : {&west, &middle}) answers.push_back(body_of(s.post(localize, json{{"scans", json::array({*r})}})));
+    for (std::size_t i = 0; i < 2; ++i) {
+        const json& f = got["scan_fixes"][i];
+        EXPECT_DOUBLE_EQ(f["x"].get<double>(), answers[i]["x"].get<double>()) << i;
+        EXPECT_DOUBLE_EQ(f["y"].get<double>(), answers[i]["y"].get<double>()) << i;
+        EXPECT_EQ(f["floor_id"], h.floor);
+        EXPECT_GE(f["accuracy_m"].get<double>(), 1.0);  // never the centimetres of a lone candidate
+    }
+    EXPECT_LT(answers[0]["x"].get<double>(), 6.0);   // the west scan is west...
+    EXPECT_GT(answers[1]["x"].get<double>(), 6.0);   // ...the middle one further east
+
+    // The same in client-lib, on the plan as the server keeps it and the fixes the scans gave.
+    const json stored = body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/plan"));
+    const auto walkable = locus::fusion::Walkable::from_plan(locus::plan::from_geojson({{"type", "FeatureCollection"}, {"features", stored["features"]}}));
+    const json& f0 = got["scan_fixes"][0];
+    const json& f1 = got["scan_fixes"][1];
+    locus::fusion::ParticleFilter pf(walkable, {f0["x"].get<double>(), f0["y"].get<double>()});
+    std::vector<locus::Point> expected{pf.position()};
+    for (int i = 1; i <= 8; ++i) {
+        pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+        expected.push_back(pf.position());
+        if (i == 4) {
+            const double a = f1["accuracy_m"].get<double>();
+            pf.update({f1["x"].get<double>(), f1["y"].get<double>()}, Eigen::Matrix2d::Identity() * a * a);
+            expected.push_back(pf.position());
+        }
+    }
+    ASSERT_EQ(expected.size(), 10u);
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        EXPECT_NEAR(got["fused"][i]["x"].get<double>(), expected[i].x, 1e-9) << i;
+        EXPECT_NEAR(got["fused"][i]["y"].get<double>(), expected[i].y, 1e-9) << i;
+    }
+    // A bad scan after that leaves the filter where it was: the next good step is client-lib's next step.
+    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}},
+                                                  {"scans", {{{"t", t0 + 9}, {"readings", {{{"bssid", "bb:00:00:00:00:09"}, {"rss", -50}}}}}}}}.dump())
+                  .status,
+              422);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 10);
+    const json next = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
+    pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+    EXPECT_NEAR(next["fused"][0]["x"].get<double>(), pf.position().x, 1e-9);
+}
+
 // The REST client's track calls against the real server.
 TEST(ServerTracks, ClientTrackCalls) {
     ServerProcess s({"--quiet", "--api-key", "k2"});
