@@ -66,6 +66,8 @@ ApiError api_error_of(const tracks::Refused& e) {
         case tracks::Reason::closed: return {409, "track_closed", e.what()};
         case tracks::Reason::busy: return {503, "server_busy", e.what()};
         case tracks::Reason::full: return {409, "track_full", e.what()};
+        case tracks::Reason::too_many_tracks: return {503, "too_many_tracks", e.what()};
+        case tracks::Reason::too_many_streams: return {429, "too_many_streams", e.what()};
     }
     return {500, "internal", e.what()};
 }
@@ -76,7 +78,9 @@ void respond_track(const httplib::Request& req, httplib::Response& res, const st
         try {
             return body();
         } catch (const tracks::Refused& e) {
-            if (e.reason == tracks::Reason::busy) res.set_header("Retry-After", "1");
+            if (e.reason == tracks::Reason::busy || e.reason == tracks::Reason::too_many_streams) res.set_header("Retry-After", "1");
+            // Retained slots free only as closed tracks expire: no use retrying at once.
+            if (e.reason == tracks::Reason::too_many_tracks) res.set_header("Retry-After", "60");
             throw api_error_of(e);
         }
     });

@@ -320,6 +320,77 @@ TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
     EXPECT_TRUE(friend_.ended);
 }
 
+// One track's owner and shares could take every event stream slot of the server.
+TEST(ServerTracks, OneTrackCannotTakeEveryStreamSlot) {
+    ServerProcess s({"--quiet", "--track-heartbeat", "0.1", "--max-streams-per-track", "2", "--max-track-streams", "10"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
+    body_of(post_fixes(s, a, {fix(unix_now() - 1, h.floor, 0, 0)}));
+    body_of(post_fixes(s, b, {fix(unix_now() - 1, h.floor, 1, 0)}));
+    const std::string share = body_of(call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201)["token"];
+    auto first = std::make_unique<Listener>(s.port(), path_of(a, "/events"), a.token);
+    Listener second(s.port(), path_of(a, "/events"), share);
+    ASSERT_TRUE(first->wait_for(1, 2.0));
+    ASSERT_TRUE(second.wait_for(1, 2.0));
+    const Response refused = call(s, "GET", path_of(a, "/events"), {a.token});
+    EXPECT_EQ(refused.status, 429);
+    EXPECT_EQ(refused.body["error"]["code"], "too_many_streams") << refused.raw;
+    Listener other(s.port(), path_of(b, "/events"), b.token);  // another track still gets one
+    EXPECT_TRUE(other.wait_for(1, 2.0));
+    // A closed stream gives its slot back.
+    first.reset();
+    bool again = false;
+    for (int i = 0; i < 20 && !again; ++i) {
+        Listener retry(s.port(), path_of(a, "/events"), a.token);
+        again = retry.wait_for(1, 0.3);
+    }
+    EXPECT_TRUE(again);
+}
+
+// An anonymous loop of open and close (or delete) had no bound: every track is held until it
+// expires, so all of them together are capped, and slots come back as they expire.
+TEST(ServerTracks, RetainedTracksAreCapped) {
+    ServerProcess s({"--quiet", "--max-tracks", "3", "--track-ttl", "60", "--track-retention", "0.3"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track live = open_track(s, h.map), closed = open_track(s, h.map), deleted = open_track(s, h.map);
+    body_of(call(s, "POST", path_of(closed, "/close"), {closed.token}, "{}"));
+    EXPECT_EQ(call(s, "DELETE", path_of(deleted), {deleted.token}).status, 204);
+    const Response refused = call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump());
+    EXPECT_EQ(refused.status, 503);
+    EXPECT_EQ(refused.body["error"]["code"], "too_many_tracks") << refused.raw;
+    EXPECT_EQ(body_of(call(s, "GET", path_of(live), {live.token}))["state"], "live");  // the live one is untouched
+    // The closed and deleted tracks expire (and their tombstones after them): slots come back.
+    int status = 503;
+    for (int i = 0; i < 100 && status == 503; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        status = call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump()).status;
+    }
+    EXPECT_EQ(status, 201);
+}
+
+// Deleting a map deleted its tracks' rows, but in memory they lived on (a post answered 409
+// or worse, a stream stayed open): now they go with it.
+TEST(ServerTracks, DeletingAMapEndsItsTracks) {
+    ServerProcess s({"--quiet", "--track-heartbeat", "0.1"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const auto other = locus::testing::make_hierarchy(s, "Elsewhere");
+    const Track t = open_track(s, h.map), kept = open_track(s, other.map);
+    body_of(post_fixes(s, t, {fix(unix_now() - 1, h.floor, 1, 1)}));
+    const std::string share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
+    Listener stream(s.port(), path_of(t, "/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+
+    ASSERT_EQ(s.del("/v1/maps/" + std::to_string(h.map)).status, 204);
+    EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
+    EXPECT_EQ(post_fixes(s, t, {fix(unix_now(), h.floor, 2, 2)}).status, 404);
+    EXPECT_EQ(call(s, "POST", path_of(t, "/close"), {t.token}, "{}").status, 404);
+    EXPECT_EQ(call(s, "GET", path_of(t), {share}).status, 403);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (!stream.ended && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    EXPECT_TRUE(stream.ended);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(kept), {kept.token}))["state"], "live");  // another map's track is untouched
+}
+
 // A revoked share had kept an open stream receiving every fix for as long as the track lived.
 TEST(ServerTracks, RevokingAShareEndsTheStreamsItOpened) {
     ServerProcess s({"--quiet", "--track-heartbeat", "0.2"});
