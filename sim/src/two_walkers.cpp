@@ -7,6 +7,7 @@
 #include <random>
 
 #include "locus/relative/angle_kalman.hpp"
+#include "locus/relative/range_fit.hpp"
 
 namespace locus::sim {
 
@@ -34,6 +35,7 @@ const char* method_name(RelativeMethod m) {
         case RelativeMethod::Exact: return "exact";
         case RelativeMethod::RssiKalman: return "rssi-kalman";
         case RelativeMethod::RssiKalmanAcoustic: return "rssi-kalman-acoustic";
+        case RelativeMethod::RssiFit: return "rssi-fit";
         case RelativeMethod::BothFixes: return "both-fixes";
     }
     return "?";
@@ -53,13 +55,20 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
     relative::DirectionEstimator est(c.estimator);
     relative::RangeKalman range_filter(c.range_kalman);
     std::deque<double> window;
+    double last_reading = 0;  // the last RSSI distance before any smoothing
+    // RssiFit: every PDR position with its RSSI distance, and the fitted B.
+    std::vector<Point> walked;
+    std::vector<double> ranges;
+    std::optional<Point> fitted;
+    const double first_heading = heading;
     TwoWalkerRun run;
     auto ranged = [&](double d) {
         if (m == RelativeMethod::Exact) return d;
         const double rss = ranging::rss_at(c.link.model, d) + c.shadowing_db * gauss(rng);
         if (m == RelativeMethod::Rssi) return relative::phone_distance(c.link, rss);
-        if (m == RelativeMethod::RssiKalman || m == RelativeMethod::RssiKalmanAcoustic) {
-            range_filter.update_rssi(relative::phone_distance(c.link, rss));
+        if (m == RelativeMethod::RssiKalman || m == RelativeMethod::RssiKalmanAcoustic || m == RelativeMethod::RssiFit) {
+            last_reading = relative::phone_distance(c.link, rss);
+            range_filter.update_rssi(last_reading);
             if (m == RelativeMethod::RssiKalmanAcoustic && d <= c.acoustic_range)
                 range_filter.update_direct(d + c.acoustic_sigma * gauss(rng), c.acoustic_sigma);
             return *range_filter.distance();
@@ -73,6 +82,8 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
     const double r0 = ranged(d0);
     run.distance_errors.push_back(std::abs(r0 - d0));
     est.step(pdr, r0);
+    walked.push_back(pdr);
+    ranges.push_back(last_reading);
     const int max_steps = int(c.seconds * c.step_hz);
     // BothFixes: the bearing between the two fused fixes, in the plan's frame (not PDR's).
     const auto fixes_bearing = [&] {
@@ -86,6 +97,8 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
         // A's intended heading: the estimate's bearing once there is one.
         if (c.follow_estimate && fixes_said) {
             heading = *fixes_said;
+        } else if (c.follow_estimate && m == RelativeMethod::RssiFit) {
+            if (fitted) heading = bearing_deg(pdr, *fitted);
         } else if (c.follow_estimate) {
             if (auto target = est.target()) heading = bearing_deg(pdr, *target);
             else if (auto dir = est.direction_deg()) heading = *dir;
@@ -114,13 +127,22 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
         const double r = ranged(d);
         run.distance_errors.push_back(std::abs(r - d));
         est.step(pdr, r);
+        if (m == RelativeMethod::RssiFit) {
+            walked.push_back(pdr);
+            ranges.push_back(last_reading);  // independent readings: the fit is the smoothing
+            // The side of a straight walk is a coin toss to the ranges: the fit keeps the one
+            // nearer where A first headed (it started roughly towards B).
+            fitted = relative::fit_target(walked, ranges, pdr, r, fitted ? bearing_deg(pdr, *fitted) : first_heading);
+        }
         if (d <= c.met_distance) {
             run.met = true;
             run.met_after_s = double(k) / c.step_hz;
             break;
         }
         std::optional<double> said;
-        if (auto target = est.target()) said = bearing_deg(pdr, *target);
+        if (m == RelativeMethod::RssiFit) {
+            if (fitted) said = bearing_deg(pdr, *fitted);
+        } else if (auto target = est.target()) said = bearing_deg(pdr, *target);
         else said = est.direction_deg();
         if (!said) {
             ++run.steps_without_estimate;

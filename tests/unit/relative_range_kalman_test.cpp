@@ -5,8 +5,11 @@
 
 #include <cmath>
 #include <random>
+#include <span>
+#include <vector>
 
 #include "locus/relative/phone_rssi.hpp"
+#include "locus/relative/range_fit.hpp"
 #include "locus/relative/range_kalman.hpp"
 
 using namespace locus::relative;
@@ -44,4 +47,33 @@ TEST(RangeKalman, AnAcousticRangeWins) {
     f.predict(0.7);
     f.update_direct(1.0, 0.01);
     EXPECT_NEAR(*f.distance(), 1.0, 0.02);
+}
+
+// The range fit: exact distances along an L-shaped walk give B; a straight walk leaves the
+// side open and the preferred bearing picks it.
+TEST(RangeFit, FindsTheTargetFromAnLShapedWalk) {
+    const locus::Point b{7.0, 9.0};
+    std::vector<locus::Point> at;
+    std::vector<double> d;
+    for (int k = 0; k < 8; ++k) at.push_back({0.7 * k, 0.0});
+    for (int k = 1; k < 6; ++k) at.push_back({0.7 * 7, 0.7 * k});
+    for (const auto& p : at) d.push_back(std::hypot(b.x - p.x, b.y - p.y));
+    const auto got = fit_target(at, d, at.back(), d.back(), -90.0);  // even preferring the wrong side
+    ASSERT_TRUE(got);
+    EXPECT_NEAR(got->x, b.x, 0.01);
+    EXPECT_NEAR(got->y, b.y, 0.01);
+    EXPECT_FALSE(fit_target(std::span(at).first(2), std::span(d).first(2), at[1], d[1], 0.0));
+}
+
+TEST(RangeFit, AStraightWalkTakesThePreferredSide) {
+    std::vector<locus::Point> at;
+    std::vector<double> d;
+    for (int k = 0; k < 10; ++k) at.push_back({0.7 * k, 0.0});
+    for (const auto& p : at) d.push_back(std::hypot(12.0 - p.x, 5.0 - p.y));  // B at (12, 5)
+    const auto left = fit_target(at, d, at.back(), d.back(), 60.0);
+    const auto right = fit_target(at, d, at.back(), d.back(), -60.0);
+    ASSERT_TRUE(left && right);
+    EXPECT_NEAR(left->y, 5.0, 0.05);
+    EXPECT_NEAR(right->y, -5.0, 0.05);
+    EXPECT_NEAR(left->x, 12.0, 0.05);
 }

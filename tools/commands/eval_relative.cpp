@@ -27,7 +27,7 @@ void run(const Args& a) {
         std::printf("%-21s %5s %12s %9s %9s %6s %10s %12s\n", "method", "runs", "median_err°", "p90_err°",
                     "coverage", "met", "met_after", "median_|Δd|");
     for (auto m : {sim::RelativeMethod::Rssi, sim::RelativeMethod::RssiMean, sim::RelativeMethod::RssiKalman,
-                   sim::RelativeMethod::RssiKalmanAcoustic, sim::RelativeMethod::Exact, sim::RelativeMethod::BothFixes}) {
+                   sim::RelativeMethod::RssiKalmanAcoustic, sim::RelativeMethod::RssiFit, sim::RelativeMethod::Exact, sim::RelativeMethod::BothFixes}) {
         const auto s = sim::evaluate_two_walkers(a.config, m, a.seed, a.runs);
         if (a.json) {
             out.push_back({{"method", sim::method_name(m)},

@@ -22,6 +22,9 @@ enum class RelativeMethod {
     Exact,     // the true distance: what the estimator does with perfect ranging
     RssiKalman,          // each reading through relative::RangeKalman, driven by A's PDR steps
     RssiKalmanAcoustic,  // the same, plus an acoustic range per step once within acoustic_range
+    // B placed by relative::fit_target over all of A's positions and RSSI distances so far
+    // (not the seed's estimator); A follows the fit's bearing.
+    RssiFit,
     // Both phones have fused fixes (the server's GET /v1/tracks/{a}/relative/{b}): the bearing
     // from A's fix to B's, each off by fix_sigma per axis; no estimator, no ranging.
     BothFixes,
