@@ -34,6 +34,7 @@ struct Args {
     int pid = 0;
     double width = 400, height = 250, step = 1.0;
     double ap_spacing = 20, tx_power = -30, path_loss_exponent = 3, min_rss = -80;
+    std::int64_t radiomap = 0;  // measure this existing radio map instead of generating one
 };
 
 // VmRSS and VmHWM (peak) of a process, in MiB.
@@ -76,29 +77,52 @@ void run(Args a) {
     client.get("/health");
     const Memory before = memory_of(a.pid);
 
-    const auto map = client.create_map("memory bench " + std::to_string(std::time(nullptr)));
-    const auto building = client.create_building(map.id, "B");
-    const json floor = client.post("/v1/buildings/" + std::to_string(building.id) + "/floors",
-                                   {{"name", "F0"}, {"level", 0}, {"width", a.width}, {"height", a.height}});
-    const auto floor_id = floor.at("id").get<std::int64_t>();
     struct Ap {
-        double x, y;
+        double x, y, tx_power, n;
         std::string bssid;
     };
     std::vector<Ap> aps;
-    for (double y = a.ap_spacing / 2; y < a.height; y += a.ap_spacing)
-        for (double x = a.ap_spacing / 2; x < a.width; x += a.ap_spacing) {
-            aps.push_back({x, y, bssid_of(static_cast<int>(aps.size()))});
-            client.post("/v1/floors/" + std::to_string(floor_id) + "/transmitters",
-                        {{"type", "wifi"}, {"bssid", aps.back().bssid}, {"x", x}, {"y", y}, {"tx_power", a.tx_power},
-                         {"path_loss_exponent", a.path_loss_exponent}});
+    json generated;
+    double generate_s = 0;
+    std::int64_t radiomap = a.radiomap;
+    if (radiomap == 0) {
+        const auto map = client.create_map("memory bench " + std::to_string(std::time(nullptr)));
+        const auto building = client.create_building(map.id, "B");
+        const json floor = client.post("/v1/buildings/" + std::to_string(building.id) + "/floors",
+                                       {{"name", "F0"}, {"level", 0}, {"width", a.width}, {"height", a.height}});
+        const auto floor_id = floor.at("id").get<std::int64_t>();
+        for (double y = a.ap_spacing / 2; y < a.height; y += a.ap_spacing)
+            for (double x = a.ap_spacing / 2; x < a.width; x += a.ap_spacing) {
+                aps.push_back({x, y, a.tx_power, a.path_loss_exponent, bssid_of(static_cast<int>(aps.size()))});
+                client.post("/v1/floors/" + std::to_string(floor_id) + "/transmitters",
+                            {{"type", "wifi"}, {"bssid", aps.back().bssid}, {"x", x}, {"y", y}, {"tx_power", a.tx_power},
+                             {"path_loss_exponent", a.path_loss_exponent}});
+            }
+        const auto t0 = Clock::now();
+        generated = client.post("/v1/floors/" + std::to_string(floor_id) + "/radiomaps/generate",
+                                {{"name", "generated"}, {"step", a.step}, {"min_rss", a.min_rss}, {"sigma_db", 4}});
+        generate_s = seconds_since(t0);
+        radiomap = generated.at("id").get<std::int64_t>();
+    } else {
+        // A server started on a database that already holds the map built its index at start:
+        // this is what each replica holds. The query comes from the floor's transmitters.
+        const json info = client.get("/v1/radiomaps/" + std::to_string(radiomap));
+        const auto floor_id = info.at("floor_id").get<std::int64_t>();
+        for (std::int64_t offset = 0;; offset += 1000) {
+            const json page = client.get("/v1/floors/" + std::to_string(floor_id) + "/transmitters?limit=1000&offset=" +
+                                         std::to_string(offset));
+            for (const auto& t : page.at("items"))
+                aps.push_back({t.at("x").get<double>(), t.at("y").get<double>(), t.at("tx_power").get<double>(),
+                               t.value("path_loss_exponent", 2.0), t.at("bssid").get<std::string>()});
+            if (page.at("items").size() < 1000) break;
         }
-
-    auto t0 = Clock::now();
-    const json generated = client.post("/v1/floors/" + std::to_string(floor_id) + "/radiomaps/generate",
-                                       {{"name", "generated"}, {"step", a.step}, {"min_rss", a.min_rss}, {"sigma_db", 4}});
-    const double generate_s = seconds_since(t0);
-    const auto radiomap = generated.at("id").get<std::int64_t>();
+        if (aps.empty()) throw CommandError("radio map " + std::to_string(radiomap) + "'s floor has no transmitters to query with");
+        const json floor = client.get("/v1/floors/" + std::to_string(floor_id));
+        a.width = floor.at("width").get<double>();
+        a.height = floor.at("height").get<double>();
+        const json rps = client.get("/v1/radiomaps/" + std::to_string(radiomap) + "/rps?limit=1");
+        generated = {{"rp_count", rps.at("total")}, {"measurement_count", nullptr}};
+    }
     const Memory written = memory_of(a.pid);
 
     // A query from the middle of the floor, heard as the model says: the first localize on the
@@ -107,11 +131,11 @@ void run(Args a) {
     json scan = json::array();
     for (const auto& ap : aps) {
         const double d = std::max(1.0, std::hypot(ap.x - qx, ap.y - qy));
-        const double rss = a.tx_power - 10 * a.path_loss_exponent * std::log10(d);
+        const double rss = ap.tx_power - 10 * ap.n * std::log10(d);
         if (rss >= a.min_rss) scan.push_back({{"type", "wifi"}, {"bssid", ap.bssid}, {"rss", rss}});
     }
     const json query = {{"scans", json::array({scan})}};
-    t0 = Clock::now();
+    auto t0 = Clock::now();
     const json first = client.post("/v1/radiomaps/" + std::to_string(radiomap) + "/localize", query);
     const double first_localize_s = seconds_since(t0);
     t0 = Clock::now();
@@ -124,7 +148,9 @@ void run(Args a) {
         {"rps", generated.at("rp_count")},
         {"measurements", generated.at("measurement_count")},
         {"transmitters", aps.size()},
-        {"aps_per_rp", generated.at("measurement_count").get<double>() / std::max(1.0, generated.at("rp_count").get<double>())},
+        {"aps_per_rp", generated.at("measurement_count").is_null()
+                           ? json()
+                           : json(generated.at("measurement_count").get<double>() / std::max(1.0, generated.at("rp_count").get<double>()))},
         {"generate_s", generate_s},
         {"first_localize_s", first_localize_s},  // index build included
         {"second_localize_s", second_localize_s},
@@ -151,5 +177,7 @@ LOCUS_COMMAND("bench-map-memory", [](CLI::App& app) {
     cmd->add_option("--step", args->step, "RP grid step (m): one RP per cell")->capture_default_str()->check(CLI::Range(0.1, 1000.0));
     cmd->add_option("--ap-spacing", args->ap_spacing, "a transmitter every this many m, in a grid")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
     cmd->add_option("--min-rss", args->min_rss, "weakest modelled RSS an RP keeps (dBm)")->capture_default_str()->check(CLI::Range(-120.0, 0.0));
+    cmd->add_option("--radiomap", args->radiomap,
+                    "measure this existing radio map (a server just started on its database) instead of generating one");
     cmd->callback([args] { run(*args); });
 });
