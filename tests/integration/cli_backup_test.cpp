@@ -86,6 +86,9 @@ TEST(Backup, ACopyTakenDuringUploadsHoldsEveryUploadAcknowledgedBeforeIt) {
     // and none that was not acknowledged by the time it ended.
     EXPECT_GE(copied.at("scans").get<int>(), before);
     EXPECT_LE(copied.at("scans").get<int>(), after + 1);  // +1: in flight, committed, not yet counted
+    // One commit's state, not a torn copy: the AP's sample count moved with the RP's scan count.
+    ASSERT_EQ(copied.at("measurements").size(), 1u);
+    EXPECT_EQ(copied.at("measurements")[0].at("count"), copied.at("scans"));
     // The upload ids came along: sending the first one again changes nothing on the copy.
     const auto again = body_of(restored.post(scans, {{"upload_id", "u0"}, {"scans", one_scan(0)}}));
     EXPECT_FALSE(again.at("applied").get<bool>());
