@@ -63,7 +63,7 @@ for _ in $(seq 20); do [ "$(localize)" = 200 ] || fail "localize through nginx d
 for name in a b; do grep -q '"/v1/maps/1/localize"' "$tmp/$name.log" || fail "replica $name got no localize request"; done
 
 # One replica dies: nothing fails, the other answers.
-kill -9 "$pid_b"
+kill -9 "$pid_b"; wait "$pid_b" 2>/dev/null || true
 codes=$(for _ in $(seq 20); do localize; curl -s -o /dev/null -w '%{http_code}\n' "$url/v1/maps/1"; done | sort | uniq -c)
 echo "$codes" | grep -qv ' 200$' && fail "with replica b killed, answers were: $codes"
 
