@@ -36,7 +36,11 @@ struct WalkFilterConfig {
     double blocked_weight = 0.02;
     double fix_sigma_m = 2.2;          // σ of the fix likelihood (at least; the fix's own cov when larger)
     double outlier_floor = 0.02;
-    double reseed_fraction = 0.3;      // re-drawn around each fix
+    double reseed_fraction = 0.3;      // re-drawn around each fix...
+    // ...rising towards this share the less the cloud expects the fix (1 − its mean likelihood
+    // of it): a cloud that drifted off with a wrong rotation is rebuilt round the fix sooner,
+    // one that agrees keeps its history. At or below reseed_fraction: a fixed share.
+    double reseed_max_fraction = 0.0;
     double resample_fraction = 0.5;
     // With a rotation hint (HeadingAlignment's, learnt from the fixes so far), this share of
     // the fresh particles takes it, ±hint_sigma_rad; the rest draw φ and s uniformly.
