@@ -137,3 +137,23 @@ TEST(WalkFilter, RedrawsMoreOfTheCloudAroundAFixItDidNotExpect) {
     EXPECT_LT(std::hypot(a.x - expected.x, a.y - expected.y), 1.0);
     EXPECT_LT(std::hypot(b.x - expected.x, b.y - expected.y), 1.0);
 }
+
+// The estimate as the cloud's mode: with three quarters of the particles at one place and a
+// quarter re-drawn round a fix 20 m away, the mean lies between the two, in neither; the mode
+// stays with the larger group.
+TEST(WalkFilter, ModeEstimateStaysWithTheLargerGroupWhereTheMeanFallsBetween) {
+    const Eigen::Matrix2d cov = Eigen::Matrix2d::Identity();
+    const auto after = [&](double radius) {
+        fusion::WalkFilterConfig c;
+        c.outlier_floor = 0.5;  // the far fix must not simply win the resampling
+        c.estimate_radius_m = radius;
+        fusion::WalkFilter f(std::nullopt, c);
+        f.fix({0, 0}, cov);
+        f.fix({20, 0}, cov);
+        return f.position();
+    };
+    const Point mean = after(0.0), mode = after(3.0);
+    EXPECT_NEAR(mean.x, (1.0 - std::exp(-0.3)) * 20.0, 1.5);  // 26 % re-drawn (see above)
+    EXPECT_LT(std::abs(mode.x), 1.5) << "mode at " << mode.x << ", mean at " << mean.x;
+    EXPECT_LT(std::abs(mode.y), 1.0);
+}

@@ -62,7 +62,7 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
         {"heading_sigma_rad", &c.heading_sigma_rad}, {"offset_walk_rad", &c.offset_walk_rad}, {"scale_walk", &c.scale_walk},
         {"length_sigma", &c.length_sigma}, {"snap_rad", &c.snap_rad}, {"blocked_weight", &c.blocked_weight},
         {"fix_sigma_m", &c.fix_sigma_m}, {"outlier_floor", &c.outlier_floor}, {"reseed_fraction", &c.reseed_fraction},
-        {"reseed_max_fraction", &c.reseed_max_fraction},
+        {"reseed_max_fraction", &c.reseed_max_fraction}, {"estimate_radius_m", &c.estimate_radius_m},
         {"resample_fraction", &c.resample_fraction}, {"seed", &seed}, {"hint_share", &c.hint_share},
         {"hint_sigma_rad", &c.hint_sigma_rad}, {"particle.particles", &particles},
         {"particle.initial_sigma_m", &pc.initial_sigma_m}, {"particle.initial_bias_sigma_rad", &pc.initial_bias_sigma_rad},

@@ -161,7 +161,18 @@ Point WalkFilter::position() const {
     double x = 0.0, y = 0.0, w = 0.0;
     for (const P& p : particles_) x += p.weight * p.at.x, y += p.weight * p.at.y, w += p.weight;
     if (w <= 0.0) return {};
-    return {x / w, y / w};
+    Point at{x / w, y / w};
+    const double r2 = config_.estimate_radius_m * config_.estimate_radius_m;
+    for (int it = 0; r2 > 0.0 && it < 5; ++it) {
+        double sx = 0.0, sy = 0.0, sw = 0.0;
+        for (const P& p : particles_) {
+            const double dx = p.at.x - at.x, dy = p.at.y - at.y;
+            if (dx * dx + dy * dy <= r2) sx += p.weight * p.at.x, sy += p.weight * p.at.y, sw += p.weight;
+        }
+        if (sw <= 0.0) break;
+        at = {sx / sw, sy / sw};
+    }
+    return at;
 }
 
 }  // namespace locus::fusion

@@ -42,6 +42,9 @@ struct WalkFilterConfig {
     // one that agrees keeps its history. At or below reseed_fraction: a fixed share.
     double reseed_max_fraction = 0.0;
     double resample_fraction = 0.5;
+    // > 0: position() is the cloud's mode, found by mean shift from the weighted mean with a
+    // flat kernel of this radius, not the mean (particles heading the wrong way pull a mean back).
+    double estimate_radius_m = 0.0;
     // With a rotation hint (HeadingAlignment's, learnt from the fixes so far), this share of
     // the fresh particles takes it, ±hint_sigma_rad; the rest draw φ and s uniformly.
     double hint_share = 0.0;
