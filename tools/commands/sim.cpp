@@ -74,6 +74,8 @@ constexpr SeedRow kSeed004[] = {{"trilateration", "trilateration", 5.872, 1.258,
 void print_ranging_report(const std::map<std::string, std::vector<double>>& finals, const Args& a) {
     auto stats = [&](const std::string& m) {
         const auto& v = finals.at(m);
+        if (static_cast<int>(v.size()) < a.runs)
+            std::printf("(%s: %d of the walks had no fix at all)\n", m.c_str(), a.runs - static_cast<int>(v.size()));
         double lo = v.front(), hi = v.front(), sum = 0.0;
         for (double e : v) lo = std::min(lo, e), hi = std::max(hi, e), sum += e;
         return std::array<double, 3>{hi, lo, sum / static_cast<double>(v.size())};
@@ -224,7 +226,7 @@ void run(const Args& a) {
                                                                      walk.start, a.ranging))
                 scores.push_back(sim::score(t, walk));
         for (const sim::Score& s : scores) {
-            finals[s.method].push_back(s.final_error_m);
+            if (s.points > 0) finals[s.method].push_back(s.final_error_m);  // a walk without a fix has no final
             if (!sums.count(s.method)) order.push_back(s.method);
             sim::Score& t = sums[s.method];
             t.method = s.method;
