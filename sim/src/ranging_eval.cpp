@@ -1,6 +1,7 @@
 #include "sim/ranging_eval.hpp"
 
 #include <map>
+#include <utility>
 
 namespace locus::sim {
 
@@ -65,7 +66,8 @@ RangingFixes run_ranging(const Walk& walk, const RangingEvalConfig& config) {
 }
 
 std::vector<NamedTrack> run_ranging_methods(const std::vector<PdrStep>& steps, const RangingFixes& fixes, Point start,
-                                            const RangingEvalConfig& config) {
+                                            const RangingEvalConfig& config,
+                                            std::shared_ptr<const fusion::PlanWalkable> floor_plan) {
     std::vector<NamedTrack> out;
     auto fix_track = [](const std::vector<Fix>& fs) {
         Track t;
@@ -76,7 +78,7 @@ std::vector<NamedTrack> run_ranging_methods(const std::vector<PdrStep>& steps, c
     out.push_back({"multilateration", fix_track(fixes.multilateration)});
     out.push_back({"kalman_seed", kalman_track(steps, fixes.trilateration, start, config.seed_kalman.kalman)});
     out.push_back({"kalman_ranging", kalman_track(steps, fixes.multilateration, start, config.kalman.kalman,
-                                                  config.kalman_fix_latency_s)});
+                                                  config.kalman_fix_latency_s, std::move(floor_plan))});
     return out;
 }
 

@@ -72,10 +72,11 @@ constexpr SeedRow kSeed004[] = {{"trilateration", "trilateration", 5.872, 1.258,
 
 // Final-position errors of each method over the walks, for seed 004's max / min / mean.
 void print_ranging_report(const std::map<std::string, std::vector<double>>& finals, const Args& a) {
+    std::string notes;
     auto stats = [&](const std::string& m) {
         const auto& v = finals.at(m);
         if (static_cast<int>(v.size()) < a.runs)
-            std::printf("(%s: %d of the walks had no fix at all)\n", m.c_str(), a.runs - static_cast<int>(v.size()));
+            notes += "  " + m + ": " + std::to_string(a.runs - static_cast<int>(v.size())) + " of the walks had no fix at all\n";
         double lo = v.front(), hi = v.front(), sum = 0.0;
         for (double e : v) lo = std::min(lo, e), hi = std::max(hi, e), sum += e;
         return std::array<double, 3>{hi, lo, sum / static_cast<double>(v.size())};
@@ -97,6 +98,7 @@ void print_ranging_report(const std::map<std::string, std::vector<double>>& fina
     const double ours = stats("kalman_ranging")[2];
     std::printf("multilateration + Kalman %.2f m against the target %.3f m (30 %% below the seed's %.3f m): %s\n", ours,
                 target, kSeed004[2].mean, ours <= target ? "met" : "NOT met");
+    std::printf("%s", notes.c_str());
 }
 
 // The floor the filters map-match on, and a word for where it came from.
@@ -223,7 +225,7 @@ void run(const Args& a) {
         std::vector<sim::Score> scores = sim::evaluate(walk, cfg);
         if (!walk.anchors.empty())
             for (const sim::NamedTrack& t : sim::run_ranging_methods(sim::run_pdr(walk), sim::run_ranging(walk, a.ranging),
-                                                                     walk.start, a.ranging))
+                                                                     walk.start, a.ranging, walls.map.floor_plan))
                 scores.push_back(sim::score(t, walk));
         for (const sim::Score& s : scores) {
             if (s.points > 0) finals[s.method].push_back(s.final_error_m);  // a walk without a fix has no final

@@ -5,6 +5,7 @@
 // as `locus sim` scores every method: trilateration, multilateration, the seed's Kalman filter
 // (trilateration fixes, constant R and Q) and ours (multilateration fixes with their own
 // covariance as R, Q growing with the distance walked).
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,8 +41,10 @@ struct RangingFixes {
 // A reading is matched to its anchor by id; readings of unknown ids are ignored.
 RangingFixes run_ranging(const Walk& walk, const RangingEvalConfig& config);
 
-// trilateration, multilateration, kalman_seed, kalman_ranging.
+// trilateration, multilateration, kalman_seed, kalman_ranging. With a floor plan ours is
+// map-matched as the WiFi Kalman filter is (a fix off the walkable floor snapped into it).
 std::vector<NamedTrack> run_ranging_methods(const std::vector<PdrStep>& steps, const RangingFixes& fixes, Point start,
-                                            const RangingEvalConfig& config);
+                                            const RangingEvalConfig& config,
+                                            std::shared_ptr<const fusion::PlanWalkable> floor_plan = nullptr);
 
 }  // namespace locus::sim
