@@ -1,5 +1,6 @@
 #include "sim/ranging_eval.hpp"
 
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -39,7 +40,7 @@ Fix as_fix(double t_s, const ranging::Fix& f, const fusion::RangingKalmanConfig&
 // Calls on_window(readings averaged per anchor, time of the window's last scan) for each
 // consecutive window of window_s seconds holding a scan.
 template <typename OnWindow>
-void for_each_window(const Walk& walk, double window_s, OnWindow on_window) {
+void for_each_window(const Walk& walk, double window_s, OnWindow&& on_window) {
     if (walk.anchor_scans.empty() || window_s <= 0.0) return;
     std::size_t from = 0;
     for (double end = walk.anchor_scans.front().t_s + window_s - 1e-9; from < walk.anchor_scans.size(); end += window_s) {
@@ -58,9 +59,19 @@ RangingFixes run_ranging(const Walk& walk, const RangingEvalConfig& config) {
         if (const auto f = ranging::trilaterate(heard, config.trilateration))
             out.trilateration.push_back(as_fix(t, *f, config.seed_kalman));
     });
-    for_each_window(walk, config.multilateration_window_s, [&](const std::vector<ranging::Heard>& heard, double t) {
-        if (const auto f = ranging::multilaterate(heard, config.multilateration))
-            out.multilateration.push_back(as_fix(t, *f, config.kalman));
+    double residual_sum = 0.0;
+    int residuals = 0;
+    for_each_window(walk, config.multilateration_window_s, [&](std::vector<ranging::Heard> heard, double t) {
+        const double offset = config.learn_offset && residuals > 0 ? residual_sum / residuals : 0.0;
+        for (ranging::Heard& h : heard) h.rss -= offset;
+        const auto f = ranging::multilaterate(heard, config.multilateration);
+        if (!f) return;
+        out.multilateration.push_back(as_fix(t, *f, config.kalman));
+        for (const ranging::Heard& h : heard) {
+            const double d = std::hypot(distance(h.tx.at, f->at), h.tx.dz);
+            residual_sum += h.rss + offset - ranging::rss_at(h.tx.model, d);
+            ++residuals;
+        }
     });
     return out;
 }

@@ -355,6 +355,9 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
     cmd->add_option("--ranging-gate", args->ranging.kalman.kalman.gate_chi2,
                     "Our ranging Kalman: reject a fix whose Mahalanobis distance² exceeds this (0: none)")
         ->capture_default_str();
+    cmd->add_option("--ranging-learn-offset", args->ranging.learn_offset,
+                    "Our ranging: learn the phone's RSS offset from earlier windows' residuals (true/false)")
+        ->capture_default_str();
     cmd->add_option("--ranging-sigma-db", args->ranging.multilateration.sigma_db, "Multilateration's shadowing σ, dB")
         ->capture_default_str();
     cmd->add_flag("--put-plan", args->put_plan, "first put the scenario's rooms and doors on --floor as its plan");

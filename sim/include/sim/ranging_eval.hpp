@@ -27,6 +27,11 @@ struct RangingEvalConfig {
     // The window's average describes the phone at the window's middle, not at its end: ours
     // moves the fix by the PDR steps of the last this-many seconds (the seed's does not).
     double kalman_fix_latency_s = 1.0;
+    // Ours may learn the phone's RSS offset against the anchors' configured power as it goes:
+    // the mean residual of every earlier window's fit, subtracted from the next window's
+    // readings (causal). It helps multilateration alone on every walk set but left the
+    // filter's final error as it was on the tuning walks, so it is off (docs/transmitters.md).
+    bool learn_offset = false;
 
     // Ours, tuned on seeds 101..120 (docs/transmitters.md).
     static fusion::RangingKalmanConfig default_kalman();
