@@ -28,7 +28,7 @@ Eigen::Matrix2d ranging_measurement_noise(const ranging::Fix& fix, const Ranging
 
 // Seed 004's filter as the seed states it: Q constant per PDR step, R a configured constant.
 // The seed gives no values; these were tuned on `locus sim --scenario seed004` walks with seeds
-// 101..120 (docs/transmitters.md), never on the reported ones.
+// 101..160 (docs/transmitters.md), never on the reported ones.
 RangingKalmanConfig seed004_kalman_config();
 
 }  // namespace locus::fusion
