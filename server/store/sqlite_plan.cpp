@@ -205,7 +205,7 @@ StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& given,
         Stmt del(db_, "DELETE FROM plan_features WHERE floor_id = ?");
         del.bind(1, floor_id).run();
         Stmt head(db_, "INSERT INTO floor_plans (floor_id, version) VALUES (?, 1) ON CONFLICT (floor_id) DO UPDATE "
-                       "SET version = version + 1, updated_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now')");
+                       "SET version = floor_plans.version + 1, updated_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now')");
         head.bind(1, floor_id).run();
         write_plan_features(floor_id, plan);
         changes.insert(changes.begin(), Change{&kind("floors"), floor_id, false, true, std::nullopt, std::nullopt});

@@ -46,14 +46,15 @@ SqliteStore::SqliteStore(const std::string& path) : db_(path) {
     try {
         migrate(db_);
     } catch (const SqliteError& e) {
-        throw SqliteError(e.code, "database '" + path + "': " + e.what(), path);
+        throw SqliteError(e.code, "database '" + db_.path() + "': " + e.what(), db_.path());
     }
+    if (db_.is_postgres()) pg_start_watching();
 }
 
 void SqliteStore::probe_write() {
     std::lock_guard lock(mu_);
     Transaction tx(db_);
-    Stmt s(db_, "INSERT INTO ready_probe (id, writes) VALUES (1, 1) ON CONFLICT (id) DO UPDATE SET writes = writes + 1");
+    Stmt s(db_, "INSERT INTO ready_probe (id, writes) VALUES (1, 1) ON CONFLICT (id) DO UPDATE SET writes = ready_probe.writes + 1");
     s.run();
     tx.commit();
 }

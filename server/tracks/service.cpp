@@ -53,7 +53,7 @@ double Service::now() {
 }
 
 Service::Service(store::Store& store, Options options)
-    : store_(store), options_(options), db_(store.location()) {
+    : store_(store), options_(options), db_(store.connection()) {
     load();
     subscription_ = store_.subscribe([this](const store::Change& c) {
         if (c.plan || (c.kind && c.kind->name == "floors")) {
@@ -109,7 +109,7 @@ void Service::load() {
                        "SELECT track_id, t, floor_id, x, y, accuracy_m, heading_deg, n FROM "
                        "(SELECT track_id, t, floor_id, x, y, accuracy_m, heading_deg, "
                        "row_number() OVER (PARTITION BY track_id ORDER BY t DESC) AS r, "
-                       "count(*) OVER (PARTITION BY track_id) AS n FROM track_fixes) WHERE r = 1");
+                       "count(*) OVER (PARTITION BY track_id) AS n FROM track_fixes) AS latest WHERE r = 1");
     while (latest.step()) {
         if (auto it = tracks_.find(latest.int64(0)); it != tracks_.end()) {
             it->second->info.latest = fix_of(latest, 1);
