@@ -221,7 +221,13 @@ void Stmt::reset() {
 }
 
 std::int64_t Stmt::int64(int col) const {
-    if (pg_) return std::strtoll(pg_value(col), nullptr, 10);
+    if (pg_) {
+        // A boolean (EXISTS (…)) reads as SQLite gives it: 1 or 0.
+        const char* v = pg_value(col);
+        if (*v == 't') return 1;
+        if (*v == 'f') return 0;
+        return std::strtoll(v, nullptr, 10);
+    }
     return sqlite3_column_int64(stmt_, col);
 }
 double Stmt::real(int col) const {

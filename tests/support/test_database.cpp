@@ -16,13 +16,16 @@ std::string postgres_cluster_url() {
     return s.starts_with("postgresql://") || s.starts_with("postgres://") ? s : std::string();
 }
 
-void cluster_exec(const std::string& sql) {
-    PGconn* c = PQconnectdb(postgres_cluster_url().c_str());
+void cluster_exec(const std::string& sql) { database_exec(postgres_cluster_url(), sql); }
+
+void database_exec(const std::string& url, const std::string& sql) {
+    PGconn* c = PQconnectdb(url.c_str());
     if (PQstatus(c) != CONNECTION_OK) {
         const std::string msg = PQerrorMessage(c);
         PQfinish(c);
         throw std::runtime_error("cannot connect to the test cluster: " + msg);
     }
+    PQsetNoticeProcessor(c, [](void*, const char*) {}, nullptr);  // "does not exist, skipping"
     PGresult* r = PQexec(c, sql.c_str());
     const bool ok = PQresultStatus(r) == PGRES_COMMAND_OK || PQresultStatus(r) == PGRES_TUPLES_OK;
     const std::string msg = ok ? "" : PQresultErrorMessage(r);

@@ -26,5 +26,7 @@ private:
 
 // Runs one statement on the cluster's maintenance database; throws with PostgreSQL's message.
 void cluster_exec(const std::string& sql);
+// The same on the database `url` names.
+void database_exec(const std::string& url, const std::string& sql);
 
 }  // namespace locus::testing
