@@ -7,5 +7,9 @@ LOCUS_TARGETS= LOCUS_DEVTOOLS=1 bash scripts/setup.sh   # every target, and the 
 # proxy breaks none of it.
 bash scripts/lint_openapi.sh
 bash scripts/contract_check.sh
+root=$(pwd)
 cd "${LOCUS_BUILD_DIR:-build}"
 ctest --output-on-failure -j"${LOCUS_JOBS:-2}" "$@"
+# The tests that run a server against its store, again on a throwaway PostgreSQL (the
+# replicas and PostgreSQL fault tests run only there).
+"$root/scripts/with_postgres.sh" ctest --output-on-failure -j"${LOCUS_JOBS:-2}" -L store "$@"
