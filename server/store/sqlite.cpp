@@ -263,10 +263,10 @@ std::string Stmt::column_name(int col) const {
     return sqlite3_column_name(stmt_, col);
 }
 
-Transaction::Transaction(Db& db) : db_(db) {
+Transaction::Transaction(Db& db, Mode mode) : db_(db) {
     if (db_.is_postgres()) {
         db_.pg_ensure_connected();
-        db_.exec("BEGIN");
+        db_.exec(mode == Mode::read ? "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY" : "BEGIN");
         db_.pg_set_in_transaction(true);
         return;
     }

@@ -143,7 +143,12 @@ private:
 // BEGIN IMMEDIATE (PostgreSQL: BEGIN) on construction, ROLLBACK unless commit() was called: one per request.
 class Transaction {
 public:
-    explicit Transaction(Db& db);
+    // read: the transaction only reads, from one snapshot. SQLite gives that to any
+    // transaction; PostgreSQL's default (READ COMMITTED, what writes use: they run one at a
+    // time under a lock, and read what committed before them) would see other servers' commits
+    // between two statements, so a read is REPEATABLE READ there.
+    enum class Mode { write, read };
+    explicit Transaction(Db& db, Mode mode = Mode::write);
     ~Transaction();
     void commit();
 
