@@ -5,7 +5,7 @@
 // notification leaves only on commit; every server's ChangeWatcher LISTENs on its own
 // connection and hands other servers' changes to the same feed local writes use
 // (Store::subscribe). Versions are consecutive (writes take one lock), so a missed
-// notification shows as a gap; and the counter, read every second, catches one that never
+// notification shows as a gap; and the counter, read twice a second, catches one that never
 // came (a dropped listener connection). Either way the watcher hands on "everything changed".
 #include <atomic>
 #include <cstdint>

@@ -203,3 +203,22 @@ TEST_F(Replicas, AServerKilledMidUploadLosesNothingItAcknowledged) {
     EXPECT_GE(stored.at("scans").get<std::size_t>(), acknowledged.size());
     EXPECT_LE(stored.at("scans").get<std::size_t>(), sent.size());
 }
+
+TEST_F(Replicas, AChangeWhoseNotificationNeverCameIsSeenByTheCounter) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const auto imported = a->post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", corridor());
+    ASSERT_EQ(imported.status, 201) << imported.raw;
+    const std::string path = "/v1/radiomaps/" + std::to_string(imported.body.at("id").get<long long>()) + "/localize";
+    ASSERT_TRUE(within(Clock::now(), std::chrono::milliseconds(1000), [&] {
+        const auto r = b->post(path, scan(-41, -69));
+        return r.status == 200 && r.body.at("x").get<double>() == 2.0;
+    }));
+    // A write that sends no NOTIFY (as if the notification were lost): only the counter moves.
+    locus::testing::database_exec(a->db(), "BEGIN; UPDATE rps SET x = 4 WHERE name = 'west'; "
+                                            "UPDATE change_counter SET version = version + 1; COMMIT");
+    const auto written = Clock::now();
+    EXPECT_TRUE(within(written, std::chrono::milliseconds(1500), [&] {
+        const auto r = b->post(path, scan(-41, -69));
+        return r.status == 200 && r.body.at("x").get<double>() == 4.0;
+    })) << "B never noticed the change the counter announced";
+}
