@@ -92,7 +92,12 @@ std::string to_postgres(std::string_view sql) {
 }
 
 pg_conn* connect(const std::string& url) {
-    PGconn* c = PQconnectdb(url.c_str());
+    // A host that does not answer would otherwise hold start-up, a request's reconnect or the
+    // shutdown of the change watcher for the kernel's TCP timeout (minutes); the URL's own
+    // connect_timeout, when it has one, wins (it comes later).
+    const char* const keys[] = {"connect_timeout", "dbname", nullptr};
+    const char* const values[] = {"5", url.c_str(), nullptr};
+    PGconn* c = PQconnectdbParams(keys, values, 1);
     if (!c) throw SqliteError(SQLITE_CANTOPEN, "cannot connect to PostgreSQL at '" + redacted_url(url) + "': out of memory");
     if (PQstatus(c) != CONNECTION_OK) {
         std::string msg = PQerrorMessage(c);
