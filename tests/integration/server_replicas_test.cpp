@@ -1,6 +1,7 @@
 // Many servers, one PostgreSQL database (issue 19): a write on one server reaches localize on
-// another within a second, uploads from several servers to the same RPs merge exactly, and a
-// server killed mid-upload loses nothing it acknowledged. Runs only under
+// another within a second, uploads from several servers to the same RPs merge exactly, a
+// server killed mid-upload loses nothing it acknowledged, and a live track takes a phone's
+// fixes on either server. Runs only under
 // scripts/with_postgres.sh (LOCUS_TEST_DB_URL); an SQLite file has one server.
 #include <gtest/gtest.h>
 
@@ -221,4 +222,48 @@ TEST_F(Replicas, AChangeWhoseNotificationNeverCameIsSeenByTheCounter) {
         const auto r = b->post(path, scan(-41, -69));
         return r.status == 200 && r.body.at("x").get<double>() == 4.0;
     })) << "B never noticed the change the counter announced";
+}
+
+namespace {
+Response track_call(const ServerProcess& s, const std::string& method, const std::string& path, const std::string& token,
+                    const std::string& body = "{}") {
+    httplib::Client c("127.0.0.1", s.port());
+    c.set_read_timeout(5, 0);
+    const httplib::Headers h{{"X-Track-Token", token}};
+    const auto r = method == "GET" ? c.Get(path.c_str(), h) : c.Post(path.c_str(), h, body, "application/json");
+    Response out;
+    if (!r) return out;
+    out.status = r->status;
+    out.raw = r->body;
+    out.body = json::parse(r->body, nullptr, false);
+    return out;
+}
+}  // namespace
+
+TEST_F(Replicas, ALiveTrackTakesFixesOnEitherServer) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const json opened = body_of(a->post("/v1/tracks", {{"map_id", h.map}, {"label", "phone"}}), 201);
+    const std::string path = "/v1/tracks/" + std::to_string(opened.at("id").get<std::int64_t>());
+    const std::string token = opened.at("token").get<std::string>();
+    const double t0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count() - 10;
+    // The phone's requests alternate between the servers, as behind a load balancer.
+    for (int i = 0; i < 6; ++i) {
+        const ServerProcess& s = i % 2 ? *b : *a;
+        const json fix = {{"t", t0 + i}, {"floor_id", h.floor}, {"x", 1.0 * i}, {"y", 0.0}, {"accuracy_m", 1.5}};
+        const auto r = track_call(s, "POST", path + "/fixes", token, json{{"fixes", json::array({fix})}}.dump());
+        ASSERT_EQ(r.status, 200) << "fix " << i << ": " << r.raw;
+        EXPECT_EQ(r.body.at("stored"), 1);
+    }
+    for (const ServerProcess* s : {a.get(), b.get()}) {
+        const json got = body_of(track_call(*s, "GET", path, token));
+        EXPECT_EQ(got.at("fixes"), 6);
+        EXPECT_EQ(got.at("latest").at("x"), 5.0);
+        EXPECT_EQ(got.at("trail").size(), 6u);
+    }
+    // Closed on one server, the track takes no fix on the other.
+    EXPECT_EQ(body_of(track_call(*b, "POST", path + "/close", token)).at("state"), "closed");
+    const json late = {{"t", t0 + 7}, {"floor_id", h.floor}, {"x", 7.0}, {"y", 0.0}, {"accuracy_m", 1.5}};
+    const auto refused = track_call(*a, "POST", path + "/fixes", token, json{{"fixes", json::array({late})}}.dump());
+    EXPECT_EQ(refused.status, 409) << refused.raw;
+    EXPECT_EQ(refused.body.at("error").at("code"), "track_closed") << refused.raw;
 }
