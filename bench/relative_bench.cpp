@@ -8,6 +8,8 @@
 
 #include "locus/relative/acoustic.hpp"
 #include "locus/relative/direction_estimator.hpp"
+#include "locus/relative/range_fit.hpp"
+#include "locus/relative/range_kalman.hpp"
 
 using namespace locus::relative;
 
@@ -40,5 +42,34 @@ static void BM_EstimatorStep(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_EstimatorStep);
+
+// One step of the distance filter: a prediction and an RSSI update.
+static void BM_RangeKalmanStep(benchmark::State& state) {
+    locus::relative::RangeKalman f;
+    f.update_rssi(20.0);
+    double d = 20.0;
+    for (auto _ : state) {
+        f.predict(0.7);
+        d = d > 2.0 ? d - 0.7 : 20.0;
+        f.update_rssi(d);
+        benchmark::DoNotOptimize(f.distance());
+    }
+}
+BENCHMARK(BM_RangeKalmanStep);
+
+// The range fit over N (position, distance) pairs: what rssi-fit runs at every step (N grows
+// to 60 in a 30 s walk).
+static void BM_RangeFit(benchmark::State& state) {
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> noise(0.0, 0.37);
+    std::vector<locus::Point> at;
+    std::vector<double> d;
+    for (int k = 0; k < state.range(0); ++k) {
+        at.push_back({0.7 * k, 0.1 * k});
+        d.push_back(std::hypot(15.0 - at.back().x, 8.0 - at.back().y) * std::exp(noise(rng)));
+    }
+    for (auto _ : state) benchmark::DoNotOptimize(locus::relative::fit_target(at, d, at.back(), d.back(), 30.0));
+}
+BENCHMARK(BM_RangeFit)->Arg(10)->Arg(60)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

@@ -66,6 +66,24 @@ void BM_WalkFilterFix(benchmark::State& state) {
 }
 BENCHMARK(BM_WalkFilterFix)->Arg(2000)->Unit(benchmark::kMicrosecond);
 
+// The estimate after a step: the weighted mean (arg 1 = 0) or the mode within 3 m that real
+// walks use (arg 1 = 3; tools/walk_eval.hpp), on a cloud spread by walking with fixes.
+void BM_WalkFilterEstimate(benchmark::State& state) {
+    if (!putmc_floor()) return state.SkipWithError("no PUTMC data");
+    fusion::WalkFilterConfig cfg;
+    cfg.particles = static_cast<int>(state.range(0));
+    cfg.estimate_radius_m = static_cast<double>(state.range(1));
+    cfg.reseed_max_fraction = 0.7;
+    fusion::WalkFilter pf(putmc_floor(), cfg);
+    pf.fix(kStart, Eigen::Matrix2d::Identity() * 4.0);
+    for (int n = 1; n <= 24; ++n) {
+        pf.step(0.7, -1.5);
+        if (n % 6 == 0) pf.fix({kStart.x + 0.5 * n, kStart.y}, Eigen::Matrix2d::Identity() * 4.0);
+    }
+    for (auto _ : state) benchmark::DoNotOptimize(pf.position());
+}
+BENCHMARK(BM_WalkFilterEstimate)->ArgsProduct({{2000}, {0, 3}})->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -489,6 +489,11 @@ async function run() {
     await post(`/v1/tracks/${b}/steps`, { steps: [{ t: nowS - 0.5, length_m: 0.7, heading_deg: 90 }] }, own(tb, { expect: 422 }));
     await post(`/v1/tracks/${a}/steps`, { steps: [{ t: nowS, length_m: 7, heading_deg: 90 }] }, own(ta, { expect: 422, invalid: true }));
     await post(`/v1/tracks/${a}/steps`, { walk: [] }, own(ta, { expect: 422, invalid: true }));
+    // A thin client's scan, localized on the track's map and fused as its radio fix.
+    await post(`/v1/tracks/${a}/steps`, { scans: [{ t: nowS - 0.8, readings: scan([1, -46], [2, -71]) }], steps: [{ t: nowS - 0.7, length_m: 0.7, heading_deg: 90 }] }, own(ta, { expect: 200 }));
+    await post(`/v1/tracks/${a}/steps`, { scans: [{ t: nowS - 0.6, readings: [{ bssid: ap(1), rss: 20 }] }] }, own(ta, { expect: 422, invalid: true }));
+    await post(`/v1/tracks/${a}/steps`, { scans: [{ t: nowS - 0.6, readings: [] }] }, own(ta, { expect: 422, invalid: true }));
+    await post(`/v1/tracks/${a}/steps`, { scans: [{ t: nowS - 0.6, readings: scan([77, -50]) }] }, own(ta, { expect: 422 }));
     await get(`/v1/tracks/${UNKNOWN}`, { headers: ta, expect: 403 });
     await get(`/v1/tracks/${a}`, { expect: 401 });
     await get(`/v1/tracks/${a}?limit=5000`, { headers: ta, expect: 400, invalid: true });

@@ -23,6 +23,8 @@ packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-js
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! command -v npm >/dev/null 2>&1 && packages+=(nodejs npm)
 # The web viewer's browser test (tests/browser/): a real headless Chromium driven by Selenium.
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(chromium chromium-driver python3-selenium)
+# scripts/check_deploy_config.sh: nginx -t on docker/nginx.conf, and compose.yaml read as YAML.
+[ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(nginx-light python3-yaml)
 bash scripts/install_packages.sh "${packages[@]}"
 
 # A copy of the lock file npm ci last installed from: equal means nothing to do.

@@ -7,6 +7,8 @@ LOCUS_TARGETS= LOCUS_DEVTOOLS=1 bash scripts/setup.sh   # every target, and the 
 # proxy breaks none of it.
 bash scripts/lint_openapi.sh
 bash scripts/contract_check.sh
+# The deployment files (docker/): nginx -t and the compose profiles' structure; no docker, no network.
+bash scripts/check_deploy_config.sh
 root=$(pwd)
 cd "${LOCUS_BUILD_DIR:-build}"
 ctest --output-on-failure -j"${LOCUS_JOBS:-2}" "$@"

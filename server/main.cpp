@@ -71,6 +71,13 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::Range(1, 100000));
     cli.add_option("--max-live-tracks", tracks_options.max_live_tracks, "live tracks at once; past it, opening one answers 503")
         ->capture_default_str()->check(CLI::Range(1, 10000000));
+    cli.add_option("--max-tracks", tracks_options.max_tracks,
+                   "tracks held at all (live, closed within the retention period, deleted ones' tombstones); past it, "
+                   "opening one answers 503 too_many_tracks")
+        ->capture_default_str()->check(CLI::Range(1, 100000000));
+    cli.add_option("--max-streams-per-track", tracks_options.max_streams_per_track,
+                   "open event streams on one track; past it, 429 too_many_streams")
+        ->capture_default_str()->check(CLI::Range(1, 100000));
     std::string web_root = locus::http::default_web_root(), leaflet_root = locus::http::default_leaflet_root;
     cli.add_option("--web-root", web_root, "the web viewer's files, served at / (empty: no viewer)")->capture_default_str();
     cli.add_option("--leaflet-root", leaflet_root, "Leaflet's files (Debian's libjs-leaflet), served at /vendor/leaflet/")

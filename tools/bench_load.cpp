@@ -3,6 +3,7 @@
 #include <httplib.h>
 
 #include <algorithm>
+#include <chrono>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -42,6 +43,8 @@ Target loopback_target(const std::string& url, const std::string& command) {
 std::vector<std::string> localize_bodies(const ServerArgs& server, std::int64_t radiomap, const std::string& scans_file,
                                          const std::string& algorithm) {
     httplib::Client http(server.client_options().base_url);
+    // cpp-httplib's default 5 s is too short for a large radio map: 100,000 RPs take ~10 s.
+    http.set_read_timeout(std::chrono::seconds(300));
     auto r = http.Get("/v1/radiomaps/" + std::to_string(radiomap) + "/export");
     if (!r) {
         // The REST client retries and names the reason: "cannot connect to URL (connection

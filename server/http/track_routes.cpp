@@ -2,6 +2,7 @@
 //
 //   POST   /v1/tracks                          {map_id, label?} -> 201 {id, token, ...}
 //   POST   /v1/tracks/{id}/fixes               {fixes: [{t, floor_id, x, y, accuracy_m, heading_deg?}]}
+//   POST   /v1/tracks/{id}/steps               {steps?: [{t, length_m, heading_deg}], fixes?, scans?: [{t, readings}]}
 //   POST   /v1/tracks/{id}/close
 //   DELETE /v1/tracks/{id}
 //   GET    /v1/tracks/{id}?limit=              the track, its latest fix and trail
@@ -24,6 +25,7 @@
 #include "http/app.hpp"
 #include "http/json_text.hpp"
 #include "http/route_json.hpp"
+#include "http/track_scan.hpp"
 #include "http/validation.hpp"
 #include "locus/plan/plan.hpp"
 #include "tracks/service.hpp"
@@ -64,6 +66,8 @@ ApiError api_error_of(const tracks::Refused& e) {
         case tracks::Reason::closed: return {409, "track_closed", e.what()};
         case tracks::Reason::busy: return {503, "server_busy", e.what()};
         case tracks::Reason::full: return {409, "track_full", e.what()};
+        case tracks::Reason::too_many_tracks: return {503, "too_many_tracks", e.what()};
+        case tracks::Reason::too_many_streams: return {429, "too_many_streams", e.what()};
     }
     return {500, "internal", e.what()};
 }
@@ -74,7 +78,9 @@ void respond_track(const httplib::Request& req, httplib::Response& res, const st
         try {
             return body();
         } catch (const tracks::Refused& e) {
-            if (e.reason == tracks::Reason::busy) res.set_header("Retry-After", "1");
+            if (e.reason == tracks::Reason::busy || e.reason == tracks::Reason::too_many_streams) res.set_header("Retry-After", "1");
+            // Retained slots free only as closed tracks expire: no use retrying at once.
+            if (e.reason == tracks::Reason::too_many_tracks) res.set_header("Retry-After", "60");
             throw api_error_of(e);
         }
     });
@@ -166,6 +172,31 @@ std::vector<tracks::Step> parse_steps(const json* arr, double retention_s) {
     return out;
 }
 
+// A thin client's scans {t, readings: [{type?, bssid, rss}]}, checked and in time order; they
+// are localized (track_scan.hpp) only once the whole body is known good.
+struct TimedScan {
+    double t = 0;
+    Scan readings;
+    std::string where;
+};
+std::vector<TimedScan> parse_timed_scans(const json* arr, double retention_s) {
+    std::vector<TimedScan> out;
+    if (!arr) return out;
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+        const json& j = (*arr)[i];
+        const std::string where = "scans[" + std::to_string(i) + "]";
+        if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {t, readings: [{type, bssid, rss}]}");
+        only_fields(j, {"t", "readings"}, where);
+        TimedScan s{parse_t(j, where, retention_s), {}, where};
+        const auto r = j.find("readings");
+        if (r == j.end() || !r->is_array() || r->empty()) throw invalid_field("'" + where + ".readings' must be a non-empty array of {type, bssid, rss}");
+        for (std::size_t k = 0; k < r->size(); ++k) s.readings.push_back(parse_reading((*r)[k], where + ".readings[" + std::to_string(k) + "]"));
+        out.push_back(std::move(s));
+    }
+    std::stable_sort(out.begin(), out.end(), [](const TimedScan& a, const TimedScan& b) { return a.t < b.t; });
+    return out;
+}
+
 // "ahead", "behind", "ahead, 30° left", "behind, 120° right": where b is, turned from a's
 // heading (positive: clockwise, to the right).
 std::string direction_text(double relative_deg) {
@@ -231,21 +262,34 @@ void App::install_track_routes() {
         });
     });
 
-    // Thin clients: raw PDR steps and radio fixes in, the particle filter's fixes out (and stored).
-    server_.Post(R"(/v1/tracks/(\d+)/steps)", [&svc](const httplib::Request& req, httplib::Response& res) {
+    // Thin clients: raw PDR steps, radio fixes and scans in, the particle filter's fixes out (and
+    // stored). A scan is localized as the map's localize endpoint would, and is the filter's fix.
+    server_.Post(R"(/v1/tracks/(\d+)/steps)", [this, &svc](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             if (svc.authorize(id, token_of(req)) != tracks::Access::owner)
                 throw ApiError(403, "forbidden", "a share token reads a track; only its owner's token posts steps");
             const json body = parse_object(req.body);
-            only_fields(body, {"steps", "fixes"}, "");
+            only_fields(body, {"steps", "fixes", "scans"}, "");
             const json* steps_json = items_of(body, "steps", false);
             const json* fixes_json = items_of(body, "fixes", false);
-            const std::size_t n = (steps_json ? steps_json->size() : 0) + (fixes_json ? fixes_json->size() : 0);
-            if (n == 0) throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}) and/or 'fixes' (radio fixes)");
+            const json* scans_json = items_of(body, "scans", false);
+            const auto count = [](const json* a) { return a ? a->size() : 0; };
+            const std::size_t n = count(steps_json) + count(fixes_json) + count(scans_json);
+            if (n == 0) throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}), 'fixes' (radio fixes) and/or 'scans' ({t, readings})");
             check_batch_size(n);
             const auto steps = parse_steps(steps_json, svc.options().retention_s);
-            const auto radio = parse_fix_array(fixes_json, "fixes", svc.options().retention_s);
+            auto radio = parse_fix_array(fixes_json, "fixes", svc.options().retention_s);
+            const auto scans = parse_timed_scans(scans_json, svc.options().retention_s);
+            json scan_fixes = json::array();
+            if (!scans.empty()) {
+                const auto snapshot = localizer_.lookup(localize::Service::Scope::map, svc.info(id).map_id);
+                for (const auto& sc : scans) {
+                    radio.push_back(scan_fix(*snapshot, sc.t, sc.readings, sc.where));
+                    scan_fixes.push_back(fix_json(radio.back()));
+                }
+                std::stable_sort(radio.begin(), radio.end(), [](const tracks::Fix& a, const tracks::Fix& b) { return a.t < b.t; });
+            }
             if (const auto floor = svc.misplaced_floor(id, radio))
                 throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
             std::pair<tracks::Posted, std::vector<tracks::Fix>> done;
@@ -257,6 +301,7 @@ void App::install_track_routes() {
             json fused = json::array();
             for (const auto& f : done.second) fused.push_back(fix_json(f));
             json out = {{"stored", done.first.stored}, {"duplicates", done.first.duplicates}, {"fused", fused}};
+            if (!scans.empty()) out["scan_fixes"] = std::move(scan_fixes);
             if (done.first.latest) out["latest"] = fix_json(*done.first.latest);
             return std::pair{200, out};
         });

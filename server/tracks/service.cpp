@@ -16,6 +16,7 @@ struct Service::Track {
     std::uint64_t seq = 0;                       // fixes stored so far, for streams
     std::deque<std::pair<std::uint64_t, Fix>> recent;
     std::condition_variable changed;  // waited on with mu_
+    std::size_t streams = 0;          // event streams open on it
 };
 
 const char* state_name(State s) {
@@ -65,6 +66,7 @@ Service::Service(store::Store& store, Options options)
             std::lock_guard lock(mu_);
             floors_of_map_.clear();
         }
+        if (!c.plan && c.deleted && c.kind && c.kind->name == "maps") map_deleted(c.id);
     });
     sweeper_ = std::thread([this] { sweeper(); });
 }
@@ -87,6 +89,25 @@ void Service::publish(const TrackInfo& track, std::optional<Fix> fix) {
     map_changes_.push_back({++map_seq_, track.map_id, track.id, track.label, fix});
     if (map_changes_.size() > options_.map_event_buffer) map_changes_.pop_front();
     map_changed_.notify_all();
+}
+
+void Service::mark_gone(Track& track, double t) {
+    if (track.info.state == State::live) publish(track.info, std::nullopt);
+    track.info.state = State::gone;
+    track.info.ended_at = t;
+    track.info.latest.reset();
+    track.info.fixes = 0;
+    track.info.label.clear();
+    track.shares.clear();
+    track.recent.clear();
+    track.changed.notify_all();
+}
+
+void Service::map_deleted(std::int64_t map_id) {
+    const double t = now();
+    std::lock_guard lock(mu_);
+    for (auto& [id, track] : tracks_)
+        if (track->info.map_id == map_id && track->info.state != State::gone) mark_gone(*track, t);
 }
 
 void Service::load() {
@@ -139,6 +160,11 @@ Opened Service::open(std::int64_t map_id, const std::string& label) {
         const auto live = std::count_if(tracks_.begin(), tracks_.end(), [](const auto& kv) { return kv.second->info.state == State::live; });
         if (static_cast<std::size_t>(live) >= options_.max_live_tracks)
             throw Refused(Reason::busy, "the server follows " + std::to_string(live) + " live tracks, its most; try again later");
+        if (tracks_.size() >= options_.max_tracks)
+            throw Refused(Reason::too_many_tracks,
+                          "the server holds " + std::to_string(tracks_.size()) +
+                              " tracks (live, closed within the retention period, and deleted ones' tombstones), its most; "
+                              "slots free as closed tracks expire: try again later");
     }
     store::Transaction tx(db_);
     store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at) VALUES (?, ?, ?, 'live', ?, ?)");
@@ -349,15 +375,7 @@ void Service::remove(std::int64_t id) {
     store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ? WHERE id = ?").bind(1, t).bind(2, id).run();
     tx.commit();
     std::lock_guard lock(mu_);
-    if (track->info.state == State::live) publish(track->info, std::nullopt);
-    track->info.state = State::gone;
-    track->info.ended_at = t;
-    track->info.latest.reset();
-    track->info.fixes = 0;
-    track->info.label.clear();
-    track->shares.clear();
-    track->recent.clear();
-    track->changed.notify_all();
+    mark_gone(*track, t);
 }
 
 TrackInfo Service::info(std::int64_t id) const {
@@ -426,6 +444,7 @@ void Service::revoke_share(std::int64_t id, std::int64_t share_id) {
 Service::Stream::~Stream() {
     std::lock_guard lock(service_.mu_);
     --service_.streams_;
+    --track_->streams;
 }
 
 std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std::string& token) {
@@ -434,7 +453,11 @@ std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std
     auto track = find(id);
     if (streams_ >= options_.max_streams)
         throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
+    if (track->streams >= options_.max_streams_per_track)
+        throw Refused(Reason::too_many_streams, "track " + std::to_string(id) + " has " + std::to_string(track->streams) +
+                                                    " event streams open, its most; close one first");
     ++streams_;
+    ++track->streams;
     std::unique_ptr<Stream> s(new Stream(*this, track));
     if (shared) s->share_hash_ = token_hash(token);
     s->seen_ = track->seq;
@@ -579,15 +602,7 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         tr->changed.notify_all();
         publish(tr->info, std::nullopt);
     }
-    for (const auto& tr : to_purge) {
-        tr->info.state = State::gone;
-        tr->info.ended_at = t;
-        tr->info.latest.reset();
-        tr->info.fixes = 0;
-        tr->info.label.clear();
-        tr->shares.clear();
-        tr->recent.clear();
-    }
+    for (const auto& tr : to_purge) mark_gone(*tr, t);
     for (const auto& tr : to_forget) tracks_.erase(tr->info.id);
     std::vector<std::int64_t> ended;
     for (const auto& [id, tr] : tracks_)

@@ -37,14 +37,21 @@ struct Options {
     double retention_s = 86'400;   // a closed track's fixes and shares are deleted this long after it closed
     double heartbeat_s = 15;       // an event stream writes a comment this often when nothing happens
     std::size_t max_streams = 100;      // open event streams, all tracks together
+    std::size_t max_streams_per_track = 10;  // so one owner (or its shares) cannot take every slot
     std::size_t max_live_tracks = 10'000;
+    // Tracks held at all: live, closed within the retention period, and the tombstones of
+    // deleted or expired ones (kept one more retention period). Bounds what a loop of
+    // anonymous open/close (or open/delete) can make the server hold.
+    std::size_t max_tracks = 50'000;
     std::size_t max_fixes_per_track = 200'000;  // more than two days at one fix a second
     std::size_t event_buffer = 64;  // fixes kept per track for a stream that falls behind (streams wake at each fix)
     std::size_t map_event_buffer = 4096;  // map-level changes kept for positions streams, all maps together
 };
 
 // Why a request on a track is refused; the HTTP layer gives each its status.
-enum class Reason { forbidden, gone, closed, busy, full };
+// busy: the server's shared limits (streams, live tracks); too_many_tracks: every retained
+// track slot is taken until some expire; too_many_streams: this track's own stream limit.
+enum class Reason { forbidden, gone, closed, busy, full, too_many_tracks, too_many_streams };
 struct Refused : std::runtime_error {
     Reason reason;
     Refused(Reason r, const std::string& what) : std::runtime_error(what), reason(r) {}
@@ -189,6 +196,11 @@ private:
     std::vector<std::int64_t> sweep_tracks();  // closes and purges; answers the tracks no longer live
     // Under mu_: a track's new latest fix (or its end, no fix) for the map streams.
     void publish(const TrackInfo& track, std::optional<Fix> fix);
+    // Under mu_: the track went (deleted, expired, its map deleted) at `t`; only its tombstone stays.
+    void mark_gone(Track& track, double t);
+    // A map was deleted: the database dropped its tracks with it (ON DELETE CASCADE); in
+    // memory they go too, so their owners are told 404 and their streams end.
+    void map_deleted(std::int64_t map_id);
     std::shared_ptr<Track> find(std::int64_t id) const;  // under mu_; Refused(forbidden) for no such track
     void load();
     // PostgreSQL, several servers: the track as the database holds it now (another server may

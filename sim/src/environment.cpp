@@ -30,6 +30,16 @@ Environment::Environment(const Scenario& scenario) : scenario_(scenario) {
         shadowing_.emplace_back(rng, scenario.shadowing_sigma_db, scenario.shadowing_scale_m);
     deflection_ = SmoothField(rng, scenario.structure_deflection_rad, scenario.structure_scale_m);
     ripple_ = SmoothField(rng, scenario.structure_norm_ripple, scenario.structure_scale_m);
+    // Drawn last, so the other fields of a scenario without anchors are as they were.
+    for (std::size_t i = 0; i < scenario.beacons.size(); ++i)
+        beacon_shadowing_.emplace_back(rng, scenario.beacon_shadowing_sigma_db, scenario.beacon_shadowing_scale_m);
+}
+
+double Environment::beacon_mean_rss(std::size_t b, Point p) const {
+    const Beacon& a = scenario_.beacons[b];
+    const double dz = a.height_m - scenario_.phone_height_m;
+    const double d = std::max(1.0, std::hypot(distance(a.at, p), dz));
+    return a.tx_power_dbm - 10.0 * a.true_exponent * std::log10(d) + beacon_shadowing_[b](p);
 }
 
 int Environment::walls_between(Point a, Point b) const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "locus/metrics.hpp"
 #include "locus/pdr/heading_convention.hpp"
@@ -76,8 +77,8 @@ void replay_events(const std::vector<PdrStep>& steps, const std::vector<Fix>& fi
     }
 }
 
+}  // namespace
 
-// The fix moved by the PDR displacement of the steps taken in its last `latency` seconds.
 Point latency_corrected(const Fix& f, const std::vector<PdrStep>& steps, double latency_s) {
     Point at = f.at;
     if (latency_s <= 0.0) return at;
@@ -89,7 +90,24 @@ Point latency_corrected(const Fix& f, const std::vector<PdrStep>& steps, double 
     return at;
 }
 
-}  // namespace
+Track kalman_track(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
+                   const fusion::KalmanConfig& config, double fix_latency_s,
+                   std::shared_ptr<const fusion::PlanWalkable> floor_plan) {
+    fusion::KalmanFilter kf(start, config, std::move(floor_plan));
+    Track track{{0.0, start}};
+    replay_events(
+        steps, fixes,
+        [&](const PdrStep& s) {
+            const Point d = pdr::step({0.0, 0.0}, s.length_m, s.heading_rad);
+            kf.predict(d, s.magnetic_disturbance);
+            track.push_back({s.t_s, kf.position()});
+        },
+        [&](const Fix& f) {
+            kf.update(latency_corrected(f, steps, fix_latency_s), f.cov);
+            track.push_back({f.t_s, kf.position()});
+        });
+    return track;
+}
 
 Track rule_track(fusion::Rule rule, const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
                  const fusion::RuleParams& params) {
@@ -132,23 +150,9 @@ std::vector<NamedTrack> run_methods(const std::vector<PdrStep>& steps, const std
     for (fusion::Rule r : fusion::all_rules())
         out.push_back({std::string(fusion::to_string(r)), rule_track(r, steps, fixes, start, config.rules)});
 
-    {
-        // Map matching needs a floor plan (walls, door gaps): rooms and doors leave it free.
-        fusion::KalmanFilter kf(start, config.kalman, map ? map->floor_plan : nullptr);
-        Track track{{0.0, start}};
-        replay_events(
-            steps, fixes,
-            [&](const PdrStep& s) {
-                const Point d = pdr::step({0.0, 0.0}, s.length_m, s.heading_rad);
-                kf.predict(d, s.magnetic_disturbance);
-                track.push_back({s.t_s, kf.position()});
-            },
-            [&](const Fix& f) {
-                kf.update(latency_corrected(f, steps, config.kalman_fix_latency_s), f.cov);
-                track.push_back({f.t_s, kf.position()});
-            });
-        out.push_back({"kalman", std::move(track)});
-    }
+    // Map matching needs a floor plan (walls, door gaps): rooms and doors leave it free.
+    out.push_back({"kalman", kalman_track(steps, fixes, start, config.kalman, config.kalman_fix_latency_s,
+                                          map ? map->floor_plan : nullptr)});
 
     if (map) {
         fusion::ParticleFilter pf(*map, start, config.particle);

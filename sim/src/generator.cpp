@@ -71,6 +71,17 @@ std::vector<double> means_at(const Environment& env, Point p) {
 
 }  // namespace
 
+SimConfig default_config(const std::string& scenario) {
+    SimConfig c;
+    if (scenario == "seed004") {
+        c.heading_walk_rad_per_sqrt_m = 0.04;
+        c.misalignment_sigma_rad = 0.04;
+        c.step_length_person_sigma = 0.05;
+        c.beacon_noise_sigma_db = 3.75;
+    }
+    return c;
+}
+
 Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
     const Environment env(sc);
     std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
@@ -214,6 +225,28 @@ Walk simulate(const Scenario& sc, std::uint64_t seed, const SimConfig& cfg) {
             means[a] = env.mean_rss(a, p) + drift[a](p);
         }
         walk.scans.push_back({walk.imu[k].t_s, take_scan(env, means, device_offset, rng), at});
+    }
+
+    // Anchor readings from a stream of their own: a scenario without anchors draws nothing here.
+    if (!sc.beacons.empty() && cfg.beacon_rate_hz > 0.0) {
+        std::seed_seq beacon_seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                                 static_cast<std::uint32_t>(sc.environment_seed), 0x424c4521u};
+        std::mt19937_64 beacon_rng(beacon_seq);
+        std::normal_distribution<double> b01(0.0, 1.0);
+        const double phone_offset = cfg.beacon_phone_offset_sigma_db * b01(beacon_rng);
+        for (const Beacon& b : sc.beacons)
+            walk.anchors.push_back({b.type, b.id, {b.at, b.height_m - sc.phone_height_m, {b.tx_power_dbm, b.exponent}}});
+        for (double ts = 0.5 / cfg.beacon_rate_hz; ts < t_end; ts += 1.0 / cfg.beacon_rate_hz) {
+            const Point at = truth_at_time(ts);
+            Scan scan;
+            for (std::size_t b = 0; b < sc.beacons.size(); ++b) {
+                const double rss =
+                    std::round(env.beacon_mean_rss(b, at) + phone_offset + cfg.beacon_noise_sigma_db * b01(beacon_rng));
+                if (rss < sc.beacon_sensitivity_dbm) continue;
+                scan.push_back({sc.beacons[b].type, sc.beacons[b].id, std::clamp(rss, kMinRss, kMaxRss)});
+            }
+            walk.anchor_scans.push_back({ts, std::move(scan), at});
+        }
     }
 
     for (std::size_t i = 0; i < sc.rps.size(); ++i) {

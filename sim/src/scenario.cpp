@@ -83,6 +83,40 @@ Scenario make_basement() {
     return s;
 }
 
+// Seed 004 §4: a 300 m² open area with chairs, tables and people passing, 2 WiFi APs and 4 BLE
+// tags as anchors, the phone in hand walking one fixed path, coordinates every 5 s. The seed
+// gives neither plan nor path nor anchor positions: a 25 m × 12 m hall, the walk a loop along
+// its middle (the free "corridor" between the furniture), the anchors on the two long sides
+// of it, 4 m from the walk, so every point of it has at least four anchors within the seed's
+// 10 m cutoff. The anchors' model is the seed's (n = 2, RSS at 1 m as configured); the room's
+// true exponents scatter around it.
+Scenario make_seed004() {
+    Scenario s;
+    s.name = "seed004";
+    s.description = "seed 004's open area, 300 m2: 4 BLE + 2 WiFi anchors around the walk's corridor; loop of 46 m";
+    auto& plan = s.map.plan;
+    plan.width = 25.0;
+    plan.height = 12.0;
+    plan.rooms = {room(1, "hall", {0.0, 0.0, 25.0, 12.0})};
+    s.path = {{3.0, 6.0}, {22.0, 6.0}, {22.0, 8.0}, {8.0, 8.0}, {8.0, 4.0}, {16.0, 4.0}};
+    s.aps = {{bssid(4, 1), {12.5, 2.0}, -40.0}, {bssid(4, 2), {12.5, 10.0}, -40.0}};
+    s.beacons = {
+        {"ble", "cc1350-1", {4.0, 2.0}, 2.5, -59.0, 2.0, 2.05},
+        {"ble", "cc1350-2", {21.0, 2.0}, 2.5, -59.0, 2.0, 1.95},
+        {"ble", "cc1350-3", {4.0, 10.0}, 2.5, -59.0, 2.0, 2.0},
+        {"ble", "cc1350-4", {21.0, 10.0}, 2.5, -59.0, 2.0, 2.1},
+        {"wifi", s.aps[0].bssid, s.aps[0].at, 2.5, -40.0, 2.0, 2.05},
+        {"wifi", s.aps[1].bssid, s.aps[1].at, 2.5, -40.0, 2.0, 1.95},
+    };
+    s.path_loss_exponent = 2.0;
+    s.beacon_shadowing_sigma_db = 1.0;
+    s.structure_deflection_rad = 8.0 * std::numbers::pi / 180.0;
+    s.structure_norm_ripple = 0.03;
+    s.environment_seed = 4004;
+    s.rps = points_along(s.path, 2.0);
+    return s;
+}
+
 }  // namespace
 
 double Scenario::area_m2() const {
@@ -122,13 +156,15 @@ std::vector<Point> points_along(const std::vector<Point>& path, double spacing_m
 const Scenario& scenario(const std::string& name) {
     static const Scenario ground = make_ground();
     static const Scenario basement = make_basement();
+    static const Scenario seed004 = make_seed004();
     if (name == "ground") return ground;
     if (name == "basement") return basement;
-    throw std::invalid_argument("unknown scenario '" + name + "' (ground, basement)");
+    if (name == "seed004") return seed004;
+    throw std::invalid_argument("unknown scenario '" + name + "' (ground, basement, seed004)");
 }
 
 std::span<const std::string> scenario_names() {
-    static const std::vector<std::string> names{"ground", "basement"};
+    static const std::vector<std::string> names{"ground", "basement", "seed004"};
     return names;
 }
 

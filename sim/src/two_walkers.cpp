@@ -7,6 +7,7 @@
 #include <random>
 
 #include "locus/relative/angle_kalman.hpp"
+#include "locus/relative/range_fit.hpp"
 
 namespace locus::sim {
 
@@ -32,6 +33,10 @@ const char* method_name(RelativeMethod m) {
         case RelativeMethod::Rssi: return "rssi";
         case RelativeMethod::RssiMean: return "rssi-mean";
         case RelativeMethod::Exact: return "exact";
+        case RelativeMethod::RssiKalman: return "rssi-kalman";
+        case RelativeMethod::RssiKalmanAcoustic: return "rssi-kalman-acoustic";
+        case RelativeMethod::RssiFit: return "rssi-fit";
+        case RelativeMethod::BothFixes: return "both-fixes";
     }
     return "?";
 }
@@ -48,12 +53,26 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
     double heading = b_angle + c.initial_spread_deg * uniform(rng);
 
     relative::DirectionEstimator est(c.estimator);
+    relative::RangeKalman range_filter(c.range_kalman);
     std::deque<double> window;
+    double last_reading = 0;  // the last RSSI distance before any smoothing
+    // RssiFit: every PDR position with its RSSI distance, and the fitted B.
+    std::vector<Point> walked;
+    std::vector<double> ranges;
+    std::optional<Point> fitted;
+    const double first_heading = heading;
     TwoWalkerRun run;
     auto ranged = [&](double d) {
         if (m == RelativeMethod::Exact) return d;
         const double rss = ranging::rss_at(c.link.model, d) + c.shadowing_db * gauss(rng);
         if (m == RelativeMethod::Rssi) return relative::phone_distance(c.link, rss);
+        if (m == RelativeMethod::RssiKalman || m == RelativeMethod::RssiKalmanAcoustic || m == RelativeMethod::RssiFit) {
+            last_reading = relative::phone_distance(c.link, rss);
+            range_filter.update_rssi(last_reading);
+            if (m == RelativeMethod::RssiKalmanAcoustic && d <= c.acoustic_range)
+                range_filter.update_direct(d + c.acoustic_sigma * gauss(rng), c.acoustic_sigma);
+            return *range_filter.distance();
+        }
         window.push_back(rss);
         while (int(window.size()) > std::max(1, c.rssi_window)) window.pop_front();
         const std::vector<double> w(window.begin(), window.end());
@@ -63,10 +82,24 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
     const double r0 = ranged(d0);
     run.distance_errors.push_back(std::abs(r0 - d0));
     est.step(pdr, r0);
+    walked.push_back(pdr);
+    ranges.push_back(last_reading);
     const int max_steps = int(c.seconds * c.step_hz);
+    // BothFixes: the bearing between the two fused fixes, in the plan's frame (not PDR's).
+    const auto fixes_bearing = [&] {
+        const Point fa{truth.x + c.fix_sigma * gauss(rng), truth.y + c.fix_sigma * gauss(rng)};
+        const Point fb{b.x + c.fix_sigma * gauss(rng), b.y + c.fix_sigma * gauss(rng)};
+        return bearing_deg(fa, fb);
+    };
+    std::optional<double> fixes_said;
+    if (m == RelativeMethod::BothFixes) fixes_said = fixes_bearing();
     for (int k = 1; k <= max_steps; ++k) {
         // A's intended heading: the estimate's bearing once there is one.
-        if (c.follow_estimate) {
+        if (c.follow_estimate && fixes_said) {
+            heading = *fixes_said;
+        } else if (c.follow_estimate && m == RelativeMethod::RssiFit) {
+            if (fitted) heading = bearing_deg(pdr, *fitted);
+        } else if (c.follow_estimate) {
             if (auto target = est.target()) heading = bearing_deg(pdr, *target);
             else if (auto dir = est.direction_deg()) heading = *dir;
         }
@@ -76,19 +109,40 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
         const double true_len = c.step_length + c.step_length_sigma * gauss(rng);
         truth = {truth.x + true_len * std::cos(true_heading * kRad), truth.y + true_len * std::sin(true_heading * kRad)};
         pdr = {pdr.x + c.step_length * std::cos(heading * kRad), pdr.y + c.step_length * std::sin(heading * kRad)};
+        range_filter.predict(c.step_length);
         ++run.steps;
 
         const double d = distance(truth, b);
+        if (m == RelativeMethod::BothFixes) {
+            run.distance_errors.push_back(0.0);  // no ranging: the distance is the fixes'
+            if (d <= c.met_distance) {
+                run.met = true;
+                run.met_after_s = double(k) / c.step_hz;
+                break;
+            }
+            fixes_said = fixes_bearing();
+            run.errors_deg.push_back(std::abs(relative::wrap_deg(*fixes_said - bearing_deg(truth, b))));
+            continue;
+        }
         const double r = ranged(d);
         run.distance_errors.push_back(std::abs(r - d));
         est.step(pdr, r);
+        if (m == RelativeMethod::RssiFit) {
+            walked.push_back(pdr);
+            ranges.push_back(last_reading);  // independent readings: the fit is the smoothing
+            // The side of a straight walk is a coin toss to the ranges: the fit keeps the one
+            // nearer where A first headed (it started roughly towards B).
+            fitted = relative::fit_target(walked, ranges, pdr, r, fitted ? bearing_deg(pdr, *fitted) : first_heading);
+        }
         if (d <= c.met_distance) {
             run.met = true;
             run.met_after_s = double(k) / c.step_hz;
             break;
         }
         std::optional<double> said;
-        if (auto target = est.target()) said = bearing_deg(pdr, *target);
+        if (m == RelativeMethod::RssiFit) {
+            if (fitted) said = bearing_deg(pdr, *fitted);
+        } else if (auto target = est.target()) said = bearing_deg(pdr, *target);
         else said = est.direction_deg();
         if (!said) {
             ++run.steps_without_estimate;

@@ -72,6 +72,13 @@ void write_walk(std::ostream& out, const Walk& walk) {
                    {"north_offset_deg", walk.north_offset_deg}};
     if (walk.map) header["floor"] = floor_json(*walk.map);
     if (walk.earth_field_ut) header["earth_field_ut"] = *walk.earth_field_ut;
+    if (!walk.anchors.empty()) {
+        json anchors = json::array();
+        for (const Anchor& a : walk.anchors)
+            anchors.push_back({{"type", a.type}, {"id", a.id}, {"x", a.tx.at.x}, {"y", a.tx.at.y}, {"dz", a.tx.dz},
+                               {"tx_power", a.tx.model.tx_power}, {"path_loss_exponent", a.tx.model.exponent}});
+        header["anchors"] = anchors;
+    }
     out << header.dump() << '\n';
     for (const SurveyPoint& sp : walk.survey) {
         json scans = json::array();
@@ -79,11 +86,17 @@ void write_walk(std::ostream& out, const Walk& walk) {
         out << json{{"type", "survey"}, {"rp", sp.name}, {"x", sp.at.x}, {"y", sp.at.y}, {"scans", scans}}.dump() << '\n';
     }
     // IMU and scans interleaved in time order, as a phone would log them.
-    std::size_t j = 0;
+    std::size_t j = 0, b = 0;
     auto flush_scans = [&](double until) {
         for (; j < walk.scans.size() && walk.scans[j].t_s <= until; ++j) {
             json o = {{"type", "wifi"}, {"t", walk.scans[j].t_s}, {"rss", scan_json(walk.scans[j].readings)}};
             if (walk.scans[j].truth) o["truth"] = point(*walk.scans[j].truth);
+            out << o.dump() << '\n';
+        }
+        for (; b < walk.anchor_scans.size() && walk.anchor_scans[b].t_s <= until; ++b) {
+            const WifiScan& s = walk.anchor_scans[b];
+            json o = {{"type", "anchors"}, {"t", s.t_s}, {"rss", scan_json(s.readings)}};
+            if (s.truth) o["truth"] = point(*s.truth);
             out << o.dump() << '\n';
         }
     };
@@ -117,6 +130,10 @@ Walk read_walk(std::istream& in) {
                 walk.north_offset_deg = o.value("north_offset_deg", 0.0);
                 if (o.contains("floor")) walk.map = floor_of(o.at("floor"));
                 if (o.contains("earth_field_ut")) walk.earth_field_ut = o.at("earth_field_ut").get<double>();
+                for (const json& a : o.value("anchors", json::array()))
+                    walk.anchors.push_back({a.at("type").get<std::string>(), a.at("id").get<std::string>(),
+                                            {{a.at("x").get<double>(), a.at("y").get<double>()}, a.value("dz", 0.0),
+                                             {a.at("tx_power").get<double>(), a.value("path_loss_exponent", 2.0)}}});
                 header = true;
             } else if (!header) {
                 throw std::runtime_error("the first line must be the header");
@@ -132,12 +149,12 @@ Walk read_walk(std::istream& in) {
                 s.mag = vec3(o.at("mag"));
                 if (o.contains("truth")) s.truth = point_of(o.at("truth"));
                 walk.imu.push_back(s);
-            } else if (type == "wifi") {
+            } else if (type == "wifi" || type == "anchors") {
                 WifiScan s;
                 s.t_s = o.at("t").get<double>();
                 s.readings = scan_of(o.at("rss"));
                 if (o.contains("truth")) s.truth = point_of(o.at("truth"));
-                walk.scans.push_back(std::move(s));
+                (type == "wifi" ? walk.scans : walk.anchor_scans).push_back(std::move(s));
             }
         } catch (const std::exception& e) {
             throw std::runtime_error("walk file line " + std::to_string(number) + ": " + e.what());

@@ -130,3 +130,65 @@ TEST(EvalWalks, BadInputIsNamed) {
     EXPECT_NE(r.err.find("wifi.map:1: truncated"), std::string::npos) << r.err;
     std::filesystem::remove_all(dir);
 }
+
+// The rest of the bad-input target end to end: unsorted timestamps and NaN samples are errors
+// naming the file and line; a walk none of whose scans localizes (here: it has no scan) is
+// skipped with a note, and the other walks are still scored.
+TEST(EvalWalks, UnsortedAndNanSamplesAreNamedAndAWalkWithoutScansIsSkipped) {
+    ServerProcess server{{"--quiet"}};
+    const json imported = import_fixture(server);
+    const std::string rm = std::to_string(imported["radiomap_id"].get<int>());
+    namespace fs = std::filesystem;
+    const fs::path root = fs::temp_directory_path() / ("putmc_bad2_" + std::to_string(::getpid()));
+    const fs::path tiny = kFixture + "/trajs/tiny_walk";
+    const auto copy_walk = [&](const std::string& name) {
+        fs::create_directories(root / name);
+        for (const char* f : {"acc.map", "orient.map", "wifi.map", "positions.map"})
+            fs::copy_file(tiny / f, root / name / f, fs::copy_options::overwrite_existing);
+        return root / name;
+    };
+    const auto eval = [&](const fs::path& dir) {
+        return run_command({kCli, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "walk_pf", dir.string()});
+    };
+
+    // acc.map with its 3rd sample moved before the 2nd.
+    const fs::path unsorted = copy_walk("unsorted");
+    {
+        std::ifstream in(tiny / "acc.map");
+        std::vector<std::string> lines;
+        for (std::string l; std::getline(in, l);) lines.push_back(l);
+        std::swap(lines[1], lines[2]);
+        std::ofstream out(unsorted / "acc.map");
+        for (const auto& l : lines) out << l << "\n";
+    }
+    auto r = eval(unsorted);
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("acc.map:3: timestamp goes back"), std::string::npos) << r.err;
+
+    // orient.map with a NaN in its 2nd sample.
+    const fs::path nan = copy_walk("nan");
+    {
+        std::ifstream in(tiny / "orient.map");
+        std::vector<std::string> lines;
+        for (std::string l; std::getline(in, l);) lines.push_back(l);
+        lines[1] = lines[1].substr(0, lines[1].find(' ')) + " nan 0.0 0.0 1.0 0.17";
+        std::ofstream out(nan / "orient.map");
+        for (const auto& l : lines) out << l << "\n";
+    }
+    r = eval(nan);
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("orient.map:2:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("not finite"), std::string::npos) << r.err;
+
+    // A walk with no scan beside a good one: skipped with a note, the good one scored.
+    fs::remove_all(root);
+    copy_walk("good");
+    const fs::path empty = copy_walk("no_scans");
+    std::ofstream(empty / "wifi.map", std::ios::trunc).flush();
+    r = eval(root);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("no_scans: no scan localized"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("pooled (2 walks)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("walk_pf                         3"), std::string::npos) << r.out;  // the good walk's 3 scans
+    fs::remove_all(root);
+}

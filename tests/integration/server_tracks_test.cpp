@@ -320,6 +320,77 @@ TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
     EXPECT_TRUE(friend_.ended);
 }
 
+// One track's owner and shares could take every event stream slot of the server.
+TEST(ServerTracks, OneTrackCannotTakeEveryStreamSlot) {
+    ServerProcess s({"--quiet", "--track-heartbeat", "0.1", "--max-streams-per-track", "2", "--max-track-streams", "10"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
+    body_of(post_fixes(s, a, {fix(unix_now() - 1, h.floor, 0, 0)}));
+    body_of(post_fixes(s, b, {fix(unix_now() - 1, h.floor, 1, 0)}));
+    const std::string share = body_of(call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201)["token"];
+    auto first = std::make_unique<Listener>(s.port(), path_of(a, "/events"), a.token);
+    Listener second(s.port(), path_of(a, "/events"), share);
+    ASSERT_TRUE(first->wait_for(1, 2.0));
+    ASSERT_TRUE(second.wait_for(1, 2.0));
+    const Response refused = call(s, "GET", path_of(a, "/events"), {a.token});
+    EXPECT_EQ(refused.status, 429);
+    EXPECT_EQ(refused.body["error"]["code"], "too_many_streams") << refused.raw;
+    Listener other(s.port(), path_of(b, "/events"), b.token);  // another track still gets one
+    EXPECT_TRUE(other.wait_for(1, 2.0));
+    // A closed stream gives its slot back.
+    first.reset();
+    bool again = false;
+    for (int i = 0; i < 20 && !again; ++i) {
+        Listener retry(s.port(), path_of(a, "/events"), a.token);
+        again = retry.wait_for(1, 0.3);
+    }
+    EXPECT_TRUE(again);
+}
+
+// An anonymous loop of open and close (or delete) had no bound: every track is held until it
+// expires, so all of them together are capped, and slots come back as they expire.
+TEST(ServerTracks, RetainedTracksAreCapped) {
+    ServerProcess s({"--quiet", "--max-tracks", "3", "--track-ttl", "60", "--track-retention", "0.3"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track live = open_track(s, h.map), closed = open_track(s, h.map), deleted = open_track(s, h.map);
+    body_of(call(s, "POST", path_of(closed, "/close"), {closed.token}, "{}"));
+    EXPECT_EQ(call(s, "DELETE", path_of(deleted), {deleted.token}).status, 204);
+    const Response refused = call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump());
+    EXPECT_EQ(refused.status, 503);
+    EXPECT_EQ(refused.body["error"]["code"], "too_many_tracks") << refused.raw;
+    EXPECT_EQ(body_of(call(s, "GET", path_of(live), {live.token}))["state"], "live");  // the live one is untouched
+    // The closed and deleted tracks expire (and their tombstones after them): slots come back.
+    int status = 503;
+    for (int i = 0; i < 100 && status == 503; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        status = call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump()).status;
+    }
+    EXPECT_EQ(status, 201);
+}
+
+// Deleting a map deleted its tracks' rows, but in memory they lived on (a post answered 409
+// or worse, a stream stayed open): now they go with it.
+TEST(ServerTracks, DeletingAMapEndsItsTracks) {
+    ServerProcess s({"--quiet", "--track-heartbeat", "0.1"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const auto other = locus::testing::make_hierarchy(s, "Elsewhere");
+    const Track t = open_track(s, h.map), kept = open_track(s, other.map);
+    body_of(post_fixes(s, t, {fix(unix_now() - 1, h.floor, 1, 1)}));
+    const std::string share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
+    Listener stream(s.port(), path_of(t, "/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+
+    ASSERT_EQ(s.del("/v1/maps/" + std::to_string(h.map)).status, 204);
+    EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
+    EXPECT_EQ(post_fixes(s, t, {fix(unix_now(), h.floor, 2, 2)}).status, 404);
+    EXPECT_EQ(call(s, "POST", path_of(t, "/close"), {t.token}, "{}").status, 404);
+    EXPECT_EQ(call(s, "GET", path_of(t), {share}).status, 403);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (!stream.ended && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    EXPECT_TRUE(stream.ended);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(kept), {kept.token}))["state"], "live");  // another map's track is untouched
+}
+
 // A revoked share had kept an open stream receiving every fix for as long as the track lived.
 TEST(ServerTracks, RevokingAShareEndsTheStreamsItOpened) {
     ServerProcess s({"--quiet", "--track-heartbeat", "0.2"});
@@ -447,6 +518,108 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
     EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 8}, {"length_m", 9}, {"heading_deg", 0}}}}}.dump()).status, 422);
     EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"steps": []})").status, 422);
     EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"walk": []})").status, 422);
+}
+
+// A thin client's scans are localized as the map's localize endpoint answers them (the same
+// index, the radio map's default algorithm) and taken by the particle filter as its radio fixes:
+// the fused fixes are client-lib's on those fixes. A bad scan anywhere in a batch writes nothing
+// and leaves the filter where it was.
+TEST(ServerTracks, ServerFusionLocalizesScansLikeTheLocalizeEndpoint) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    using locus::testing::feature;
+    const json plan = {{"type", "FeatureCollection"},
+                       {"features", {feature("space", locus::testing::rect_polygon(0, 0, 20, 4), {{"name", "Corridor"}, {"kind", "corridor"}})}}};
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(h.floor) + "/plan", plan).status, 200);
+    const auto m = [](const std::string& bssid, double mean) {
+        return json{{"type", "wifi"}, {"bssid", bssid}, {"mean", mean}, {"variance", 4.0}, {"count", 10}};
+    };
+    json rps = json::array();
+    for (int i = 0; i < 5; ++i) {
+        const double x = 2.0 + 4.0 * i;
+        rps.push_back({{"name", "rp" + std::to_string(i)}, {"x", x}, {"y", 2.0}, {"scans", 10},
+                       {"measurements", {m("aa:00:00:00:00:01", -35 - 2.0 * x), m("aa:00:00:00:00:02", -75 + 2.0 * x)}}});
+    }
+    ASSERT_EQ(s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", json{{"name", "corridor"}, {"rps", rps}}).status, 201);
+    const auto readings = [](double ap1, double ap2) {
+        return json::array({{{"bssid", "AA:00:00:00:00:01"}, {"rss", ap1}}, {{"type", "wifi"}, {"bssid", "aa:00:00:00:00:02"}, {"rss", ap2}}});
+    };
+    const json west = readings(-40, -72), middle = readings(-55, -57);
+    const Track t = open_track(s, h.map);
+    const double t0 = std::floor(unix_now()) - 30;
+    const std::string p = path_of(t, "/steps");
+
+    // Bad scans, alone or beside good steps: 4xx, nothing stored.
+    const json good_steps = {{{"t", t0 + 1}, {"length_m", 0.7}, {"heading_deg", 90.0}}};
+    for (const json& bad : {json{{"t", t0}, {"readings", json::array()}},
+                            json{{"t", t0}, {"readings", {{{"bssid", "not-a-mac"}, {"rss", -50}}}}},
+                            json{{"t", t0}, {"readings", {{{"bssid", "aa:00:00:00:00:01"}, {"rss", 20}}}}},
+                            json{{"t", t0}, {"readings", {{{"bssid", "aa:00:00:00:00:01"}, {"rss", "strong"}}}}},
+                            json{{"t", t0}, {"readings", {{{"bssid", "bb:00:00:00:00:09"}, {"rss", -50}}}}},  // no RP hears it
+                            json{{"t", t0}, {"readings", west}, {"floor_id", h.floor}},
+                            json{{"t", unix_now() + 3600}, {"readings", west}},
+                            json{{"readings", west}},
+                            json(west)}) {
+        const Response r = call(s, "POST", p, {t.token}, json{{"steps", good_steps}, {"scans", {bad}}}.dump());
+        EXPECT_EQ(r.status, 422) << bad.dump() << " " << r.raw;
+        EXPECT_TRUE(r.body["error"].contains("code")) << r.raw;
+    }
+    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"scans", json::object()}}.dump()).status, 422);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 0);
+
+    // The first scan starts the filter, steps walk it east, the second scan corrects it.
+    json steps = json::array();
+    for (int i = 1; i <= 8; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    const json body = {{"steps", steps}, {"scans", {{{"t", t0 + 4.5}, {"readings", middle}}, {{"t", t0}, {"readings", west}}}}};
+    const json got = body_of(call(s, "POST", p, {t.token}, body.dump()));
+    ASSERT_EQ(got["fused"].size(), 10u);
+    EXPECT_EQ(got["stored"], 10);
+    ASSERT_EQ(got["scan_fixes"].size(), 2u);
+
+    // Each scan's fix is where the map's localize endpoint puts that scan.
+    const std::string localize = "/v1/maps/" + std::to_string(h.map) + "/localize";
+    std::vector<json> answers;
+    for (const json* r : {&west, &middle}) answers.push_back(body_of(s.post(localize, json{{"scans", json::array({*r})}})));
+    for (std::size_t i = 0; i < 2; ++i) {
+        const json& f = got["scan_fixes"][i];
+        EXPECT_DOUBLE_EQ(f["x"].get<double>(), answers[i]["x"].get<double>()) << i;
+        EXPECT_DOUBLE_EQ(f["y"].get<double>(), answers[i]["y"].get<double>()) << i;
+        EXPECT_EQ(f["floor_id"], h.floor);
+        EXPECT_GE(f["accuracy_m"].get<double>(), 1.0);  // never the centimetres of a lone candidate
+    }
+    EXPECT_LT(answers[0]["x"].get<double>(), 6.0);   // the west scan is west...
+    EXPECT_GT(answers[1]["x"].get<double>(), 6.0);   // ...the middle one further east
+
+    // The same in client-lib, on the plan as the server keeps it and the fixes the scans gave.
+    const json stored = body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/plan"));
+    const auto walkable = locus::fusion::Walkable::from_plan(locus::plan::from_geojson({{"type", "FeatureCollection"}, {"features", stored["features"]}}));
+    const json& f0 = got["scan_fixes"][0];
+    const json& f1 = got["scan_fixes"][1];
+    locus::fusion::ParticleFilter pf(walkable, {f0["x"].get<double>(), f0["y"].get<double>()});
+    std::vector<locus::Point> expected{pf.position()};
+    for (int i = 1; i <= 8; ++i) {
+        pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+        expected.push_back(pf.position());
+        if (i == 4) {
+            const double a = f1["accuracy_m"].get<double>();
+            pf.update({f1["x"].get<double>(), f1["y"].get<double>()}, Eigen::Matrix2d::Identity() * a * a);
+            expected.push_back(pf.position());
+        }
+    }
+    ASSERT_EQ(expected.size(), 10u);
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        EXPECT_NEAR(got["fused"][i]["x"].get<double>(), expected[i].x, 1e-9) << i;
+        EXPECT_NEAR(got["fused"][i]["y"].get<double>(), expected[i].y, 1e-9) << i;
+    }
+    // A bad scan after that leaves the filter where it was: the next good step is client-lib's next step.
+    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}},
+                                                  {"scans", {{{"t", t0 + 9}, {"readings", {{{"bssid", "bb:00:00:00:00:09"}, {"rss", -50}}}}}}}}.dump())
+                  .status,
+              422);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 10);
+    const json next = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
+    pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+    EXPECT_NEAR(next["fused"][0]["x"].get<double>(), pf.position().x, 1e-9);
 }
 
 // The REST client's track calls against the real server.

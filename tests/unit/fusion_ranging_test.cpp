@@ -101,3 +101,34 @@ TEST(FusionRanging, CovarianceHasAFloorAndStaysFinite) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(FusionRanging, MeasurementNoiseIsConfiguredOrTheFixs) {
+    ranging::Fix f;
+    f.sxx = 4.0;
+    f.syy = 1.0;
+    f.sxy = 0.5;
+    fusion::RangingKalmanConfig fixed;
+    fixed.fixed_r_sigma_m = 2.0;  // seed 004: R a constant, whatever the fix claims
+    EXPECT_TRUE(fusion::ranging_measurement_noise(f, fixed).isApprox(Eigen::Matrix2d::Identity() * 4.0));
+    fusion::RangingKalmanConfig own;
+    own.r_floor_m = 0.0;
+    own.r_scale = 2.0;
+    const Eigen::Matrix2d r = fusion::ranging_measurement_noise(f, own);
+    EXPECT_DOUBLE_EQ(r(0, 0), 8.0);
+    EXPECT_DOUBLE_EQ(r(1, 1), 2.0);
+    EXPECT_DOUBLE_EQ(r(0, 1), 1.0);
+    // The seed's filter: constant Q per step (no growth with the distance walked) and a fixed R.
+    const auto seed = fusion::seed004_kalman_config();
+    EXPECT_GT(seed.fixed_r_sigma_m, 0.0);
+    EXPECT_EQ(seed.kalman.step_sigma_per_m, 0.0);
+    fusion::KalmanFilter kf({0, 0}, seed.kalman);
+    kf.predict({0.1, 0.0});
+    const double after_short = kf.covariance()(0, 0);
+    fusion::KalmanFilter kf2({0, 0}, seed.kalman);
+    kf2.predict({1.0, 0.0});
+    EXPECT_DOUBLE_EQ(kf2.covariance()(0, 0), after_short);
+}
+
+}  // namespace

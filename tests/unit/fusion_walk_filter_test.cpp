@@ -107,3 +107,53 @@ TEST(WalkFilter, FollowsAWalkWhoseCompassIsTurnedAndMirrored) {
     ASSERT_GT(scored, 20);
     EXPECT_LT(pf_err / scored, 0.8 * fix_err / scored);
 }
+
+// Adaptive re-drawing: a fix the cloud did not expect (20 m off) rebuilds more of the cloud
+// round it than the fixed share does, so the estimate lands nearer the fix; a fix where the
+// cloud already is changes nothing, whether the share is fixed or adaptive.
+TEST(WalkFilter, RedrawsMoreOfTheCloudAroundAFixItDidNotExpect) {
+    const Eigen::Matrix2d cov = Eigen::Matrix2d::Identity();
+    const auto after = [&](double max_share, Point second_fix) {
+        fusion::WalkFilterConfig c;
+        c.reseed_fraction = 0.3;
+        c.reseed_max_fraction = max_share;
+        c.outlier_floor = 0.5;  // the surprising fix must not simply win the resampling
+        fusion::WalkFilter f(std::nullopt, c);
+        f.fix({0, 0}, cov);
+        f.fix(second_fix, cov);
+        return f.position();
+    };
+    const Point far{20, 0};
+    const double fixed = std::hypot(after(0.0, far).x - far.x, after(0.0, far).y - far.y);
+    const double adaptive = std::hypot(after(0.9, far).x - far.x, after(0.9, far).y - far.y);
+    EXPECT_LT(adaptive, fixed - 5.0) << "fixed share " << fixed << " m from the fix, adaptive " << adaptive;
+    // k = share·N slots are picked with replacement, so a share of 1 − e^(−share) is re-drawn:
+    // 26 % at 0.3, 59 % at 0.9 (surprise ≈ 1); the mean moves that far towards the fix.
+    EXPECT_NEAR(fixed, std::exp(-0.3) * 20.0, 1.5);
+    EXPECT_NEAR(adaptive, std::exp(-0.9) * 20.0, 1.5);
+
+    const Point expected{0.1, 0.0};
+    const Point a = after(0.0, expected), b = after(0.9, expected);
+    EXPECT_LT(std::hypot(a.x - expected.x, a.y - expected.y), 1.0);
+    EXPECT_LT(std::hypot(b.x - expected.x, b.y - expected.y), 1.0);
+}
+
+// The estimate as the cloud's mode: with three quarters of the particles at one place and a
+// quarter re-drawn round a fix 20 m away, the mean lies between the two, in neither; the mode
+// stays with the larger group.
+TEST(WalkFilter, ModeEstimateStaysWithTheLargerGroupWhereTheMeanFallsBetween) {
+    const Eigen::Matrix2d cov = Eigen::Matrix2d::Identity();
+    const auto after = [&](double radius) {
+        fusion::WalkFilterConfig c;
+        c.outlier_floor = 0.5;  // the far fix must not simply win the resampling
+        c.estimate_radius_m = radius;
+        fusion::WalkFilter f(std::nullopt, c);
+        f.fix({0, 0}, cov);
+        f.fix({20, 0}, cov);
+        return f.position();
+    };
+    const Point mean = after(0.0), mode = after(3.0);
+    EXPECT_NEAR(mean.x, (1.0 - std::exp(-0.3)) * 20.0, 1.5);  // 26 % re-drawn (see above)
+    EXPECT_LT(std::abs(mode.x), 1.5) << "mode at " << mode.x << ", mean at " << mean.x;
+    EXPECT_LT(std::abs(mode.y), 1.0);
+}

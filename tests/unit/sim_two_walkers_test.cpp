@@ -36,3 +36,26 @@ TEST(TwoWalkers, SameSeedSameWalk) {
     EXPECT_EQ(a.errors_deg, b.errors_deg);
     EXPECT_GT(a.distance_errors.front() + a.distance_errors.back(), 0.0);
 }
+
+// With both phones' fused fixes the bearing needs no walk at all, wherever A first heads.
+TEST(TwoWalkers, BothFixesPointAtBFromAnyStart) {
+    TwoWalkerConfig c;
+    c.initial_spread_deg = 180.0;
+    const auto s = evaluate_two_walkers(c, RelativeMethod::BothFixes, 1, 20);
+    EXPECT_LT(s.median_error_deg, 20.0);
+    EXPECT_GT(s.met_share, 0.9);
+    c.fix_sigma = 0.0;  // exact fixes: only the compass bias and heading noise remain in the walk
+    EXPECT_LT(evaluate_two_walkers(c, RelativeMethod::BothFixes, 1, 5).median_error_deg, 1e-9);
+}
+
+// Smoothed RSSI and a longer baseline before a weight (min_rho): walking at B, the estimate
+// points at B; with the seed's 0.5 m it is mostly noise.
+TEST(TwoWalkers, SmoothedRssiWithALongBaselinePointsAtB) {
+    TwoWalkerConfig c;
+    c.initial_spread_deg = 0.0;
+    c.estimator.min_rho = 6.0;
+    const auto tuned = evaluate_two_walkers(c, RelativeMethod::RssiKalman, 1, 40);
+    EXPECT_LT(tuned.median_error_deg, 20.0);
+    c.estimator.min_rho = 0.5;
+    EXPECT_GT(evaluate_two_walkers(c, RelativeMethod::RssiKalman, 1, 40).median_error_deg, 2 * tuned.median_error_deg);
+}

@@ -24,9 +24,10 @@ struct Args {
 void run(const Args& a) {
     nlohmann::json out = nlohmann::json::array();
     if (!a.json)
-        std::printf("%-10s %5s %12s %9s %9s %6s %10s %12s\n", "method", "runs", "median_err°", "p90_err°",
+        std::printf("%-21s %5s %12s %9s %9s %6s %10s %12s\n", "method", "runs", "median_err°", "p90_err°",
                     "coverage", "met", "met_after", "median_|Δd|");
-    for (auto m : {sim::RelativeMethod::Rssi, sim::RelativeMethod::RssiMean, sim::RelativeMethod::Exact}) {
+    for (auto m : {sim::RelativeMethod::Rssi, sim::RelativeMethod::RssiMean, sim::RelativeMethod::RssiKalman,
+                   sim::RelativeMethod::RssiKalmanAcoustic, sim::RelativeMethod::RssiFit, sim::RelativeMethod::Exact, sim::RelativeMethod::BothFixes}) {
         const auto s = sim::evaluate_two_walkers(a.config, m, a.seed, a.runs);
         if (a.json) {
             out.push_back({{"method", sim::method_name(m)},
@@ -38,7 +39,7 @@ void run(const Args& a) {
                            {"median_met_after_s", s.median_met_after_s},
                            {"median_distance_error_m", s.median_distance_error}});
         } else {
-            std::printf("%-10s %5d %12.1f %9.1f %8.0f%% %5.0f%% %9.1fs %11.2fm\n", sim::method_name(m), s.runs,
+            std::printf("%-21s %5d %12.1f %9.1f %8.0f%% %5.0f%% %9.1fs %11.2fm\n", sim::method_name(m), s.runs,
                         s.median_error_deg, s.p90_error_deg, 100.0 * s.estimate_coverage, 100.0 * s.met_share,
                         s.median_met_after_s, s.median_distance_error);
         }
@@ -60,6 +61,11 @@ LOCUS_COMMAND("eval-relative", [](CLI::App& app) {
     cmd->add_option("--shadowing", c.shadowing_db, "RSSI noise σ (dB)")->capture_default_str()->check(CLI::Range(0.0, 20.0));
     cmd->add_option("--initial-spread", c.initial_spread_deg, "A's first heading within ± this of B (degrees)")->capture_default_str()->check(CLI::Range(0.0, 180.0));
     cmd->add_option("--rssi-window", c.rssi_window, "readings averaged by rssi-mean")->capture_default_str()->check(CLI::Range(1, 100));
+    cmd->add_option("--min-rho", c.estimator.min_rho, "m walked from the reference before a weight is formed")
+        ->capture_default_str()->check(CLI::Range(0.1, 50.0));
+    cmd->add_option("--fix-sigma", c.fix_sigma, "both-fixes: per-axis error of each fused fix (m)")->capture_default_str()->check(CLI::Range(0.0, 50.0));
+    cmd->add_option("--range-v-sigma", c.range_kalman.v_walk_sigma, "rssi-kalman: drift of the range rate per metre walked")
+        ->capture_default_str()->check(CLI::Range(0.0, 5.0));
     cmd->add_flag("!--no-follow", c.follow_estimate, "A keeps its first heading instead of following the estimate");
     cmd->add_flag("--json", args->json, "print the figures as JSON");
     cmd->callback([args] { run(*args); });

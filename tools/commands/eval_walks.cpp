@@ -6,12 +6,16 @@
 // when it has one, is what the particle filters map-match on.
 #include <chrono>
 #include <cmath>
-#include <filesystem>
+#include <atomic>
 #include <cstdio>
+#include <exception>
+#include <filesystem>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -41,6 +45,7 @@ struct Args {
     bool walls = true;
     bool reality = false;  // the statistics the simulator is calibrated to, instead of the methods
     int particles = 2000;
+    int jobs = std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::string> tune;  // --set KEY=VALUE
 };
 
@@ -57,6 +62,7 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
         {"heading_sigma_rad", &c.heading_sigma_rad}, {"offset_walk_rad", &c.offset_walk_rad}, {"scale_walk", &c.scale_walk},
         {"length_sigma", &c.length_sigma}, {"snap_rad", &c.snap_rad}, {"blocked_weight", &c.blocked_weight},
         {"fix_sigma_m", &c.fix_sigma_m}, {"outlier_floor", &c.outlier_floor}, {"reseed_fraction", &c.reseed_fraction},
+        {"reseed_max_fraction", &c.reseed_max_fraction}, {"estimate_radius_m", &c.estimate_radius_m},
         {"resample_fraction", &c.resample_fraction}, {"seed", &seed}, {"hint_share", &c.hint_share},
         {"hint_sigma_rad", &c.hint_sigma_rad}, {"particle.particles", &particles},
         {"particle.initial_sigma_m", &pc.initial_sigma_m}, {"particle.initial_bias_sigma_rad", &pc.initial_bias_sigma_rad},
@@ -159,10 +165,11 @@ void run(const Args& a) {
         throw CommandError("unknown --method '" + a.method + "' (" + list + " or all)");
     }
 
-    std::vector<walks::WalkResult> results;
     std::vector<walks::RealityStats> reality;
-    double http_s = 0.0, filter_s = 0.0;
+    std::vector<putmc::Walk> walk_data;
+    std::vector<std::vector<std::optional<sim::Fix>>> walk_fixes;
     int no_match_total = 0;
+    double http_s = 0.0;
     for (const auto& d : dirs) {
         putmc::Walk walk;
         try {
@@ -190,18 +197,43 @@ void run(const Args& a) {
                 ++no_match_total;
             }
         }
-        const auto t1 = std::chrono::steady_clock::now();
+        http_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (a.reality) {
             reality.push_back(walks::reality_of(walk, fixes, floor.height));
             continue;
         }
-        results.push_back(walks::evaluate_walk(walk, fixes, floor.height, map, cfg));
-        const auto t2 = std::chrono::steady_clock::now();
-        http_s += std::chrono::duration<double>(t1 - t0).count();
-        filter_s += std::chrono::duration<double>(t2 - t1).count();
-        if (results.back().fixes == 0)
-            std::cerr << "locus: " << walk.name << ": no scan localized (every one answered no_match): skipped in the figures\n";
+        walk_data.push_back(std::move(walk));
+        walk_fixes.push_back(std::move(fixes));
     }
+    const auto t_filters = std::chrono::steady_clock::now();
+
+    // The walks are independent and each filter has its own seed, so they run on several
+    // threads with results identical to one thread's (the shared plan is only read).
+    std::vector<walks::WalkResult> results(walk_data.size());
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    auto worker = [&] {
+        for (std::size_t w; (w = next++) < walk_data.size();) {
+            try {
+                results[w] = walks::evaluate_walk(walk_data[w], walk_fixes[w], floor.height, map, cfg);
+            } catch (...) {
+                const std::lock_guard lock(failure_mutex);
+                if (!failure) failure = std::current_exception();
+            }
+        }
+    };
+    {
+        std::vector<std::jthread> pool;
+        const int jobs = std::max(1, std::min<int>(a.jobs, static_cast<int>(walk_data.size())));
+        for (int j = 1; j < jobs; ++j) pool.emplace_back(worker);
+        worker();
+    }
+    if (failure) std::rethrow_exception(failure);
+    const double filter_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_filters).count();
+    for (const auto& r : results)
+        if (r.fixes == 0)
+            std::cerr << "locus: " << r.name << ": no scan localized (every one answered no_match): skipped in the figures\n";
 
     if (a.reality) {
         print_reality(dirs, reality);
@@ -290,6 +322,9 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--particles", args->particles, "walk_pf particles")->capture_default_str()->check(CLI::Range(10, 100000));
+    cmd->add_option("--jobs", args->jobs, "walks evaluated at once (threads); the figures do not depend on it")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 256));
     cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf's by name; particle.*, kalman.*; rules.* sets the *_tuned rules)");
     cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
     cmd->add_flag("--reality", args->reality, "instead of the methods: the walks' compass drift, step coverage and WiFi error correlation (what the simulator is calibrated to)");

@@ -1,7 +1,9 @@
 // `locus replay`: a recorded or simulated walk through the real PDR, fixes from a running
 // server, one fusion rule (or every method), and the track's error against the truth. The
 // particle and Kalman filters map-match on the floor plan the server holds for the radio
-// map's floor when there is one (--walls), else on the walk file's rooms and doors.
+// map's floor when there is one (--walls), else on the walk file's rooms and doors. A walk with
+// anchors at known positions (locus sim --scenario seed004) also gets seed 004's ranging methods,
+// ranged in-process from the anchors the walk file lists (sim/ranging_eval.hpp).
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -15,6 +17,7 @@
 #include "locus/api/client.hpp"
 #include "locus/fusion/walk_filter.hpp"
 #include "sim/evaluate.hpp"
+#include "sim/ranging_eval.hpp"
 #include "sim/walk_io.hpp"
 
 namespace {
@@ -124,11 +127,17 @@ void run(const Args& a) {
     const bool all = a.rule == "all";
     const std::vector<std::string> methods = {"pdr", "wifi", "only_wifi", "midpoint", "midpoint_threshold",
                                               "proportional", "proportional2", "kalman", "particle", "walk_pf"};
-    if (!all && std::find(methods.begin(), methods.end(), a.rule) == methods.end())
+    const std::vector<std::string> ranging_methods = {"trilateration", "multilateration", "kalman_seed", "kalman_ranging"};
+    const bool ranging_rule = std::find(ranging_methods.begin(), ranging_methods.end(), a.rule) != ranging_methods.end();
+    if (!all && !ranging_rule && std::find(methods.begin(), methods.end(), a.rule) == methods.end())
         throw tools::CommandError("unknown --rule '" + a.rule + "' (only_wifi, midpoint, midpoint_threshold, "
-                                  "proportional, proportional2, kalman, particle, walk_pf, pdr, wifi or all)");
+                                  "proportional, proportional2, kalman, particle, walk_pf, pdr, wifi, all; with "
+                                  "anchors: trilateration, multilateration, kalman_seed, kalman_ranging)");
 
     const sim::Walk walk = sim::load_walk(a.file);
+    if (ranging_rule && walk.anchors.empty())
+        throw tools::CommandError("--rule " + a.rule + " needs a walk with anchors at known positions (" + a.file +
+                                  " lists none; locus sim --scenario seed004 writes such walks)");
     api::ClientOptions opts;
     opts.base_url = a.server;
     opts.api_key = a.api_key;
@@ -164,6 +173,12 @@ void run(const Args& a) {
     const Walls walls = choose_walls(client, a, walk);
     auto tracks = sim::run_methods(steps, fixes, walk.start, walls.map, cfg);
     if (all || a.rule == "walk_pf") tracks.push_back({"walk_pf", walk_pf_track(steps, fixes, walls.map, walk.seed)});
+    if (!walk.anchors.empty()) {
+        const sim::RangingEvalConfig rc;
+        for (auto& t : sim::run_ranging_methods(steps, sim::run_ranging(walk, rc), walk.start, rc,
+                                                walls.map ? walls.map->floor_plan : nullptr))
+            tracks.push_back(std::move(t));
+    }
 
     json out = {{"file", a.file}, {"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"steps", steps.size()},
                 {"fixes", fixes.size()}, {"no_match", no_match}, {"walls", walls.source}, {"tracks", json::array()}};
@@ -213,7 +228,8 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_option("--server", args->server, "server base URL")->capture_default_str();
     cmd->add_option("--api-key", args->api_key, "API key (for --upload-survey)")->envname("LOCUS_API_KEY");
     cmd->add_option("--radiomap", args->radiomap, "radio map to localize against")->required()->check(CLI::PositiveNumber);
-    cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, or all")->capture_default_str();
+    cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, "
+                    "or all; for a walk with anchors also trilateration, multilateration, kalman_seed, kalman_ranging")->capture_default_str();
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn/bayes")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--format", args->format, "json (tracks with errors) or csv")->capture_default_str();

@@ -2,6 +2,8 @@
 // scores every positioning method on it (--evaluate); --runs averages consecutive seeds. The
 // particle and Kalman filters map-match on the scenario's rooms and doors, on the same floor
 // as a floor plan (--walls plan), or on the plan a server holds for a floor (--server --floor).
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -10,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <initializer_list>
 #include <utility>
 #include <vector>
 
@@ -18,6 +21,7 @@
 #include "locus/fusion/rooms_plan.hpp"
 #include "sim/evaluate.hpp"
 #include "sim/generator.hpp"
+#include "sim/ranging_eval.hpp"
 #include "sim/scenario.hpp"
 #include "sim/walk_io.hpp"
 #include "walk_reality.hpp"
@@ -52,7 +56,50 @@ struct Args {
     std::int64_t floor = 0;
     bool put_plan = false;
     std::string kalman_walls = "snap";  // block | snap
+    std::string report;  // "ranging": seed 004's table side by side
+    sim::RangingEvalConfig ranging;
 };
+
+// Seed 004's table 1 (final-position error over its 20 walks, m): max, min, mean.
+struct SeedRow {
+    const char* method;
+    const char* ours;
+    double max, min, mean;
+};
+constexpr SeedRow kSeed004[] = {{"trilateration", "trilateration", 5.872, 1.258, 2.767},
+                                {"PDR", "pdr", 4.216, 0.801, 2.384},
+                                {"Kalman (proposed)", "kalman_seed", 3.18, 0.417, 1.224}};
+
+// Final-position errors of each method over the walks, for seed 004's max / min / mean.
+void print_ranging_report(const std::map<std::string, std::vector<double>>& finals, const Args& a) {
+    std::string notes;
+    auto stats = [&](const std::string& m) {
+        const auto& v = finals.at(m);
+        if (static_cast<int>(v.size()) < a.runs)
+            notes += "  " + m + ": " + std::to_string(a.runs - static_cast<int>(v.size())) + " of the walks had no fix at all\n";
+        double lo = v.front(), hi = v.front(), sum = 0.0;
+        for (double e : v) lo = std::min(lo, e), hi = std::max(hi, e), sum += e;
+        return std::array<double, 3>{hi, lo, sum / static_cast<double>(v.size())};
+    };
+    std::printf("\nseed 004's comparison: final-position error over %d walks (seeds %llu..%llu), m\n", a.runs,
+                static_cast<unsigned long long>(a.seed), static_cast<unsigned long long>(a.seed + a.runs - 1));
+    std::printf("%-22s %8s %8s %8s   %-18s %8s %8s %8s\n", "method (ours)", "max", "min", "mean", "seed 004", "max",
+                "min", "mean");
+    for (const SeedRow& r : kSeed004) {
+        const auto s = stats(r.ours);
+        std::printf("%-22s %8.2f %8.2f %8.2f   %-18s %8.2f %8.2f %8.2f\n", r.ours, s[0], s[1], s[2], r.method, r.max,
+                    r.min, r.mean);
+    }
+    for (const char* m : {"multilateration", "kalman_ranging"}) {
+        const auto s = stats(m);
+        std::printf("%-22s %8.2f %8.2f %8.2f\n", m, s[0], s[1], s[2]);
+    }
+    const double target = 0.7 * kSeed004[2].mean;
+    const double ours = stats("kalman_ranging")[2];
+    std::printf("multilateration + Kalman %.2f m against the target %.3f m (30 %% below the seed's %.3f m): %s\n", ours,
+                target, kSeed004[2].mean, ours <= target ? "met" : "NOT met");
+    std::printf("%s", notes.c_str());
+}
 
 // The floor the filters map-match on, and a word for where it came from.
 struct Walls {
@@ -155,6 +202,7 @@ void run(const Args& a) {
     double distance_abs = 0.0, distance_sq = 0.0;  // PDR distance error, relative
     // The WiFi fixes' errors, for the same correlation `locus eval walks --reality` measures.
     std::vector<tools::walks::RealityStats> radio;
+    std::map<std::string, std::vector<double>> finals;  // per method, one final error per walk
     for (int r = 0; r < a.runs; ++r) {
         const std::uint64_t seed = a.seed + static_cast<std::uint64_t>(r);
         sim::Walk walk = sim::simulate(sc, seed, a.walk);
@@ -174,7 +222,13 @@ void run(const Args& a) {
                 rs.fix_error.push_back({f.at.x - truth->x, f.at.y - truth->y});
                 rs.fix_truth.push_back(*truth);
             }
-        for (const sim::Score& s : sim::evaluate(walk, cfg)) {
+        std::vector<sim::Score> scores = sim::evaluate(walk, cfg);
+        if (!walk.anchors.empty())
+            for (const sim::NamedTrack& t : sim::run_ranging_methods(sim::run_pdr(walk), sim::run_ranging(walk, a.ranging),
+                                                                     walk.start, a.ranging, walls.map.floor_plan))
+                scores.push_back(sim::score(t, walk));
+        for (const sim::Score& s : scores) {
+            if (s.points > 0) finals[s.method].push_back(s.final_error_m);  // a walk without a fix has no final
             if (!sums.count(s.method)) order.push_back(s.method);
             sim::Score& t = sums[s.method];
             t.method = s.method;
@@ -185,6 +239,8 @@ void run(const Args& a) {
         }
     }
     if (!a.evaluate) return;
+    if (a.report == "ranging" && !finals.count("kalman_ranging"))
+        throw tools::CommandError("--report ranging needs a scenario with anchors (seed004)");
     if (a.json) {
         nlohmann::ordered_json arr = nlohmann::ordered_json::array();
         for (const std::string& m : order) {
@@ -215,6 +271,7 @@ void run(const Args& a) {
     std::printf("wifi error correlation between two fixes of a walk, by the distance between their truths:\n");
     for (const auto& b : tools::walks::error_correlation(radio, {0.0, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0}))
         std::printf("  %4.0f–%-4.0f m %6.2f  (%zu pairs)\n", b.lo, b.hi, b.correlation, b.pairs);
+    if (a.report == "ranging") print_ranging_report(finals, a);
 }
 
 }  // namespace
@@ -222,7 +279,7 @@ void run(const Args& a) {
 LOCUS_COMMAND("sim", [](CLI::App& app) {
     auto args = std::make_shared<Args>();
     auto* cmd = app.add_subcommand("sim", "Simulate a walk on a test floor (IMU, WiFi, truth); write it or score it");
-    cmd->add_option("--scenario", args->scenario, "ground or basement")->required();
+    cmd->add_option("--scenario", args->scenario, "ground, basement or seed004 (anchors at known positions)")->required();
     cmd->add_option("--seed", args->seed, "Walk seed (person, phone, noise)");
     cmd->add_option("--runs", args->runs, "Average over seeds seed..seed+runs-1");
     cmd->add_option("--out", args->out, "Write the walk as JSON lines (docs/fusion.md)");
@@ -272,9 +329,48 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
                     "into walkable space where they end (snap)")
         ->capture_default_str()
         ->check(CLI::IsMember({"block", "snap"}));
+    // Seed 004 (scenarios with anchors): the ranging methods and their filters.
+    cmd->add_option("--report", args->report, "ranging: seed 004's table (final errors) side by side with ours")
+        ->check(CLI::IsMember({"ranging"}));
+    cmd->add_option("--beacon-noise-db", args->walk.beacon_noise_sigma_db, "σ of one anchor reading, dB")
+        ->capture_default_str();
+    cmd->add_option("--beacon-offset-db", args->walk.beacon_phone_offset_sigma_db,
+                    "σ of the phone's RSS offset against the anchors' configured power, dB")->capture_default_str();
+    cmd->add_option("--ranging-window", args->ranging.window_s, "Anchor readings averaged per fix, s (seed 004: 5)")
+        ->capture_default_str();
+    cmd->add_option("--multilateration-window", args->ranging.multilateration_window_s,
+                    "Anchor readings averaged per multilateration fix, s")->capture_default_str();
+    cmd->add_option("--seed-r-sigma", args->ranging.seed_kalman.fixed_r_sigma_m, "Seed's Kalman: R's σ per axis, m")
+        ->capture_default_str();
+    cmd->add_option("--seed-q-sigma", args->ranging.seed_kalman.kalman.step_sigma_floor_m,
+                    "Seed's Kalman: Q's σ per step, m")->capture_default_str();
+    cmd->add_option("--ranging-q-per-m", args->ranging.kalman.kalman.step_sigma_per_m,
+                    "Our ranging Kalman: Q's σ per metre walked")->capture_default_str();
+    cmd->add_option("--ranging-r-floor", args->ranging.kalman.r_floor_m, "Our ranging Kalman: R's floor σ, m")
+        ->capture_default_str();
+    cmd->add_option("--ranging-r-scale", args->ranging.kalman.r_scale, "Our ranging Kalman: R = scale × the fix's covariance")
+        ->capture_default_str();
+    cmd->add_option("--ranging-latency", args->ranging.kalman_fix_latency_s,
+                    "Our ranging Kalman: age of a window's fix, s")->capture_default_str();
+    cmd->add_option("--ranging-gate", args->ranging.kalman.kalman.gate_chi2,
+                    "Our ranging Kalman: reject a fix whose Mahalanobis distance² exceeds this (0: none)")
+        ->capture_default_str();
+    cmd->add_option("--ranging-learn-offset", args->ranging.learn_offset,
+                    "Our ranging: learn the phone's RSS offset from earlier windows' residuals (true/false)")
+        ->capture_default_str();
+    cmd->add_option("--ranging-sigma-db", args->ranging.multilateration.sigma_db, "Multilateration's shadowing σ, dB")
+        ->capture_default_str();
     cmd->add_flag("--put-plan", args->put_plan, "first put the scenario's rooms and doors on --floor as its plan");
-    cmd->callback([args, walls] {
+    cmd->callback([args, walls, cmd] {
         args->walls_given = walls->count() > 0;
+        // A scenario's own simulator settings, where the command line did not set them.
+        const sim::SimConfig base = sim::default_config(args->scenario);
+        for (const auto& [option, field] : std::initializer_list<std::pair<const char*, double sim::SimConfig::*>>{
+                 {"--heading-walk", &sim::SimConfig::heading_walk_rad_per_sqrt_m},
+                 {"--misalignment", &sim::SimConfig::misalignment_sigma_rad},
+                 {"--length-sigma", &sim::SimConfig::step_length_person_sigma},
+                 {"--beacon-noise-db", &sim::SimConfig::beacon_noise_sigma_db}})
+            if (cmd->get_option(option)->count() == 0) args->walk.*field = base.*field;
         run(*args);
     });
 });

@@ -18,4 +18,23 @@ Eigen::Matrix2d ranging_covariance(const ranging::Fix& fix, double floor_m) {
     return r;
 }
 
+Eigen::Matrix2d ranging_measurement_noise(const ranging::Fix& fix, const RangingKalmanConfig& config) {
+    if (config.fixed_r_sigma_m > 0.0)
+        return Eigen::Matrix2d::Identity() * config.fixed_r_sigma_m * config.fixed_r_sigma_m;
+    // Scale first, floor after: the floor is a bound on the σ used, not on the model's.
+    ranging::Fix scaled = fix;
+    scaled.sxx *= config.r_scale;
+    scaled.syy *= config.r_scale;
+    scaled.sxy *= config.r_scale;
+    return ranging_covariance(scaled, config.r_floor_m);
+}
+
+RangingKalmanConfig seed004_kalman_config() {
+    RangingKalmanConfig c;
+    c.kalman.step_sigma_floor_m = 0.3;
+    c.kalman.step_sigma_per_m = 0.0;
+    c.fixed_r_sigma_m = 2.5;
+    return c;
+}
+
 }  // namespace locus::fusion

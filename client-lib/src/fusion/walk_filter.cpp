@@ -112,17 +112,24 @@ void WalkFilter::fix(Point at, const Eigen::Matrix2d& cov) {
         return;
     }
     const double var = std::max(config_.fix_sigma_m * config_.fix_sigma_m, 0.5 * cov.trace());
-    double sum = 0.0;
+    double sum = 0.0, prior = 0.0, expected = 0.0;
     for (P& p : particles_) {
         const double d2 = (p.at.x - at.x) * (p.at.x - at.x) + (p.at.y - at.y) * (p.at.y - at.y);
-        p.weight *= config_.outlier_floor + std::exp(-0.5 * d2 / var);
+        const double like = std::exp(-0.5 * d2 / var);
+        prior += p.weight;
+        expected += p.weight * like;
+        p.weight *= config_.outlier_floor + like;
         sum += p.weight;
     }
     if (sum <= 0.0)
         for (P& p : particles_) p.weight = 1.0;
     resample();
-    // Sensor resetting: a few fresh hypotheses around every fix, at the cloud's mean weight.
-    const int k = static_cast<int>(config_.reseed_fraction * n);
+    // Sensor resetting: fresh hypotheses around every fix, at the cloud's mean weight; more of
+    // them the less the cloud expected this fix.
+    const double surprise = prior > 0.0 ? 1.0 - expected / prior : 1.0;
+    const double share = std::max(config_.reseed_fraction,
+                                  config_.reseed_fraction + (config_.reseed_max_fraction - config_.reseed_fraction) * surprise);
+    const int k = static_cast<int>(std::min(1.0, share) * n);
     std::uniform_int_distribution<int> pick(0, n - 1);
     for (int i = 0; i < k; ++i) particles_[pick(rng_)] = fresh(at, std::sqrt(var));
 }
@@ -154,7 +161,18 @@ Point WalkFilter::position() const {
     double x = 0.0, y = 0.0, w = 0.0;
     for (const P& p : particles_) x += p.weight * p.at.x, y += p.weight * p.at.y, w += p.weight;
     if (w <= 0.0) return {};
-    return {x / w, y / w};
+    Point at{x / w, y / w};
+    const double r2 = config_.estimate_radius_m * config_.estimate_radius_m;
+    for (int it = 0; r2 > 0.0 && it < 5; ++it) {
+        double sx = 0.0, sy = 0.0, sw = 0.0;
+        for (const P& p : particles_) {
+            const double dx = p.at.x - at.x, dy = p.at.y - at.y;
+            if (dx * dx + dy * dy <= r2) sx += p.weight * p.at.x, sy += p.weight * p.at.y, sw += p.weight;
+        }
+        if (sw <= 0.0) break;
+        at = {sx / sw, sy / sw};
+    }
+    return at;
 }
 
 }  // namespace locus::fusion

@@ -1,5 +1,6 @@
 #include "locus/ranging/trilateration.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -110,10 +111,10 @@ std::optional<Fix> trilaterate(std::span<const Heard> heard, const Trilateration
 namespace {
 
 struct Normal {
-    double h11 = 0, h12 = 0, h22 = 0;  // JᵀWJ
-    double g1 = 0, g2 = 0;             // JᵀWr
-    double cost = 0;                   // Σ robust loss
-    double weighted_sq = 0;            // Σ w r²
+    Eigen::Matrix2d h = Eigen::Matrix2d::Zero();  // JᵀWJ
+    Eigen::Vector2d g = Eigen::Vector2d::Zero();  // JᵀWr
+    double cost = 0;                              // Σ robust loss
+    double weighted_sq = 0;                       // Σ w r²
 };
 
 // The residuals r = rss − model(p) and their Jacobian at p, weighted for the Cauchy loss
@@ -130,12 +131,9 @@ Normal normal_at(std::span<const Heard> heard, Point p, double k) {
         n.weighted_sq += w * r * r;
         // ∂r/∂p = 10·n/ln10 · (p − a)/s²
         const double c = 10.0 * h.tx.model.exponent / std::numbers::ln10 / s2;
-        const double jx = c * dx, jy = c * dy;
-        n.h11 += w * jx * jx;
-        n.h12 += w * jx * jy;
-        n.h22 += w * jy * jy;
-        n.g1 += w * jx * r;
-        n.g2 += w * jy * r;
+        const Eigen::Vector2d j(c * dx, c * dy);
+        n.h.noalias() += w * j * j.transpose();
+        n.g += (w * r) * j;
     }
     return n;
 }
@@ -167,11 +165,13 @@ Refined refine(std::span<const Heard> heard, Point p, double k, const Multilater
         bool stepped = false;
         double step = 0;
         for (int tries = 0; tries < 10 && !stepped; ++tries) {
-            const double a11 = n.h11 * (1.0 + lambda) + 1e-12, a22 = n.h22 * (1.0 + lambda) + 1e-12, a12 = n.h12;
-            const double det = a11 * a22 - a12 * a12;
-            if (!(std::fabs(det) > 0)) break;
-            // J δ = −r in least squares: (JᵀWJ) δ = −JᵀW r.
-            const double dx = -(a22 * n.g1 - a12 * n.g2) / det, dy = -(a11 * n.g2 - a12 * n.g1) / det;
+            // Marquardt's damping scales the diagonal: (JᵀWJ + λ diag(JᵀWJ)) δ = −JᵀW r.
+            Eigen::Matrix2d a = n.h;
+            a.diagonal() = a.diagonal() * (1.0 + lambda) + Eigen::Vector2d::Constant(1e-12);
+            if (!(std::fabs(a.determinant()) > 0)) break;
+            // A fixed 2×2 inverse is Eigen's closed form: no factorisation cost per try.
+            const Eigen::Vector2d delta = -(a.inverse() * n.g);
+            const double dx = delta.x(), dy = delta.y();
             const Point q{out.at.x + dx, out.at.y + dy};
             const double c = cost_at(heard, q, k);
             if (std::isfinite(c) && c <= out.cost) {
@@ -234,11 +234,11 @@ std::optional<Fix> multilaterate(std::span<const Heard> heard, const Multilatera
     const double m = static_cast<double>(heard.size());
     // The scatter the residuals show, never below the shadowing assumed.
     const double s2 = std::max(o.sigma_db * o.sigma_db, n.weighted_sq / std::max(m - 2.0, 1.0));
-    const double det = n.h11 * n.h22 - n.h12 * n.h12;
-    if (det > 1e-12) {
-        fix.sxx = s2 * n.h22 / det;
-        fix.syy = s2 * n.h11 / det;
-        fix.sxy = -s2 * n.h12 / det;
+    if (n.h.determinant() > 1e-12) {
+        const Eigen::Matrix2d cov = s2 * n.h.inverse();
+        fix.sxx = cov(0, 0);
+        fix.syy = cov(1, 1);
+        fix.sxy = cov(0, 1);
         fix.uncertainty = ellipse_of(fix.sxx, fix.syy, fix.sxy);
     } else {
         const double inf = std::numeric_limits<double>::infinity();

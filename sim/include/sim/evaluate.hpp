@@ -4,6 +4,7 @@
 // Split in stages so `locus replay` can swap the local matcher for server fixes and reuse
 // run_methods and score unchanged.
 #include <Eigen/Dense>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -78,6 +79,16 @@ Fix make_fix(double t_s, int aps, const match::Result& result, int k, double sig
 // One fusion rule over the walk (the PDR continued from each fused position).
 Track rule_track(fusion::Rule rule, const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
                  const fusion::RuleParams& params);
+
+// The fix moved by the PDR displacement of the steps taken in its last `latency_s` seconds
+// (0: the fix as it is).
+Point latency_corrected(const Fix& f, const std::vector<PdrStep>& steps, double latency_s);
+
+// The Kalman filter over the walk: steps as control input, fixes (with their cov as R) as
+// measurements, each first moved by latency_corrected; map-matched on a floor plan when given.
+Track kalman_track(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, Point start,
+                   const fusion::KalmanConfig& config, double fix_latency_s = 0.0,
+                   std::shared_ptr<const fusion::PlanWalkable> floor_plan = nullptr);
 
 // pdr, wifi, the five rules, kalman and (with a map) particle, in the order of docs/spec.md §7.2.
 // A map holding a floor plan (Walkable::from_plan) map-matches the Kalman filter too.

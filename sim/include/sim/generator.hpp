@@ -55,7 +55,19 @@ struct SimConfig {
     // (nn, bsbnn) miss by ~3 m on average, as they did there (docs/fusion.md).
     double survey_drift_sigma_db = 7.5;
     double survey_drift_scale_m = 4.0;
+    // Anchors at known positions (Scenario::beacons): readings at this rate, each with this
+    // much Gaussian noise (multipath, the body; seed 004 §3.2), plus this phone's offset
+    // against the anchors' configured RSS at 1 m (drawn per walk).
+    double beacon_rate_hz = 1.0;
+    double beacon_noise_sigma_db = 4.0;
+    double beacon_phone_offset_sigma_db = 2.0;
 };
+
+// The simulator's settings for a scenario: SimConfig's defaults, except seed004's walker and
+// anchors, calibrated on walks 101..120 to the seed's own PDR and trilateration figures
+// (2.38 and 2.77 m final error, docs/transmitters.md): a phone held steadily along the walk
+// in an open room (little heading drift, a step length close to the PDR's).
+SimConfig default_config(const std::string& scenario);
 
 Walk simulate(const Scenario& scenario, std::uint64_t seed, const SimConfig& config = {});
 

@@ -24,6 +24,20 @@ struct AccessPoint {
 
 // A local magnetic source (hardware in a technical room): adds a field of this strength
 // pointing away from the source horizontally and down, fading as a Gaussian of the radius.
+// A transmitter at a known position (seed 004's anchors: BLE beacons and WiFi APs whose
+// coordinates and model are given to the phone). `tx_power_dbm` and `exponent` are what the
+// deployment was configured with (seed 004: n = 2); the building's true exponent may differ
+// (`true_exponent`), which is one of the seed's error sources.
+struct Beacon {
+    std::string type;  // "ble" or "wifi", as scans name them
+    std::string id;
+    Point at;
+    double height_m = 2.5;  // mounted above the floor; the phone is at Scenario::phone_height_m
+    double tx_power_dbm = -59.0;
+    double exponent = 2.0;
+    double true_exponent = 2.0;
+};
+
 struct MagneticSource {
     Point at;
     double strength_ut = 0.0;
@@ -57,6 +71,13 @@ struct Scenario {
     double structure_norm_ripple = 0.0;  // relative |B| ripple of the structure field
     std::vector<MagneticSource> sources;
     double north_offset_deg = 0.0;
+
+    // Anchors at known positions (only seed004 has them): 1 Hz readings (SimConfig's beacon_*).
+    std::vector<Beacon> beacons;
+    double beacon_shadowing_sigma_db = 2.0;  // static, spatially smooth, per anchor (furniture, people)
+    double beacon_shadowing_scale_m = 3.0;
+    double beacon_sensitivity_dbm = -100.0;
+    double phone_height_m = 1.2;
 
     std::uint64_t environment_seed = 0;
 

@@ -11,6 +11,7 @@
 
 #include "locus/relative/direction_estimator.hpp"
 #include "locus/relative/phone_rssi.hpp"
+#include "locus/relative/range_kalman.hpp"
 
 namespace locus::sim {
 
@@ -19,6 +20,14 @@ enum class RelativeMethod {
     Rssi,      // one RSSI reading per step through the phone-link model
     RssiMean,  // mean (in dB) of the last `rssi_window` readings
     Exact,     // the true distance: what the estimator does with perfect ranging
+    RssiKalman,          // each reading through relative::RangeKalman, driven by A's PDR steps
+    RssiKalmanAcoustic,  // the same, plus an acoustic range per step once within acoustic_range
+    // B placed by relative::fit_target over all of A's positions and RSSI distances so far
+    // (not the seed's estimator); A follows the fit's bearing.
+    RssiFit,
+    // Both phones have fused fixes (the server's GET /v1/tracks/{a}/relative/{b}): the bearing
+    // from A's fix to B's, each off by fix_sigma per axis; no estimator, no ranging.
+    BothFixes,
 };
 const char* method_name(RelativeMethod m);
 
@@ -37,8 +46,14 @@ struct TwoWalkerConfig {
     double shadowing_db = 4.0;       // RSSI noise
     int rssi_window = 4;
     double met_distance = 1.0;
+    double acoustic_range = 1.3;    // m: the seed's acoustic ranging works up to here...
+    double acoustic_sigma = 0.01;   // ...with this error (relative_acoustic_test: within 2 cm)
+    // Per-axis error of each fused fix for BothFixes, redrawn every step (fusion.md: the
+    // particle filter's median error on PUTMC is about 2 m, ≈ 1.18 × σ for a 2-D Gaussian).
+    double fix_sigma = 1.7;
     relative::PhoneLink link;
     relative::DirectionParams estimator;
+    relative::RangeKalmanParams range_kalman;
 };
 
 struct TwoWalkerRun {

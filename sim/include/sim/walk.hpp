@@ -15,6 +15,7 @@
 #include "locus/fusion/walkable.hpp"
 #include "locus/pdr/vec3.hpp"
 #include "locus/radio_map.hpp"
+#include "locus/ranging/path_loss.hpp"
 
 namespace locus::sim {
 
@@ -30,6 +31,14 @@ struct WifiScan {
     double t_s = 0.0;
     Scan readings;
     std::optional<Point> truth;
+};
+
+// A transmitter whose position and model the phone is given (seed 004's anchors), as a
+// floor's transmitter list would state it: `dz` is its height above the phone.
+struct Anchor {
+    std::string type;  // "ble" or "wifi"
+    std::string id;
+    ranging::Transmitter tx;
 };
 
 struct SurveyPoint {
@@ -52,6 +61,10 @@ struct Walk {
     std::vector<SurveyPoint> survey;
     std::vector<ImuSample> imu;
     std::vector<WifiScan> scans;
+    // Anchors at known positions and their readings, one scan a second (each anchor's
+    // advertisement or beacon frame heard at that instant); empty without anchors.
+    std::vector<Anchor> anchors;
+    std::vector<WifiScan> anchor_scans;
 
     bool has_truth() const;
     // Truth at time t, linearly interpolated between the IMU samples that carry it.

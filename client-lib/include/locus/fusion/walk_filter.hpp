@@ -36,8 +36,15 @@ struct WalkFilterConfig {
     double blocked_weight = 0.02;
     double fix_sigma_m = 2.2;          // σ of the fix likelihood (at least; the fix's own cov when larger)
     double outlier_floor = 0.02;
-    double reseed_fraction = 0.3;      // re-drawn around each fix
+    double reseed_fraction = 0.3;      // re-drawn around each fix...
+    // ...rising towards this share the less the cloud expects the fix (1 − its mean likelihood
+    // of it): a cloud that drifted off with a wrong rotation is rebuilt round the fix sooner,
+    // one that agrees keeps its history. At or below reseed_fraction: a fixed share.
+    double reseed_max_fraction = 0.0;
     double resample_fraction = 0.5;
+    // > 0: position() is the cloud's mode, found by mean shift from the weighted mean with a
+    // flat kernel of this radius, not the mean (particles heading the wrong way pull a mean back).
+    double estimate_radius_m = 0.0;
     // With a rotation hint (HeadingAlignment's, learnt from the fixes so far), this share of
     // the fresh particles takes it, ±hint_sigma_rad; the rest draw φ and s uniformly.
     double hint_share = 0.0;

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Checks the deployment files without docker or network (docs/deploy.md):
+#  - docker/nginx.conf with each upstream list (single, replicated) passes `nginx -t`, on a
+#    copy whose upstream host names are 127.0.0.1 (nginx -t resolves them; compose's service
+#    names exist only inside compose's network);
+#  - docker/compose.yaml parses, its replicated profile has postgres, the replicas and nginx,
+#    every replica runs on PostgreSQL and is in nginx's upstream list (and nothing else is),
+#    and every file it mounts exists.
+# Needs nginx (Debian nginx-light) and python3-yaml; scripts/setup.sh installs both with
+# LOCUS_DEVTOOLS=1. Takes well under a second.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+command -v nginx >/dev/null 2>&1 || { echo "check_deploy_config: nginx not found (Debian nginx-light)" >&2; exit 1; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+for variant in single replicated; do
+  mkdir -p "$tmp/$variant"
+  cp docker/nginx.conf "$tmp/$variant/nginx.conf"
+  sed -E 's/^([[:space:]]*server[[:space:]]+)[A-Za-z0-9_.-]+:/\1127.0.0.1:/' \
+    "docker/nginx-upstream-$variant.conf" >"$tmp/$variant/locus-upstream.conf"
+  sed -i "s|/tmp/nginx|$tmp/$variant/nginx|g" "$tmp/$variant/nginx.conf"
+  if ! out=$(nginx -t -q -e stderr -p "$tmp/$variant" -c "$tmp/$variant/nginx.conf" 2>&1); then
+    echo "check_deploy_config: docker/nginx.conf with nginx-upstream-$variant.conf fails nginx -t:" >&2
+    echo "$out" >&2
+    exit 1
+  fi
+done
+
+python3 - <<'PY'
+import os, re, sys
+import yaml
+
+def fail(msg):
+    sys.exit("check_deploy_config: docker/compose.yaml: " + msg)
+
+with open("docker/compose.yaml") as f:
+    compose = yaml.safe_load(f)
+services = compose.get("services") or fail("no services")
+replicated = {n: s for n, s in services.items() if "replicated" in (s.get("profiles") or [])}
+for needed in ("postgres", "nginx"):
+    if needed not in replicated:
+        fail(f"profile replicated has no '{needed}' service")
+replicas = sorted(n for n, s in replicated.items() if (s.get("entrypoint") or [""])[0] == "locus-server")
+if len(replicas) < 2:
+    fail(f"profile replicated has {len(replicas)} locus-server replicas, want at least 2")
+for n in replicas:
+    argv = replicated[n]["entrypoint"]
+    db = argv[argv.index("--db") + 1] if "--db" in argv else ""
+    if not db.startswith("postgresql://"):
+        fail(f"replica '{n}' does not run on PostgreSQL (--db {db!r})")
+    if "/health" not in " ".join(replicated[n].get("healthcheck", {}).get("test", [])):
+        fail(f"replica '{n}' has no /health healthcheck")
+
+with open("docker/nginx-upstream-replicated.conf") as f:
+    upstream = set(re.findall(r"^\s*server\s+([A-Za-z0-9_.-]+):", f.read(), re.M))
+if upstream != set(replicas):
+    fail(f"nginx-upstream-replicated.conf lists {sorted(upstream)}, the profile's replicas are {replicas}")
+
+for name, s in services.items():
+    for v in s.get("volumes") or []:
+        src = v.split(":")[0]
+        if src.startswith("./") and not os.path.exists(os.path.join("docker", src)):
+            fail(f"service '{name}' mounts {src}, which does not exist")
+PY
+echo "check_deploy_config: nginx.conf (single, replicated) and compose.yaml ok" >&2

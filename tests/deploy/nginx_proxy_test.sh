@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# docker/nginx.conf doing its job in front of two real locus-servers on loopback (the shape of
+# the replicated compose profile, without docker; each replica on its own SQLite file, which
+# is all nginx can tell apart): requests reach both replicas; with one replica killed,
+# localize (a POST) and GETs still answer 200, none 502; an event stream's heartbeats come
+# through nginx as they are written. (That last check passes with proxy_buffering on as well:
+# nginx passes small chunks on to a fast reader either way; buffering off matters for slow
+# readers, which this does not simulate.)
+# Usage: nginx_proxy_test.sh LOCUS_SERVER_BIN. Exit 77 (skipped) when nginx is not installed.
+set -euo pipefail
+server_bin=$1
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+command -v nginx >/dev/null 2>&1 || { echo "nginx not installed (Debian nginx-light): skipped"; exit 77; }
+
+tmp=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  [ -f "$tmp/nginx.pid" ] && kill "$(cat "$tmp/nginx.pid")" 2>/dev/null || true
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+
+# A replica on a free port (0), with a short heartbeat so the stream check takes a second.
+# Sets port and pid (no command substitution: the server would hold its pipe open).
+start_replica() {
+  local name=$1
+  "$server_bin" --db "$tmp/$name.db" --host 127.0.0.1 --port 0 --demo --track-heartbeat 0.2 >/dev/null 2>"$tmp/$name.log" &
+  pid=$!
+  pids+=("$pid")
+  for _ in $(seq 100); do
+    port=$(grep -o '"port":[0-9]*' "$tmp/$name.log" | head -1 | cut -d: -f2 || true)
+    [ -n "$port" ] && return
+    sleep 0.1
+  done
+  fail "replica $name did not start: $(cat "$tmp/$name.log")"
+}
+start_replica a; port_a=$port
+start_replica b; port_b=$port; pid_b=$pid
+
+front=$(free_port)
+sed -e "s|/tmp/nginx|$tmp/nginx|g" -e "s|listen 8080;|listen 127.0.0.1:$front;|" \
+    -e 's|worker_processes auto;|worker_processes 1;|' "$repo/docker/nginx.conf" >"$tmp/nginx.conf"
+sed -E -e "s/replica-1:8080/127.0.0.1:$port_a/" -e "s/replica-2:8080/127.0.0.1:$port_b/" \
+    "$repo/docker/nginx-upstream-replicated.conf" >"$tmp/locus-upstream.conf"
+grep -q "127.0.0.1:$port_b" "$tmp/locus-upstream.conf" || fail "the upstream list no longer names replica-1 and replica-2"
+nginx -e "$tmp/error.log" -p "$tmp" -c "$tmp/nginx.conf" || fail "nginx did not start: $(cat "$tmp/error.log")"
+url=http://127.0.0.1:$front
+for _ in $(seq 50); do curl -sf "$url/health" >/dev/null && break; sleep 0.1; done
+
+# A localize body from the demo radio map's first RP.
+body=$(curl -sf "$url/v1/radiomaps/1/export" | python3 -c '
+import json, sys
+rp = json.load(sys.stdin)["rps"][0]
+print(json.dumps({"scans": [[{"type": m["type"], "bssid": m["bssid"], "rss": m["mean"]} for m in rp["measurements"]]]}))')
+localize() { curl -s -o /dev/null -w '%{http_code}\n' -X POST -H 'Content-Type: application/json' -d "$body" "$url/v1/maps/1/localize"; }
+
+# Both replicas take requests: each one's access log (JSON lines on stderr) grows.
+for _ in $(seq 20); do [ "$(localize)" = 200 ] || fail "localize through nginx did not answer 200"; done
+for name in a b; do grep -q '"/v1/maps/1/localize"' "$tmp/$name.log" || fail "replica $name got no localize request"; done
+
+# One replica dies: nothing fails, the other answers.
+kill -9 "$pid_b"; wait "$pid_b" 2>/dev/null || true
+codes=$(for _ in $(seq 20); do localize; curl -s -o /dev/null -w '%{http_code}\n' "$url/v1/maps/1"; done | sort | uniq -c)
+echo "$codes" | grep -qv ' 200$' && fail "with replica b killed, answers were: $codes"
+
+# Event stream through nginx (the events location): heartbeats every 0.2 s arrive as written.
+stream=$(curl -sN --max-time 1.5 "$url/v1/maps/1/positions/events" || true)
+beats=$(grep -c '^: heartbeat' <<<"$stream" || true)
+[ "$beats" -ge 4 ] || fail "event stream through nginx: $beats heartbeats in 1.5 s, want at least 4"
+
+echo "ok: both replicas served, no error with one killed, event stream live ($beats heartbeats in 1.5 s)"
