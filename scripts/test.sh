@@ -9,5 +9,9 @@ bash scripts/lint_openapi.sh
 bash scripts/contract_check.sh
 # The deployment files (docker/): nginx -t and the compose profiles' structure; no docker, no network.
 bash scripts/check_deploy_config.sh
+root=$(pwd)
 cd "${LOCUS_BUILD_DIR:-build}"
 ctest --output-on-failure -j"${LOCUS_JOBS:-2}" "$@"
+# The tests that run a server against its store, again on a throwaway PostgreSQL (the
+# replicas and PostgreSQL fault tests run only there).
+"$root/scripts/with_postgres.sh" ctest --output-on-failure -j"${LOCUS_JOBS:-2}" -L store "$@"

@@ -18,7 +18,6 @@
 #include "localize/service.hpp"
 #include "routing/service.hpp"
 #include "store/migrations.hpp"
-#include "store/sqlite_store.hpp"
 #include "tracks/service.hpp"
 
 namespace {
@@ -37,7 +36,10 @@ int main(int argc, char** argv) {
     locus::http::FrontOptions front;
     int threads = static_cast<int>(front.min_threads);
     double keep_alive_s = 10, header_s = 10, read_s = 10;
-    cli.add_option("--db", db_path, "SQLite database file (created if missing)")->capture_default_str();
+    cli.add_option("--db", db_path,
+                   "the database: an SQLite file (a path or sqlite:PATH, created if missing) or a PostgreSQL URL "
+                   "(postgresql://user@host/db; servers sharing one see each other's writes)")
+        ->capture_default_str();
     cli.add_option("--host", host, "address to listen on")->capture_default_str();
     cli.add_option("--port", port, "port to listen on (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
     cli.add_option("--api-key", api_key, "require 'Authorization: Bearer KEY' for writes")->envname("LOCUS_API_KEY");
@@ -100,7 +102,8 @@ int main(int argc, char** argv) {
     front.read_timeout = ms(read_s);
 
     try {
-        locus::store::SqliteStore store(db_path);
+        const auto opened = locus::store::open(db_path);
+        auto& store = *opened;
         if (demo && !store.has_maps()) {
             const auto doc = nlohmann::json::parse(locus::server::demo_map_json());
             const auto plans = locus::http::parse_bundle_plans(doc);  // read all before writing any
@@ -135,7 +138,7 @@ int main(int argc, char** argv) {
             tracks.stop();  // ends the event streams, which would hold their connections open
             server.shut_down();
         });
-        log_event({{"event", "listening"}, {"host", host}, {"port", bound}, {"db", db_path}, {"auth", !api_key.empty()},
+        log_event({{"event", "listening"}, {"host", host}, {"port", bound}, {"db", store.location()}, {"auth", !api_key.empty()},
                    {"max_connections", server.options().max_connections}});
         const bool ok = server.serve();
         if (!ok && server.is_running()) log_event({{"event", "error"}, {"message", "listen failed"}});

@@ -9,9 +9,37 @@ bool foreign_keys_on(Db& db) {
     Stmt q(db, "PRAGMA foreign_keys");
     return q.step() && q.int64(0) != 0;
 }
+std::string newer_message(int version, std::size_t known) {
+    return "database schema version " + std::to_string(version) + " is newer than this server understands (" +
+           std::to_string(known) + ")";
+}
+
+int migrate_postgres(Db& db) {
+    const auto& all = server::pg_migrations();
+    Transaction tx(db);
+    // Any constant: the lock only keeps two servers from migrating at once.
+    db.exec("SELECT pg_advisory_xact_lock(7343467)");
+    db.exec("CREATE TABLE IF NOT EXISTS locus_schema (id BIGINT PRIMARY KEY CHECK (id = 1), version BIGINT NOT NULL)");
+    db.exec("INSERT INTO locus_schema (id, version) VALUES (1, 0) ON CONFLICT (id) DO NOTHING");
+    int version = 0;
+    {
+        Stmt q(db, "SELECT version FROM locus_schema WHERE id = 1");
+        q.step();
+        version = static_cast<int>(q.int64(0));
+    }
+    if (version > static_cast<int>(all.size())) throw SqliteError(0, newer_message(version, all.size()));
+    // PostgreSQL's DDL is transactional and its foreign keys stay checked: every migration
+    // commits, or none, with the version.
+    for (auto i = static_cast<std::size_t>(version); i < all.size(); ++i) db.exec(all[i]);
+    Stmt set(db, "UPDATE locus_schema SET version = ? WHERE id = 1");
+    set.bind(1, static_cast<std::int64_t>(all.size())).run();
+    tx.commit();
+    return static_cast<int>(all.size());
+}
 }  // namespace
 
 int migrate(Db& db) {
+    if (db.is_postgres()) return migrate_postgres(db);
     const auto& all = server::migrations();
     int version = 0;
     {
@@ -20,8 +48,7 @@ int migrate(Db& db) {
         version = static_cast<int>(q.int64(0));
     }
     if (version > static_cast<int>(all.size()))
-        throw SqliteError(0, "database schema version " + std::to_string(version) +
-                                 " is newer than this server understands (" + std::to_string(all.size()) + ")");
+        throw SqliteError(0, newer_message(version, all.size()));
     if (version == static_cast<int>(all.size())) return version;
 
     // A migration that rebuilds a table drops the old one: with foreign keys on, that DROP would

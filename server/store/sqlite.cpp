@@ -1,7 +1,13 @@
 #include "store/sqlite.hpp"
 
+#include <libpq-fe.h>
+
+#include <charconv>
+#include <cstdio>
 #include <memory>
 #include <utility>
+
+#include "store/pg_detail.hpp"
 
 namespace locus::store {
 
@@ -21,7 +27,12 @@ SqliteError error_from(sqlite3* db, int code, std::string_view context, const st
 }
 }  // namespace
 
-Db::Db(const std::string& path) : path_(path) {
+Db::Db(const std::string& path) : path_(path), url_(path) {
+    if (is_postgres_url(path)) {
+        path_ = redacted_url(path);
+        pg_ = pg::connect(path);
+        return;
+    }
     sqlite3* raw = nullptr;
     const int rc = sqlite3_open_v2(path.c_str(), &raw,
                                    SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
@@ -47,6 +58,14 @@ Db::Db(const std::string& path) : path_(path) {
 
 Db::~Db() {
     if (db_) sqlite3_close_v2(db_);
+    pg::close(pg_);
+}
+
+void Db::pg_ensure_connected() {
+    if (PQstatus(pg_) == CONNECTION_OK) return;
+    PQreset(pg_);
+    if (PQstatus(pg_) != CONNECTION_OK)
+        throw SqliteError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable: " + PQerrorMessage(pg_), path_);
 }
 
 void Db::fail(int rc, std::string_view context) const {
@@ -55,6 +74,7 @@ void Db::fail(int rc, std::string_view context) const {
 }
 
 void Db::exec(std::string_view sql) {
+    if (pg_) return pg::exec(pg_, pg::to_postgres(sql));
     char* err = nullptr;
     const std::string s(sql);
     const int rc = sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err);
@@ -65,19 +85,61 @@ void Db::exec(std::string_view sql) {
     }
 }
 
-std::int64_t Db::last_insert_id() const { return sqlite3_last_insert_rowid(db_); }
-int Db::changes() const { return sqlite3_changes(db_); }
+std::int64_t Db::last_insert_id() const {
+    if (pg_) {
+        // The identity column's sequence, as used by this session's last INSERT.
+        PGresult* r = pg::run(pg_, "SELECT lastval()", {}, {});
+        const std::int64_t id = std::atoll(PQgetvalue(r, 0, 0));
+        PQclear(r);
+        return id;
+    }
+    return sqlite3_last_insert_rowid(db_);
+}
+int Db::changes() const { return pg_ ? pg_changes_ : sqlite3_changes(db_); }
 
-Stmt::Stmt(Db& db, std::string_view sql) : db_(db.handle()) {
+Stmt::Stmt(Db& db, std::string_view sql) : db_(db.handle()), owner_(&db), pg_(db.is_postgres()) {
+    if (pg_) {
+        pg_sql_ = pg::to_postgres(sql);
+        return;
+    }
     const int rc = sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr);
     if (rc != SQLITE_OK) db.fail(rc, "prepare");
 }
 
 Stmt::~Stmt() {
     if (stmt_) sqlite3_finalize(stmt_);
+    pg::clear(pg_res_);
 }
 
-Stmt::Stmt(Stmt&& other) noexcept : db_(other.db_), stmt_(std::exchange(other.stmt_, nullptr)) {}
+Stmt::Stmt(Stmt&& other) noexcept
+    : db_(other.db_), stmt_(std::exchange(other.stmt_, nullptr)), owner_(other.owner_), pg_(other.pg_),
+      pg_sql_(std::move(other.pg_sql_)), pg_params_(std::move(other.pg_params_)), pg_formats_(std::move(other.pg_formats_)),
+      pg_res_(std::exchange(other.pg_res_, nullptr)), pg_row_(other.pg_row_) {}
+
+namespace {
+void set_param(std::vector<std::optional<std::string>>& params, std::vector<int>& formats, int i,
+               std::optional<std::string> v, int format) {
+    const auto at = static_cast<std::size_t>(i - 1);
+    if (params.size() <= at) {
+        params.resize(at + 1);
+        formats.resize(at + 1, 0);
+    }
+    params[at] = std::move(v);
+    formats[at] = format;
+}
+}  // namespace
+
+void Stmt::pg_execute() {
+    // A statement outside a transaction may reconnect; inside one, the lost transaction must fail.
+    if (!owner_->pg_in_transaction()) owner_->pg_ensure_connected();
+    pg::clear(pg_res_);
+    pg_res_ = nullptr;
+    pg_res_ = pg::run(owner_->pg(), pg_sql_, pg_params_, pg_formats_);
+    owner_->pg_set_changes(pg::changed_rows(pg_res_));
+    pg_row_ = -1;
+}
+
+const char* Stmt::pg_value(int col) const { return pg::value(pg_res_, pg_row_, col); }
 
 namespace {
 void check_bind(sqlite3* db, int rc) {
@@ -86,28 +148,55 @@ void check_bind(sqlite3* db, int rc) {
 }  // namespace
 
 Stmt& Stmt::bind_int64(int i, std::int64_t v) {
+    if (pg_) {
+        set_param(pg_params_, pg_formats_, i, std::to_string(v), 0);
+        return *this;
+    }
     check_bind(db_, sqlite3_bind_int64(stmt_, i, v));
     return *this;
 }
 Stmt& Stmt::bind(int i, double v) {
+    if (pg_) {
+        // The shortest text that reads back as the same double: a mean stays bit-exact.
+        char buf[64];
+        const auto r = std::to_chars(buf, buf + sizeof buf, v);
+        set_param(pg_params_, pg_formats_, i, std::string(buf, r.ptr), 0);
+        return *this;
+    }
     check_bind(db_, sqlite3_bind_double(stmt_, i, v));
     return *this;
 }
 Stmt& Stmt::bind(int i, std::string_view v) {
+    if (pg_) {
+        set_param(pg_params_, pg_formats_, i, std::string(v), 0);
+        return *this;
+    }
     check_bind(db_, sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT));
     return *this;
 }
 Stmt& Stmt::bind_blob(int i, std::string_view bytes) {
+    if (pg_) {
+        set_param(pg_params_, pg_formats_, i, std::string(bytes), 1);
+        return *this;
+    }
     // SQLITE_STATIC: the caller's bytes outlive the step (a 20 MiB image is not copied twice).
     check_bind(db_, sqlite3_bind_blob64(stmt_, i, bytes.data(), bytes.size(), SQLITE_STATIC));
     return *this;
 }
 Stmt& Stmt::bind_null(int i) {
+    if (pg_) {
+        set_param(pg_params_, pg_formats_, i, std::nullopt, 0);
+        return *this;
+    }
     check_bind(db_, sqlite3_bind_null(stmt_, i));
     return *this;
 }
 
 bool Stmt::step() {
+    if (pg_) {
+        if (!pg_res_) pg_execute();
+        return ++pg_row_ < pg::row_count(pg_res_);
+    }
     const int rc = sqlite3_step(stmt_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
@@ -120,30 +209,72 @@ void Stmt::run() {
 }
 
 void Stmt::reset() {
+    if (pg_) {
+        pg::clear(pg_res_);
+        pg_res_ = nullptr;
+        pg_params_.clear();
+        pg_formats_.clear();
+        return;
+    }
     sqlite3_reset(stmt_);
     sqlite3_clear_bindings(stmt_);
 }
 
-std::int64_t Stmt::int64(int col) const { return sqlite3_column_int64(stmt_, col); }
-double Stmt::real(int col) const { return sqlite3_column_double(stmt_, col); }
+std::int64_t Stmt::int64(int col) const {
+    if (pg_) {
+        // A boolean (EXISTS (…)) reads as SQLite gives it: 1 or 0.
+        const char* v = pg_value(col);
+        if (*v == 't') return 1;
+        if (*v == 'f') return 0;
+        return std::strtoll(v, nullptr, 10);
+    }
+    return sqlite3_column_int64(stmt_, col);
+}
+double Stmt::real(int col) const {
+    if (pg_) return std::strtod(pg_value(col), nullptr);
+    return sqlite3_column_double(stmt_, col);
+}
 std::string Stmt::text(int col) const {
+    if (pg_) return pg_value(col);
     const auto* p = sqlite3_column_text(stmt_, col);
     return p ? std::string(reinterpret_cast<const char*>(p), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
              : std::string();
 }
 std::string Stmt::blob(int col) const {
+    if (pg_) return pg::is_bytea(pg_res_, col) ? pg::unescape_bytea(pg_value(col)) : std::string(pg_value(col));
     const auto* p = sqlite3_column_blob(stmt_, col);
     return p ? std::string(static_cast<const char*>(p), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
              : std::string();
 }
-bool Stmt::is_null(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }
-int Stmt::column_count() const { return sqlite3_column_count(stmt_); }
-int Stmt::column_type(int col) const { return sqlite3_column_type(stmt_, col); }
-std::string Stmt::column_name(int col) const { return sqlite3_column_name(stmt_, col); }
+bool Stmt::is_null(int col) const {
+    if (pg_) return pg::is_null(pg_res_, pg_row_, col);
+    return sqlite3_column_type(stmt_, col) == SQLITE_NULL;
+}
+int Stmt::column_count() const {
+    if (pg_) return pg_res_ ? pg::column_count(pg_res_) : 0;  // known once it ran
+    return sqlite3_column_count(stmt_);
+}
+int Stmt::column_type(int col) const {
+    if (pg_) return pg::is_null(pg_res_, pg_row_, col) ? SQLITE_NULL : pg::column_type(pg_res_, col);
+    return sqlite3_column_type(stmt_, col);
+}
+std::string Stmt::column_name(int col) const {
+    if (pg_) return pg::column_name(pg_res_, col);
+    return sqlite3_column_name(stmt_, col);
+}
 
-Transaction::Transaction(Db& db) : db_(db) { db_.exec("BEGIN IMMEDIATE"); }
+Transaction::Transaction(Db& db, Mode mode) : db_(db) {
+    if (db_.is_postgres()) {
+        db_.pg_ensure_connected();
+        db_.exec(mode == Mode::read ? "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY" : "BEGIN");
+        db_.pg_set_in_transaction(true);
+        return;
+    }
+    db_.exec("BEGIN IMMEDIATE");
+}
 
 Transaction::~Transaction() {
+    if (db_.is_postgres()) db_.pg_set_in_transaction(false);
     if (!done_) {
         try {
             db_.exec("ROLLBACK");
@@ -155,6 +286,7 @@ Transaction::~Transaction() {
 
 void Transaction::commit() {
     db_.exec("COMMIT");
+    if (db_.is_postgres()) db_.pg_set_in_transaction(false);
     done_ = true;
 }
 

@@ -1,6 +1,13 @@
 #pragma once
-// Thin RAII layer over the SQLite C API: a connection, prepared statements, transactions.
+// Thin RAII layer over a SQL connection: prepared statements, transactions. The embedded engine
+// is SQLite (its C API); a postgresql:// URL opens PostgreSQL over libpq instead (db_pg.cpp),
+// behind the same calls: the store's SQL is written once, in the common subset of both
+// dialects, and pg_sql.hpp rewrites the few SQLite spellings it uses. PostgreSQL's errors are
+// reported as SqliteError with the SQLite code of the same meaning (a unique violation is
+// SQLITE_CONSTRAINT_UNIQUE, a lost connection SQLITE_IOERR), so the callers' handling holds.
 #include <sqlite3.h>
+
+#include <vector>
 
 #include <cstdint>
 #include <optional>
@@ -9,6 +16,9 @@
 #include <string_view>
 #include <utility>
 #include <concepts>
+
+struct pg_conn;
+struct pg_result;
 
 namespace locus::store {
 
@@ -39,6 +49,11 @@ struct SqliteError : std::runtime_error {
 };
 
 class Db;
+
+// True for a postgresql:// or postgres:// URL.
+bool is_postgres_url(std::string_view url);
+// The URL without its password, for logs and messages.
+std::string redacted_url(std::string_view url);
 
 class Stmt {
 public:
@@ -72,14 +87,26 @@ public:
     std::string column_name(int col) const;
 
 private:
+    // PostgreSQL: the statement runs when first stepped, with the parameters bound so far.
+    void pg_execute();
+    const char* pg_value(int col) const;
+
     sqlite3* db_;
     sqlite3_stmt* stmt_ = nullptr;
+    Db* owner_ = nullptr;
+    bool pg_ = false;
+    std::string pg_sql_;
+    std::vector<std::optional<std::string>> pg_params_;
+    std::vector<int> pg_formats_;  // 1: binary (a blob), 0: text
+    pg_result* pg_res_ = nullptr;
+    int pg_row_ = -1;
 };
 
 class Db {
 public:
     // Opens (creating) the file and sets WAL; throws SqliteError naming the path when the file
-    // cannot be opened or is not a database.
+    // cannot be opened or is not a database. A postgresql:// URL connects to that server
+    // instead (SQLITE_CANTOPEN naming the URL, without its password, when it cannot).
     explicit Db(const std::string& path);
     ~Db();
     Db(const Db&) = delete;
@@ -90,17 +117,38 @@ public:
     int changes() const;
     sqlite3* handle() { return db_; }
     [[noreturn]] void fail(int rc, std::string_view context) const;
+    // The file, or the URL without its password.
     const std::string& path() const { return path_; }
+    // What opens this database again: the file, or the full URL.
+    const std::string& url() const { return url_; }
+    bool is_postgres() const { return pg_ != nullptr; }
+    pg_conn* pg() { return pg_; }
+    // PostgreSQL: connects again when the connection was lost (a restarted server); throws a
+    // storage fault while it cannot. Called before each transaction.
+    void pg_ensure_connected();
+    // PostgreSQL: the rows the last statement changed (changes()).
+    void pg_set_changes(int n) { pg_changes_ = n; }
+    bool pg_in_transaction() const { return pg_in_tx_; }
+    void pg_set_in_transaction(bool on) { pg_in_tx_ = on; }
 
 private:
     sqlite3* db_ = nullptr;
+    pg_conn* pg_ = nullptr;
+    int pg_changes_ = 0;
+    bool pg_in_tx_ = false;
     std::string path_;
+    std::string url_;
 };
 
-// BEGIN IMMEDIATE on construction, ROLLBACK unless commit() was called: one per request.
+// BEGIN IMMEDIATE (PostgreSQL: BEGIN) on construction, ROLLBACK unless commit() was called: one per request.
 class Transaction {
 public:
-    explicit Transaction(Db& db);
+    // read: the transaction only reads, from one snapshot. SQLite gives that to any
+    // transaction; PostgreSQL's default (READ COMMITTED, what writes use: they run one at a
+    // time under a lock, and read what committed before them) would see other servers' commits
+    // between two statements, so a read is REPEATABLE READ there.
+    enum class Mode { write, read };
+    explicit Transaction(Db& db, Mode mode = Mode::write);
     ~Transaction();
     void commit();
 

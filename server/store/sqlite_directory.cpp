@@ -8,7 +8,7 @@ namespace locus::store {
 
 std::vector<FloorDirectory> SqliteStore::directory_of_map(std::int64_t map_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("maps"), map_id);
     std::vector<FloorDirectory> out;
     std::map<std::int64_t, std::size_t> floor_at;

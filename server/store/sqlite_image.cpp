@@ -32,7 +32,7 @@ std::optional<FloorImage> SqliteStore::read_image(std::int64_t floor_id) {
 
 std::optional<FloorImage> SqliteStore::image_of_floor(std::int64_t floor_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("floors"), floor_id);
     auto out = read_image(floor_id);
     tx.commit();
@@ -41,7 +41,7 @@ std::optional<FloorImage> SqliteStore::image_of_floor(std::int64_t floor_id) {
 
 std::optional<std::pair<FloorImage, std::string>> SqliteStore::image_with_bytes(std::int64_t floor_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("floors"), floor_id);
     Stmt s(db_, std::string("SELECT ") + kColumns + ", bytes FROM floor_images WHERE floor_id = ?");
     s.bind(1, floor_id);

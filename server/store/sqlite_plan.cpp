@@ -174,7 +174,7 @@ std::optional<StoredPlan> SqliteStore::read_plan(std::int64_t floor_id) {
 
 std::optional<StoredPlan> SqliteStore::plan_of_floor(std::int64_t floor_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("floors"), floor_id);
     auto out = read_plan(floor_id);
     tx.commit();
@@ -205,7 +205,7 @@ StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& given,
         Stmt del(db_, "DELETE FROM plan_features WHERE floor_id = ?");
         del.bind(1, floor_id).run();
         Stmt head(db_, "INSERT INTO floor_plans (floor_id, version) VALUES (?, 1) ON CONFLICT (floor_id) DO UPDATE "
-                       "SET version = version + 1, updated_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now')");
+                       "SET version = floor_plans.version + 1, updated_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now')");
         head.bind(1, floor_id).run();
         write_plan_features(floor_id, plan);
         changes.insert(changes.begin(), Change{&kind("floors"), floor_id, false, true, std::nullopt, std::nullopt});
@@ -215,7 +215,7 @@ StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& given,
 
 std::vector<FloorWithPlan> SqliteStore::plans_of_map(std::int64_t map_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);  // every floor's plan from one snapshot
+    Transaction tx(db_, Transaction::Mode::read);  // every floor's plan from one snapshot
     require_exists(kind("maps"), map_id);
     Stmt s(db_, "SELECT f.id, f.level FROM floor_plans fp JOIN floors f ON f.id = fp.floor_id "
                 "JOIN buildings b ON b.id = f.building_id WHERE b.map_id = ? ORDER BY f.id");

@@ -14,7 +14,7 @@ std::optional<RadiomapSettings> read_settings(Db& db, std::int64_t radiomap_id) 
 
 std::optional<RadiomapSettings> SqliteStore::settings_of_radiomap(std::int64_t radiomap_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("radiomaps"), radiomap_id);
     auto out = read_settings(db_, radiomap_id);
     tx.commit();

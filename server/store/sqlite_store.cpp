@@ -46,14 +46,15 @@ SqliteStore::SqliteStore(const std::string& path) : db_(path) {
     try {
         migrate(db_);
     } catch (const SqliteError& e) {
-        throw SqliteError(e.code, "database '" + path + "': " + e.what(), path);
+        throw SqliteError(e.code, "database '" + db_.path() + "': " + e.what(), db_.path());
     }
+    if (db_.is_postgres()) pg_start_watching();
 }
 
 void SqliteStore::probe_write() {
     std::lock_guard lock(mu_);
     Transaction tx(db_);
-    Stmt s(db_, "INSERT INTO ready_probe (id, writes) VALUES (1, 1) ON CONFLICT (id) DO UPDATE SET writes = writes + 1");
+    Stmt s(db_, "INSERT INTO ready_probe (id, writes) VALUES (1, 1) ON CONFLICT (id) DO UPDATE SET writes = ready_probe.writes + 1");
     s.run();
     tx.commit();
 }
@@ -180,7 +181,7 @@ Record SqliteStore::get(const Kind& k, std::int64_t id) {
 RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_id, std::int64_t limit,
                              std::int64_t offset) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);  // count and page from one snapshot
+    Transaction tx(db_, Transaction::Mode::read);  // count and page from one snapshot
     const std::string table(k.name);
     std::string where;
     if (!k.parent_column.empty()) {
@@ -276,7 +277,7 @@ std::vector<Measurement> SqliteStore::measurements_of(std::int64_t rp_id) {
 
 RpRecord SqliteStore::rp_with_measurements(std::int64_t rp_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     RpRecord out{get_locked(kind("rps"), rp_id), measurements_of(rp_id)};
     tx.commit();
     return out;
@@ -332,7 +333,7 @@ UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch
 
 RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     RadioMapExport out{get_locked(kind("radiomaps"), radiomap_id), {}, {}};
     Stmt s(db_, "SELECT id, name, x, y, scans FROM rps WHERE radiomap_id = ? ORDER BY id");
     s.bind(1, radiomap_id);
@@ -436,7 +437,7 @@ bool SqliteStore::has_maps() {
 
 std::vector<StoredRp> SqliteStore::load_rps(std::string_view where, std::int64_t id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     const std::string from =
         " FROM rps r JOIN radiomaps rm ON rm.id = r.radiomap_id JOIN floors f ON f.id = rm.floor_id "
         "JOIN buildings b ON b.id = f.building_id WHERE " + std::string(where) + " = ?";
@@ -476,7 +477,7 @@ std::vector<StoredRp> SqliteStore::rps_of_map(std::int64_t map_id) { return load
 
 std::vector<Room> SqliteStore::rooms_of_floor(std::int64_t floor_id) {
     std::lock_guard lock(mu_);
-    Transaction tx(db_);
+    Transaction tx(db_, Transaction::Mode::read);
     std::vector<Room> rooms;
     Stmt s(db_, "SELECT id, name FROM rooms WHERE floor_id = ? ORDER BY id");
     s.bind(1, floor_id);

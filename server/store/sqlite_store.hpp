@@ -1,9 +1,14 @@
 #pragma once
-// The embedded backend: one SQLite connection, every public call serialised by a mutex. A
+// The backend over store::Db: one SQLite connection, or one PostgreSQL connection (a
+// postgresql:// URL), every public call serialised by a mutex. On PostgreSQL a write also
+// takes one advisory lock for its transaction, so writes from every server sharing the
+// database run one at a time as they do on SQLite (read-modify-write such as a Welford merge
+// stays exact), and announces its changes to the other servers (pg_changes.hpp). A
 // write, and a read of several statements, is one transaction (BEGIN IMMEDIATE); a read of
 // one statement is its own. Reads of one call see one snapshot; the SQL is built from
 // the kind descriptors, so a new field in kinds.cpp needs a migration and nothing here.
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -11,6 +16,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "store/pg_changes.hpp"
 #include "store/sqlite.hpp"
 #include "store/store.hpp"
 
@@ -22,6 +28,7 @@ public:
     explicit SqliteStore(const std::string& path);
 
     const std::string& location() const override { return db_.path(); }
+    const std::string& connection() const override { return db_.url(); }
     void probe_write() override;
 
     Record create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) override;
@@ -97,8 +104,15 @@ private:
     // Where a row of `k` sits, for its Change (documents.hpp).
     Change change_of(const Kind& k, std::int64_t id, bool deleted);
 
+    // PostgreSQL only (sqlite_store_pg.cpp): the write lock, and the change announcement.
+    void pg_start_watching();
+    void pg_begin_write();
+    void pg_announce(const std::vector<Change>& changes);
+
     std::mutex mu_;
     Db db_;
+    std::string origin_;  // this server, in its change announcements
+    std::unique_ptr<ChangeWatcher> watcher_;
 };
 
 template <typename Body>
@@ -108,7 +122,9 @@ auto SqliteStore::write(Body&& body) {
         {
             std::lock_guard lock(mu_);
             Transaction tx(db_);
+            if (db_.is_postgres()) pg_begin_write();
             body(changes);
+            if (db_.is_postgres() && !changes.empty()) pg_announce(changes);
             tx.commit();
         }
         publish(changes);
@@ -116,7 +132,9 @@ auto SqliteStore::write(Body&& body) {
         auto result = [&] {
             std::lock_guard lock(mu_);
             Transaction tx(db_);
+            if (db_.is_postgres()) pg_begin_write();
             auto r = body(changes);
+            if (db_.is_postgres() && !changes.empty()) pg_announce(changes);
             tx.commit();
             return r;
         }();

@@ -6,6 +6,7 @@
 // is the embedded backend.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -64,12 +65,20 @@ struct RowWrite {
     Fields fields;
 };
 
+class Store;
+// Opens the database `url` names: sqlite:PATH or a plain path (created if missing), or
+// postgresql://… (postgres://…). Migrates it; throws SqliteError when it cannot.
+std::unique_ptr<Store> open(const std::string& url);
+
 class Store {
 public:
     virtual ~Store() = default;
 
     // Where the data lives, for logs and /ready messages.
     virtual const std::string& location() const = 0;
+    // What opens the same database again (a file, or the full URL with its credentials), for
+    // a service that keeps its own connection (tracks::Service). Never for logs.
+    virtual const std::string& connection() const { return location(); }
     // Commits a one-row change, so that it has to reach durable storage: throws when the
     // database cannot really be written (GET /ready).
     virtual void probe_write() = 0;

@@ -54,7 +54,7 @@ double Service::now() {
 }
 
 Service::Service(store::Store& store, Options options)
-    : store_(store), options_(options), db_(store.location()) {
+    : store_(store), options_(options), db_(store.connection()) {
     load();
     subscription_ = store_.subscribe([this](const store::Change& c) {
         if (c.plan || (c.kind && c.kind->name == "floors")) {
@@ -130,7 +130,7 @@ void Service::load() {
                        "SELECT track_id, t, floor_id, x, y, accuracy_m, heading_deg, n FROM "
                        "(SELECT track_id, t, floor_id, x, y, accuracy_m, heading_deg, "
                        "row_number() OVER (PARTITION BY track_id ORDER BY t DESC) AS r, "
-                       "count(*) OVER (PARTITION BY track_id) AS n FROM track_fixes) WHERE r = 1");
+                       "count(*) OVER (PARTITION BY track_id) AS n FROM track_fixes) AS latest WHERE r = 1");
     while (latest.step()) {
         if (auto it = tracks_.find(latest.int64(0)); it != tracks_.end()) {
             it->second->info.latest = fix_of(latest, 1);
@@ -184,7 +184,51 @@ Opened Service::open(std::int64_t map_id, const std::string& label) {
     return out;
 }
 
-Access Service::authorize(std::int64_t id, const std::string& token) const {
+void Service::refresh(std::int64_t id) {
+    std::lock_guard db_lock(db_mu_);
+    store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at FROM tracks WHERE id = ?");
+    q.bind(1, id);
+    if (!q.step()) return;  // unknown here too: refused as forbidden
+    TrackInfo row;
+    row.id = id;
+    row.map_id = q.is_null(0) ? 0 : q.int64(0);
+    row.label = q.is_null(1) ? "" : q.text(1);
+    const std::string hash = q.blob(2);
+    row.state = state_of(q.text(3));
+    row.created_at = q.real(4);
+    row.last_fix_at = q.real(5);
+    if (!q.is_null(6)) row.ended_at = q.real(6);
+    store::Stmt latest(db_, "SELECT t, floor_id, x, y, accuracy_m, heading_deg FROM track_fixes WHERE track_id = ? ORDER BY t DESC LIMIT 1");
+    latest.bind(1, id);
+    if (latest.step()) row.latest = fix_of(latest, 0);
+    store::Stmt count(db_, "SELECT count(*) FROM track_fixes WHERE track_id = ?");
+    count.bind(1, id);
+    count.step();
+    row.fixes = static_cast<std::size_t>(count.int64(0));
+    std::map<std::int64_t, std::string> shares;
+    store::Stmt sh(db_, "SELECT id, token_hash FROM track_shares WHERE track_id = ?");
+    sh.bind(1, id);
+    while (sh.step()) shares[sh.int64(0)] = sh.blob(1);
+
+    std::lock_guard lock(mu_);
+    auto& slot = tracks_[id];
+    if (!slot) slot = std::make_shared<Track>();
+    Track& t = *slot;
+    const bool was_live = t.info.state == State::live;
+    // A fix another server stored reaches this server's streams as the latest one.
+    const bool newer = row.latest && (!t.info.latest || row.latest->t > t.info.latest->t);
+    t.info = row;
+    t.token_hash = hash;
+    t.shares = std::move(shares);
+    if (newer) {
+        t.recent.emplace_back(++t.seq, *row.latest);
+        if (t.recent.size() > options_.event_buffer) t.recent.pop_front();
+    }
+    if (newer || (was_live && row.state != State::live)) t.changed.notify_all();
+}
+
+Access Service::authorize(std::int64_t id, const std::string& token) {
+    if (db_.is_postgres()) refresh(id);
     const std::string hash = token_hash(token);
     std::lock_guard lock(mu_);
     const auto t = find(id);
@@ -514,6 +558,24 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         }
     }
     store::Transaction tx(db_);
+    if (db_.is_postgres()) {
+        // Another server sharing the database may have stored fixes this one has not seen:
+        // a track is closed only when the database says it has been quiet too.
+        std::vector<std::shared_ptr<Track>> quiet;
+        for (const auto& tr : to_close) {
+            store::Stmt last(db_, "SELECT last_fix_at FROM tracks WHERE id = ? AND state = 'live'");
+            last.bind(1, tr->info.id);
+            if (!last.step()) continue;
+            const double at = last.real(0);
+            if (at + options_.ttl_s < t) {
+                quiet.push_back(tr);
+            } else {
+                std::lock_guard lock(mu_);
+                tr->info.last_fix_at = at;
+            }
+        }
+        to_close = std::move(quiet);
+    }
     for (const auto& tr : to_close)
         store::Stmt(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?").bind(1, t).bind(2, tr->info.id).run();
     for (const auto& tr : to_purge) {

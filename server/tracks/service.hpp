@@ -125,8 +125,9 @@ public:
     Opened open(std::int64_t map_id, const std::string& label);
     // What `token` may do with track `id`. An unknown track and a wrong token are refused alike
     // (forbidden), so a token says nothing about tracks it does not open; the owner of a track
-    // that went is told so (gone).
-    Access authorize(std::int64_t id, const std::string& token) const;
+    // that went is told so (gone). On PostgreSQL the track is first read again from the
+    // database, so a phone's requests may alternate between servers sharing it.
+    Access authorize(std::int64_t id, const std::string& token);
 
     // Fixes must be validated (finite, in range); the first floor not on the track's map is
     // returned (nothing stored), else nullopt after storing them in one transaction. A t
@@ -202,6 +203,9 @@ private:
     void map_deleted(std::int64_t map_id);
     std::shared_ptr<Track> find(std::int64_t id) const;  // under mu_; Refused(forbidden) for no such track
     void load();
+    // PostgreSQL, several servers: the track as the database holds it now (another server may
+    // have opened it, stored its fixes, shared or closed it). Takes db_mu_, then mu_.
+    void refresh(std::int64_t id);
     void sweeper();
 
     store::Store& store_;

@@ -70,6 +70,7 @@ TEST(ServerStorage, ReadyWritesAndHealthDoesNot) {
 // behind, /ready turns 503 naming the file, /health stays 200, reads keep working, and a
 // restart with room again is ready with every committed row.
 TEST(ServerStorage, AFullDiskIs503StorageUnavailableAndNotReady) {
+    if (locus::testing::on_postgres()) GTEST_SKIP() << "fills the SQLite file (PostgreSQL's faults: server_postgres_test)";
     ServerProcess s{{"--quiet"}, FileSizeLimit{1 << 20}};
     ASSERT_EQ(s.get("/ready").status, 200) << s.log();
     const auto h = locus::testing::make_hierarchy(s);
@@ -120,6 +121,7 @@ TEST(ServerStorage, AFullDiskIs503StorageUnavailableAndNotReady) {
 
 // Another process holds the write lock (BEGIN EXCLUSIVE) past the server's busy timeout.
 TEST(ServerStorage, ALockedDatabaseIs503UntilTheLockGoes) {
+    if (locus::testing::on_postgres()) GTEST_SKIP() << "locks the SQLite file (PostgreSQL's faults: server_postgres_test)";
     ServerProcess s{{"--quiet"}};
     ASSERT_EQ(s.get("/ready").status, 200);
     sqlite3* other = nullptr;

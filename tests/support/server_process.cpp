@@ -61,18 +61,35 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args) : extra_args_(
     // A server may refuse a body and close while a test is still sending it: that must fail
     // the request, not kill the test process.
     std::signal(SIGPIPE, SIG_IGN);
-    dir_ = make_temp_dir();
-    db_path_ = dir_ + "/locus.db";
-    log_path_ = dir_ + "/server.log";
+    init_db();
     start();
 }
 
 ServerProcess::ServerProcess(std::vector<std::string> extra_args, FileSizeLimit limit)
     : extra_args_(std::move(extra_args)), file_size_limit_(limit.bytes) {
-    dir_ = make_temp_dir();
-    db_path_ = dir_ + "/locus.db";
-    log_path_ = dir_ + "/server.log";
+    init_db();
     start();
+}
+
+ServerProcess::ServerProcess(std::vector<std::string> extra_args, SameDatabase same) : extra_args_(std::move(extra_args)) {
+    std::signal(SIGPIPE, SIG_IGN);
+    dir_ = make_temp_dir();
+    log_path_ = dir_ + "/server.log";
+    db_ = same.db;
+    if (!on_postgres()) db_path_ = db_;
+    start();
+}
+
+void ServerProcess::init_db() {
+    dir_ = make_temp_dir();
+    log_path_ = dir_ + "/server.log";
+    if (on_postgres()) {
+        database_ = std::make_unique<TestDatabase>();
+        db_ = database_->url();
+    } else {
+        db_path_ = dir_ + "/locus.db";
+        db_ = db_path_;
+    }
 }
 
 ServerProcess::~ServerProcess() {
@@ -83,7 +100,7 @@ ServerProcess::~ServerProcess() {
 }
 
 void ServerProcess::start() {
-    std::vector<std::string> args{LOCUS_SERVER_BIN, "--db", db_path_, "--host", "127.0.0.1", "--port", "0"};
+    std::vector<std::string> args{LOCUS_SERVER_BIN, "--db", db_, "--host", "127.0.0.1", "--port", "0"};
     args.insert(args.end(), extra_args_.begin(), extra_args_.end());
     const auto offset = static_cast<std::size_t>(slurp(log_path_).size());
     pid_ = fork();

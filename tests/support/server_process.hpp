@@ -1,12 +1,16 @@
 #pragma once
 // Starts the real locus-server binary on 127.0.0.1 with an OS-chosen port and a temp SQLite
-// file, and talks HTTP to it. The db survives stop()/start() so restarts can be tested.
+// file (or, under scripts/with_postgres.sh, a fresh PostgreSQL database: test_database.hpp),
+// and talks HTTP to it. The db survives stop()/start() so restarts can be tested.
 #include <httplib.h>
 #include <sys/types.h>
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "test_database.hpp"
 
 namespace locus::testing {
 
@@ -14,6 +18,11 @@ namespace locus::testing {
 // fail with EFBIG, as on a full disk).
 struct FileSizeLimit {
     long long bytes = 0;
+};
+
+// A second server on the database of a first one (PostgreSQL: replicas).
+struct SameDatabase {
+    std::string db;  // the first server's db()
 };
 
 struct Response {
@@ -26,6 +35,7 @@ class ServerProcess {
 public:
     explicit ServerProcess(std::vector<std::string> extra_args = {});
     ServerProcess(std::vector<std::string> extra_args, FileSizeLimit limit);
+    ServerProcess(std::vector<std::string> extra_args, SameDatabase same);
     ~ServerProcess();
     ServerProcess(const ServerProcess&) = delete;
     ServerProcess& operator=(const ServerProcess&) = delete;
@@ -36,7 +46,10 @@ public:
 
     int port() const { return port_; }
     std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
+    // The SQLite file; on PostgreSQL there is none (tests that open the file skip there).
     const std::string& db_path() const { return db_path_; }
+    // What --db says: the SQLite file or the PostgreSQL URL.
+    const std::string& db() const { return db_; }
     const std::string& dir() const { return dir_; }
     std::string log() const;  // everything the server printed so far
     void set_api_key(std::string key) { api_key_ = std::move(key); }
@@ -53,8 +66,10 @@ public:
 
 private:
     httplib::Headers headers() const;
+    void init_db();
     std::vector<std::string> extra_args_;
-    std::string dir_, db_path_, log_path_, api_key_;
+    std::unique_ptr<TestDatabase> database_;  // PostgreSQL: owned by the server that created it
+    std::string dir_, db_path_, db_, log_path_, api_key_;
     pid_t pid_ = -1;
     int port_ = 0;
     long long file_size_limit_ = 0;

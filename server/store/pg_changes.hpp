@@ -1,0 +1,54 @@
+#pragma once
+// Many servers, one PostgreSQL database: how a committed write on one server reaches the
+// indexes and caches of the others. The writing transaction adds one to change_counter.version
+// and sends NOTIFY locus_changes with the changes and that version (payload_of), so the
+// notification leaves only on commit; every server's ChangeWatcher LISTENs on its own
+// connection and hands other servers' changes to the same feed local writes use
+// (Store::subscribe). Versions are consecutive (writes take one lock), so a missed
+// notification shows as a gap; and the counter, read twice a second, catches one that never
+// came (a dropped listener connection). Either way the watcher hands on "everything changed".
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "store/documents.hpp"
+
+namespace locus::store {
+
+// The NOTIFY payload: origin (the writing server), version and the changes; past PostgreSQL's
+// payload limit, the changes are left out and the payload means "everything changed".
+std::string payload_of(const std::string& origin, std::int64_t version, const std::vector<Change>& changes);
+struct Notification {
+    std::string origin;
+    std::int64_t version = 0;
+    bool everything = false;
+    std::vector<Change> changes;
+};
+// Throws on a payload payload_of did not write.
+Notification parse_payload(const std::string& payload);
+// The change that makes every subscriber drop everything it holds (a deleted map, id 0).
+Change everything_changed();
+
+class ChangeWatcher {
+public:
+    using Apply = std::function<void(const std::vector<Change>&)>;
+    // Connects on its own thread (retrying every second while PostgreSQL is away) and calls
+    // `apply` there with the changes of servers other than `origin`.
+    ChangeWatcher(std::string url, std::string origin, Apply apply);
+    ~ChangeWatcher();
+    ChangeWatcher(const ChangeWatcher&) = delete;
+    ChangeWatcher& operator=(const ChangeWatcher&) = delete;
+
+private:
+    void run();
+
+    std::string url_, origin_;
+    Apply apply_;
+    std::atomic<bool> stop_{false};
+    std::thread thread_;
+};
+
+}  // namespace locus::store
