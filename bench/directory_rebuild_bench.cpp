@@ -10,7 +10,7 @@
 #include <string>
 
 #include "directory/places.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace {
 
@@ -19,7 +19,7 @@ using namespace locus;
 constexpr int kFloors = 20, kRooms = 400, kPois = 100;
 
 struct Campus {
-    store::SqliteStore db{":memory:"};
+    store::SqlStore db{":memory:"};
     std::int64_t map = 0;
 };
 

@@ -1,6 +1,6 @@
 // What keeping rooms and POIs in step with a plan, and checking a plan image, cost:
 //   - plan::rects_of on a rectangle, an L-shape, a 64-sided circle and a room with 4 pillars;
-//   - SqliteStore::put_plan of a 128-room, 12-connector floor (a temp database file): the
+//   - SqlStore::put_plan of a 128-room, 12-connector floor (a temp database file): the
 //     same plan again (every room adopted, nothing rewritten but the plan's rows), and a plan
 //     whose rooms all change name on every PUT (every room renamed, POIs moved);
 //   - read_image_header on a 2000 × 2000 PNG and JPEG (the JPEG decoded at 1/8 scale).
@@ -17,7 +17,7 @@
 #include "http/image_header.hpp"
 #include "images/test_images.hpp"
 #include "locus/plan/rects.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace {
 
@@ -68,7 +68,7 @@ void BM_PutPlanKeepingRooms(benchmark::State& state) {
     const std::string dir = "/tmp/locus-plan-bench-" + std::to_string(::getpid());
     std::filesystem::create_directories(dir);
     {
-        store::SqliteStore st(dir + "/bench.db");
+        store::SqlStore st(dir + "/bench.db");
         const auto map = st.create(store::kind("maps"), std::nullopt, store::Fields{{"name", std::string("M")}}).id;
         const auto b = st.create(store::kind("buildings"), map, store::Fields{{"name", std::string("B")}}).id;
         const auto floor = st.create(store::kind("floors"), b,

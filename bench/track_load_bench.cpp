@@ -28,7 +28,7 @@
 #include "http/localize_answer.hpp"
 #include "localize/service.hpp"
 #include "routing/service.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 #include "tracks/service.hpp"
 
 namespace {
@@ -61,7 +61,7 @@ int env_int(const char* name, int fallback) {
 // A server in this process, its database in a temp directory removed at the end.
 struct Server {
     std::filesystem::path dir;
-    std::unique_ptr<store::SqliteStore> store;
+    std::unique_ptr<store::SqlStore> store;
     std::unique_ptr<localize::Service> localizer;
     std::unique_ptr<routing::Service> router;
     std::unique_ptr<directory::Service> directory;
@@ -74,7 +74,7 @@ struct Server {
     Server() {
         char tmpl[] = "/tmp/locus-track-bench.XXXXXX";
         dir = mkdtemp(tmpl);
-        store = std::make_unique<store::SqliteStore>((dir / "bench.db").string());
+        store = std::make_unique<store::SqlStore>((dir / "bench.db").string());
         localizer = std::make_unique<localize::Service>(*store, http::prepare_answers);
         router = std::make_unique<routing::Service>(*store);
         directory = std::make_unique<directory::Service>(*store);

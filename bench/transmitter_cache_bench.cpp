@@ -9,7 +9,7 @@
 
 #include "http/transmitter_cache.hpp"
 #include "http/transmitter_fields.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace {
 
@@ -17,13 +17,13 @@ using locus::store::kind;
 
 struct Floor {
     std::filesystem::path dir;
-    std::unique_ptr<locus::store::SqliteStore> store;
+    std::unique_ptr<locus::store::SqlStore> store;
     std::int64_t floor = 0;
 
     explicit Floor(int transmitters) {
         std::string tmpl = (std::filesystem::temp_directory_path() / "locus-txbench-XXXXXX").string();
         dir = mkdtemp(tmpl.data());
-        store = std::make_unique<locus::store::SqliteStore>((dir / "b.db").string());
+        store = std::make_unique<locus::store::SqlStore>((dir / "b.db").string());
         const auto map = store->create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
         const auto building = store->create(kind("buildings"), map, {{"name", "B"}}).id;
         floor = store->create(kind("floors"), building, {{"name", "F"}, {"level", 0}, {"width", 100.0}, {"height", 50.0}}).id;

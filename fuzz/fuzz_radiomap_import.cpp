@@ -1,9 +1,9 @@
 // The radio-map import (POST /v1/floors/{id}/radiomaps/import): parse_object,
-// parse_radiomap_document, then SqliteStore::import_radiomap into an in-memory SQLite
+// parse_radiomap_document, then SqlStore::import_radiomap into an in-memory SQLite
 // store, as the handler in server/http/radiomap_routes.cpp does.
 //
 // Checks: validation throws nothing but http::ApiError (400/422) and the import nothing but the
-// store's documented refusals (NotFound, Conflict, OutOfRange, a constraint SqliteError: the
+// store's documented refusals (NotFound, Conflict, OutOfRange, a constraint DbError: the
 // 404/409/422 answers of App::guarded); a refused document writes nothing; an accepted one
 // exports a document that validates and imports again to the same export.
 #include <cstddef>
@@ -16,7 +16,7 @@
 #include "http/json_text.hpp"
 #include "http/validation.hpp"
 #include "http/store_json.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 #include "json_mutator.hpp"
 
 using namespace locus;
@@ -26,7 +26,7 @@ using store::kind;
 namespace {
 
 struct Fixture {
-    store::SqliteStore repo{":memory:"};
+    store::SqlStore repo{":memory:"};
     std::int64_t floor = 0, other_floor = 0;
 
     Fixture() {
@@ -59,7 +59,7 @@ json import(std::int64_t floor, const store::RadioMapDocument& doc, const std::s
         return http::imported_json(fixture().repo.import_radiomap(floor, doc));
     } catch (const store::Conflict&) {
     } catch (const store::OutOfRange&) {
-    } catch (const store::SqliteError& e) {
+    } catch (const store::DbError& e) {
         if (!e.is_constraint()) fail(std::string("a storage error (500): ") + e.what(), body);
     }
     return json();

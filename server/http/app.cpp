@@ -61,7 +61,7 @@ void write_error(httplib::Response& res, int status, const std::string& code, co
     res.set_content(json_text(json{{"error", {{"code", code}, {"message", message}}}}), "application/json");
 }
 
-void write_storage_unavailable(httplib::Response& res, const store::SqliteError& e) {
+void write_storage_unavailable(httplib::Response& res, const store::DbError& e) {
     // The request was one transaction and it did not commit: nothing of it was written. The
     // file's path is for the log and /ready, not for every client.
     res.set_header("Retry-After", "1");
@@ -100,7 +100,7 @@ void App::guarded(const httplib::Request& req, httplib::Response& res, const std
         write_error(res, 409, "conflict", e.what());
     } catch (const store::OutOfRange& e) {
         write_error(res, 422, "out_of_range", e.what());
-    } catch (const store::SqliteError& e) {
+    } catch (const store::DbError& e) {
         // Constraint failures that validation did not catch are still the client's input.
         if (e.is_constraint()) write_error(res, 409, "conflict", e.what());
         else if (e.is_storage_fault()) write_storage_unavailable(res, e);

@@ -19,7 +19,7 @@
 #include "locus/plan/route.hpp"
 #include "routing/service.hpp"
 #include "store/kinds.hpp"
-#include "store/sqlite.hpp"
+#include "store/db.hpp"
 #include "store/store.hpp"
 
 namespace locus::tracks {
@@ -84,7 +84,7 @@ private:
 };
 
 void write_error(httplib::Response& res, int status, const std::string& code, const std::string& message);
-// 503 storage_unavailable (with Retry-After) for a storage fault (SqliteError::is_storage_fault).
-void write_storage_unavailable(httplib::Response& res, const store::SqliteError& e);
+// 503 storage_unavailable (with Retry-After) for a storage fault (DbError::is_storage_fault).
+void write_storage_unavailable(httplib::Response& res, const store::DbError& e);
 
 }  // namespace locus::http

@@ -98,12 +98,12 @@ pg_conn* connect(const std::string& url) {
     const char* const keys[] = {"connect_timeout", "dbname", nullptr};
     const char* const values[] = {"5", url.c_str(), nullptr};
     PGconn* c = PQconnectdbParams(keys, values, 1);
-    if (!c) throw SqliteError(SQLITE_CANTOPEN, "cannot connect to PostgreSQL at '" + redacted_url(url) + "': out of memory");
+    if (!c) throw DbError(SQLITE_CANTOPEN, "cannot connect to PostgreSQL at '" + redacted_url(url) + "': out of memory");
     if (PQstatus(c) != CONNECTION_OK) {
         std::string msg = PQerrorMessage(c);
         while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
         PQfinish(c);
-        throw SqliteError(SQLITE_CANTOPEN, "cannot connect to PostgreSQL at '" + redacted_url(url) + "': " + msg,
+        throw DbError(SQLITE_CANTOPEN, "cannot connect to PostgreSQL at '" + redacted_url(url) + "': " + msg,
                           redacted_url(url));
     }
     // Notices (a CREATE … IF NOT EXISTS that did nothing) are not errors: keep them off stderr.
@@ -115,7 +115,7 @@ void close(pg_conn* c) {
     if (c) PQfinish(c);
 }
 
-SqliteError error_of(pg_conn* c, pg_result* r, std::string_view context) {
+DbError error_of(pg_conn* c, pg_result* r, std::string_view context) {
     const char* state = r ? PQresultErrorField(r, PG_DIAG_SQLSTATE) : nullptr;
     std::string msg = r ? PQresultErrorMessage(r) : "";
     if (msg.empty()) msg = c ? PQerrorMessage(c) : "no connection";
@@ -131,7 +131,7 @@ SqliteError error_of(pg_conn* c, pg_result* r, std::string_view context) {
     else if (code == "23502") rc = SQLITE_CONSTRAINT_NOTNULL;
     else if (code.starts_with("23")) rc = SQLITE_CONSTRAINT;
     else if (code == "40001" || code == "40P01" || code == "55P03") rc = SQLITE_BUSY;
-    SqliteError e(rc, std::string(context) + msg + (code.empty() ? "" : " (" + code + ")"));
+    DbError e(rc, std::string(context) + msg + (code.empty() ? "" : " (" + code + ")"));
     if (e.is_storage_fault() && c) e.file = std::string(PQdb(c) ? PQdb(c) : "");
     return e;
 }
@@ -140,7 +140,7 @@ void exec(pg_conn* c, std::string_view sql) {
     PGresult* r = PQexec(c, std::string(sql).c_str());
     const auto st = PQresultStatus(r);
     if (st != PGRES_COMMAND_OK && st != PGRES_TUPLES_OK && st != PGRES_EMPTY_QUERY) {
-        SqliteError e = error_of(c, r, "");
+        DbError e = error_of(c, r, "");
         PQclear(r);
         throw e;
     }
@@ -172,7 +172,7 @@ pg_result* run(pg_conn* c, const std::string& sql, const std::vector<std::option
                                lengths.data(), formats.data(), 0);
     const auto st = PQresultStatus(r);
     if (st != PGRES_COMMAND_OK && st != PGRES_TUPLES_OK) {
-        SqliteError e = error_of(c, r, "step: ");
+        DbError e = error_of(c, r, "step: ");
         PQclear(r);
         throw e;
     }
@@ -212,7 +212,7 @@ int column_type(const pg_result* r, int col) {
 std::string unescape_bytea(const char* text) {
     std::size_t n = 0;
     unsigned char* bytes = PQunescapeBytea(reinterpret_cast<const unsigned char*>(text), &n);
-    if (!bytes) throw SqliteError(SQLITE_NOMEM, "cannot decode a bytea value");
+    if (!bytes) throw DbError(SQLITE_NOMEM, "cannot decode a bytea value");
     std::string out(reinterpret_cast<const char*>(bytes), n);
     PQfreemem(bytes);
     return out;

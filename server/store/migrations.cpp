@@ -27,7 +27,7 @@ int migrate_postgres(Db& db) {
         q.step();
         version = static_cast<int>(q.int64(0));
     }
-    if (version > static_cast<int>(all.size())) throw SqliteError(0, newer_message(version, all.size()));
+    if (version > static_cast<int>(all.size())) throw DbError(0, newer_message(version, all.size()));
     // PostgreSQL's DDL is transactional and its foreign keys stay checked: every migration
     // commits, or none, with the version.
     for (auto i = static_cast<std::size_t>(version); i < all.size(); ++i) db.exec(all[i]);
@@ -48,7 +48,7 @@ int migrate(Db& db) {
         version = static_cast<int>(q.int64(0));
     }
     if (version > static_cast<int>(all.size()))
-        throw SqliteError(0, newer_message(version, all.size()));
+        throw DbError(0, newer_message(version, all.size()));
     if (version == static_cast<int>(all.size())) return version;
 
     // A migration that rebuilds a table drops the old one: with foreign keys on, that DROP would
@@ -73,7 +73,7 @@ int migrate(Db& db) {
         {
             Stmt check(db, "PRAGMA foreign_key_check");
             if (check.step())
-                throw SqliteError(SQLITE_CONSTRAINT_FOREIGNKEY,
+                throw DbError(SQLITE_CONSTRAINT_FOREIGNKEY,
                                   "migration " + std::to_string(i + 1) + " leaves a row of table '" + check.text(0) +
                                       "' pointing at a missing row of '" + check.text(2) + "'");
         }

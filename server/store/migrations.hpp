@@ -2,7 +2,7 @@
 #include <string_view>
 #include <vector>
 
-#include "store/sqlite.hpp"
+#include "store/db.hpp"
 
 namespace locus::server {
 // Generated at build time from schema/NNN_*.sql (see server/embed_schema.cmake).

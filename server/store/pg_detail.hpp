@@ -1,12 +1,12 @@
 #pragma once
-// The PostgreSQL side of sqlite.hpp's Db and Stmt, over libpq. Only sqlite.cpp and the change
+// The PostgreSQL side of db.hpp's Db and Stmt, over libpq. Only db.cpp and the change
 // listener use it; everything else goes through Db.
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "store/sqlite.hpp"
+#include "store/db.hpp"
 
 namespace locus::store::pg {
 
@@ -16,12 +16,12 @@ namespace locus::store::pg {
 // Quoted text is left alone.
 std::string to_postgres(std::string_view sql);
 
-// Connects; throws SqliteError(SQLITE_CANTOPEN) naming the URL without its password.
+// Connects; throws DbError(SQLITE_CANTOPEN) naming the URL without its password.
 pg_conn* connect(const std::string& url);
 void close(pg_conn* c);
-// Runs one or more statements without parameters; throws SqliteError.
+// Runs one or more statements without parameters; throws DbError.
 void exec(pg_conn* c, std::string_view sql);
-// Runs one statement (already in PostgreSQL's spelling); throws SqliteError on failure.
+// Runs one statement (already in PostgreSQL's spelling); throws DbError on failure.
 pg_result* run(pg_conn* c, const std::string& sql, const std::vector<std::optional<std::string>>& params,
                const std::vector<int>& formats);
 void clear(pg_result* r);
@@ -37,7 +37,7 @@ bool is_bytea(const pg_result* r, int col);
 std::string unescape_bytea(const char* text);
 // The rows an INSERT, UPDATE or DELETE changed.
 int changed_rows(pg_result* r);
-// The SqliteError a failed statement, or a lost connection, stands for.
-SqliteError error_of(pg_conn* c, pg_result* r, std::string_view context);
+// The DbError a failed statement, or a lost connection, stands for.
+DbError error_of(pg_conn* c, pg_result* r, std::string_view context);
 
 }  // namespace locus::store::pg

@@ -2,7 +2,7 @@
 // The storage interface the services and routes use. Every call is one transaction: it either
 // commits in full or changes nothing. Inputs are typed documents (documents.hpp) that the edge
 // has already validated against the kind descriptors (kinds.hpp); a backend checks only what
-// needs the stored data (existence, uniqueness, count bounds). SqliteStore (sqlite_store.hpp)
+// needs the stored data (existence, uniqueness, count bounds). SqlStore (sql_store.hpp)
 // is the embedded backend.
 #include <cstdint>
 #include <functional>
@@ -67,7 +67,7 @@ struct RowWrite {
 
 class Store;
 // Opens the database `url` names: sqlite:PATH or a plain path (created if missing), or
-// postgresql://… (postgres://…). Migrates it; throws SqliteError when it cannot.
+// postgresql://… (postgres://…). Migrates it; throws DbError when it cannot.
 std::unique_ptr<Store> open(const std::string& url);
 
 class Store {

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "locus/fusion/walkable.hpp"
-#include "store/sqlite.hpp"
+#include "store/db.hpp"
 #include "store/store.hpp"
 #include "tracks/fix.hpp"
 

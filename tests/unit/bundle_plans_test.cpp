@@ -11,10 +11,10 @@
 #include "http/bundle_plans.hpp"
 #include "http/store_json.hpp"
 #include "store/migrations.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 using locus::store::kind;
-using locus::store::SqliteStore;
+using locus::store::SqlStore;
 using nlohmann::json;
 
 namespace {
@@ -50,14 +50,14 @@ json small_bundle(json ground_links, json upper_links = {{{"level", 0}, {"connec
 }
 
 // Imports the bundle and writes its plans, as locus-server --demo does.
-std::int64_t import(SqliteStore& store, const json& bundle) {
+std::int64_t import(SqlStore& store, const json& bundle) {
     const auto plans = locus::http::parse_bundle_plans(bundle);
     const auto map_id = store.import_map_bundle(locus::http::parse_map_bundle(bundle)).id;
     locus::http::put_bundle_plans(store, map_id, plans);
     return map_id;
 }
 
-std::string refusal(SqliteStore& store, const json& bundle) {
+std::string refusal(SqlStore& store, const json& bundle) {
     try {
         import(store, bundle);
     } catch (const locus::http::ApiError& e) {
@@ -68,7 +68,7 @@ std::string refusal(SqliteStore& store, const json& bundle) {
 
 TEST(BundlePlans, TheDemoMapsPlansLandOnTheirFloorsLinkedToEachOther) {
     TempDb t;
-    SqliteStore store(t.path());
+    SqlStore store(t.path());
     const auto map_id = import(store, json::parse(locus::server::demo_map_json()));
     const auto plans = store.plans_of_map(map_id);
     ASSERT_EQ(plans.size(), 2u);
@@ -86,7 +86,7 @@ TEST(BundlePlans, TheDemoMapsPlansLandOnTheirFloorsLinkedToEachOther) {
 
 TEST(BundlePlans, LinksByLevelResolveToThatBuildingsFloor) {
     TempDb t;
-    SqliteStore store(t.path());
+    SqlStore store(t.path());
     const auto map_id = import(store, small_bundle({{{"level", 1}, {"connector", "S"}}}));
     const auto plans = store.plans_of_map(map_id);
     ASSERT_EQ(plans.size(), 2u);
@@ -97,13 +97,13 @@ TEST(BundlePlans, LinksByLevelResolveToThatBuildingsFloor) {
 TEST(BundlePlans, ABadPlanIsRefusedNamingTheFloorAndTheFeature) {
     {
         TempDb t;
-        SqliteStore store(t.path());
+        SqlStore store(t.path());
         const auto r = refusal(store, small_bundle({{{"level", 7}, {"connector", "S"}}}));
         EXPECT_NE(r.find("422 invalid_field: 'buildings[0].floors[0].plan': the building has no floor at level 7"), std::string::npos) << r;
     }
     {
         TempDb t;
-        SqliteStore store(t.path());
+        SqlStore store(t.path());
         const auto r = refusal(store, small_bundle({{{"floor_id", 2}, {"connector", "S"}}}));
         EXPECT_NE(r.find("buildings[0].floors[0].plan.features[1]"), std::string::npos) << r;
         EXPECT_NE(r.find("{\"level\": L, \"connector\": ID}"), std::string::npos) << r;
@@ -111,7 +111,7 @@ TEST(BundlePlans, ABadPlanIsRefusedNamingTheFloorAndTheFeature) {
     }
     {
         TempDb t;
-        SqliteStore store(t.path());
+        SqlStore store(t.path());
         // The second plan's link must name a connector the first has (the first may name a
         // floor that has no plan yet, as with PUT).
         const auto r = refusal(store, small_bundle({{{"level", 1}, {"connector", "S"}}}, {{{"level", 0}, {"connector", "nowhere"}}}));
@@ -119,7 +119,7 @@ TEST(BundlePlans, ABadPlanIsRefusedNamingTheFloorAndTheFeature) {
     }
     {
         TempDb t;
-        SqliteStore store(t.path());
+        SqlStore store(t.path());
         json bowtie = {{"type", "FeatureCollection"},
                        {"features",
                         {{{"type", "Feature"},

@@ -1,11 +1,11 @@
 // What a map's directory lists (directory/places.cpp) and how long the service keeps it
-// (directory/service.cpp), on a real SqliteStore in memory.
+// (directory/service.cpp), on a real SqlStore in memory.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
 #include "directory/service.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 using namespace locus;
 using locus::store::kind;
@@ -29,7 +29,7 @@ const directory::Place* named(const directory::MapDirectory& d, const std::strin
 }
 
 struct Site {
-    store::SqliteStore db{":memory:"};
+    store::SqlStore db{":memory:"};
     std::int64_t map = 0, building = 0, floor = 0, other_floor = 0;
     Site() {
         map = db.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;

@@ -9,7 +9,7 @@
 #include "http/validation.hpp"
 #include "http/localize_request.hpp"
 #include "http/store_json.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 using namespace locus;
 
@@ -41,7 +41,7 @@ TEST(FuzzRegressions, AReadingOutsideAScanIsRefusedWithoutTouchingMemory) {
 // (fuzz/corpus/fuzz_radiomap_import/crash_null_type.json).
 TEST(FuzzRegressions, AnImportedMeasurementWithANullTypeIsWifi) {
     using locus::store::kind;
-    locus::store::SqliteStore repo(":memory:");
+    locus::store::SqlStore repo(":memory:");
     const auto map = repo.create(kind("maps"), std::nullopt, {{"name", "m"}}).id;
     const auto building = repo.create(kind("buildings"), map, {{"name", "b"}}).id;
     const auto floor = repo.create(kind("floors"), building, {{"name", "f"}, {"level", 0}, {"width", 10.0}, {"height", 10.0}})

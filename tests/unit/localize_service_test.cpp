@@ -5,7 +5,7 @@
 #include <atomic>
 
 #include "localize/service.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 using namespace locus;
 using locus::store::kind;
@@ -14,7 +14,7 @@ using Scope = locus::localize::Service::Scope;
 namespace {
 
 struct World {
-    store::SqliteStore store{":memory:"};
+    store::SqlStore store{":memory:"};
     std::int64_t map = 0, floor = 0, radiomap = 0;
     World() {
         map = store.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;

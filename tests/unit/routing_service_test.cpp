@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "routing/service.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 using namespace locus;
 using locus::store::kind;
@@ -22,7 +22,7 @@ plan::Plan corridor(double length) {
 }  // namespace
 
 TEST(RoutingService, AGraphIsKeptUntilAPlanOrTheHierarchyChanges) {
-    store::SqliteStore db(":memory:");
+    store::SqlStore db(":memory:");
     const auto map = db.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
     const auto building = db.create(kind("buildings"), map, {{"name", "B"}}).id;
     const auto floor = db.create(kind("floors"), building, {{"name", "F"}, {"level", 0}, {"width", 50.0}, {"height", 3.0}}).id;

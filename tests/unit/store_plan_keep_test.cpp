@@ -9,11 +9,11 @@
 
 #include "plan_fixture.hpp"
 #include "store/migrations.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 using locus::store::Change;
 using locus::store::Fields;
-using locus::store::SqliteStore;
+using locus::store::SqlStore;
 using locus::store::kind;
 
 namespace {
@@ -28,7 +28,7 @@ struct TempDb {
     std::string path() const { return (dir / "t.db").string(); }
 };
 
-std::int64_t make_floor(SqliteStore& st, const std::string& map = "M") {
+std::int64_t make_floor(SqlStore& st, const std::string& map = "M") {
     const auto m = st.create(kind("maps"), std::nullopt, {{"name", map}}).id;
     const auto b = st.create(kind("buildings"), m, {{"name", "B"}}).id;
     return st.create(kind("floors"), b, {{"name", "F"}, {"level", std::int64_t{0}}, {"width", 30.0}, {"height", 20.0}}).id;
@@ -54,7 +54,7 @@ std::vector<std::pair<std::string, bool>> row_changes(const std::vector<Change>&
 
 TEST(StorePlanKeep, APlanPutPublishesEveryRoomAndPoiItWritesAndNoOther) {
     TempDb t;
-    SqliteStore st(t.path());
+    SqlStore st(t.path());
     const auto floor = make_floor(st);
     std::vector<Change> seen;
     st.subscribe([&](const Change& c) { seen.push_back(c); });
@@ -118,7 +118,7 @@ TEST(StorePlanKeep, AVersion4RoomIdOfAnotherFloorIsDroppedByTheMigration) {
             INSERT INTO plan_features (floor_id, feature, seq, name, room_id) VALUES (1, 'space', 0, 'Lab', 4), (1, 'space', 1, 'Up', 5);
         )sql");
     }
-    SqliteStore st(t.path());
+    SqlStore st(t.path());
     const auto plan = st.plan_of_floor(1);
     ASSERT_TRUE(plan);
     ASSERT_EQ(plan->plan.spaces.size(), 2u);
@@ -130,7 +130,7 @@ TEST(StorePlanKeep, AVersion4RoomIdOfAnotherFloorIsDroppedByTheMigration) {
 
 TEST(StorePlanKeep, ImageBytesComeBackExactlyAndGoWithTheirFloor) {
     TempDb t;
-    SqliteStore st(t.path());
+    SqlStore st(t.path());
     const auto floor = make_floor(st);
     EXPECT_FALSE(st.image_of_floor(floor));
     EXPECT_THROW(st.image_of_floor(floor + 100), locus::store::NotFound);

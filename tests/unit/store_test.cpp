@@ -7,9 +7,9 @@
 
 #include "store/migrations.hpp"
 #include "http/store_json.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
-using locus::store::SqliteStore;
+using locus::store::SqlStore;
 using locus::store::Fields;
 using locus::store::kind;
 using nlohmann::json;
@@ -29,7 +29,7 @@ struct Chain {
     long long map, building, floor, radiomap, rp;
 };
 
-Chain make_chain(SqliteStore& repo) {
+Chain make_chain(SqlStore& repo) {
     Chain c{};
     c.map = repo.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
     c.building = repo.create(kind("buildings"), c.map, {{"name", "B"}}).id;
@@ -43,12 +43,12 @@ Chain make_chain(SqliteStore& repo) {
 TEST(Store, MigratesToTheLatestVersionOnceAndKeepsData) {
     TempDb t;
     {
-        SqliteStore repo(t.path());
+        SqlStore repo(t.path());
         repo.create(kind("maps"), std::nullopt, {{"name", "kept"}});
     }
     locus::store::Db db(t.path());
     EXPECT_EQ(locus::store::migrate(db), static_cast<int>(locus::server::migrations().size()));
-    SqliteStore again(t.path());
+    SqlStore again(t.path());
     EXPECT_EQ(again.list(kind("maps"), std::nullopt, 10, 0).total, 1);
 }
 
@@ -58,12 +58,12 @@ TEST(Store, RefusesADatabaseFromANewerVersion) {
         locus::store::Db db(t.path());
         db.exec("PRAGMA user_version = 999");
     }
-    EXPECT_THROW(SqliteStore repo(t.path()), locus::store::SqliteError);
+    EXPECT_THROW(SqlStore repo(t.path()), locus::store::DbError);
 }
 
 TEST(Store, CreateGetUpdateRemove) {
     TempDb t;
-    SqliteStore repo(t.path());
+    SqlStore repo(t.path());
     const auto c = make_chain(repo);
     EXPECT_EQ(repo.get(kind("floors"), c.floor).fields.get<double>("width"), 10.0);
     repo.update(kind("floors"), c.floor, {{"width", 12.5}});
@@ -78,7 +78,7 @@ TEST(Store, CreateGetUpdateRemove) {
 
 TEST(Store, MergeScansIsExactAndIdempotentPerRp) {
     TempDb t;
-    SqliteStore repo(t.path());
+    SqlStore repo(t.path());
     const auto c = make_chain(repo);
     // {-60, -62} then {-64}: mean -62, population variance 8/3.
     locus::store::ScanBatch a{"u", {{"wifi", "ap", locus::RssStats{-61.0, 1.0, 2}}}, 2};
@@ -99,7 +99,7 @@ TEST(Store, MergeScansIsExactAndIdempotentPerRp) {
 
 TEST(Store, SnapshotsForTheIndexCarryTheHierarchy) {
     TempDb t;
-    SqliteStore repo(t.path());
+    SqlStore repo(t.path());
     const auto c = make_chain(repo);
     repo.merge_scans(c.rp, {std::nullopt, {{"wifi", "ap", locus::RssStats{-60.0, 1.0, 2}}}, 2});
     repo.create(kind("rooms"), c.floor, Fields({{"name", "Hall"}}, std::vector<locus::Rect>{{0, 0, 2, 3}}));
@@ -118,7 +118,7 @@ TEST(Store, SnapshotsForTheIndexCarryTheHierarchy) {
 
 TEST(Store, AFailedImportLeavesNoTrace) {
     TempDb t;
-    SqliteStore repo(t.path());
+    SqlStore repo(t.path());
     const auto c = make_chain(repo);
     const locus::store::RadioMapDocument doc{{{"name", "dup"}}, {{"a", {0, 0}, 0, {}}, {"a", {1, 1}, 0, {}}}, {}};
     EXPECT_THROW(repo.import_radiomap(c.floor, doc), locus::store::Conflict);
@@ -127,7 +127,7 @@ TEST(Store, AFailedImportLeavesNoTrace) {
 
 TEST(Store, DemoBundleImports) {
     TempDb t;
-    SqliteStore repo(t.path());
+    SqlStore repo(t.path());
     EXPECT_FALSE(repo.has_maps());
     repo.import_map_bundle(locus::http::parse_map_bundle(json::parse(locus::server::demo_map_json())));
     EXPECT_TRUE(repo.has_maps());
@@ -148,7 +148,7 @@ std::int64_t count_rows(locus::store::Db& db, const std::string& table) {
 // id read another object. Every kind the API exposes: create two, delete the newer, create.
 TEST(Store, AnIdIsNeverHandedOutTwice) {
     TempDb t;
-    SqliteStore repo(t.path());
+    SqlStore repo(t.path());
     const auto c = make_chain(repo);
     struct Case {
         const char* kind;
@@ -176,7 +176,7 @@ TEST(Store, AnIdIsNeverHandedOutTwice) {
     // Also across a reopen: the high-water mark is stored, not kept in memory.
     const auto rp = repo.create(kind("rps"), c.radiomap, {{"name", "last"}, {"x", 0.0}, {"y", 0.0}}).id;
     repo.remove(kind("rps"), rp);
-    SqliteStore reopened(t.path());
+    SqlStore reopened(t.path());
     EXPECT_GT(reopened.create(kind("rps"), c.radiomap, {{"name", "again"}, {"x", 0.0}, {"y", 0.0}}).id, rp);
 }
 
@@ -203,7 +203,7 @@ TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
             INSERT INTO uploads (rp_id, upload_id) VALUES (25, 'u1');
         )sql");
     }
-    SqliteStore repo(t.path());
+    SqlStore repo(t.path());
     {
         locus::store::Db db(t.path());
         locus::store::Stmt v(db, "PRAGMA user_version");
@@ -237,7 +237,7 @@ TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
         locus::store::Db db(t.path());
         EXPECT_EQ(count_rows(db, "measurements"), 2);
         EXPECT_EQ(count_rows(db, "buildings"), 1);
-        EXPECT_THROW(db.exec("INSERT INTO buildings (map_id, name) VALUES (42, 'orphan')"), locus::store::SqliteError);
+        EXPECT_THROW(db.exec("INSERT INTO buildings (map_id, name) VALUES (42, 'orphan')"), locus::store::DbError);
     }
     // The migrated ids are the high-water mark: new rows never take an old id.
     repo.remove(kind("rps"), 26);
@@ -249,7 +249,7 @@ TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
 // kinds an index depends on; nothing for a refused write or a repeated upload.
 TEST(Store, EveryCommittedWriteIsPublishedOnceAndARefusedOneNever) {
     TempDb t;
-    SqliteStore repo(t.path());
+    SqlStore repo(t.path());
     std::vector<locus::store::Change> seen;
     const auto token = repo.subscribe([&](const locus::store::Change& c) { seen.push_back(c); });
     const auto c = make_chain(repo);

@@ -4,12 +4,12 @@
 
 #include <filesystem>
 
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 using locus::store::Fields;
 using locus::store::kind;
 using locus::store::RowWrite;
-using locus::store::SqliteStore;
+using locus::store::SqlStore;
 
 namespace {
 struct TempDb {
@@ -22,7 +22,7 @@ struct TempDb {
     std::string path() const { return (dir / "t.db").string(); }
 };
 
-std::int64_t make_floor(SqliteStore& s) {
+std::int64_t make_floor(SqlStore& s) {
     const auto map = s.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
     const auto building = s.create(kind("buildings"), map, {{"name", "B"}}).id;
     return s.create(kind("floors"), building, {{"name", "F"}, {"level", 0}, {"width", 20.0}, {"height", 10.0}}).id;
@@ -35,7 +35,7 @@ Fields tx(const std::string& bssid, double x) {
 
 TEST(StoreWriteRows, CreatesAndUpdatesInOrderAndPublishesEach) {
     TempDb t;
-    SqliteStore s(t.path());
+    SqlStore s(t.path());
     const auto floor = make_floor(s);
     const auto a = s.create(kind("transmitters"), floor, tx("aa:00:00:00:00:01", 1.0)).id;
     int published = 0;
@@ -53,7 +53,7 @@ TEST(StoreWriteRows, CreatesAndUpdatesInOrderAndPublishesEach) {
 
 TEST(StoreWriteRows, ARefusedRowMidwayLeavesEveryRowAsItWas) {
     TempDb t;
-    SqliteStore s(t.path());
+    SqlStore s(t.path());
     const auto floor = make_floor(s);
     const auto a = s.create(kind("transmitters"), floor, tx("aa:00:00:00:00:01", 1.0)).id;
     s.create(kind("transmitters"), floor, tx("aa:00:00:00:00:09", 2.0));

@@ -6,12 +6,12 @@
 #include <filesystem>
 
 #include "http/transmitter_cache.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 using locus::http::TransmitterCache;
 using locus::store::Fields;
 using locus::store::kind;
-using locus::store::SqliteStore;
+using locus::store::SqlStore;
 
 namespace {
 struct TempDb {
@@ -31,7 +31,7 @@ Fields tx(const std::string& bssid, double x) {
 
 TEST(TransmitterCache, ReadsAFloorOnceAndFollowsEveryChange) {
     TempDb t;
-    SqliteStore s(t.path());
+    SqlStore s(t.path());
     const auto map = s.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
     const auto building = s.create(kind("buildings"), map, {{"name", "B"}}).id;
     const auto floor = s.create(kind("floors"), building, {{"name", "F"}, {"level", 0}, {"width", 20.0}, {"height", 10.0}}).id;

@@ -35,7 +35,7 @@ void run(const Args& a) {
         if (const auto diff = first_difference(from, to); !diff.empty())
             throw CommandError("the copy differs from the source: " + diff);
         std::cout << "migrated " << rows << " rows from " << from.path() << " to " << to.path() << "; every table compares equal\n";
-    } catch (const SqliteError& e) {
+    } catch (const DbError& e) {
         throw CommandError(e.what());
     }
 }

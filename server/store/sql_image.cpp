@@ -1,6 +1,6 @@
 // A floor's plan image in SQLite (schema/006_floor_images.sql): one row per floor, the bytes
 // a BLOB beside their metadata. No Change is published: no index or cache reads images.
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace locus::store {
 
@@ -23,14 +23,14 @@ FloorImage image_row(const Stmt& s) {
 }
 }  // namespace
 
-std::optional<FloorImage> SqliteStore::read_image(std::int64_t floor_id) {
+std::optional<FloorImage> SqlStore::read_image(std::int64_t floor_id) {
     Stmt s(db_, std::string("SELECT ") + kColumns + " FROM floor_images WHERE floor_id = ?");
     s.bind(1, floor_id);
     if (!s.step()) return std::nullopt;
     return image_row(s);
 }
 
-std::optional<FloorImage> SqliteStore::image_of_floor(std::int64_t floor_id) {
+std::optional<FloorImage> SqlStore::image_of_floor(std::int64_t floor_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("floors"), floor_id);
@@ -39,7 +39,7 @@ std::optional<FloorImage> SqliteStore::image_of_floor(std::int64_t floor_id) {
     return out;
 }
 
-std::optional<std::pair<FloorImage, std::string>> SqliteStore::image_with_bytes(std::int64_t floor_id) {
+std::optional<std::pair<FloorImage, std::string>> SqlStore::image_with_bytes(std::int64_t floor_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("floors"), floor_id);
@@ -51,7 +51,7 @@ std::optional<std::pair<FloorImage, std::string>> SqliteStore::image_with_bytes(
     return out;
 }
 
-std::pair<FloorImage, bool> SqliteStore::put_image(const FloorImage& image, std::string_view bytes) {
+std::pair<FloorImage, bool> SqlStore::put_image(const FloorImage& image, std::string_view bytes) {
     return write([&](std::vector<Change>&) {
         require_exists(kind("floors"), image.floor_id);
         const bool fresh = !read_image(image.floor_id);
@@ -71,7 +71,7 @@ std::pair<FloorImage, bool> SqliteStore::put_image(const FloorImage& image, std:
     });
 }
 
-FloorImage SqliteStore::change_placement(std::int64_t floor_id, const PlacementChange& change) {
+FloorImage SqlStore::change_placement(std::int64_t floor_id, const PlacementChange& change) {
     return write([&](std::vector<Change>&) {
         require_exists(kind("floors"), floor_id);
         const auto image = read_image(floor_id);
@@ -86,7 +86,7 @@ FloorImage SqliteStore::change_placement(std::int64_t floor_id, const PlacementC
     });
 }
 
-void SqliteStore::remove_image(std::int64_t floor_id) {
+void SqlStore::remove_image(std::int64_t floor_id) {
     write([&](std::vector<Change>&) {
         require_exists(kind("floors"), floor_id);
         Stmt s(db_, "DELETE FROM floor_images WHERE floor_id = ?");

@@ -1,4 +1,4 @@
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 #include <map>
 #include <tuple>
@@ -33,7 +33,7 @@ template <typename F>
 auto translate_constraints(const Kind& k, F&& body) {
     try {
         return body();
-    } catch (const SqliteError& e) {
+    } catch (const DbError& e) {
         if (e.is_unique())
             throw Conflict("a " + std::string(k.singular) + " with that name already exists here");
         throw;
@@ -42,16 +42,16 @@ auto translate_constraints(const Kind& k, F&& body) {
 
 }  // namespace
 
-SqliteStore::SqliteStore(const std::string& path) : db_(path) {
+SqlStore::SqlStore(const std::string& path) : db_(path) {
     try {
         migrate(db_);
-    } catch (const SqliteError& e) {
-        throw SqliteError(e.code, "database '" + db_.path() + "': " + e.what(), db_.path());
+    } catch (const DbError& e) {
+        throw DbError(e.code, "database '" + db_.path() + "': " + e.what(), db_.path());
     }
     if (db_.is_postgres()) pg_start_watching();
 }
 
-void SqliteStore::probe_write() {
+void SqlStore::probe_write() {
     std::lock_guard lock(mu_);
     Transaction tx(db_);
     Stmt s(db_, "INSERT INTO ready_probe (id, writes) VALUES (1, 1) ON CONFLICT (id) DO UPDATE SET writes = ready_probe.writes + 1");
@@ -59,7 +59,7 @@ void SqliteStore::probe_write() {
     tx.commit();
 }
 
-Record SqliteStore::row(const Kind& k, Stmt& s) {
+Record SqlStore::row(const Kind& k, Stmt& s) {
     Record r;
     r.id = s.int64(0);
     int col = 1;
@@ -80,7 +80,7 @@ Record SqliteStore::row(const Kind& k, Stmt& s) {
     return r;
 }
 
-std::vector<Rect> SqliteStore::rects_of(std::int64_t room_id) {
+std::vector<Rect> SqlStore::rects_of(std::int64_t room_id) {
     Stmt s(db_, "SELECT xmin, ymin, xmax, ymax FROM room_rects WHERE room_id = ? ORDER BY id");
     s.bind(1, room_id);
     std::vector<Rect> out;
@@ -88,7 +88,7 @@ std::vector<Rect> SqliteStore::rects_of(std::int64_t room_id) {
     return out;
 }
 
-void SqliteStore::replace_rects(std::int64_t room_id, const std::vector<Rect>& rects) {
+void SqlStore::replace_rects(std::int64_t room_id, const std::vector<Rect>& rects) {
     Stmt del(db_, "DELETE FROM room_rects WHERE room_id = ?");
     del.bind(1, room_id).run();
     Stmt ins(db_, "INSERT INTO room_rects (room_id, xmin, ymin, xmax, ymax) VALUES (?, ?, ?, ?, ?)");
@@ -98,20 +98,20 @@ void SqliteStore::replace_rects(std::int64_t room_id, const std::vector<Rect>& r
     }
 }
 
-void SqliteStore::require_exists(const Kind& k, std::int64_t id) {
+void SqlStore::require_exists(const Kind& k, std::int64_t id) {
     Stmt s(db_, "SELECT 1 FROM " + std::string(k.name) + " WHERE id = ?");
     s.bind(1, id);
     if (!s.step()) throw NotFound(std::string(k.singular) + " " + std::to_string(id) + " not found");
 }
 
-Record SqliteStore::get_locked(const Kind& k, std::int64_t id) {
+Record SqlStore::get_locked(const Kind& k, std::int64_t id) {
     Stmt s(db_, "SELECT " + column_list(k) + " FROM " + std::string(k.name) + " WHERE id = ?");
     s.bind(1, id);
     if (!s.step()) throw NotFound(std::string(k.singular) + " " + std::to_string(id) + " not found");
     return row(k, s);
 }
 
-std::optional<std::int64_t> SqliteStore::map_of_radiomap_locked(std::int64_t radiomap_id) {
+std::optional<std::int64_t> SqlStore::map_of_radiomap_locked(std::int64_t radiomap_id) {
     Stmt s(db_, "SELECT b.map_id FROM radiomaps rm JOIN floors f ON f.id = rm.floor_id "
                 "JOIN buildings b ON b.id = f.building_id WHERE rm.id = ?");
     s.bind(1, radiomap_id);
@@ -119,7 +119,7 @@ std::optional<std::int64_t> SqliteStore::map_of_radiomap_locked(std::int64_t rad
     return s.int64(0);
 }
 
-Change SqliteStore::change_of(const Kind& k, std::int64_t id, bool deleted) {
+Change SqlStore::change_of(const Kind& k, std::int64_t id, bool deleted) {
     Change c{&k, id, deleted, false, std::nullopt, std::nullopt};
     if (k.name == "rps") {
         Stmt s(db_, "SELECT radiomap_id FROM rps WHERE id = ?");
@@ -133,7 +133,7 @@ Change SqliteStore::change_of(const Kind& k, std::int64_t id, bool deleted) {
     return c;
 }
 
-std::int64_t SqliteStore::insert_row(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
+std::int64_t SqlStore::insert_row(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
     if (!k.parent_column.empty()) require_exists(kind(k.parent_kind), parent_id.value());
     std::string cols, marks;
     std::vector<const Value*> bound;
@@ -165,7 +165,7 @@ std::int64_t SqliteStore::insert_row(const Kind& k, std::optional<std::int64_t> 
     return id;
 }
 
-Record SqliteStore::create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
+Record SqlStore::create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) {
     return write([&](std::vector<Change>& changes) {
         const std::int64_t id = insert_row(k, parent_id, values);
         changes.push_back(change_of(k, id, false));
@@ -173,12 +173,12 @@ Record SqliteStore::create(const Kind& k, std::optional<std::int64_t> parent_id,
     });
 }
 
-Record SqliteStore::get(const Kind& k, std::int64_t id) {
+Record SqlStore::get(const Kind& k, std::int64_t id) {
     std::lock_guard lock(mu_);
     return get_locked(k, id);
 }
 
-RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_id, std::int64_t limit,
+RecordPage SqlStore::list(const Kind& k, std::optional<std::int64_t> parent_id, std::int64_t limit,
                              std::int64_t offset) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);  // count and page from one snapshot
@@ -204,7 +204,7 @@ RecordPage SqliteStore::list(const Kind& k, std::optional<std::int64_t> parent_i
     return page;
 }
 
-void SqliteStore::update_row(const Kind& k, std::int64_t id, const Fields& values) {
+void SqlStore::update_row(const Kind& k, std::int64_t id, const Fields& values) {
     require_exists(k, id);
     refuse_if_kept(k, id);
     std::string sets;
@@ -229,7 +229,7 @@ void SqliteStore::update_row(const Kind& k, std::int64_t id, const Fields& value
     if (k.has_rects && values.rects) replace_rects(id, *values.rects);
 }
 
-Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values) {
+Record SqlStore::update(const Kind& k, std::int64_t id, const Fields& values) {
     return write([&](std::vector<Change>& changes) {
         update_row(k, id, values);
         changes.push_back(change_of(k, id, false));
@@ -237,7 +237,7 @@ Record SqliteStore::update(const Kind& k, std::int64_t id, const Fields& values)
     });
 }
 
-std::vector<Record> SqliteStore::write_rows(const Kind& k, std::optional<std::int64_t> parent_id,
+std::vector<Record> SqlStore::write_rows(const Kind& k, std::optional<std::int64_t> parent_id,
                                             const std::vector<RowWrite>& rows) {
     return write([&](std::vector<Change>& changes) {
         std::vector<std::int64_t> ids;
@@ -256,7 +256,7 @@ std::vector<Record> SqliteStore::write_rows(const Kind& k, std::optional<std::in
     });
 }
 
-void SqliteStore::remove(const Kind& k, std::int64_t id) {
+void SqlStore::remove(const Kind& k, std::int64_t id) {
     write([&](std::vector<Change>& changes) {
         require_exists(k, id);
         refuse_if_kept(k, id);
@@ -266,7 +266,7 @@ void SqliteStore::remove(const Kind& k, std::int64_t id) {
     });
 }
 
-std::vector<Measurement> SqliteStore::measurements_of(std::int64_t rp_id) {
+std::vector<Measurement> SqlStore::measurements_of(std::int64_t rp_id) {
     Stmt s(db_,
            "SELECT type, bssid, mean, variance, count FROM measurements WHERE rp_id = ? ORDER BY type, bssid");
     s.bind(1, rp_id);
@@ -275,7 +275,7 @@ std::vector<Measurement> SqliteStore::measurements_of(std::int64_t rp_id) {
     return out;
 }
 
-RpRecord SqliteStore::rp_with_measurements(std::int64_t rp_id) {
+RpRecord SqlStore::rp_with_measurements(std::int64_t rp_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     RpRecord out{get_locked(kind("rps"), rp_id), measurements_of(rp_id)};
@@ -283,7 +283,7 @@ RpRecord SqliteStore::rp_with_measurements(std::int64_t rp_id) {
     return out;
 }
 
-void SqliteStore::merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans) {
+void SqlStore::merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans) {
     Stmt sel(db_, "SELECT mean, variance, count FROM measurements WHERE rp_id = ? AND type = ? AND bssid = ?");
     Stmt put(db_,
              "INSERT INTO measurements (rp_id, type, bssid, mean, variance, count) VALUES (?, ?, ?, ?, ?, ?) "
@@ -309,7 +309,7 @@ void SqliteStore::merge_measurements(std::int64_t rp_id, const std::vector<Measu
     upd.bind(1, scans).bind(2, rp_id).run();
 }
 
-UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch) {
+UploadResult SqlStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch) {
     return write([&](std::vector<Change>& changes) {
         UploadResult result;
         require_exists(kind("rps"), rp_id);
@@ -331,7 +331,7 @@ UploadResult SqliteStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch
     });
 }
 
-RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
+RadioMapExport SqlStore::export_radiomap(std::int64_t radiomap_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     RadioMapExport out{get_locked(kind("radiomaps"), radiomap_id), {}, {}};
@@ -346,13 +346,13 @@ RadioMapExport SqliteStore::export_radiomap(std::int64_t radiomap_id) {
     return out;
 }
 
-std::int64_t SqliteStore::insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements) {
+std::int64_t SqlStore::insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements) {
     const std::int64_t rm_id = insert_row(kind("radiomaps"), floor_id, doc.fields);
     insert_rps(rm_id, doc.rps, measurements);
     return rm_id;
 }
 
-void SqliteStore::insert_rps(std::int64_t rm_id, const std::vector<RpDocument>& rps, std::int64_t* measurements) {
+void SqlStore::insert_rps(std::int64_t rm_id, const std::vector<RpDocument>& rps, std::int64_t* measurements) {
     for (const auto& rp : rps) {
         Fields f;
         f.values = {{"name", rp.name}, {"x", rp.at.x}, {"y", rp.at.y}};
@@ -366,7 +366,7 @@ void SqliteStore::insert_rps(std::int64_t rm_id, const std::vector<RpDocument>& 
     }
 }
 
-ImportedRadioMap SqliteStore::add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) {
+ImportedRadioMap SqlStore::add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) {
     return write([&](std::vector<Change>& changes) {
         ImportedRadioMap out;
         require_exists(kind("radiomaps"), radiomap_id);
@@ -378,7 +378,7 @@ ImportedRadioMap SqliteStore::add_rps(std::int64_t radiomap_id, const std::vecto
     });
 }
 
-std::pair<std::int64_t, std::int64_t> SqliteStore::insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
+std::pair<std::int64_t, std::int64_t> SqlStore::insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
                                                                        std::vector<Change>& changes) {
     const Kind& tk = kind("transmitters");
     Stmt has(db_, "SELECT 1 FROM transmitters WHERE floor_id = ? AND type = ? AND bssid = ?");
@@ -396,7 +396,7 @@ std::pair<std::int64_t, std::int64_t> SqliteStore::insert_transmitters(std::int6
     return {created, kept};
 }
 
-ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) {
+ImportedRadioMap SqlStore::import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) {
     return write([&](std::vector<Change>& changes) {
         ImportedRadioMap out;
         const std::int64_t rm_id = insert_radiomap(floor_id, doc, &out.measurement_count);
@@ -408,7 +408,7 @@ ImportedRadioMap SqliteStore::import_radiomap(std::int64_t floor_id, const Radio
     });
 }
 
-Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
+Record SqlStore::import_map_bundle(const MapBundle& bundle) {
     return write([&](std::vector<Change>& changes) {
         const std::int64_t map_id = insert_row(kind("maps"), std::nullopt, bundle.fields);
         for (const auto& b : bundle.buildings) {
@@ -428,14 +428,14 @@ Record SqliteStore::import_map_bundle(const MapBundle& bundle) {
     });
 }
 
-bool SqliteStore::has_maps() {
+bool SqlStore::has_maps() {
     std::lock_guard lock(mu_);
     Stmt s(db_, "SELECT EXISTS (SELECT 1 FROM maps)");
     s.step();
     return s.int64(0) != 0;
 }
 
-std::vector<StoredRp> SqliteStore::load_rps(std::string_view where, std::int64_t id) {
+std::vector<StoredRp> SqlStore::load_rps(std::string_view where, std::int64_t id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     const std::string from =
@@ -472,10 +472,10 @@ std::vector<StoredRp> SqliteStore::load_rps(std::string_view where, std::int64_t
     return out;
 }
 
-std::vector<StoredRp> SqliteStore::rps_of_radiomap(std::int64_t radiomap_id) { return load_rps("rm.id", radiomap_id); }
-std::vector<StoredRp> SqliteStore::rps_of_map(std::int64_t map_id) { return load_rps("b.map_id", map_id); }
+std::vector<StoredRp> SqlStore::rps_of_radiomap(std::int64_t radiomap_id) { return load_rps("rm.id", radiomap_id); }
+std::vector<StoredRp> SqlStore::rps_of_map(std::int64_t map_id) { return load_rps("b.map_id", map_id); }
 
-std::vector<Room> SqliteStore::rooms_of_floor(std::int64_t floor_id) {
+std::vector<Room> SqlStore::rooms_of_floor(std::int64_t floor_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     std::vector<Room> rooms;
@@ -492,13 +492,13 @@ std::vector<Room> SqliteStore::rooms_of_floor(std::int64_t floor_id) {
     return rooms;
 }
 
-std::int64_t SqliteStore::map_of_radiomap(std::int64_t radiomap_id) {
+std::int64_t SqlStore::map_of_radiomap(std::int64_t radiomap_id) {
     std::lock_guard lock(mu_);
     if (auto map = map_of_radiomap_locked(radiomap_id)) return *map;
     throw NotFound("radiomap " + std::to_string(radiomap_id) + " not found");
 }
 
-std::vector<std::int64_t> SqliteStore::radiomap_ids() {
+std::vector<std::int64_t> SqlStore::radiomap_ids() {
     std::lock_guard lock(mu_);
     Stmt s(db_, "SELECT id FROM radiomaps ORDER BY id");
     std::vector<std::int64_t> ids;

@@ -2,11 +2,11 @@
 // their rectangles, POIs) and each floor's plan, so the index never mixes two versions.
 #include <map>
 
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace locus::store {
 
-std::vector<FloorDirectory> SqliteStore::directory_of_map(std::int64_t map_id) {
+std::vector<FloorDirectory> SqlStore::directory_of_map(std::int64_t map_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("maps"), map_id);

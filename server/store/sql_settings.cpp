@@ -1,5 +1,5 @@
 // A radio map's stored matcher settings (schema/007_radiomap_settings.sql).
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace locus::store {
 
@@ -12,7 +12,7 @@ std::optional<RadiomapSettings> read_settings(Db& db, std::int64_t radiomap_id) 
 }
 }  // namespace
 
-std::optional<RadiomapSettings> SqliteStore::settings_of_radiomap(std::int64_t radiomap_id) {
+std::optional<RadiomapSettings> SqlStore::settings_of_radiomap(std::int64_t radiomap_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("radiomaps"), radiomap_id);
@@ -21,7 +21,7 @@ std::optional<RadiomapSettings> SqliteStore::settings_of_radiomap(std::int64_t r
     return out;
 }
 
-RadiomapSettings SqliteStore::put_radiomap_settings(std::int64_t radiomap_id, const RadiomapSettings& settings) {
+RadiomapSettings SqlStore::put_radiomap_settings(std::int64_t radiomap_id, const RadiomapSettings& settings) {
     return write([&](std::vector<Change>& changes) {
         require_exists(kind("radiomaps"), radiomap_id);
         Stmt s(db_,

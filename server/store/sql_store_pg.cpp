@@ -1,10 +1,10 @@
-// SqliteStore's PostgreSQL-only parts: the constructor's change watcher, the write lock and
+// SqlStore's PostgreSQL-only parts: the constructor's change watcher, the write lock and
 // the change announcement (pg_changes.hpp).
 #include <unistd.h>
 
 #include <random>
 
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace locus::store {
 
@@ -15,18 +15,18 @@ std::string new_origin() {
 }
 }  // namespace
 
-void SqliteStore::pg_start_watching() {
+void SqlStore::pg_start_watching() {
     origin_ = new_origin();
     // Other servers' changes reach this server's subscribers as its own writes do.
     watcher_ = std::make_unique<ChangeWatcher>(db_.url(), origin_, [this](const std::vector<Change>& c) { publish(c); });
 }
 
-void SqliteStore::pg_begin_write() {
+void SqlStore::pg_begin_write() {
     // Any constant (not migrate's): every server's writes queue on it until their commit.
     db_.exec("SELECT pg_advisory_xact_lock(7343468)");
 }
 
-void SqliteStore::pg_announce(const std::vector<Change>& changes) {
+void SqlStore::pg_announce(const std::vector<Change>& changes) {
     Stmt bump(db_, "UPDATE change_counter SET version = version + 1 WHERE id = 1 RETURNING version");
     bump.step();
     const std::int64_t version = bump.int64(0);
@@ -35,8 +35,8 @@ void SqliteStore::pg_announce(const std::vector<Change>& changes) {
 }
 
 std::unique_ptr<Store> open(const std::string& url) {
-    if (url.starts_with("sqlite:")) return std::make_unique<SqliteStore>(url.substr(7));
-    return std::make_unique<SqliteStore>(url);
+    if (url.starts_with("sqlite:")) return std::make_unique<SqlStore>(url.substr(7));
+    return std::make_unique<SqlStore>(url);
 }
 
 }  // namespace locus::store

@@ -4,7 +4,7 @@
 #include <map>
 #include <utility>
 
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace locus::store {
 
@@ -23,7 +23,7 @@ struct FeatureRow {
 
 }  // namespace
 
-void SqliteStore::write_plan_features(std::int64_t floor_id, const plan::Plan& p) {
+void SqlStore::write_plan_features(std::int64_t floor_id, const plan::Plan& p) {
     Stmt feature(db_,
                  "INSERT INTO plan_features (floor_id, feature, seq, name, kind, ident, room_id, step_free, "
                  "seconds_per_level, poi_id) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
@@ -83,7 +83,7 @@ void SqliteStore::write_plan_features(std::int64_t floor_id, const plan::Plan& p
     }
 }
 
-std::optional<StoredPlan> SqliteStore::read_plan(std::int64_t floor_id) {
+std::optional<StoredPlan> SqlStore::read_plan(std::int64_t floor_id) {
     Stmt head(db_, "SELECT version, updated_at FROM floor_plans WHERE floor_id = ?");
     head.bind(1, floor_id);
     if (!head.step()) return std::nullopt;
@@ -172,7 +172,7 @@ std::optional<StoredPlan> SqliteStore::read_plan(std::int64_t floor_id) {
     return out;
 }
 
-std::optional<StoredPlan> SqliteStore::plan_of_floor(std::int64_t floor_id) {
+std::optional<StoredPlan> SqlStore::plan_of_floor(std::int64_t floor_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);
     require_exists(kind("floors"), floor_id);
@@ -181,7 +181,7 @@ std::optional<StoredPlan> SqliteStore::plan_of_floor(std::int64_t floor_id) {
     return out;
 }
 
-StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& given, const PlanCheck& check) {
+StoredPlan SqlStore::put_plan(std::int64_t floor_id, const plan::Plan& given, const PlanCheck& check) {
     return write([&](std::vector<Change>& changes) {
         plan::Plan plan = given;
         require_exists(kind("floors"), floor_id);
@@ -213,7 +213,7 @@ StoredPlan SqliteStore::put_plan(std::int64_t floor_id, const plan::Plan& given,
     });
 }
 
-std::vector<FloorWithPlan> SqliteStore::plans_of_map(std::int64_t map_id) {
+std::vector<FloorWithPlan> SqlStore::plans_of_map(std::int64_t map_id) {
     std::lock_guard lock(mu_);
     Transaction tx(db_, Transaction::Mode::read);  // every floor's plan from one snapshot
     require_exists(kind("maps"), map_id);
@@ -227,7 +227,7 @@ std::vector<FloorWithPlan> SqliteStore::plans_of_map(std::int64_t map_id) {
     return out;
 }
 
-void SqliteStore::remove_plan(std::int64_t floor_id) {
+void SqlStore::remove_plan(std::int64_t floor_id) {
     write([&](std::vector<Change>& changes) {
         require_exists(kind("floors"), floor_id);
         Stmt s(db_, "DELETE FROM floor_plans WHERE floor_id = ?");

@@ -1,4 +1,4 @@
-#include "store/sqlite.hpp"
+#include "store/db.hpp"
 
 #include <libpq-fe.h>
 
@@ -18,8 +18,8 @@ struct Close {
 
 // An error from the connection: SQLite's message after `context`; a storage fault also carries
 // the database file, so that the log can say which file is full, read-only or corrupt.
-SqliteError error_from(sqlite3* db, int code, std::string_view context, const std::string& message) {
-    SqliteError e(code, std::string(context) + message);
+DbError error_from(sqlite3* db, int code, std::string_view context, const std::string& message) {
+    DbError e(code, std::string(context) + message);
     if (!e.is_storage_fault()) return e;
     const char* file = sqlite3_db_filename(db, "main");
     e.file = file ? file : "";
@@ -40,7 +40,7 @@ Db::Db(const std::string& path) : path_(path), url_(path) {
     // not to be a database used to leak its handle.
     std::unique_ptr<sqlite3, Close> handle(raw);
     if (rc != SQLITE_OK)
-        throw SqliteError(rc, "cannot open database '" + path + "': " + (raw ? sqlite3_errmsg(raw) : "out of memory"), path);
+        throw DbError(rc, "cannot open database '" + path + "': " + (raw ? sqlite3_errmsg(raw) : "out of memory"), path);
     sqlite3_extended_result_codes(raw, 1);
     sqlite3_busy_timeout(raw, 5000);
     // WAL + synchronous=NORMAL survives a process kill; FULL would also survive power loss
@@ -51,7 +51,7 @@ Db::Db(const std::string& path) : path_(path), url_(path) {
                      nullptr, &err) != SQLITE_OK) {
         const std::string msg = err ? err : sqlite3_errmsg(raw);
         sqlite3_free(err);
-        throw SqliteError(sqlite3_extended_errcode(raw), "cannot open database '" + path + "': " + msg, path);
+        throw DbError(sqlite3_extended_errcode(raw), "cannot open database '" + path + "': " + msg, path);
     }
     db_ = handle.release();
 }
@@ -65,7 +65,7 @@ void Db::pg_ensure_connected() {
     if (PQstatus(pg_) == CONNECTION_OK) return;
     PQreset(pg_);
     if (PQstatus(pg_) != CONNECTION_OK)
-        throw SqliteError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable: " + PQerrorMessage(pg_), path_);
+        throw DbError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable: " + PQerrorMessage(pg_), path_);
 }
 
 void Db::fail(int rc, std::string_view context) const {

@@ -17,15 +17,15 @@
 #include <vector>
 
 #include "store/pg_changes.hpp"
-#include "store/sqlite.hpp"
+#include "store/db.hpp"
 #include "store/store.hpp"
 
 namespace locus::store {
 
-class SqliteStore final : public Store {
+class SqlStore final : public Store {
 public:
     // Opens (creating if missing) and migrates the database file.
-    explicit SqliteStore(const std::string& path);
+    explicit SqlStore(const std::string& path);
 
     const std::string& location() const override { return db_.path(); }
     const std::string& connection() const override { return db_.url(); }
@@ -53,7 +53,7 @@ public:
     StoredPlan put_plan(std::int64_t floor_id, const plan::Plan& plan, const PlanCheck& check) override;
     void remove_plan(std::int64_t floor_id) override;
     std::vector<FloorWithPlan> plans_of_map(std::int64_t map_id) override;
-    std::vector<FloorDirectory> directory_of_map(std::int64_t map_id) override;  // sqlite_directory.cpp
+    std::vector<FloorDirectory> directory_of_map(std::int64_t map_id) override;  // sql_directory.cpp
 
     std::optional<FloorImage> image_of_floor(std::int64_t floor_id) override;
     std::optional<std::pair<FloorImage, std::string>> image_with_bytes(std::int64_t floor_id) override;
@@ -61,7 +61,7 @@ public:
     FloorImage change_placement(std::int64_t floor_id, const PlacementChange& change) override;
     void remove_image(std::int64_t floor_id) override;
 
-    std::optional<RadiomapSettings> settings_of_radiomap(std::int64_t radiomap_id) override;  // sqlite_settings.cpp
+    std::optional<RadiomapSettings> settings_of_radiomap(std::int64_t radiomap_id) override;  // sql_settings.cpp
     RadiomapSettings put_radiomap_settings(std::int64_t radiomap_id, const RadiomapSettings& settings) override;
     std::vector<StoredRp> rps_of_radiomap(std::int64_t radiomap_id) override;
     std::vector<StoredRp> rps_of_map(std::int64_t map_id) override;
@@ -90,21 +90,21 @@ private:
     std::vector<Measurement> measurements_of(std::int64_t rp_id);
     std::vector<StoredRp> load_rps(std::string_view where, std::int64_t id);
     std::optional<std::int64_t> map_of_radiomap_locked(std::int64_t radiomap_id);
-    // sqlite_plan.cpp: a plan's rows, read and written inside a caller's transaction.
+    // sql_plan.cpp: a plan's rows, read and written inside a caller's transaction.
     std::optional<StoredPlan> read_plan(std::int64_t floor_id);
     void write_plan_features(std::int64_t floor_id, const plan::Plan& plan);
-    // sqlite_plan_keep.cpp: inside put_plan's transaction, sets every room_id and poi_id of
+    // sql_plan_keep.cpp: inside put_plan's transaction, sets every room_id and poi_id of
     // `plan` and writes the rooms and POIs to match (Store::put_plan).
     void keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes);
     void keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes);
     // Throws KeptByPlan when a room or POI is kept by a plan (no-op for other kinds).
     void refuse_if_kept(const Kind& k, std::int64_t id);
-    // sqlite_image.cpp: the metadata row, inside a caller's transaction.
+    // sql_image.cpp: the metadata row, inside a caller's transaction.
     std::optional<FloorImage> read_image(std::int64_t floor_id);
     // Where a row of `k` sits, for its Change (documents.hpp).
     Change change_of(const Kind& k, std::int64_t id, bool deleted);
 
-    // PostgreSQL only (sqlite_store_pg.cpp): the write lock, and the change announcement.
+    // PostgreSQL only (sql_store_pg.cpp): the write lock, and the change announcement.
     void pg_start_watching();
     void pg_begin_write();
     void pg_announce(const std::vector<Change>& changes);
@@ -116,7 +116,7 @@ private:
 };
 
 template <typename Body>
-auto SqliteStore::write(Body&& body) {
+auto SqlStore::write(Body&& body) {
     std::vector<Change> changes;
     if constexpr (std::is_void_v<decltype(body(changes))>) {
         {

@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "locus/plan/rects.hpp"
-#include "store/sqlite_store.hpp"
+#include "store/sql_store.hpp"
 
 namespace locus::store {
 
@@ -85,7 +85,7 @@ void assign(std::vector<Keeper>& keepers, const std::map<std::int64_t, Existing>
 
 }  // namespace
 
-void SqliteStore::keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes) {
+void SqlStore::keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes) {
     const Kind& rooms = kind("rooms");
     std::map<std::int64_t, Existing> existing;
     {
@@ -197,7 +197,7 @@ void SqliteStore::keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vecto
         plan.spaces[i].room_id = group_of_space[i] == SIZE_MAX ? std::nullopt : keepers[group_of_space[i]].id;
 }
 
-void SqliteStore::keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes) {
+void SqlStore::keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector<Change>& changes) {
     const Kind& pois = kind("pois");
     struct Poi {
         std::string kind;
@@ -285,7 +285,7 @@ void SqliteStore::keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector
     for (std::size_t i = 0; i < plan.connectors.size(); ++i) plan.connectors[i].poi_id = keepers[i].id;
 }
 
-void SqliteStore::refuse_if_kept(const Kind& k, std::int64_t id) {
+void SqlStore::refuse_if_kept(const Kind& k, std::int64_t id) {
     const bool room = k.name == "rooms";
     if (!room && k.name != "pois") return;
     Stmt s(db_, room ? "SELECT floor_id, feature, name, ident FROM plan_features WHERE room_id = ? ORDER BY seq LIMIT 1"

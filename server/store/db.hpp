@@ -3,7 +3,7 @@
 // is SQLite (its C API); a postgresql:// URL opens PostgreSQL over libpq instead (db_pg.cpp),
 // behind the same calls: the store's SQL is written once, in the common subset of both
 // dialects, and pg_sql.hpp rewrites the few SQLite spellings it uses. PostgreSQL's errors are
-// reported as SqliteError with the SQLite code of the same meaning (a unique violation is
+// reported as DbError with the SQLite code of the same meaning (a unique violation is
 // SQLITE_CONSTRAINT_UNIQUE, a lost connection SQLITE_IOERR), so the callers' handling holds.
 #include <sqlite3.h>
 
@@ -22,10 +22,10 @@ struct pg_result;
 
 namespace locus::store {
 
-struct SqliteError : std::runtime_error {
+struct DbError : std::runtime_error {
     int code;
     std::string file;  // the database file, when the error is about it (empty otherwise)
-    SqliteError(int c, const std::string& what, std::string db_file = {})
+    DbError(int c, const std::string& what, std::string db_file = {})
         : std::runtime_error(what), code(c), file(std::move(db_file)) {}
     bool is_constraint() const { return (code & 0xff) == SQLITE_CONSTRAINT; }
     bool is_unique() const { return code == SQLITE_CONSTRAINT_UNIQUE || code == SQLITE_CONSTRAINT_PRIMARYKEY; }
@@ -104,7 +104,7 @@ private:
 
 class Db {
 public:
-    // Opens (creating) the file and sets WAL; throws SqliteError naming the path when the file
+    // Opens (creating) the file and sets WAL; throws DbError naming the path when the file
     // cannot be opened or is not a database. A postgresql:// URL connects to that server
     // instead (SQLITE_CANTOPEN naming the URL, without its password, when it cannot).
     explicit Db(const std::string& path);
