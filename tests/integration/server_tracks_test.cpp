@@ -689,6 +689,31 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
     EXPECT_NEAR(more["fused"][0]["x"].get<double>(), wf.position().x, 1e-9);
     EXPECT_NEAR(more["fused"][0]["y"].get<double>(), wf.position().y, 1e-9);
 
+    // A fix on another floor starts the filter again there, on that floor's plan, same seed.
+    using locus::testing::feature;
+    const std::int64_t upstairs = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
+                                                 {{"name", "First"}, {"level", 1}, {"width", 30.0}, {"height", 20.0}}),
+                                          201)["id"];
+    const json plan = {{"type", "FeatureCollection"},
+                       {"features", {feature("space", locus::testing::rect_polygon(0, 0, 20, 4), {{"name", "Corridor"}, {"kind", "corridor"}}),
+                                     feature("wall", locus::testing::line({{0, 4}, {20, 4}}))}}};
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(upstairs) + "/plan", plan).status, 200);
+    const json moved = body_of(call(s, "POST", p, {t.token},
+                                    json{{"fixes", {{{"t", t0 + 14}, {"floor_id", upstairs}, {"x", 3.0}, {"y", 2.0}, {"accuracy_m", 1.0}}}},
+                                         {"steps", {{{"t", t0 + 15}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}
+                                        .dump()));
+    ASSERT_EQ(moved["fused"].size(), 2u);
+    const json stored = body_of(s.get("/v1/floors/" + std::to_string(upstairs) + "/plan"));
+    locus::fusion::WalkFilter up(locus::fusion::Walkable::from_plan(locus::plan::from_geojson({{"type", "FeatureCollection"}, {"features", stored["features"]}})),
+                                 config);
+    up.fix({3.0, 2.0}, Eigen::Matrix2d::Identity());
+    EXPECT_NEAR(moved["fused"][0]["x"].get<double>(), up.position().x, 1e-9);
+    up.step(0.7, 0.0);
+    EXPECT_NEAR(moved["fused"][1]["x"].get<double>(), up.position().x, 1e-9);
+    EXPECT_NEAR(moved["fused"][1]["y"].get<double>(), up.position().y, 1e-9);
+    EXPECT_NEAR(moved["fused"][1]["accuracy_m"].get<double>(), up.spread(), 1e-9);
+    EXPECT_EQ(moved["fused"][1]["floor_id"], upstairs);
+
     // The particle filter walks on a plan: on this floor it refuses, and stores nothing.
     const Track old = open_track(s, h.map, "old", "particle");
     const Response no_plan = call(s, "POST", path_of(old, "/steps"), {old.token},
