@@ -476,6 +476,8 @@ async function run() {
     await get(`/v1/maps/${UNKNOWN}/positions/events`, { auth: true, expect: 404 });
     await post('/v1/tracks', { map_id: UNKNOWN }, { auth: false, expect: 422 });
     await post('/v1/tracks', { map_id: map, colour: 'red' }, { auth: false, expect: 422, invalid: true });
+    await post('/v1/tracks', { map_id: map, fusion: 'particle' }, { auth: false, expect: 201 });
+    await post('/v1/tracks', { map_id: map, fusion: 'kalman' }, { auth: false, expect: 422, invalid: true });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, { auth: false, expect: 401 });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(tb, { expect: 403 }));
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(sb, { expect: 403 }));

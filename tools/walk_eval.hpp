@@ -49,27 +49,10 @@ inline fusion::RuleParams real_walk_rules() {
     return p;
 }
 
-// walk_pf on these walks: a larger step scale prior (the first walker's detected steps cover
-// about 60 % of the distance walked) and a wider fix likelihood (WiFi errors here are
-// spatially correlated, so one fix says less than its spread). Chosen on walks 1–5, seeds 1
-// and 2 (2.39 / 2.41 → 2.24 / 2.17 m there); `locus replay`'s simulated walks keep the defaults.
-// Fourth phase (walks 1–5, seeds 1–4): the estimate is the cloud's mode within 3 m, not its
-// mean (the fresh particles' random rotations pull a mean back along the corridor), and a fix
-// the cloud did not expect has up to 70 % of the particles re-drawn round it: 2.20 → 1.88 m
-// mean over the four seeds, walk 2 from 13 % worse than WiFi to 21 % better (docs/fusion.md).
-inline fusion::WalkFilterConfig real_walk_filter() {
-    fusion::WalkFilterConfig c;
-    c.scale_mean = 1.5;
-    c.fix_sigma_m = 2.6;
-    c.estimate_radius_m = 3.0;
-    c.reseed_max_fraction = 0.7;
-    return c;
-}
-
 struct Config {
     sim::EvalConfig methods = real_walk_methods();
     fusion::RuleParams tuned_rules = real_walk_rules();
-    fusion::WalkFilterConfig walk_filter = real_walk_filter();
+    fusion::WalkFilterConfig walk_filter = fusion::WalkFilterConfig::real_walks();  // how chosen: its comment
     bool smooth = false;  // also the offline (future-using) smoothers
     // pf_smoother's backward walk_pf: half the forward one's particles keeps the 12-walk run
     // with --smooth within 30 s (on walks 1–5: docs/fusion.md).

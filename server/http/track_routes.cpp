@@ -1,6 +1,6 @@
 // Live tracks (issue 17; the service is server/tracks/service.hpp):
 //
-//   POST   /v1/tracks                          {map_id, label?} -> 201 {id, token, ...}
+//   POST   /v1/tracks                          {map_id, label?, fusion?} -> 201 {id, token, ...}
 //   POST   /v1/tracks/{id}/fixes               {fixes: [{t, floor_id, x, y, accuracy_m, heading_deg?}]}
 //   POST   /v1/tracks/{id}/steps               {steps?: [{t, length_m, heading_deg}], fixes?, scans?: [{t, readings}]}
 //   POST   /v1/tracks/{id}/close
@@ -53,7 +53,8 @@ json track_json(const tracks::TrackInfo& t) {
               {"state", tracks::state_name(t.state)},
               {"created_at", t.created_at},
               {"last_fix_at", t.last_fix_at},
-              {"fixes", t.fixes}};
+              {"fixes", t.fixes},
+              {"fusion", tracks::fusion_method_name(t.fusion)}};
     if (t.latest) j["latest"] = fix_json(*t.latest);  // absent before the first fix
     if (t.ended_at) j["ended_at"] = *t.ended_at;
     return j;
@@ -228,14 +229,20 @@ void App::install_track_routes() {
     server_.Post("/v1/tracks", [&svc](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const json body = parse_object(req.body);
-            only_fields(body, {"map_id", "label"}, "");
+            only_fields(body, {"map_id", "label", "fusion"}, "");
             const auto m = body.find("map_id");
             if (m == body.end() || !m->is_number_integer() || m->get<std::int64_t>() <= 0)
                 throw invalid_field("'map_id' must be a positive integer id");
             const std::string label = optional_string(body, "label", "", 100).value_or("");
+            auto fusion = tracks::FusionMethod::walk_pf;
+            if (const auto f = body.find("fusion"); f != body.end()) {
+                const auto named = f->is_string() ? tracks::fusion_method_of(f->get<std::string>()) : std::nullopt;
+                if (!named) throw invalid_field("'fusion' must be \"walk_pf\" (the default) or \"particle\"");
+                fusion = *named;
+            }
             tracks::Opened o;
             try {
-                o = svc.open(m->get<std::int64_t>(), label);
+                o = svc.open(m->get<std::int64_t>(), label, fusion);
             } catch (const store::NotFound& e) {
                 throw invalid_field(std::string("'map_id': ") + e.what());
             }

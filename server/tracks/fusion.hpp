@@ -1,9 +1,13 @@
 #pragma once
 // Fusion for thin clients (a web page, a phone without client-lib): they post raw PDR steps
-// and radio fixes, and the server runs client-lib's particle filter (locus::fusion, the very
-// code a phone with the library runs, never a second copy) over the floor's plan and stores
-// the fused fixes on the track. One filter per track, restarted at a radio fix on another
-// floor (steps alone never change floor).
+// and radio fixes, and the server runs client-lib's filter (locus::fusion, the very code a
+// phone with the library runs, never a second copy) and stores the fused fixes on the track.
+// By default that is walk_pf (fusion::WalkFilter with the real-walk preset, the best causal
+// method on real walks: docs/fusion.md), which learns the compass's rotation, mirror and the
+// step scale and walks the floor's plan when it has one, freely when not; a track may ask for
+// the older fusion::ParticleFilter, which needs a plan. One filter per track, restarted at a
+// radio fix on another floor (steps alone never change floor), seeded with the track's id so
+// a track's fused fixes are reproducible.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -13,7 +17,9 @@
 #include <string>
 
 #include "locus/fusion/particle_filter.hpp"
+#include "locus/fusion/walk_filter.hpp"
 #include "tracks/fix.hpp"
+#include "tracks/fusion_method.hpp"
 
 namespace locus::tracks {
 
@@ -23,22 +29,27 @@ using RadioFix = Fix;
 // One track's filter.
 class ThinFusion {
 public:
-    explicit ThinFusion(fusion::ParticleConfig config = {}) : config_(config) {}
+    // seed: the filter's random seed (the track's id), the same at every restart.
+    explicit ThinFusion(FusionMethod method = FusionMethod::walk_pf, std::uint64_t seed = 1);
 
     // Runs the steps and radio fixes in time order (a radio fix before a step of equal t) and
     // answers one fused fix per input. `walkable_of` gives a floor's Walkable (nullptr when it
-    // has no plan: std::invalid_argument). Steps before any radio fix, with no filter yet,
-    // throw std::invalid_argument: the filter needs somewhere to start.
+    // has no plan: walk_pf walks freely, particle throws std::invalid_argument). Steps before
+    // any radio fix, with no filter yet, throw std::invalid_argument: the filter starts at a fix.
     template <typename WalkableOf>
     std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of);
 
-    bool started() const { return filter_.has_value(); }
+    bool started() const { return filter_.has_value() || walk_.has_value(); }
 
 private:
     Fix fused(double t, std::optional<double> heading_deg) const;
+    void start(const fusion::Walkable* w, const RadioFix& r);
 
+    FusionMethod method_;
     fusion::ParticleConfig config_;
+    fusion::WalkFilterConfig walk_config_;
     std::optional<fusion::ParticleFilter> filter_;  // copyable: a request runs on a copy
+    std::optional<fusion::WalkFilter> walk_;        // one of the two, by method_
     std::int64_t floor_id_ = 0;
     std::optional<double> heading_deg_;
 };
@@ -55,19 +66,21 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
         if (take_radio) {
             const RadioFix& r = radio[ri++];
             const Point at{r.x, r.y};
-            if (!filter_ || r.floor_id != floor_id_) {
+            if (!started() || r.floor_id != floor_id_) {
                 std::shared_ptr<const fusion::Walkable> w = walkable_of(r.floor_id);
-                if (!w) throw std::invalid_argument("floor " + std::to_string(r.floor_id) + " has no plan: the particle filter walks on one");
-                filter_.emplace(*w, at, config_);
-                floor_id_ = r.floor_id;
+                start(w.get(), r);
+            } else if (walk_) {
+                walk_->fix(at, fix_covariance(r.accuracy_m));
             } else {
                 filter_->update(at, fix_covariance(r.accuracy_m));
             }
             out.push_back(fused(r.t, heading_deg_));
         } else {
             const Step& s = steps[si++];
-            if (!filter_) throw std::invalid_argument("steps need a radio fix first (in this request or an earlier one): the filter starts there");
-            filter_->predict(s.length_m, s.heading_deg * 3.14159265358979323846 / 180.0);
+            if (!started()) throw std::invalid_argument("steps need a radio fix first (in this request or an earlier one): the filter starts there");
+            const double heading_rad = s.heading_deg * 3.14159265358979323846 / 180.0;
+            if (walk_) walk_->step(s.length_m, heading_rad);
+            else filter_->predict(s.length_m, heading_rad);
             heading_deg_ = s.heading_deg;
             out.push_back(fused(s.t, heading_deg_));
         }

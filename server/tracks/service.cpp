@@ -148,7 +148,7 @@ std::shared_ptr<Service::Track> Service::find(std::int64_t id) const {
     return it->second;
 }
 
-Opened Service::open(std::int64_t map_id, const std::string& label) {
+Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod fusion) {
     (void)store_.get(store::kind("maps"), map_id);  // NotFound for an unknown map
     Opened out;
     out.token = new_token("trk_");
@@ -176,7 +176,7 @@ Opened Service::open(std::int64_t map_id, const std::string& label) {
     const std::int64_t id = db_.last_insert_id();
     tx.commit();
     auto track = std::make_shared<Track>();
-    track->info = {id, map_id, label, State::live, t, t, std::nullopt, std::nullopt, 0};
+    track->info = {id, map_id, label, State::live, t, t, std::nullopt, std::nullopt, 0, fusion};
     track->token_hash = hash;
     out.info = track->info;
     std::lock_guard lock(mu_);
@@ -314,14 +314,19 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
 
 std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio) {
     std::lock_guard fusion_lock(fusion_mu_);
+    FusionMethod method;
     {
         std::lock_guard lock(mu_);
-        if (find(id)->info.state != State::live)
+        const auto& track = find(id);
+        if (track->info.state != State::live)
             throw Refused(Reason::closed, "track " + std::to_string(id) + " is not live; open a new one");
+        method = track->info.fusion;
     }
-    // The filter runs on a copy, kept only once its fixes are stored.
+    // The filter runs on a copy, kept only once its fixes are stored. Its seed is the track's
+    // id, so a track's fused fixes are reproducible (and client-lib's on the same inputs).
     const auto it = fusions_.find(id);
-    auto next = it == fusions_.end() ? std::make_shared<ThinFusion>() : std::make_shared<ThinFusion>(*it->second);
+    auto next = it == fusions_.end() ? std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id))
+                                     : std::make_shared<ThinFusion>(*it->second);
     const auto walkable_of = [this](std::int64_t floor_id) -> std::shared_ptr<const fusion::Walkable> {
         if (const auto w = walkables_.find(floor_id); w != walkables_.end()) return w->second;
         const auto stored = store_.plan_of_floor(floor_id);

@@ -26,6 +26,7 @@
 #include "store/db.hpp"
 #include "store/store.hpp"
 #include "tracks/fix.hpp"
+#include "tracks/fusion_method.hpp"
 
 namespace locus::tracks {
 
@@ -67,6 +68,7 @@ struct TrackInfo {
     std::optional<double> ended_at;
     std::optional<Fix> latest;  // the fix with the largest t
     std::size_t fixes = 0;
+    FusionMethod fusion = FusionMethod::walk_pf;  // in memory only (tracks/fusion_method.hpp)
 };
 
 struct Opened {
@@ -122,7 +124,7 @@ public:
     void stop();
 
     // A new live track on an existing map (store::NotFound otherwise).
-    Opened open(std::int64_t map_id, const std::string& label);
+    Opened open(std::int64_t map_id, const std::string& label, FusionMethod fusion = FusionMethod::walk_pf);
     // What `token` may do with track `id`. An unknown track and a wrong token are refused alike
     // (forbidden), so a token says nothing about tracks it does not open; the owner of a track
     // that went is told so (gone). On PostgreSQL the track is first read again from the
@@ -134,9 +136,9 @@ public:
     // already stored is a duplicate and keeps the first fix.
     std::optional<std::int64_t> misplaced_floor(std::int64_t id, const std::vector<Fix>& fixes);
     Posted post(std::int64_t id, const std::vector<Fix>& fixes);
-    // A thin client's raw steps and radio fixes, fused by client-lib's particle filter
-    // (tracks/fusion.hpp) and stored as the track's fixes; answers them with the post's counts.
-    // std::invalid_argument when the filter cannot run (no plan, steps before any fix).
+    // A thin client's raw steps and radio fixes, fused by client-lib's filter the track chose
+    // (tracks/fusion.hpp), seeded with the track's id, and stored as the track's fixes; answers them with the post's counts.
+    // std::invalid_argument when the filter cannot run (steps before any fix; no plan for particle).
     std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio);
     void close(std::int64_t id);
     void remove(std::int64_t id);

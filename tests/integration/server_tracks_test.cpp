@@ -4,6 +4,7 @@
 // hand-computed values, and tracks closing and going with tiny --track-ttl/--track-retention.
 // Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
 #include "locus/fusion/particle_filter.hpp"
+#include "locus/fusion/walk_filter.hpp"
 
 #include <gtest/gtest.h>
 
@@ -63,8 +64,10 @@ struct Track {
     std::string token;
 };
 
-Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label = "phone") {
-    const json b = body_of(call(s, "POST", "/v1/tracks", {}, json{{"map_id", map}, {"label", label}}.dump()), 201);
+Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label = "phone", const std::string& fusion = "") {
+    json req = {{"map_id", map}, {"label", label}};
+    if (!fusion.empty()) req["fusion"] = fusion;
+    const json b = body_of(call(s, "POST", "/v1/tracks", {}, req.dump()), 201);
     return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
 }
 
@@ -442,8 +445,6 @@ TEST(ServerTracks, ATrackClosesAfterItsTtlAndGoesAfterRetention) {
     EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
 }
 
-// A thin client's steps and radio fixes, fused on the server, give exactly what client-lib's
-// particle filter gives on the same inputs here: one code path.
 // A live track keeps its last retention period of fixes; its count had kept every fix ever
 // posted, so a track posting for days was refused as full.
 TEST(ServerTracks, ALongLiveTrackCountsOnlyTheFixesItKeeps) {
@@ -464,6 +465,9 @@ TEST(ServerTracks, ALongLiveTrackCountsOnlyTheFixesItKeeps) {
     EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["trail"].size(), 1u);
 }
 
+// A thin client's steps and radio fixes, fused on the server, give exactly what client-lib's
+// filter gives on the same inputs here: one code path. The older particle filter, chosen per
+// track, gives client-lib's ParticleFilter's fixes.
 TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
@@ -473,7 +477,8 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
                                      feature("space", locus::testing::rect_polygon(0, 4, 8, 10), {{"name", "Lab"}}),
                                      feature("wall", locus::testing::line({{0, 4}, {8, 4}}))}}};
     ASSERT_EQ(s.put("/v1/floors/" + std::to_string(h.floor) + "/plan", plan).status, 200);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, h.map, "phone", "particle");
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fusion"], "particle");
     const double t0 = std::floor(unix_now()) - 30;
     const std::string p = path_of(t, "/steps");
     // Steps with nowhere to start from are refused, and nothing is stored.
@@ -494,7 +499,9 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
     // The same in client-lib, on the plan as the server keeps it.
     json stored = body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/plan"));
     const auto walkable = locus::fusion::Walkable::from_plan(locus::plan::from_geojson({{"type", "FeatureCollection"}, {"features", stored["features"]}}));
-    locus::fusion::ParticleFilter pf(walkable, {2.0, 2.0});
+    locus::fusion::ParticleConfig config;
+    config.seed = static_cast<std::uint64_t>(t.id);  // the server seeds a track's filter with its id
+    locus::fusion::ParticleFilter pf(walkable, {2.0, 2.0}, config);
     std::vector<locus::Point> expected{pf.position()};
     auto step = [&] {
         pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
@@ -595,14 +602,18 @@ TEST(ServerTracks, ServerFusionLocalizesScansLikeTheLocalizeEndpoint) {
     const auto walkable = locus::fusion::Walkable::from_plan(locus::plan::from_geojson({{"type", "FeatureCollection"}, {"features", stored["features"]}}));
     const json& f0 = got["scan_fixes"][0];
     const json& f1 = got["scan_fixes"][1];
-    locus::fusion::ParticleFilter pf(walkable, {f0["x"].get<double>(), f0["y"].get<double>()});
+    auto config = locus::fusion::WalkFilterConfig::real_walks();
+    config.seed = static_cast<std::uint64_t>(t.id);
+    locus::fusion::WalkFilter pf(walkable, config);
+    const double a0 = f0["accuracy_m"].get<double>();
+    pf.fix({f0["x"].get<double>(), f0["y"].get<double>()}, Eigen::Matrix2d::Identity() * a0 * a0);
     std::vector<locus::Point> expected{pf.position()};
     for (int i = 1; i <= 8; ++i) {
-        pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+        pf.step(0.7, 90.0 * std::numbers::pi / 180.0);
         expected.push_back(pf.position());
         if (i == 4) {
             const double a = f1["accuracy_m"].get<double>();
-            pf.update({f1["x"].get<double>(), f1["y"].get<double>()}, Eigen::Matrix2d::Identity() * a * a);
+            pf.fix({f1["x"].get<double>(), f1["y"].get<double>()}, Eigen::Matrix2d::Identity() * a * a);
             expected.push_back(pf.position());
         }
     }
@@ -618,9 +629,117 @@ TEST(ServerTracks, ServerFusionLocalizesScansLikeTheLocalizeEndpoint) {
               422);
     EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 10);
     const json next = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
-    pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
+    pf.step(0.7, 90.0 * std::numbers::pi / 180.0);
     EXPECT_NEAR(next["fused"][0]["x"].get<double>(), pf.position().x, 1e-9);
 }
+
+// A track fuses with walk_pf (client-lib's WalkFilter, real-walk preset, seeded with the track's
+// id) unless it asks otherwise, and walk_pf needs no plan: a floor without one fuses, each fused
+// fix client-lib's position with the cloud's spread as its accuracy. Steps before any fix are
+// still refused; the particle filter on a floor without a plan is refused with nothing stored.
+TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);  // its floor has no plan
+    (void)open_track(s, h.map, "first");  // so this track's id, its seed, is not the default seed 1
+    const Track t = open_track(s, h.map);
+    ASSERT_NE(t.id, 1);
+    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fusion"], "walk_pf");
+    const double t0 = std::floor(unix_now()) - 30;
+    const std::string p = path_of(t, "/steps");
+    const Response refused = call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0}, {"length_m", 0.7}, {"heading_deg", 90}}}}}.dump());
+    EXPECT_EQ(refused.status, 422);
+    EXPECT_EQ(refused.body["error"]["code"], "cannot_fuse");
+
+    // Radio fixes walking east with steps whose compass is turned by 90°: walk_pf learns that.
+    json steps = json::array(), fixes = json::array();
+    for (int i = 1; i <= 12; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 0.0}});
+    for (int i = 0; i <= 12; i += 3) fixes.push_back({{"t", t0 + i}, {"floor_id", h.floor}, {"x", 2.0 + 0.7 * i}, {"y", 2.0}, {"accuracy_m", i == 0 ? 2.0 : 0.3}});
+    const json got = body_of(call(s, "POST", p, {t.token}, json{{"steps", steps}, {"fixes", fixes}}.dump()));
+    ASSERT_EQ(got["fused"].size(), 17u);
+    EXPECT_EQ(got["stored"], 13);  // a fix and a step at one t: the track keeps the state after both
+
+    auto config = locus::fusion::WalkFilterConfig::real_walks();
+    config.seed = static_cast<std::uint64_t>(t.id);
+    // The server's order: a fix before the step of equal t.
+    locus::fusion::WalkFilter wf(std::nullopt, config);
+    std::vector<std::pair<locus::Point, double>> ordered;
+    for (int i = 0; i <= 12; ++i) {
+        if (i % 3 == 0) {
+            const double a = std::max(i == 0 ? 2.0 : 0.3, 0.5);  // the server's floor on a fix's claimed accuracy
+            wf.fix({2.0 + 0.7 * i, 2.0}, Eigen::Matrix2d::Identity() * a * a);
+            ordered.emplace_back(wf.position(), wf.spread());
+        }
+        if (i > 0) {
+            wf.step(0.7, 0.0);
+            ordered.emplace_back(wf.position(), wf.spread());
+        }
+    }
+    ASSERT_EQ(ordered.size(), 17u);
+    for (std::size_t i = 0; i < ordered.size(); ++i) {
+        const json& f = got["fused"][i];
+        EXPECT_NEAR(f["x"].get<double>(), ordered[i].first.x, 1e-9) << i;
+        EXPECT_NEAR(f["y"].get<double>(), ordered[i].first.y, 1e-9) << i;
+        EXPECT_NEAR(f["accuracy_m"].get<double>(), ordered[i].second, 1e-9) << i;
+        EXPECT_EQ(f["floor_id"], h.floor);
+    }
+    EXPECT_GT(ordered.back().second, 0.0);
+    // The next request goes on from where this one left the filter.
+    const json more = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 13}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}.dump()));
+    wf.step(0.7, 0.0);
+    EXPECT_NEAR(more["fused"][0]["x"].get<double>(), wf.position().x, 1e-9);
+    EXPECT_NEAR(more["fused"][0]["y"].get<double>(), wf.position().y, 1e-9);
+
+    // A fix on another floor starts the filter again there, on that floor's plan, same seed.
+    using locus::testing::feature;
+    const std::int64_t upstairs = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
+                                                 {{"name", "First"}, {"level", 1}, {"width", 30.0}, {"height", 20.0}}),
+                                          201)["id"];
+    const json plan = {{"type", "FeatureCollection"},
+                       {"features", {feature("space", locus::testing::rect_polygon(0, 0, 20, 4), {{"name", "Corridor"}, {"kind", "corridor"}}),
+                                     feature("wall", locus::testing::line({{0, 4}, {20, 4}}))}}};
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(upstairs) + "/plan", plan).status, 200);
+    const json moved = body_of(call(s, "POST", p, {t.token},
+                                    json{{"fixes", {{{"t", t0 + 14}, {"floor_id", upstairs}, {"x", 3.0}, {"y", 2.0}, {"accuracy_m", 1.0}}}},
+                                         {"steps", {{{"t", t0 + 15}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}
+                                        .dump()));
+    ASSERT_EQ(moved["fused"].size(), 2u);
+    const json stored = body_of(s.get("/v1/floors/" + std::to_string(upstairs) + "/plan"));
+    locus::fusion::WalkFilter up(locus::fusion::Walkable::from_plan(locus::plan::from_geojson({{"type", "FeatureCollection"}, {"features", stored["features"]}})),
+                                 config);
+    up.fix({3.0, 2.0}, Eigen::Matrix2d::Identity());
+    EXPECT_NEAR(moved["fused"][0]["x"].get<double>(), up.position().x, 1e-9);
+    up.step(0.7, 0.0);
+    EXPECT_NEAR(moved["fused"][1]["x"].get<double>(), up.position().x, 1e-9);
+    EXPECT_NEAR(moved["fused"][1]["y"].get<double>(), up.position().y, 1e-9);
+    EXPECT_NEAR(moved["fused"][1]["accuracy_m"].get<double>(), up.spread(), 1e-9);
+    EXPECT_EQ(moved["fused"][1]["floor_id"], upstairs);
+
+    // The particle filter walks on a plan: on this floor it refuses, and stores nothing.
+    const Track old = open_track(s, h.map, "old", "particle");
+    const Response no_plan = call(s, "POST", path_of(old, "/steps"), {old.token},
+                                  json{{"steps", steps}, {"fixes", fixes}}.dump());
+    EXPECT_EQ(no_plan.status, 422) << no_plan.raw;
+    EXPECT_EQ(no_plan.body["error"]["code"], "cannot_fuse");
+    EXPECT_EQ(body_of(call(s, "GET", path_of(old), {old.token}))["fixes"], 0);
+}
+
+// `fusion` names one of the two filters; anything else is refused and opens no track.
+TEST(ServerTracks, OpeningATrackRefusesAnUnknownFusion) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track first = open_track(s, h.map, "a", "walk_pf");
+    for (const json& bad : {json("kalman"), json("WALK_PF"), json(""), json(1), json(nullptr), json::array({"walk_pf"})}) {
+        const Response r = call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", bad}}.dump());
+        EXPECT_EQ(r.status, 422) << bad.dump() << " " << r.raw;
+        EXPECT_EQ(r.body["error"]["code"], "invalid_field") << r.raw;
+        EXPECT_NE(r.body["error"]["message"].get<std::string>().find("fusion"), std::string::npos) << r.raw;
+    }
+    // Nothing was written: the next track takes the next id.
+    const json next = body_of(call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", "particle"}}.dump()), 201);
+    EXPECT_EQ(next["id"].get<std::int64_t>(), first.id + 1);
+    EXPECT_EQ(next["fusion"], "particle");
+}
+
 
 // The REST client's track calls against the real server.
 TEST(ServerTracks, ClientTrackCalls) {

@@ -175,4 +175,14 @@ Point WalkFilter::position() const {
     return at;
 }
 
+double WalkFilter::spread() const {
+    const Point at = position();
+    double sum = 0.0, w = 0.0;
+    for (const P& p : particles_) {
+        sum += p.weight * ((p.at.x - at.x) * (p.at.x - at.x) + (p.at.y - at.y) * (p.at.y - at.y));
+        w += p.weight;
+    }
+    return w > 0.0 ? std::sqrt(sum / w) : 0.0;
+}
+
 }  // namespace locus::fusion

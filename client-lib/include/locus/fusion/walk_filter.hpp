@@ -49,6 +49,23 @@ struct WalkFilterConfig {
     // the fresh particles takes it, ±hint_sigma_rad; the rest draw φ and s uniformly.
     double hint_share = 0.0;
     double hint_sigma_rad = 0.35;
+
+    // The setting for real phones on real walks, chosen on PUTMC walks 1–5 (docs/fusion.md,
+    // "Real walks"): a larger step-scale prior (the first walker's detected steps cover about
+    // 60 % of the distance walked) and a wider fix likelihood (WiFi errors are spatially
+    // correlated, so one fix says less than its spread) took walks 1–5 from 2.39 / 2.41 to
+    // 2.24 / 2.17 m (seeds 1, 2); the cloud's mode within 3 m as the estimate (fresh particles'
+    // random rotations pull a mean back along the corridor) and up to 70 % re-drawn round a fix
+    // the cloud did not expect took the mean over seeds 1–4 from 2.20 to 1.88 m. `walk_eval`
+    // and the server's live tracks run it; simulated walks keep the defaults above.
+    static WalkFilterConfig real_walks() {
+        WalkFilterConfig c;
+        c.scale_mean = 1.5;
+        c.fix_sigma_m = 2.6;
+        c.estimate_radius_m = 3.0;
+        c.reseed_max_fraction = 0.7;
+        return c;
+    }
 };
 
 // The dominant wall direction of a plan, modulo 90° (rad in [0, π/2)), from a length-weighted
@@ -68,6 +85,9 @@ public:
     void hint(double offset_rad, bool mirrored) { hint_ = {offset_rad, mirrored ? -1.0 : 1.0}; }
 
     Point position() const;  // weighted mean; only meaningful once started()
+    // How far the cloud is spread: the weighted RMS distance of the particles from position(),
+    // an honest accuracy for the estimate (0 before the first fix).
+    double spread() const;
 
 private:
     struct P {
