@@ -12,6 +12,6 @@ bash scripts/check_deploy_config.sh
 root=$(pwd)
 cd "${LOCUS_BUILD_DIR:-build}"
 ctest --output-on-failure -j"${LOCUS_JOBS:-2}" "$@"
-# The tests that run a server against its store, again on a throwaway PostgreSQL (the
+# The integration tests (every one starts a real server), again on a throwaway PostgreSQL (the
 # replicas and PostgreSQL fault tests run only there).
-"$root/scripts/with_postgres.sh" ctest --output-on-failure -j"${LOCUS_JOBS:-2}" -L store "$@"
+"$root/scripts/with_postgres.sh" ctest --output-on-failure -j"${LOCUS_JOBS:-2}" -L integration "$@"

@@ -10,14 +10,15 @@ if [ $# -eq 0 ]; then
   echo "usage: scripts/with_postgres.sh CMD [ARG…]" >&2
   exit 2
 fi
-bin=${LOCUS_PG_BIN:-$(ls -d /usr/lib/postgresql/*/bin 2>/dev/null | sort -V | tail -n 1)}
+bin=${LOCUS_PG_BIN:-$( (ls -d /usr/lib/postgresql/*/bin 2>/dev/null || true) | sort -V | tail -n 1)}
 if [ -z "$bin" ] || [ ! -x "$bin/initdb" ]; then
   echo "with_postgres.sh: no PostgreSQL server binaries (Debian package postgresql)" >&2
   exit 1
 fi
 dir=$(mktemp -d "${TMPDIR:-/tmp}/locus-pg.XXXXXX")
 as_pg() {
-  if [ "$(id -u)" = 0 ]; then runuser -u nobody -- "$@"; else "$@"; fi
+  # From the cluster's own dir: user nobody may not be allowed into the caller's.
+  if [ "$(id -u)" = 0 ]; then (cd "$dir" && runuser -u nobody -- "$@"); else "$@"; fi
 }
 cleanup() {
   as_pg "$bin/pg_ctl" -D "$dir/data" -m immediate stop >/dev/null 2>&1 || true

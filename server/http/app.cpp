@@ -64,9 +64,11 @@ void write_error(httplib::Response& res, int status, const std::string& code, co
 void write_storage_unavailable(httplib::Response& res, const store::DbError& e) {
     // The request was one transaction and it did not commit: nothing of it was written. The
     // file's path is for the log and /ready, not for every client.
+    // PostgreSQL's message names its host and address: the client is told only which kind of
+    // fault it is.
     res.set_header("Retry-After", "1");
-    write_error(res, 503, "storage_unavailable",
-                std::string("storage unavailable: ") + e.what() + "; the request changed nothing, retry later");
+    const std::string what = store::is_postgres_url(e.file) ? "the PostgreSQL database cannot be reached or refused the request" : e.what();
+    write_error(res, 503, "storage_unavailable", "storage unavailable: " + what + "; the request changed nothing, retry later");
 }
 
 void App::respond(const httplib::Request& req, httplib::Response& res,

@@ -63,9 +63,14 @@ Db::~Db() {
 
 void Db::pg_ensure_connected() {
     if (PQstatus(pg_) == CONNECTION_OK) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now < pg_retry_at_)
+        throw DbError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable (retrying once a second)", path_);
     PQreset(pg_);
-    if (PQstatus(pg_) != CONNECTION_OK)
+    if (PQstatus(pg_) != CONNECTION_OK) {
+        pg_retry_at_ = std::chrono::steady_clock::now() + std::chrono::seconds(1);
         throw DbError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable: " + PQerrorMessage(pg_), path_);
+    }
 }
 
 void Db::fail(int rc, std::string_view context) const {

@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -134,6 +135,9 @@ public:
 private:
     sqlite3* db_ = nullptr;
     pg_conn* pg_ = nullptr;
+    // After a failed reconnect, requests fail at once until then instead of each waiting out
+    // the connect timeout under the store's lock (localize keeps serving from memory).
+    std::chrono::steady_clock::time_point pg_retry_at_{};
     int pg_changes_ = 0;
     bool pg_in_tx_ = false;
     std::string path_;

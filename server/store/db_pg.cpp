@@ -25,12 +25,40 @@ std::string redacted_url(std::string_view url) {
             if (colon != std::string::npos && colon < at) out.erase(colon, at - colon);
         }
     }
-    if (const auto pw = out.find("password="); pw != std::string::npos) {
+    // Every password=… and sslpassword=… parameter, not only the first.
+    for (auto pw = out.find("password="); pw != std::string::npos; pw = out.find("password=", pw + 12)) {
         const auto end = out.find('&', pw);
         out.replace(pw, (end == std::string::npos ? out.size() : end) - pw, "password=***");
     }
     return out;
 }
+
+namespace {
+// libpq's own message can quote the URL's password (a bad %-escape in it is echoed): cut the
+// password's text, as written and %-decoded, out of whatever it says.
+std::string without_password(std::string msg, std::string_view url) {
+    const auto scheme = url.find("://");
+    if (scheme == std::string_view::npos) return msg;
+    const auto at = url.find('@', scheme + 3), colon = url.find(':', scheme + 3);
+    if (at == std::string_view::npos || colon == std::string_view::npos || colon > at) return msg;
+    const std::string raw(url.substr(colon + 1, at - colon - 1));
+    std::string decoded;
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+        if (raw[i] == '%' && i + 2 < raw.size() && std::isxdigit(static_cast<unsigned char>(raw[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(raw[i + 2]))) {
+            decoded += static_cast<char>(std::stoi(raw.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+        } else {
+            decoded += raw[i];
+        }
+    }
+    for (const std::string& secret : {raw, decoded}) {
+        if (secret.empty()) continue;
+        for (auto i = msg.find(secret); i != std::string::npos; i = msg.find(secret, i + 3)) msg.replace(i, secret.size(), "***");
+    }
+    return msg;
+}
+}  // namespace
 
 namespace pg {
 
@@ -100,7 +128,7 @@ pg_conn* connect(const std::string& url) {
     PGconn* c = PQconnectdbParams(keys, values, 1);
     if (!c) throw DbError(SQLITE_CANTOPEN, "cannot connect to PostgreSQL at '" + redacted_url(url) + "': out of memory");
     if (PQstatus(c) != CONNECTION_OK) {
-        std::string msg = PQerrorMessage(c);
+        std::string msg = without_password(PQerrorMessage(c), url);
         while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
         PQfinish(c);
         throw DbError(SQLITE_CANTOPEN, "cannot connect to PostgreSQL at '" + redacted_url(url) + "': " + msg,
@@ -185,7 +213,12 @@ void clear(pg_result* r) {
 int row_count(const pg_result* r) { return PQntuples(r); }
 int column_count(const pg_result* r) { return PQnfields(r); }
 bool is_null(const pg_result* r, int row, int col) { return PQgetisnull(r, row, col) != 0; }
-const char* value(const pg_result* r, int row, int col) { return PQgetvalue(r, row, col); }
+// Out of range (a read after step() said there is no row) answers "" as SQLite answers 0 / an
+// empty text there; libpq would answer a null pointer.
+const char* value(const pg_result* r, int row, int col) {
+    if (!r || row < 0 || row >= PQntuples(r) || col < 0 || col >= PQnfields(r)) return "";
+    return PQgetvalue(r, row, col);
+}
 std::string column_name(const pg_result* r, int col) { return PQfname(r, col); }
 
 namespace {

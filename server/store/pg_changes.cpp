@@ -73,7 +73,6 @@ std::int64_t counter_of(PGconn* c) {
 void ChangeWatcher::run() {
     using clock = std::chrono::steady_clock;
     const std::vector<Change> everything{everything_changed()};
-    bool first = true;
     while (!stop_) {
         PGconn* c = nullptr;
         try {
@@ -86,9 +85,10 @@ void ChangeWatcher::run() {
         }
         try {
             std::int64_t seen = counter_of(c);
-            // Back after a lost connection: whatever was notified meanwhile is gone.
-            if (!first) apply_(everything);
-            first = false;
+            // Whatever was written before LISTEN took effect was never notified here: at start (an
+            // index built before this connection may already be behind) and after a lost
+            // connection alike. Cheap at start, where the caches are empty or just built.
+            apply_(everything);
             std::int64_t behind = -1;  // the counter at the last check, when it was ahead of `seen`
             // Every half second, so a change whose notification never came is seen within about
             // a second (ahead at two checks in a row).
@@ -128,6 +128,9 @@ void ChangeWatcher::run() {
                 }
             }
         } catch (const std::exception&) {
+            // A connection that fails at once (permissions, a dropped table) must not turn into
+            // a reconnect loop against the database: wait as a failed connect does.
+            for (int i = 0; i < 10 && !stop_; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
         }
         pg::close(c);
     }

@@ -33,7 +33,9 @@ public:
     explicit ThinFusion(FusionMethod method = FusionMethod::walk_pf, std::uint64_t seed = 1);
 
     // Runs the steps and radio fixes in time order (a radio fix before a step of equal t) and
-    // answers one fused fix per input. `walkable_of` gives a floor's Walkable (nullptr when it
+    // answers one fused fix per input. Inputs at or before the last t an earlier call ran are
+    // skipped (no fix for them): a client retrying a request whose answer it lost must not
+    // move the filter twice. `walkable_of` gives a floor's Walkable (nullptr when it
     // has no plan: walk_pf walks freely, particle throws std::invalid_argument). Steps before
     // any radio fix, with no filter yet, throw std::invalid_argument: the filter starts at a fix.
     template <typename WalkableOf>
@@ -52,6 +54,7 @@ private:
     std::optional<fusion::WalkFilter> walk_;        // one of the two, by method_
     std::int64_t floor_id_ = 0;
     std::optional<double> heading_deg_;
+    std::optional<double> done_t_;  // the latest t run so far
 };
 
 // The radio fix's covariance: its accuracy as a 1-sigma radius.
@@ -60,9 +63,17 @@ Eigen::Matrix2d fix_covariance(double accuracy_m);
 template <typename WalkableOf>
 std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of) {
     std::vector<Fix> out;
+    const std::optional<double> done = done_t_;
+    const auto already_run = [&done](double t) { return done && t <= *done; };
     std::size_t si = 0, ri = 0;
     while (si < steps.size() || ri < radio.size()) {
         const bool take_radio = ri < radio.size() && (si >= steps.size() || radio[ri].t <= steps[si].t);
+        const double t = take_radio ? radio[ri].t : steps[si].t;
+        if (already_run(t)) {
+            (take_radio ? ri : si)++;
+            continue;
+        }
+        if (!done_t_ || t > *done_t_) done_t_ = t;
         if (take_radio) {
             const RadioFix& r = radio[ri++];
             const Point at{r.x, r.y};

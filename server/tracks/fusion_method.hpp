@@ -1,8 +1,8 @@
 #pragma once
 // Which filter fuses a thin client's steps on the server (`fusion` on POST /v1/tracks):
 // walk_pf (fusion::WalkFilter, real-walk preset; the default) or particle (the older
-// fusion::ParticleFilter, which needs the floor's plan). Kept in memory with the track: the
-// tracks table (migration 008) has no column for it, so after a restart a track runs walk_pf.
+// fusion::ParticleFilter, which needs the floor's plan). Stored with the track (migration 012),
+// so a restart or another server sharing the database keeps the owner's choice.
 #include <optional>
 #include <string>
 

@@ -61,6 +61,12 @@ Service::Service(store::Store& store, Options options)
             std::lock_guard lock(fusion_mu_);
             walkables_.erase(c.id);
         }
+        // A deleted map took its floors by cascade, without a change each; it is also how
+        // another server's "everything changed" arrives (store/pg_changes.hpp): drop them all.
+        if (!c.plan && c.deleted && c.kind && c.kind->name == "maps") {
+            std::lock_guard lock(fusion_mu_);
+            walkables_.clear();
+        }
         // A floor, building or map deleted or moved: which floors are on which map is asked again.
         if (!c.plan && c.kind && (c.kind->name == "floors" || c.kind->name == "buildings" || c.kind->name == "maps")) {
             std::lock_guard lock(mu_);
@@ -113,7 +119,7 @@ void Service::map_deleted(std::int64_t map_id) {
 void Service::load() {
     std::lock_guard db_lock(db_mu_);
     std::lock_guard lock(mu_);
-    store::Stmt q(db_, "SELECT id, map_id, label, token_hash, state, created_at, last_fix_at, ended_at FROM tracks");
+    store::Stmt q(db_, "SELECT id, map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion FROM tracks");
     while (q.step()) {
         auto t = std::make_shared<Track>();
         t->info.id = q.int64(0);
@@ -124,6 +130,7 @@ void Service::load() {
         t->info.created_at = q.real(5);
         t->info.last_fix_at = q.real(6);
         if (!q.is_null(7)) t->info.ended_at = q.real(7);
+        t->info.fusion = fusion_method_of(q.text(8)).value_or(FusionMethod::walk_pf);
         tracks_[t->info.id] = t;
     }
     store::Stmt latest(db_,
@@ -167,11 +174,11 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
                               "slots free as closed tracks expire: try again later");
     }
     store::Transaction tx(db_);
-    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at) VALUES (?, ?, ?, 'live', ?, ?)");
+    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at, fusion) VALUES (?, ?, ?, 'live', ?, ?, ?)");
     ins.bind(1, map_id);
     if (label.empty()) ins.bind_null(2);
     else ins.bind(2, std::string_view(label));
-    ins.bind_blob(3, hash).bind(4, t).bind(5, t);
+    ins.bind_blob(3, hash).bind(4, t).bind(5, t).bind(6, std::string_view(fusion_method_name(fusion)));
     ins.run();
     const std::int64_t id = db_.last_insert_id();
     tx.commit();
@@ -186,7 +193,7 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
 
 void Service::refresh(std::int64_t id) {
     std::lock_guard db_lock(db_mu_);
-    store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at FROM tracks WHERE id = ?");
+    store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion FROM tracks WHERE id = ?");
     q.bind(1, id);
     if (!q.step()) return;  // unknown here too: refused as forbidden
     TrackInfo row;
@@ -198,6 +205,7 @@ void Service::refresh(std::int64_t id) {
     row.created_at = q.real(4);
     row.last_fix_at = q.real(5);
     if (!q.is_null(6)) row.ended_at = q.real(6);
+    row.fusion = fusion_method_of(q.text(7)).value_or(FusionMethod::walk_pf);
     store::Stmt latest(db_, "SELECT t, floor_id, x, y, accuracy_m, heading_deg FROM track_fixes WHERE track_id = ? ORDER BY t DESC LIMIT 1");
     latest.bind(1, id);
     if (latest.step()) row.latest = fix_of(latest, 0);

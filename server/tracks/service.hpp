@@ -68,7 +68,7 @@ struct TrackInfo {
     std::optional<double> ended_at;
     std::optional<Fix> latest;  // the fix with the largest t
     std::size_t fixes = 0;
-    FusionMethod fusion = FusionMethod::walk_pf;  // in memory only (tracks/fusion_method.hpp)
+    FusionMethod fusion = FusionMethod::walk_pf;  // tracks/fusion_method.hpp
 };
 
 struct Opened {

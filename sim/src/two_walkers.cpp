@@ -86,9 +86,11 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
     ranges.push_back(last_reading);
     const int max_steps = int(c.seconds * c.step_hz);
     // BothFixes: the bearing between the two fused fixes, in the plan's frame (not PDR's).
+    double fixes_distance = 0.0;  // between the last two fused fixes drawn
     const auto fixes_bearing = [&] {
         const Point fa{truth.x + c.fix_sigma * gauss(rng), truth.y + c.fix_sigma * gauss(rng)};
         const Point fb{b.x + c.fix_sigma * gauss(rng), b.y + c.fix_sigma * gauss(rng)};
+        fixes_distance = distance(fa, fb);
         return bearing_deg(fa, fb);
     };
     std::optional<double> fixes_said;
@@ -114,13 +116,13 @@ TwoWalkerRun run_two_walkers(const TwoWalkerConfig& c, RelativeMethod m, std::ui
 
         const double d = distance(truth, b);
         if (m == RelativeMethod::BothFixes) {
-            run.distance_errors.push_back(0.0);  // no ranging: the distance is the fixes'
+            fixes_said = fixes_bearing();
+            run.distance_errors.push_back(std::abs(fixes_distance - d));  // no ranging: the distance is the fixes'
             if (d <= c.met_distance) {
                 run.met = true;
                 run.met_after_s = double(k) / c.step_hz;
                 break;
             }
-            fixes_said = fixes_bearing();
             run.errors_deg.push_back(std::abs(relative::wrap_deg(*fixes_said - bearing_deg(truth, b))));
             continue;
         }

@@ -3,9 +3,6 @@
 // and measures an existing radio map on a restarted server; a wrong --pid is named.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <filesystem>
-
 #include "server_process.hpp"
 #include "text_file.hpp"
 
@@ -18,24 +15,11 @@ namespace {
 
 const std::string kCli = LOCUS_CLI_BIN;
 
-// The server's process id (ServerProcess does not expose it): the process whose command line
-// holds its database path.
-int pid_of(const ServerProcess& server) {
-    for (const auto& e : std::filesystem::directory_iterator("/proc")) {
-        const std::string name = e.path().filename().string();
-        if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-        std::string cmdline = locus::testing::slurp(e.path().string() + "/cmdline");
-        std::replace(cmdline.begin(), cmdline.end(), '\0', ' ');
-        if (contains(cmdline, "locus-server --db " + server.db_path() + " ")) return std::stoi(name);
-    }
-    return 0;
-}
-
 }  // namespace
 
 TEST(BenchMapMemory, BuildsTheRadioMapAndReadsTheServersMemory) {
     ServerProcess server{{"--quiet"}};
-    const int pid = pid_of(server);
+    const int pid = static_cast<int>(server.pid());
     ASSERT_GT(pid, 0);
     const auto r = run_command({kCli, "bench", "map-memory", "--server", server.url(), "--pid", std::to_string(pid),
                                 "--width", "40", "--height", "20", "--ap-spacing", "10"});
@@ -53,7 +37,7 @@ TEST(BenchMapMemory, BuildsTheRadioMapAndReadsTheServersMemory) {
     // A replica started on the same data: the map is measured, not built again.
     server.stop();
     server.start();
-    const int again = pid_of(server);
+    const int again = static_cast<int>(server.pid());
     const auto m = run_command({kCli, "bench", "map-memory", "--server", server.url(), "--pid", std::to_string(again),
                                 "--radiomap", std::to_string(out.at("radiomap").get<int>())});
     ASSERT_EQ(m.status, 0) << m.err;

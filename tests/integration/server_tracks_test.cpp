@@ -683,7 +683,11 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
         EXPECT_EQ(f["floor_id"], h.floor);
     }
     EXPECT_GT(ordered.back().second, 0.0);
-    // The next request goes on from where this one left the filter.
+    // A retry of that request (its answer lost) moves the filter no further and stores nothing.
+    const json retried = body_of(call(s, "POST", p, {t.token}, json{{"steps", steps}, {"fixes", fixes}}.dump()));
+    EXPECT_EQ(retried["fused"].size(), 0u);
+    EXPECT_EQ(retried["stored"], 0);
+    // The next request goes on from where the first left the filter.
     const json more = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 13}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}.dump()));
     wf.step(0.7, 0.0);
     EXPECT_NEAR(more["fused"][0]["x"].get<double>(), wf.position().x, 1e-9);
@@ -738,6 +742,12 @@ TEST(ServerTracks, OpeningATrackRefusesAnUnknownFusion) {
     const json next = body_of(call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", "particle"}}.dump()), 201);
     EXPECT_EQ(next["id"].get<std::int64_t>(), first.id + 1);
     EXPECT_EQ(next["fusion"], "particle");
+    // The choice is stored with the track: a restart keeps it.
+    s.stop();
+    s.start();
+    const Track reopened{next["id"].get<std::int64_t>(), next["token"].get<std::string>()};
+    EXPECT_EQ(body_of(call(s, "GET", path_of(reopened), {reopened.token}))["fusion"], "particle");
+    EXPECT_EQ(body_of(call(s, "GET", path_of(first), {first.token}))["fusion"], "walk_pf");
 }
 
 

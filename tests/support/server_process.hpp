@@ -48,6 +48,7 @@ public:
     std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
     // The SQLite file; on PostgreSQL there is none (tests that open the file skip there).
     const std::string& db_path() const { return db_path_; }
+    pid_t pid() const { return pid_; }  // the locus-server process itself (execv'd, no shell)
     // What --db says: the SQLite file or the PostgreSQL URL.
     const std::string& db() const { return db_; }
     const std::string& dir() const { return dir_; }

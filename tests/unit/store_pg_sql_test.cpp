@@ -30,6 +30,9 @@ TEST(PgSql, UrlsLoseTheirPasswords) {
     EXPECT_EQ(locus::store::redacted_url("postgres://locus@db/locus?password=s3cret&sslmode=require"),
               "postgres://locus@db/locus?password=***&sslmode=require");
     EXPECT_EQ(locus::store::redacted_url("postgresql://db:5432/locus"), "postgresql://db:5432/locus");
+    // Every password parameter goes, sslpassword's too, whichever comes first.
+    EXPECT_EQ(locus::store::redacted_url("postgresql://db/locus?sslpassword=k3y&password=s3cret"),
+              "postgresql://db/locus?sslpassword=***&password=***");
     EXPECT_TRUE(locus::store::is_postgres_url("postgres://x/y"));
     EXPECT_FALSE(locus::store::is_postgres_url("sqlite:/tmp/x.db"));
     EXPECT_FALSE(locus::store::is_postgres_url("/tmp/postgresql://x.db"));

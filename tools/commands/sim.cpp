@@ -337,9 +337,11 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
     cmd->add_option("--beacon-offset-db", args->walk.beacon_phone_offset_sigma_db,
                     "σ of the phone's RSS offset against the anchors' configured power, dB")->capture_default_str();
     cmd->add_option("--ranging-window", args->ranging.window_s, "Anchor readings averaged per fix, s (seed 004: 5)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Range(0.1, 3600.0));
     cmd->add_option("--multilateration-window", args->ranging.multilateration_window_s,
-                    "Anchor readings averaged per multilateration fix, s")->capture_default_str();
+                    "Anchor readings averaged per multilateration fix, s")->capture_default_str()
+        ->check(CLI::Range(0.1, 3600.0));
     cmd->add_option("--seed-r-sigma", args->ranging.seed_kalman.fixed_r_sigma_m, "Seed's Kalman: R's σ per axis, m")
         ->capture_default_str();
     cmd->add_option("--seed-q-sigma", args->ranging.seed_kalman.kalman.step_sigma_floor_m,

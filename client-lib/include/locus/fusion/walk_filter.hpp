@@ -36,7 +36,7 @@ struct WalkFilterConfig {
     double blocked_weight = 0.02;
     double fix_sigma_m = 2.2;          // σ of the fix likelihood (at least; the fix's own cov when larger)
     double outlier_floor = 0.02;
-    double reseed_fraction = 0.3;      // re-drawn around each fix...
+    double reseed_fraction = 0.3;      // slots re-drawn around each fix (with replacement: ≈ 26 % of the particles)...
     // ...rising towards this share the less the cloud expects the fix (1 − its mean likelihood
     // of it): a cloud that drifted off with a wrong rotation is rebuilt round the fix sooner,
     // one that agrees keeps its history. At or below reseed_fraction: a fixed share.
@@ -84,7 +84,9 @@ public:
     // The rotation and mirror the fixes suggest so far: fresh particles lean on it.
     void hint(double offset_rad, bool mirrored) { hint_ = {offset_rad, mirrored ? -1.0 : 1.0}; }
 
-    Point position() const;  // weighted mean; only meaningful once started()
+    // The weighted mean, or the cloud's mode when estimate_radius_m > 0 (the real-walk preset);
+    // only meaningful once started().
+    Point position() const;
     // How far the cloud is spread: the weighted RMS distance of the particles from position(),
     // an honest accuracy for the estimate (0 before the first fix).
     double spread() const;
