@@ -42,6 +42,18 @@ public:
     std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of);
 
     bool started() const { return filter_.has_value() || walk_.has_value(); }
+    // The latest t this filter has run (nullopt before its first input).
+    std::optional<double> done_t() const { return done_t_; }
+    // Starts the filter at a fix the track already stored (its latest), as if it were a radio
+    // fix, and counts inputs up to its t as run: for a track whose filter this server does not
+    // hold (a restart, or a request that reached another server sharing the database).
+    template <typename WalkableOf>
+    void resume(const Fix& stored, WalkableOf&& walkable_of) {
+        std::shared_ptr<const fusion::Walkable> w = walkable_of(stored.floor_id);
+        start(w.get(), stored);
+        heading_deg_ = stored.heading_deg;
+        done_t_ = stored.t;
+    }
 
 private:
     Fix fused(double t, std::optional<double> heading_deg) const;

@@ -323,18 +323,15 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
 std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio) {
     std::lock_guard fusion_lock(fusion_mu_);
     FusionMethod method;
+    std::optional<Fix> latest;
     {
         std::lock_guard lock(mu_);
         const auto& track = find(id);
         if (track->info.state != State::live)
             throw Refused(Reason::closed, "track " + std::to_string(id) + " is not live; open a new one");
         method = track->info.fusion;
+        latest = track->info.latest;
     }
-    // The filter runs on a copy, kept only once its fixes are stored. Its seed is the track's
-    // id, so a track's fused fixes are reproducible (and client-lib's on the same inputs).
-    const auto it = fusions_.find(id);
-    auto next = it == fusions_.end() ? std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id))
-                                     : std::make_shared<ThinFusion>(*it->second);
     const auto walkable_of = [this](std::int64_t floor_id) -> std::shared_ptr<const fusion::Walkable> {
         if (const auto w = walkables_.find(floor_id); w != walkables_.end()) return w->second;
         const auto stored = store_.plan_of_floor(floor_id);
@@ -343,6 +340,16 @@ std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std
         walkables_[floor_id] = w;
         return w;
     };
+    // The filter runs on a copy, kept only once its fixes are stored. Its seed is the track's
+    // id, so a track's fused fixes are reproducible (and client-lib's on the same inputs). A
+    // filter this server does not hold (after a restart), or one the track's stored fixes have
+    // passed (fixes posted directly, or steps another server sharing the database fused),
+    // starts again at the track's latest stored fix rather than refusing the steps or
+    // fusing from a stale state.
+    const auto it = fusions_.find(id);
+    const bool held = it != fusions_.end() && (!latest || (it->second->done_t() && latest->t <= *it->second->done_t()));
+    auto next = held ? std::make_shared<ThinFusion>(*it->second) : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id));
+    if (!held && latest) next->resume(*latest, walkable_of);
     std::vector<Fix> fused = next->run(steps, radio, walkable_of);
     // A radio fix and a step at one t give two fixes: the track keeps the later state. A t
     // stored by an earlier request (a retry) keeps the first fix, as posted fixes do.

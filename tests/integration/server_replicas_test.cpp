@@ -260,6 +260,17 @@ TEST_F(Replicas, ALiveTrackTakesFixesOnEitherServer) {
         EXPECT_EQ(got.at("latest").at("x"), 5.0);
         EXPECT_EQ(got.at("trail").size(), 6u);
     }
+    // A thin client's steps alternate too: each server goes on from the track's latest stored
+    // fix, whichever server stored it (it holds no filter, or one the other server passed).
+    for (int i = 6; i < 10; ++i) {
+        const ServerProcess& s = i % 2 ? *b : *a;
+        const json step = {{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 0.0}};
+        const auto r = track_call(s, "POST", path + "/steps", token, json{{"steps", json::array({step})}}.dump());
+        ASSERT_EQ(r.status, 200) << "step " << i << ": " << r.raw;
+        EXPECT_EQ(r.body.at("stored"), 1);
+        EXPECT_EQ(r.body.at("fused").size(), 1u);
+    }
+    EXPECT_EQ(body_of(track_call(*a, "GET", path, token)).at("fixes"), 10);
     // Closed on one server, the track takes no fix on the other.
     EXPECT_EQ(body_of(track_call(*b, "POST", path + "/close", token)).at("state"), "closed");
     const json late = {{"t", t0 + 7}, {"floor_id", h.floor}, {"x", 7.0}, {"y", 0.0}, {"accuracy_m", 1.5}};

@@ -727,6 +727,38 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
     EXPECT_EQ(body_of(call(s, "GET", path_of(old), {old.token}))["fixes"], 0);
 }
 
+// A track whose filter the server does not hold (here after a restart; on PostgreSQL also when
+// another server fused its last steps) starts again at its latest stored fix instead of
+// refusing the steps: the same fixes as client-lib's WalkFilter started there.
+TEST(ServerTracks, AFilterTheServerDoesNotHoldResumesAtTheLatestStoredFix) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);  // no plan: walk_pf walks freely
+    const Track t = open_track(s, h.map);
+    const double t0 = std::floor(unix_now()) - 30;
+    const std::string p = path_of(t, "/steps");
+    const json first = {{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 4.0}, {"y", 3.0}, {"accuracy_m", 1.5}}}},
+                        {"steps", {{{"t", t0 + 1}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}};
+    ASSERT_EQ(call(s, "POST", p, {t.token}, first.dump()).status, 200);
+    s.stop();
+    s.start();
+    const json latest = body_of(call(s, "GET", path_of(t), {t.token}))["latest"];
+    ASSERT_EQ(latest["t"], t0 + 1);
+    const json resumed = body_of(call(s, "POST", p, {t.token},
+                                      json{{"steps", {{{"t", t0 + 1}, {"length_m", 0.7}, {"heading_deg", 0.0}},  // already run
+                                                      {{"t", t0 + 2}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}
+                                          .dump()));
+    ASSERT_EQ(resumed["fused"].size(), 1u) << resumed.dump();
+    auto config = locus::fusion::WalkFilterConfig::real_walks();
+    config.seed = static_cast<std::uint64_t>(t.id);
+    locus::fusion::WalkFilter wf(std::nullopt, config);
+    const double a = std::max(latest["accuracy_m"].get<double>(), 0.5);
+    wf.fix({latest["x"].get<double>(), latest["y"].get<double>()}, Eigen::Matrix2d::Identity() * a * a);
+    wf.step(0.7, 0.0);
+    EXPECT_NEAR(resumed["fused"][0]["x"].get<double>(), wf.position().x, 1e-9);
+    EXPECT_NEAR(resumed["fused"][0]["y"].get<double>(), wf.position().y, 1e-9);
+    EXPECT_EQ(resumed["fused"][0]["floor_id"], h.floor);
+}
+
 // `fusion` names one of the two filters; anything else is refused and opens no track.
 TEST(ServerTracks, OpeningATrackRefusesAnUnknownFusion) {
     ServerProcess s({"--quiet"});
