@@ -476,7 +476,9 @@ async function run() {
     await get(`/v1/maps/${UNKNOWN}/positions/events`, { auth: true, expect: 404 });
     await post('/v1/tracks', { map_id: UNKNOWN }, { auth: false, expect: 422 });
     await post('/v1/tracks', { map_id: map, colour: 'red' }, { auth: false, expect: 422, invalid: true });
-    await post('/v1/tracks', { map_id: map, fusion: 'particle' }, { auth: false, expect: 201 });
+    const openedC = await post('/v1/tracks', { map_id: map, fusion: 'particle' }, { auth: false, expect: 201 });
+    const c = openedC.json?.id ?? UNKNOWN;
+    const tc = { 'x-track-token': openedC.json?.token ?? '' };
     await post('/v1/tracks', { map_id: map, fusion: 'kalman' }, { auth: false, expect: 422, invalid: true });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, { auth: false, expect: 401 });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(tb, { expect: 403 }));
@@ -488,7 +490,8 @@ async function run() {
     await post(`/v1/tracks/${a}/fixes`, { fixes: Array.from({ length: 1001 }, (_, i) => fixOf(nowS - 20 + i / 100, floor, 1, 1)) }, own(ta, { expect: 413, invalid: true }));
     // A thin client: a radio fix and steps, fused on the server over the ground floor's plan.
     await post(`/v1/tracks/${a}/steps`, { fixes: [fixOf(nowS - 1.5, floor, 5, 5)], steps: [{ t: nowS - 1, length_m: 0.7, heading_deg: 90 }] }, own(ta, { expect: 200 }));
-    await post(`/v1/tracks/${b}/steps`, { steps: [{ t: nowS - 0.5, length_m: 0.7, heading_deg: 90 }] }, own(tb, { expect: 422 }));
+    // Steps on a track with no fix at all: nowhere to start (422 cannot_fuse).
+    await post(`/v1/tracks/${c}/steps`, { steps: [{ t: nowS - 0.5, length_m: 0.7, heading_deg: 90 }] }, own(tc, { expect: 422 }));
     await post(`/v1/tracks/${a}/steps`, { steps: [{ t: nowS, length_m: 7, heading_deg: 90 }] }, own(ta, { expect: 422, invalid: true }));
     await post(`/v1/tracks/${a}/steps`, { walk: [] }, own(ta, { expect: 422, invalid: true }));
     // A thin client's scan, localized on the track's map and fused as its radio fix.
