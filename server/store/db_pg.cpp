@@ -3,7 +3,9 @@
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "store/pg_detail.hpp"
 
@@ -13,18 +15,24 @@ bool is_postgres_url(std::string_view url) {
     return url.starts_with("postgresql://") || url.starts_with("postgres://");
 }
 
+namespace {
+// Where scheme://user:password@host… holds its password: [first, last), the ':' at first − 1;
+// nullopt when the URL's user part has none.
+std::optional<std::pair<std::size_t, std::size_t>> password_span(std::string_view url) {
+    const auto scheme = url.find("://");
+    if (scheme == std::string_view::npos) return std::nullopt;
+    const auto at = url.find('@', scheme + 3), slash = url.find('/', scheme + 3);
+    if (at == std::string_view::npos || (slash != std::string_view::npos && slash < at)) return std::nullopt;
+    const auto colon = url.find(':', scheme + 3);
+    if (colon == std::string_view::npos || colon > at) return std::nullopt;
+    return std::pair{colon + 1, at};
+}
+}  // namespace
+
 std::string redacted_url(std::string_view url) {
     // scheme://user:password@host… keeps user@host…; a password=… parameter is cut too.
     std::string out(url);
-    const auto scheme = out.find("://");
-    if (scheme != std::string::npos) {
-        const auto at = out.find('@', scheme + 3);
-        const auto slash = out.find('/', scheme + 3);
-        if (at != std::string::npos && (slash == std::string::npos || at < slash)) {
-            const auto colon = out.find(':', scheme + 3);
-            if (colon != std::string::npos && colon < at) out.erase(colon, at - colon);
-        }
-    }
+    if (const auto pw = password_span(url)) out.erase(pw->first - 1, pw->second - pw->first + 1);
     // Every password=… and sslpassword=… parameter, not only the first.
     for (auto pw = out.find("password="); pw != std::string::npos; pw = out.find("password=", pw + 12)) {
         const auto end = out.find('&', pw);
@@ -37,11 +45,9 @@ namespace {
 // libpq's own message can quote the URL's password (a bad %-escape in it is echoed): cut the
 // password's text, as written and %-decoded, out of whatever it says.
 std::string without_password(std::string msg, std::string_view url) {
-    const auto scheme = url.find("://");
-    if (scheme == std::string_view::npos) return msg;
-    const auto at = url.find('@', scheme + 3), colon = url.find(':', scheme + 3);
-    if (at == std::string_view::npos || colon == std::string_view::npos || colon > at) return msg;
-    const std::string raw(url.substr(colon + 1, at - colon - 1));
+    const auto pw = password_span(url);
+    if (!pw) return msg;
+    const std::string raw(url.substr(pw->first, pw->second - pw->first));
     std::string decoded;
     for (std::size_t i = 0; i < raw.size(); ++i) {
         if (raw[i] == '%' && i + 2 < raw.size() && std::isxdigit(static_cast<unsigned char>(raw[i + 1])) &&
