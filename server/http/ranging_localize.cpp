@@ -126,7 +126,7 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     return r;
 }
 
-std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request) {
+Ranged range_scan(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request) {
     std::map<std::string, Known> known;
     if (map_scope) {
         for (std::int64_t floor : floors_of_map(store, id)) add_floor(cache, floor, request.phone_height, known);
@@ -161,6 +161,15 @@ std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool ma
                        std::string(algorithm) + " found no position from the " + std::to_string(count) +
                            " transmitters heard (fewer than 3 within the cutoff of " + number(request.trilateration.cutoff) +
                            " m, or all in a line)");
+    return {floor_id, *fix, count};
+}
+
+std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request) {
+    const Ranged ranged = range_scan(store, cache, map_scope, id, request);
+    const std::int64_t floor_id = ranged.floor_id;
+    const auto* fix = &ranged.fix;
+    const std::size_t count = ranged.heard;
+    const char* algorithm = request.multilateration ? "multilateration" : "trilateration";
     const auto floor = store.get(store::kind("floors"), floor_id);
     const auto rooms = store.rooms_of_floor(floor_id);
     const Room* room = room_at(rooms, fix->at);

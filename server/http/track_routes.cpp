@@ -1,6 +1,6 @@
 // Live tracks (issue 17; the service is server/tracks/service.hpp):
 //
-//   POST   /v1/tracks                          {map_id, label?, fusion?} -> 201 {id, token, ...}
+//   POST   /v1/tracks                          {map_id, label?, fusion?, fusion_options?} -> 201 {id, token, ...}
 //   POST   /v1/tracks/{id}/fixes               {fixes: [{t, floor_id, x, y, accuracy_m, heading_deg?}]}
 //   POST   /v1/tracks/{id}/steps               {steps?: [{t, length_m, heading_deg}], fixes?, scans?: [{t, readings}]}
 //   POST   /v1/tracks/{id}/close
@@ -17,6 +17,9 @@
 // taken too, on GETs only); the API key keeps `Authorization`. The other track of
 // /relative is opened by `X-Peer-Token`. No token: 401; a token that does not open the track,
 // and a track that does not exist: 403 alike.
+// Eigen first: cpp-httplib (through app.hpp) pulls in <resolv.h>, whose `_res` macro breaks Eigen.
+#include "tracks/fusion.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -24,6 +27,7 @@
 
 #include "http/app.hpp"
 #include "http/json_text.hpp"
+#include "http/ranging_localize.hpp"
 #include "http/route_json.hpp"
 #include "http/track_scan.hpp"
 #include "http/validation.hpp"
@@ -55,6 +59,12 @@ json track_json(const tracks::TrackInfo& t) {
               {"last_fix_at", t.last_fix_at},
               {"fixes", t.fixes},
               {"fusion", tracks::fusion_method_name(t.fusion)}};
+    if (!t.fusion_options.empty()) {
+        json o = json::object();
+        for (const auto& spec : tracks::kFusionOptions)
+            if (const auto& v = t.fusion_options.*spec.field) o[spec.name] = *v;
+        j["fusion_options"] = std::move(o);
+    }
     if (t.latest) j["latest"] = fix_json(*t.latest);  // absent before the first fix
     if (t.ended_at) j["ended_at"] = *t.ended_at;
     return j;
@@ -198,6 +208,56 @@ std::vector<TimedScan> parse_timed_scans(const json* arr, double retention_s) {
     return out;
 }
 
+// `fusion_options` of POST /v1/tracks: only for the Kalman methods, only the options the method
+// takes (tracks/fusion_options.hpp), each a finite number in its range.
+tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMethod method) {
+    tracks::FusionOptions out;
+    const auto it = body.find("fusion_options");
+    if (it == body.end()) return out;
+    if (!tracks::is_kalman(method))
+        throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_seed, kalman_ranging); ") +
+                            tracks::fusion_method_name(method) + " takes none");
+    if (!it->is_object()) throw invalid_field("'fusion_options' must be an object");
+    for (const auto& [name, value] : it->items()) {
+        const auto spec = std::find_if(tracks::kFusionOptions.begin(), tracks::kFusionOptions.end(),
+                                       [&name](const tracks::FusionOptionSpec& s) { return name == s.name; });
+        if (spec == tracks::kFusionOptions.end() || !tracks::takes(*spec, method)) {
+            std::string known;
+            for (const auto& s : tracks::kFusionOptions)
+                if (tracks::takes(s, method)) known += std::string(known.empty() ? "" : ", ") + s.name;
+            throw invalid_field("'fusion_options." + name + "' is not an option of " + tracks::fusion_method_name(method) +
+                                " (it takes " + known + ")");
+        }
+        out.*spec->field = finite_number(*it, spec->name, "fusion_options", spec->min, spec->max);
+    }
+    return out;
+}
+
+// A scan on a track fused by a Kalman method: ranged on the map's transmitters as
+// POST /v1/maps/{id}/localize ranges it (kalman_seed: trilateration, kalman_ranging:
+// multilateration, the default options), the ranging fix carried for its covariance.
+tracks::RadioFix ranged_scan_fix(store::Store& store, TransmitterCache& cache, std::int64_t map_id, tracks::FusionMethod method,
+                                 double t, const Scan& readings, const std::string& where) {
+    RangingRequest request;
+    request.multilateration = method == tracks::FusionMethod::kalman_ranging;
+    request.query = match::Query::from_scans({readings});
+    if (request.query.aps.empty()) throw invalid_field("'" + where + ".readings' holds no reading");
+    Ranged ranged;
+    try {
+        ranged = range_scan(store, cache, true, map_id, request);
+    } catch (const ApiError& e) {
+        throw ApiError(e.status, e.code, "'" + where + "': " + e.what());
+    }
+    tracks::RadioFix f;
+    f.t = t;
+    f.floor_id = ranged.floor_id;
+    f.x = ranged.fix.at.x;
+    f.y = ranged.fix.at.y;
+    f.accuracy_m = std::sqrt(fusion::ranging_covariance(ranged.fix).trace() / 2.0);  // its σ per axis, as a scan_fix's
+    f.ranged = ranged.fix;
+    return f;
+}
+
 // "ahead", "behind", "ahead, 30° left", "behind, 120° right": where b is, turned from a's
 // heading (positive: clockwise, to the right).
 std::string direction_text(double relative_deg) {
@@ -229,7 +289,7 @@ void App::install_track_routes() {
     server_.Post("/v1/tracks", [&svc](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const json body = parse_object(req.body);
-            only_fields(body, {"map_id", "label", "fusion"}, "");
+            only_fields(body, {"map_id", "label", "fusion", "fusion_options"}, "");
             const auto m = body.find("map_id");
             if (m == body.end() || !m->is_number_integer() || m->get<std::int64_t>() <= 0)
                 throw invalid_field("'map_id' must be a positive integer id");
@@ -237,12 +297,14 @@ void App::install_track_routes() {
             auto fusion = tracks::FusionMethod::walk_pf;
             if (const auto f = body.find("fusion"); f != body.end()) {
                 const auto named = f->is_string() ? tracks::fusion_method_of(f->get<std::string>()) : std::nullopt;
-                if (!named) throw invalid_field("'fusion' must be \"walk_pf\" (the default) or \"particle\"");
+                if (!named)
+                    throw invalid_field("'fusion' must be \"walk_pf\" (the default), \"particle\", \"kalman_seed\" or \"kalman_ranging\"");
                 fusion = *named;
             }
+            const auto fusion_options = parse_fusion_options(body, fusion);
             tracks::Opened o;
             try {
-                o = svc.open(m->get<std::int64_t>(), label, fusion);
+                o = svc.open(m->get<std::int64_t>(), label, fusion, fusion_options);
             } catch (const store::NotFound& e) {
                 throw invalid_field(std::string("'map_id': ") + e.what());
             }
@@ -286,18 +348,31 @@ void App::install_track_routes() {
             if (n == 0) throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}), 'fixes' (radio fixes) and/or 'scans' ({t, readings})");
             check_batch_size(n);
             const auto steps = parse_steps(steps_json, svc.options().retention_s);
-            auto radio = parse_fix_array(fixes_json, "fixes", svc.options().retention_s);
+            std::vector<tracks::RadioFix> radio;
+            for (const auto& f : parse_fix_array(fixes_json, "fixes", svc.options().retention_s)) {
+                radio.emplace_back();
+                static_cast<tracks::Fix&>(radio.back()) = f;
+            }
             const auto scans = parse_timed_scans(scans_json, svc.options().retention_s);
             json scan_fixes = json::array();
             if (!scans.empty()) {
-                const auto snapshot = localizer_.lookup(localize::Service::Scope::map, svc.info(id).map_id);
+                const auto track = svc.info(id);
+                // A Kalman track ranges its scans on the map's transmitters; the particle
+                // filters take the radio map's match.
+                std::shared_ptr<const localize::Snapshot> snapshot;
+                if (!tracks::is_kalman(track.fusion)) snapshot = localizer_.lookup(localize::Service::Scope::map, track.map_id);
                 for (const auto& sc : scans) {
-                    radio.push_back(scan_fix(*snapshot, sc.t, sc.readings, sc.where));
+                    if (snapshot) {
+                        radio.emplace_back();
+                        static_cast<tracks::Fix&>(radio.back()) = scan_fix(*snapshot, sc.t, sc.readings, sc.where);
+                    } else {
+                        radio.push_back(ranged_scan_fix(store_, transmitters_, track.map_id, track.fusion, sc.t, sc.readings, sc.where));
+                    }
                     scan_fixes.push_back(fix_json(radio.back()));
                 }
                 std::stable_sort(radio.begin(), radio.end(), [](const tracks::Fix& a, const tracks::Fix& b) { return a.t < b.t; });
             }
-            if (const auto floor = svc.misplaced_floor(id, radio))
+            if (const auto floor = svc.misplaced_floor(id, std::vector<tracks::Fix>(radio.begin(), radio.end())))
                 throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
             std::pair<tracks::Posted, std::vector<tracks::Fix>> done;
             try {

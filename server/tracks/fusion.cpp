@@ -1,5 +1,6 @@
 #include "tracks/fusion.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace locus::tracks {
@@ -9,15 +10,45 @@ Eigen::Matrix2d fix_covariance(double accuracy_m) {
     return Eigen::Matrix2d::Identity() * (s * s);
 }
 
-ThinFusion::ThinFusion(FusionMethod method, std::uint64_t seed)
+fusion::RangingKalmanConfig kalman_config(FusionMethod method, const FusionOptions& options) {
+    auto c = method == FusionMethod::kalman_seed ? fusion::seed004_kalman_config() : fusion::ranging_kalman_config();
+    if (options.r_sigma_m) c.fixed_r_sigma_m = *options.r_sigma_m;
+    if (options.q_sigma_m) c.kalman.step_sigma_floor_m = *options.q_sigma_m;
+    if (options.q_sigma_per_m) c.kalman.step_sigma_per_m = *options.q_sigma_per_m;
+    if (options.r_floor_m) c.r_floor_m = *options.r_floor_m;
+    if (options.r_scale) c.r_scale = *options.r_scale;
+    return c;
+}
+
+ThinFusion::ThinFusion(FusionMethod method, std::uint64_t seed, const FusionOptions& options)
     : method_(method), walk_config_(fusion::WalkFilterConfig::real_walks()) {
     config_.seed = seed;
     walk_config_.seed = seed;
+    if (is_kalman(method)) kalman_config_ = kalman_config(method, options);
 }
 
-void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r) {
+Eigen::Matrix2d ThinFusion::kalman_r(const RadioFix& r) const {
+    ranging::Fix f;
+    if (r.ranged) {
+        f = *r.ranged;
+    } else {
+        f.sxx = f.syy = r.accuracy_m * r.accuracy_m;
+    }
+    return fusion::ranging_measurement_noise(f, kalman_config_);
+}
+
+void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resumed) {
     const Point at{r.x, r.y};
-    if (method_ == FusionMethod::walk_pf) {
+    if (is_kalman(method_)) {
+        // The filter starts at the fix, as sure of it as the fix is (its R's mean σ per axis);
+        // resumed at a stored fused fix, as sure as the filter was then.
+        fusion::KalmanConfig c = kalman_config_.kalman;
+        c.initial_sigma_m = resumed ? std::max(r.accuracy_m, 0.05) : std::sqrt(kalman_r(r).trace() / 2.0);
+        // Ours is map-matched on the floor's plan as `locus replay` runs it; the seed's is not.
+        std::shared_ptr<const fusion::PlanWalkable> plan;
+        if (method_ == FusionMethod::kalman_ranging && w) plan = w->floor_plan;
+        kalman_.emplace(at, c, std::move(plan));
+    } else if (method_ == FusionMethod::walk_pf) {
         walk_.emplace(w ? std::optional<fusion::Walkable>(*w) : std::nullopt, walk_config_);
         walk_->fix(at, fix_covariance(r.accuracy_m));
     } else {
@@ -32,6 +63,13 @@ Fix ThinFusion::fused(double t, std::optional<double> heading_deg) const {
     f.t = t;
     f.floor_id = floor_id_;
     f.heading_deg = heading_deg;
+    if (kalman_) {
+        const Point p = kalman_->position();
+        f.x = p.x;
+        f.y = p.y;
+        f.accuracy_m = std::sqrt(kalman_->covariance().trace() / 2.0);  // σ per axis of an isotropic P alike
+        return f;
+    }
     if (walk_) {
         const Point p = walk_->position();
         f.x = p.x;

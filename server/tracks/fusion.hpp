@@ -5,9 +5,12 @@
 // By default that is walk_pf (fusion::WalkFilter with the real-walk preset, the best causal
 // method on real walks: docs/fusion.md), which learns the compass's rotation, mirror and the
 // step scale and walks the floor's plan when it has one, freely when not; a track may ask for
-// the older fusion::ParticleFilter, which needs a plan. One filter per track, restarted at a
-// radio fix on another floor (steps alone never change floor), seeded with the track's id so
-// a track's fused fixes are reproducible.
+// the older fusion::ParticleFilter, which needs a plan, or seed 004's Kalman filter
+// (fusion::KalmanFilter with PDR steps as control input, as `locus sim` and `locus replay` run
+// it: kalman_seed with constant R and Q, kalman_ranging with each ranged fix's covariance as R;
+// the latter map-matched on the floor's plan when it has one). One filter per track, started at
+// its first radio fix and restarted at a radio fix on another floor (steps alone never change
+// floor), seeded with the track's id so a track's fused fixes are reproducible.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -16,21 +19,31 @@
 #include <stdexcept>
 #include <string>
 
+#include "locus/fusion/kalman.hpp"
 #include "locus/fusion/particle_filter.hpp"
+#include "locus/fusion/ranging_fix.hpp"
 #include "locus/fusion/walk_filter.hpp"
+#include "locus/pdr/heading_convention.hpp"
+#include "locus/ranging/trilateration.hpp"
 #include "tracks/fix.hpp"
 #include "tracks/fusion_method.hpp"
+#include "tracks/fusion_options.hpp"
 
 namespace locus::tracks {
 
-// A fix from the radio map (POST /v1/maps/{id}/localize, say), the filter's measurement.
-using RadioFix = Fix;
+// A fix from the radio map (POST /v1/maps/{id}/localize, say), the filter's measurement. A
+// scan ranged on transmitters also carries the ranging fix, whose covariance is kalman_ranging's
+// R; any other fix's R comes from its accuracy_m.
+struct RadioFix : Fix {
+    std::optional<ranging::Fix> ranged;
+};
 
 // One track's filter.
 class ThinFusion {
 public:
     // seed: the filter's random seed (the track's id), the same at every restart.
-    explicit ThinFusion(FusionMethod method = FusionMethod::walk_pf, std::uint64_t seed = 1);
+    // options: the Kalman methods' noise (tracks/fusion_options.hpp), ignored by the others.
+    explicit ThinFusion(FusionMethod method = FusionMethod::walk_pf, std::uint64_t seed = 1, const FusionOptions& options = {});
 
     // Runs the steps and radio fixes in time order (a radio fix before a step of equal t) and
     // answers one fused fix per input. Inputs at or before the last t an earlier call ran are
@@ -41,7 +54,7 @@ public:
     template <typename WalkableOf>
     std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of);
 
-    bool started() const { return filter_.has_value() || walk_.has_value(); }
+    bool started() const { return filter_.has_value() || walk_.has_value() || kalman_.has_value(); }
     // The latest t this filter has run (nullopt before its first input).
     std::optional<double> done_t() const { return done_t_; }
     // Starts the filter at a fix the track already stored (its latest), as if it were a radio
@@ -50,20 +63,28 @@ public:
     template <typename WalkableOf>
     void resume(const Fix& stored, WalkableOf&& walkable_of) {
         std::shared_ptr<const fusion::Walkable> w = walkable_of(stored.floor_id);
-        start(w.get(), stored);
+        RadioFix at;
+        static_cast<Fix&>(at) = stored;
+        start(w.get(), at, true);
         heading_deg_ = stored.heading_deg;
         done_t_ = stored.t;
     }
 
 private:
     Fix fused(double t, std::optional<double> heading_deg) const;
-    void start(const fusion::Walkable* w, const RadioFix& r);
+    // resumed: `r` is a fused fix the track stored, whose accuracy_m is the filter's own σ then.
+    void start(const fusion::Walkable* w, const RadioFix& r, bool resumed = false);
+    // The Kalman filter's R for a radio fix (client-lib's ranging_measurement_noise, the fix's
+    // accuracy_m as an isotropic covariance when it was not ranged).
+    Eigen::Matrix2d kalman_r(const RadioFix& r) const;
 
     FusionMethod method_;
     fusion::ParticleConfig config_;
     fusion::WalkFilterConfig walk_config_;
     std::optional<fusion::ParticleFilter> filter_;  // copyable: a request runs on a copy
-    std::optional<fusion::WalkFilter> walk_;        // one of the two, by method_
+    std::optional<fusion::WalkFilter> walk_;        // one of the three, by method_
+    fusion::RangingKalmanConfig kalman_config_;
+    std::optional<fusion::KalmanFilter> kalman_;
     std::int64_t floor_id_ = 0;
     std::optional<double> heading_deg_;
     std::optional<double> done_t_;  // the latest t run so far
@@ -71,6 +92,9 @@ private:
 
 // The radio fix's covariance: its accuracy as a 1-sigma radius.
 Eigen::Matrix2d fix_covariance(double accuracy_m);
+
+// A Kalman method's configuration: its defaults with the track's options over them.
+fusion::RangingKalmanConfig kalman_config(FusionMethod method, const FusionOptions& options);
 
 template <typename WalkableOf>
 std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of) {
@@ -92,6 +116,8 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
             if (!started() || r.floor_id != floor_id_) {
                 std::shared_ptr<const fusion::Walkable> w = walkable_of(r.floor_id);
                 start(w.get(), r);
+            } else if (kalman_) {
+                kalman_->update(at, kalman_r(r));
             } else if (walk_) {
                 walk_->fix(at, fix_covariance(r.accuracy_m));
             } else {
@@ -102,7 +128,8 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
             const Step& s = steps[si++];
             if (!started()) throw std::invalid_argument("steps need a radio fix first (in this request or an earlier one): the filter starts there");
             const double heading_rad = s.heading_deg * 3.14159265358979323846 / 180.0;
-            if (walk_) walk_->step(s.length_m, heading_rad);
+            if (kalman_) kalman_->predict(pdr::step({0.0, 0.0}, s.length_m, heading_rad));
+            else if (walk_) walk_->step(s.length_m, heading_rad);
             else filter_->predict(s.length_m, heading_rad);
             heading_deg_ = s.heading_deg;
             out.push_back(fused(s.t, heading_deg_));

@@ -119,7 +119,7 @@ void Service::map_deleted(std::int64_t map_id) {
 void Service::load() {
     std::lock_guard db_lock(db_mu_);
     std::lock_guard lock(mu_);
-    store::Stmt q(db_, "SELECT id, map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion FROM tracks");
+    store::Stmt q(db_, "SELECT id, map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion, fusion_options FROM tracks");
     while (q.step()) {
         auto t = std::make_shared<Track>();
         t->info.id = q.int64(0);
@@ -131,6 +131,7 @@ void Service::load() {
         t->info.last_fix_at = q.real(6);
         if (!q.is_null(7)) t->info.ended_at = q.real(7);
         t->info.fusion = fusion_method_of(q.text(8)).value_or(FusionMethod::walk_pf);
+        if (!q.is_null(9)) t->info.fusion_options = fusion_options_of_text(q.text(9));
         tracks_[t->info.id] = t;
     }
     store::Stmt latest(db_,
@@ -155,7 +156,7 @@ std::shared_ptr<Service::Track> Service::find(std::int64_t id) const {
     return it->second;
 }
 
-Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod fusion) {
+Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options) {
     (void)store_.get(store::kind("maps"), map_id);  // NotFound for an unknown map
     Opened out;
     out.token = new_token("trk_");
@@ -174,16 +175,20 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
                               "slots free as closed tracks expire: try again later");
     }
     store::Transaction tx(db_);
-    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at, fusion) VALUES (?, ?, ?, 'live', ?, ?, ?)");
+    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at, fusion, fusion_options) "
+                         "VALUES (?, ?, ?, 'live', ?, ?, ?, ?)");
     ins.bind(1, map_id);
     if (label.empty()) ins.bind_null(2);
     else ins.bind(2, std::string_view(label));
     ins.bind_blob(3, hash).bind(4, t).bind(5, t).bind(6, std::string_view(fusion_method_name(fusion)));
+    const std::string options_text = fusion_options_text(options);
+    if (options_text.empty()) ins.bind_null(7);
+    else ins.bind(7, std::string_view(options_text));
     ins.run();
     const std::int64_t id = db_.last_insert_id();
     tx.commit();
     auto track = std::make_shared<Track>();
-    track->info = {id, map_id, label, State::live, t, t, std::nullopt, std::nullopt, 0, fusion};
+    track->info = {id, map_id, label, State::live, t, t, std::nullopt, std::nullopt, 0, fusion, options};
     track->token_hash = hash;
     out.info = track->info;
     std::lock_guard lock(mu_);
@@ -193,7 +198,7 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
 
 void Service::refresh(std::int64_t id) {
     std::lock_guard db_lock(db_mu_);
-    store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion FROM tracks WHERE id = ?");
+    store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion, fusion_options FROM tracks WHERE id = ?");
     q.bind(1, id);
     if (!q.step()) return;  // unknown here too: refused as forbidden
     TrackInfo row;
@@ -206,6 +211,7 @@ void Service::refresh(std::int64_t id) {
     row.last_fix_at = q.real(5);
     if (!q.is_null(6)) row.ended_at = q.real(6);
     row.fusion = fusion_method_of(q.text(7)).value_or(FusionMethod::walk_pf);
+    if (!q.is_null(8)) row.fusion_options = fusion_options_of_text(q.text(8));
     store::Stmt latest(db_, "SELECT t, floor_id, x, y, accuracy_m, heading_deg FROM track_fixes WHERE track_id = ? ORDER BY t DESC LIMIT 1");
     latest.bind(1, id);
     if (latest.step()) row.latest = fix_of(latest, 0);
@@ -320,9 +326,10 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
     return out;
 }
 
-std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio) {
+std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio) {
     std::lock_guard fusion_lock(fusion_mu_);
     FusionMethod method;
+    FusionOptions options;
     std::optional<Fix> latest;
     {
         std::lock_guard lock(mu_);
@@ -330,6 +337,7 @@ std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std
         if (track->info.state != State::live)
             throw Refused(Reason::closed, "track " + std::to_string(id) + " is not live; open a new one");
         method = track->info.fusion;
+        options = track->info.fusion_options;
         latest = track->info.latest;
     }
     const auto walkable_of = [this](std::int64_t floor_id) -> std::shared_ptr<const fusion::Walkable> {
@@ -348,7 +356,7 @@ std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std
     // fusing from a stale state.
     const auto it = fusions_.find(id);
     const bool held = it != fusions_.end() && (!latest || (it->second->done_t() && latest->t <= *it->second->done_t()));
-    auto next = held ? std::make_shared<ThinFusion>(*it->second) : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id));
+    auto next = held ? std::make_shared<ThinFusion>(*it->second) : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id), options);
     if (!held && latest) next->resume(*latest, walkable_of);
     std::vector<Fix> fused = next->run(steps, radio, walkable_of);
     // A radio fix and a step at one t give two fixes: the track keeps the later state. A t

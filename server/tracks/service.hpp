@@ -27,6 +27,7 @@
 #include "store/store.hpp"
 #include "tracks/fix.hpp"
 #include "tracks/fusion_method.hpp"
+#include "tracks/fusion_options.hpp"
 
 namespace locus::tracks {
 
@@ -69,6 +70,7 @@ struct TrackInfo {
     std::optional<Fix> latest;  // the fix with the largest t
     std::size_t fixes = 0;
     FusionMethod fusion = FusionMethod::walk_pf;  // tracks/fusion_method.hpp
+    FusionOptions fusion_options;                 // the Kalman methods' noise (tracks/fusion_options.hpp)
 };
 
 struct Opened {
@@ -109,6 +111,7 @@ struct MapEvents {
 };
 
 class ThinFusion;
+struct RadioFix;
 
 class Service {
     struct Track;
@@ -124,7 +127,9 @@ public:
     void stop();
 
     // A new live track on an existing map (store::NotFound otherwise).
-    Opened open(std::int64_t map_id, const std::string& label, FusionMethod fusion = FusionMethod::walk_pf);
+    // `options` must be validated against kFusionOptions for `fusion`.
+    Opened open(std::int64_t map_id, const std::string& label, FusionMethod fusion = FusionMethod::walk_pf,
+                const FusionOptions& options = {});
     // What `token` may do with track `id`. An unknown track and a wrong token are refused alike
     // (forbidden), so a token says nothing about tracks it does not open; the owner of a track
     // that went is told so (gone). On PostgreSQL the track is first read again from the
@@ -139,7 +144,7 @@ public:
     // A thin client's raw steps and radio fixes, fused by client-lib's filter the track chose
     // (tracks/fusion.hpp), seeded with the track's id, and stored as the track's fixes; answers them with the post's counts.
     // std::invalid_argument when the filter cannot run (steps before any fix; no plan for particle).
-    std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<Fix>& radio);
+    std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio);
     void close(std::int64_t id);
     void remove(std::int64_t id);
 

@@ -6,14 +6,7 @@
 
 namespace locus::sim {
 
-fusion::RangingKalmanConfig RangingEvalConfig::default_kalman() {
-    fusion::RangingKalmanConfig c;
-    c.kalman.step_sigma_floor_m = 0.05;
-    c.kalman.step_sigma_per_m = 0.3;
-    c.r_floor_m = 0.5;
-    c.r_scale = 1.0;  // the fix's covariance as it is: 3 × was worse on the tuning walks
-    return c;
-}
+fusion::RangingKalmanConfig RangingEvalConfig::default_kalman() { return fusion::ranging_kalman_config(); }
 
 namespace {
 

@@ -37,4 +37,13 @@ RangingKalmanConfig seed004_kalman_config() {
     return c;
 }
 
+RangingKalmanConfig ranging_kalman_config() {
+    RangingKalmanConfig c;
+    c.kalman.step_sigma_floor_m = 0.05;
+    c.kalman.step_sigma_per_m = 0.3;
+    c.r_floor_m = 0.5;
+    c.r_scale = 1.0;  // the fix's covariance as it is: 3 × was worse on the tuning walks
+    return c;
+}
+
 }  // namespace locus::fusion

@@ -33,7 +33,7 @@ struct RangingEvalConfig {
     // tuning walks 101..160 it took the filter's final error from 1.21 to 1.11 m.
     bool learn_offset = true;
 
-    // Ours, tuned on seeds 101..160 (docs/transmitters.md).
+    // Ours, tuned on seeds 101..160 (docs/transmitters.md): fusion::ranging_kalman_config().
     static fusion::RangingKalmanConfig default_kalman();
 };
 

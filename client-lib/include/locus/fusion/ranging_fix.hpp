@@ -31,4 +31,9 @@ Eigen::Matrix2d ranging_measurement_noise(const ranging::Fix& fix, const Ranging
 // 101..160 (docs/transmitters.md), never on the reported ones.
 RangingKalmanConfig seed004_kalman_config();
 
+// Ours (multilateration fixes with their covariance as R, Q growing with the distance walked),
+// tuned on `locus sim --scenario seed004` walks with seeds 101..160 (docs/transmitters.md):
+// what `locus sim`, `locus replay` and the server's kalman_ranging tracks run.
+RangingKalmanConfig ranging_kalman_config();
+
 }  // namespace locus::fusion

@@ -1,0 +1,25 @@
+#include "tracks/fusion_options.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace locus::tracks {
+
+std::string fusion_options_text(const FusionOptions& o) {
+    if (o.empty()) return "";
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& spec : kFusionOptions)
+        if (const auto& v = o.*spec.field) j[spec.name] = *v;
+    return j.dump();
+}
+
+FusionOptions fusion_options_of_text(const std::string& text) {
+    FusionOptions o;
+    if (text.empty()) return o;
+    const auto j = nlohmann::json::parse(text, nullptr, false);
+    if (!j.is_object()) return o;  // written by fusion_options_text only: not expected
+    for (const auto& spec : kFusionOptions)
+        if (const auto it = j.find(spec.name); it != j.end() && it->is_number()) o.*spec.field = it->get<double>();
+    return o;
+}
+
+}  // namespace locus::tracks
