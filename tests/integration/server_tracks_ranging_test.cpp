@@ -1,0 +1,392 @@
+// Live tracks fused by seed 004's Kalman filters over HTTP against the real server: a floor
+// with six transmitters, a walk along a known path, its PDR steps and the scans the
+// log-distance model gives along it; the server's fused fixes are client-lib's ranging and
+// Kalman filter run in-process on the same inputs, and end near the truth. Bad input (unknown
+// fusion, bad fusion_options, a scan hearing two known transmitters, a map with none) is
+// refused with nothing written, and a restarted server resumes at the latest stored fix.
+// Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
+#include "locus/fusion/kalman.hpp"
+#include "locus/fusion/ranging_fix.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "hierarchy.hpp"
+#include "locus/pdr/heading_convention.hpp"
+#include "locus/ranging/path_loss.hpp"
+#include "locus/ranging/trilateration.hpp"
+#include "server_process.hpp"
+
+using locus::Point;
+using locus::testing::Response;
+using locus::testing::ServerProcess;
+using locus::testing::body_of;
+using nlohmann::json;
+namespace fusion = locus::fusion;
+namespace ranging = locus::ranging;
+
+namespace {
+
+double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+constexpr double kPhoneHeight = 1.2;  // the server's default: a transmitter's z is measured against it
+
+struct Tx {
+    std::string bssid;
+    double x, y, z, tx_power, exponent;
+    ranging::Transmitter model() const { return {{x, y}, z - kPhoneHeight, {tx_power, exponent}}; }
+};
+
+// Six transmitters around and inside a 13 m × 12 m area of the hierarchy's 30 m × 20 m floor,
+// so that every point of the walk has three within seed 004's 10 m cutoff.
+const std::vector<Tx> kTxs = {{"aa:10:00:00:00:01", 1.0, 1.0, 2.5, -40.0, 2.0},
+                              {"aa:10:00:00:00:02", 14.0, 1.0, 2.5, -42.0, 2.1},
+                              {"aa:10:00:00:00:03", 14.0, 13.0, 2.5, -41.0, 2.0},
+                              {"aa:10:00:00:00:04", 1.0, 13.0, 2.5, -39.0, 1.9},
+                              {"aa:10:00:00:00:05", 7.0, 7.0, 2.8, -40.0, 2.0},
+                              {"aa:10:00:00:00:06", 11.0, 7.0, 2.2, -41.0, 2.0}};
+
+Response call(const ServerProcess& s, const std::string& method, const std::string& path, const std::string& token = "",
+              const std::string& body = "") {
+    httplib::Client c("127.0.0.1", s.port());
+    c.set_read_timeout(10, 0);
+    httplib::Headers h;
+    if (!token.empty()) h.emplace("X-Track-Token", token);
+    httplib::Result r = method == "GET" ? c.Get(path.c_str(), h) : c.Post(path.c_str(), h, body, "application/json");
+    Response out;
+    if (!r) return out;
+    out.status = r->status;
+    out.raw = r->body;
+    out.body = json::parse(r->body, nullptr, false);
+    return out;
+}
+
+struct Track {
+    std::int64_t id = 0;
+    std::string token;
+    std::string steps() const { return "/v1/tracks/" + std::to_string(id) + "/steps"; }
+    std::string self() const { return "/v1/tracks/" + std::to_string(id); }
+};
+
+Track open_track(const ServerProcess& s, std::int64_t map, const std::string& fusion, const json& options = nullptr) {
+    json req = {{"map_id", map}, {"fusion", fusion}};
+    if (!options.is_null()) req["fusion_options"] = options;
+    const json b = body_of(call(s, "POST", "/v1/tracks", "", req.dump()), 201);
+    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
+}
+
+void add_transmitters(const ServerProcess& s, std::int64_t floor, std::size_t n = kTxs.size()) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const Tx& t = kTxs[i];
+        const json body = {{"type", "wifi"}, {"bssid", t.bssid}, {"x", t.x}, {"y", t.y}, {"z", t.z}, {"tx_power", t.tx_power},
+                           {"path_loss_exponent", t.exponent}};
+        ASSERT_EQ(s.post("/v1/floors/" + std::to_string(floor) + "/transmitters", body).status, 201);
+    }
+}
+
+// The walk: from (3, 3), 12 steps of 0.7 m east, then 12 north; a step a second from t0 + 1, a
+// scan every 2 s from t0 (none at a step's t), each reading the model's RSS plus a fixed
+// ±2 dB pattern of shadowing.
+struct Walk {
+    double t0 = 0;
+    std::vector<json> steps, scans;
+    std::vector<std::pair<double, Point>> truth;  // at each step
+    Point end;
+};
+
+Walk make_walk(double t0) {
+    Walk w;
+    w.t0 = t0;
+    Point at{3.0, 3.0};
+    const auto scan = [&](double t, Point p, int k) {
+        json readings = json::array();
+        for (std::size_t i = 0; i < kTxs.size(); ++i) {
+            const auto m = kTxs[i].model();
+            const double d = std::hypot(locus::distance(m.at, p), m.dz);
+            const double shadow = 2.0 * std::sin(1.7 * static_cast<double>(k) + 2.3 * static_cast<double>(i));
+            readings.push_back({{"type", "wifi"}, {"bssid", kTxs[i].bssid}, {"rss", ranging::rss_at(m.model, d) + shadow}});
+        }
+        w.scans.push_back({{"t", t}, {"readings", readings}});
+    };
+    scan(t0, at, 0);
+    for (int i = 1; i <= 24; ++i) {
+        const double heading = i <= 12 ? 90.0 : 0.0;
+        at = locus::pdr::step(at, 0.7, heading * std::numbers::pi / 180.0);
+        w.steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", heading}});
+        w.truth.push_back({t0 + i, at});
+        if (i % 2 == 1) scan(t0 + i + 0.5, locus::pdr::step(at, 0.35, heading * std::numbers::pi / 180.0), i);
+    }
+    w.end = at;
+    return w;
+}
+
+// What the server does, in-process: each scan ranged (in the order its readings came, as the
+// server's query keeps them), client-lib's Kalman filter started at the first fix with the
+// fix's own σ, steps as control input.
+struct Expected {
+    fusion::RangingKalmanConfig config;
+    bool multilateration = false;
+    std::optional<fusion::KalmanFilter> kf;
+
+    json fused(double t) const {
+        const Point p = kf->position();
+        return {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(kf->covariance().trace() / 2.0)}};
+    }
+    json scan(const json& s) {
+        std::vector<ranging::Heard> heard;
+        for (const auto& r : s["readings"])
+            for (const Tx& t : kTxs)
+                if (t.bssid == r["bssid"]) heard.push_back({t.model(), r["rss"].get<double>()});
+        const auto f = multilateration ? ranging::multilaterate(heard) : ranging::trilaterate(heard);
+        EXPECT_TRUE(f.has_value());
+        const Eigen::Matrix2d r = fusion::ranging_measurement_noise(*f, config);
+        if (!kf) {
+            fusion::KalmanConfig c = config.kalman;
+            c.initial_sigma_m = std::sqrt(r.trace() / 2.0);
+            kf.emplace(f->at, c);
+        } else {
+            kf->update(f->at, r);
+        }
+        return fused(s["t"].get<double>());
+    }
+    json step(const json& s) {
+        kf->predict(locus::pdr::step({0.0, 0.0}, s["length_m"].get<double>(), s["heading_deg"].get<double>() * std::numbers::pi / 180.0));
+        return fused(s["t"].get<double>());
+    }
+    // The inputs of one request in the server's order (by t, a radio fix before a step of equal t).
+    std::vector<json> run(std::vector<json> steps, std::vector<json> scans) {
+        std::vector<json> out;
+        std::size_t i = 0, j = 0;
+        while (i < steps.size() || j < scans.size()) {
+            if (j < scans.size() && (i >= steps.size() || scans[j]["t"].get<double>() <= steps[i]["t"].get<double>())) out.push_back(scan(scans[j++]));
+            else out.push_back(step(steps[i++]));
+        }
+        return out;
+    }
+};
+
+void expect_same(const json& got, const std::vector<json>& expected) {
+    ASSERT_EQ(got.size(), expected.size()) << got.dump();
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        EXPECT_EQ(got[i]["t"].get<double>(), expected[i]["t"].get<double>()) << i;
+        EXPECT_NEAR(got[i]["x"].get<double>(), expected[i]["x"].get<double>(), 1e-9) << i;
+        EXPECT_NEAR(got[i]["y"].get<double>(), expected[i]["y"].get<double>(), 1e-9) << i;
+        EXPECT_NEAR(got[i]["accuracy_m"].get<double>(), expected[i]["accuracy_m"].get<double>(), 1e-9) << i;
+    }
+}
+
+std::vector<json> slice(const std::vector<json>& v, double from_t, double to_t) {
+    std::vector<json> out;
+    for (const auto& j : v)
+        if (j["t"].get<double>() >= from_t && j["t"].get<double>() < to_t) out.push_back(j);
+    return out;
+}
+
+json body(const std::vector<json>& steps, const std::vector<json>& scans) {
+    json b = json::object();
+    if (!steps.empty()) b["steps"] = steps;
+    if (!scans.empty()) b["scans"] = scans;
+    return b;
+}
+
+std::size_t stored_fixes(const ServerProcess& s, const Track& t) {
+    return body_of(call(s, "GET", t.self(), t.token))["fixes"].get<std::size_t>();
+}
+
+}  // namespace
+
+// Both Kalman methods, in two requests each: the server's fused fixes are client-lib's on the
+// same ranged scans and steps (to 1e-9), end within 1.5 m of the truth, and are stored.
+TEST(ServerTracksRanging, KalmanTracksFuseScansAsClientLibDoes) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    add_transmitters(s, h.floor);
+    const Walk w = make_walk(std::floor(unix_now()) - 60);
+    const double mid = w.t0 + 12.2;
+    struct Case {
+        const char* fusion;
+        json options;
+        fusion::RangingKalmanConfig config;
+        bool multilateration;
+    };
+    auto seed_config = fusion::seed004_kalman_config();
+    seed_config.fixed_r_sigma_m = 2.0;
+    seed_config.kalman.step_sigma_floor_m = 0.25;
+    std::vector<Case> cases = {{"kalman_seed", {{"r_sigma_m", 2.0}, {"q_sigma_m", 0.25}}, seed_config, false},
+                               {"kalman_ranging", nullptr, fusion::ranging_kalman_config(), true}};
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.fusion);
+        const Track t = open_track(s, h.map, c.fusion, c.options);
+        const json info = body_of(call(s, "GET", t.self(), t.token));
+        EXPECT_EQ(info["fusion"], c.fusion);
+        if (!c.options.is_null()) EXPECT_EQ(info["fusion_options"], c.options);
+        else EXPECT_FALSE(info.contains("fusion_options"));
+        Expected e{c.config, c.multilateration, std::nullopt};
+        const auto first_steps = slice(w.steps, w.t0, mid), first_scans = slice(w.scans, w.t0, mid);
+        const json a = body_of(call(s, "POST", t.steps(), t.token, body(first_steps, first_scans).dump()));
+        expect_same(a["fused"], e.run(first_steps, first_scans));
+        ASSERT_EQ(a["scan_fixes"].size(), first_scans.size());
+        EXPECT_EQ(a["scan_fixes"][0]["floor_id"], h.floor);
+        const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
+        const json b = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+        const auto expected_rest = e.run(rest_steps, rest_scans);
+        expect_same(b["fused"], expected_rest);
+        EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
+        const json latest = b["latest"];
+        EXPECT_NEAR(latest["x"].get<double>(), expected_rest.back()["x"].get<double>(), 1e-9);
+        const double final_error = std::hypot(latest["x"].get<double>() - w.end.x, latest["y"].get<double>() - w.end.y);
+        EXPECT_LT(final_error, 1.5) << latest.dump();
+        ::testing::Test::RecordProperty(std::string(c.fusion) + "_final_error_m", std::to_string(final_error));
+        // A retry of the last request moves nothing: every input is at or before the last fused t.
+        const json retry = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+        EXPECT_TRUE(retry["fused"].empty()) << retry.dump();
+        EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
+    }
+}
+
+// A radio fix posted directly (not a scan): kalman_ranging takes its accuracy_m as an isotropic
+// covariance under the track's r_floor_m and r_scale; kalman_seed its fixed R.
+TEST(ServerTracksRanging, DirectRadioFixesTakeTheirAccuracyOrTheFixedR) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);  // no transmitters: no scan, fixes only
+    const double t0 = std::floor(unix_now()) - 60;
+    for (const char* method : {"kalman_ranging", "kalman_seed"}) {
+        SCOPED_TRACE(method);
+        const bool seed = std::string(method) == "kalman_seed";
+        const json options = seed ? json{{"q_sigma_per_m", 0.1}} : json{{"r_floor_m", 0.8}, {"r_scale", 2.0}};
+        const Track t = open_track(s, h.map, method, options);
+        const json req = {{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 3.0}, {"y", 4.0}, {"accuracy_m", 1.5}},
+                                     {{"t", t0 + 2.5}, {"floor_id", h.floor}, {"x", 5.0}, {"y", 4.5}, {"accuracy_m", 3.0}}}},
+                          {"steps", {{{"t", t0 + 1}, {"length_m", 0.8}, {"heading_deg", 90.0}},
+                                     {{"t", t0 + 2}, {"length_m", 0.8}, {"heading_deg", 90.0}}}}};
+        const json got = body_of(call(s, "POST", t.steps(), t.token, req.dump()));
+        auto config = seed ? fusion::seed004_kalman_config() : fusion::ranging_kalman_config();
+        if (seed) config.kalman.step_sigma_per_m = 0.1;
+        else config.r_floor_m = 0.8, config.r_scale = 2.0;
+        const auto r_of = [&](double accuracy) {
+            ranging::Fix f;
+            f.sxx = f.syy = accuracy * accuracy;
+            return fusion::ranging_measurement_noise(f, config);
+        };
+        fusion::KalmanConfig c = config.kalman;
+        c.initial_sigma_m = std::sqrt(r_of(1.5).trace() / 2.0);
+        fusion::KalmanFilter kf({3.0, 4.0}, c);
+        std::vector<Point> expected{kf.position()};
+        kf.predict({0.8, 0.0});
+        expected.push_back(kf.position());
+        kf.predict({0.8, 0.0});
+        expected.push_back(kf.position());
+        kf.update({5.0, 4.5}, r_of(3.0));
+        expected.push_back(kf.position());
+        ASSERT_EQ(got["fused"].size(), expected.size()) << got.dump();
+        for (std::size_t i = 0; i < expected.size(); ++i) {
+            EXPECT_NEAR(got["fused"][i]["x"].get<double>(), expected[i].x, 1e-9) << i;
+            EXPECT_NEAR(got["fused"][i]["y"].get<double>(), expected[i].y, 1e-9) << i;
+        }
+        EXPECT_NEAR(got["fused"][3]["accuracy_m"].get<double>(), std::sqrt(kf.covariance().trace() / 2.0), 1e-9);
+    }
+}
+
+TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    add_transmitters(s, h.floor);
+    const Track first = open_track(s, h.map, "kalman_ranging");
+    // Unknown fusion, and fusion_options that are not the method's, or out of range, or not numbers.
+    const std::vector<std::pair<json, std::string>> bad = {
+        {{{"fusion", "kalman"}}, "fusion"},
+        {{{"fusion", "walk_pf"}, {"fusion_options", {{"q_sigma_m", 0.3}}}}, "fusion_options"},
+        {{{"fusion_options", {{"q_sigma_m", 0.3}}}}, "fusion_options"},  // the default, walk_pf
+        {{{"fusion", "kalman_seed"}, {"fusion_options", json::array()}}, "fusion_options"},
+        {{{"fusion", "kalman_seed"}, {"fusion_options", {{"r_floor_m", 1.0}}}}, "fusion_options.r_floor_m"},
+        {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"r_sigma_m", 1.0}}}}, "fusion_options.r_sigma_m"},
+        {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"sigma", 1.0}}}}, "fusion_options.sigma"},
+        {{{"fusion", "kalman_seed"}, {"fusion_options", {{"r_sigma_m", 0.0}}}}, "fusion_options.r_sigma_m"},
+        {{{"fusion", "kalman_seed"}, {"fusion_options", {{"r_sigma_m", -2.0}}}}, "fusion_options.r_sigma_m"},
+        {{{"fusion", "kalman_seed"}, {"fusion_options", {{"q_sigma_m", 1e6}}}}, "fusion_options.q_sigma_m"},
+        {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"r_scale", "2"}}}}, "fusion_options.r_scale"},
+        {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"q_sigma_per_m", nullptr}}}}, "fusion_options.q_sigma_per_m"},
+    };
+    for (const auto& [fields, name] : bad) {
+        json req = fields;
+        req["map_id"] = h.map;
+        const Response r = call(s, "POST", "/v1/tracks", "", req.dump());
+        EXPECT_GE(r.status, 400) << req.dump();
+        EXPECT_LT(r.status, 500) << req.dump();
+        EXPECT_NE(r.body["error"]["message"].get<std::string>().find(name), std::string::npos) << r.raw;
+    }
+    // Nothing was written: the next track takes the next id.
+    const Track next = open_track(s, h.map, "kalman_seed");
+    EXPECT_EQ(next.id, first.id + 1);
+
+    // A scan that hears two known transmitters (and an unknown one), alone or after good
+    // input in the same request: 422 with the count, nothing stored, the filter not moved.
+    const Walk w = make_walk(std::floor(unix_now()) - 60);
+    json two = w.scans[1];
+    two["readings"] = json::array({w.scans[1]["readings"][0], w.scans[1]["readings"][2],
+                                   {{"type", "wifi"}, {"bssid", "bb:00:00:00:00:09"}, {"rss", -50.0}}});
+    for (const Track& t : {first, next}) {
+        for (const json& req : {body({}, {two}), body(slice(w.steps, w.t0, w.t0 + 3), {w.scans[0], two})}) {
+            const Response r = call(s, "POST", t.steps(), t.token, req.dump());
+            EXPECT_EQ(r.status, 422) << r.raw;
+            EXPECT_EQ(r.body["error"]["code"], "too_few_transmitters") << r.raw;
+            const std::string message = r.body["error"]["message"].get<std::string>();
+            EXPECT_NE(message.find("hears 2 known transmitters"), std::string::npos) << message;
+            EXPECT_NE(message.find("scans["), std::string::npos) << message;
+            EXPECT_EQ(stored_fixes(s, t), 0u);
+        }
+        // The filter never started: the good scan alone now starts it.
+        const json ok = body_of(call(s, "POST", t.steps(), t.token, body({}, {w.scans[0]}).dump()));
+        EXPECT_EQ(ok["stored"], 1);
+    }
+
+    // A map whose floor has no transmitters: every scan hears none.
+    const auto bare = locus::testing::make_hierarchy(s, "Bare");
+    const Track lonely = open_track(s, bare.map, "kalman_seed");
+    const Response r = call(s, "POST", lonely.steps(), lonely.token, body({}, {w.scans[0]}).dump());
+    EXPECT_EQ(r.status, 422) << r.raw;
+    EXPECT_EQ(r.body["error"]["code"], "too_few_transmitters") << r.raw;
+    EXPECT_NE(r.body["error"]["message"].get<std::string>().find("hears 0 known transmitters"), std::string::npos) << r.raw;
+    EXPECT_EQ(stored_fixes(s, lonely), 0u);
+    // A step before any fix cannot be fused.
+    EXPECT_EQ(call(s, "POST", lonely.steps(), lonely.token, body({w.steps[0]}, {}).dump()).status, 422);
+}
+
+// A server that does not hold the track's filter (here: restarted) starts it again at the
+// track's latest stored fix, as sure as the filter was then, and keeps the track's fusion and
+// options.
+TEST(ServerTracksRanging, ARestartResumesAtTheLatestStoredFix) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    add_transmitters(s, h.floor);
+    const Walk w = make_walk(std::floor(unix_now()) - 60);
+    const json options = {{"r_floor_m", 0.7}, {"q_sigma_per_m", 0.4}};
+    const Track t = open_track(s, h.map, "kalman_ranging", options);
+    const double mid = w.t0 + 8.2;
+    ASSERT_EQ(call(s, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
+    s.stop();
+    s.start();
+    const json info = body_of(call(s, "GET", t.self(), t.token));
+    EXPECT_EQ(info["fusion"], "kalman_ranging");
+    EXPECT_EQ(info["fusion_options"], options);
+    const json latest = info["latest"];
+    const auto rest_steps = slice(w.steps, latest["t"].get<double>() - 2.5, 1e300);  // the first ones were run: skipped
+    const auto rest_scans = slice(w.scans, mid, 1e300);
+    const json got = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+
+    auto config = fusion::ranging_kalman_config();
+    config.r_floor_m = 0.7;
+    config.kalman.step_sigma_per_m = 0.4;
+    Expected e{config, true, std::nullopt};
+    fusion::KalmanConfig c = config.kalman;
+    c.initial_sigma_m = latest["accuracy_m"].get<double>();
+    e.kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
+    expect_same(got["fused"], e.run(slice(rest_steps, mid, 1e300), rest_scans));
+    EXPECT_EQ(got["fused"][0]["floor_id"], h.floor);
+}
