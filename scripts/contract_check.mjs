@@ -480,6 +480,17 @@ async function run() {
     const c = openedC.json?.id ?? UNKNOWN;
     const tc = { 'x-track-token': openedC.json?.token ?? '' };
     await post('/v1/tracks', { map_id: map, fusion: 'kalman' }, { auth: false, expect: 422, invalid: true });
+    // A Kalman track: its scans ranged on the floor's transmitters (multilateration), fused with
+    // a step; a scan hearing two of them, and noise options out of range or for another method.
+    const openedK = await post('/v1/tracks', { map_id: map, fusion: 'kalman_ranging', fusion_options: { r_floor_m: 0.5, q_sigma_per_m: 0.3 } }, { auth: false, expect: 201 });
+    const k = openedK.json?.id ?? UNKNOWN;
+    const tk = { 'x-track-token': openedK.json?.token ?? '' };
+    const txScan = (pairs) => pairs.map(([i, rss]) => ({ type: 'wifi', bssid: txAp(i), rss }));
+    await post(`/v1/tracks/${k}/steps`, { scans: [{ t: nowS - 1.2, readings: txScan([[1, -55], [2, -68], [3, -63]]) }], steps: [{ t: nowS - 1, length_m: 0.7, heading_deg: 90 }] }, own(tk, { expect: 200 }));
+    await get(`/v1/tracks/${k}`, { headers: tk, expect: 200 });
+    await post(`/v1/tracks/${k}/steps`, { scans: [{ t: nowS - 0.9, readings: txScan([[1, -55], [2, -68]]) }] }, own(tk, { expect: 422 }));
+    await post('/v1/tracks', { map_id: map, fusion: 'kalman_seed', fusion_options: { r_sigma_m: -1 } }, { auth: false, expect: 422, invalid: true });
+    await post('/v1/tracks', { map_id: map, fusion: 'walk_pf', fusion_options: { q_sigma_m: 0.3 } }, { auth: false, expect: 422 });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, { auth: false, expect: 401 });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(tb, { expect: 403 }));
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(sb, { expect: 403 }));
