@@ -2,15 +2,19 @@
 // HTTP): the copy of the track's filter a request runs on, then a typical batch (4 steps and
 // the radio fix of one ~4 s WiFi scan), with walk_pf (the default) and the particle filter, on
 // the PUTMC floor's plan made from its drawing; walk_pf also without a plan. Skipped when the
-// shared data folder is absent.
+// shared data folder is absent. And a Kalman track's request (kalman_seed, kalman_ranging): its
+// scan of six transmitters ranged (trilateration, multilateration) and fused with 4 steps.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "image_file.hpp"
 #include "locus/imaging/plan_from_image.hpp"
+#include "locus/ranging/trilateration.hpp"
 #include "tracks/fusion.hpp"
 
 using namespace locus;
@@ -80,6 +84,51 @@ void BM_ThinFusionCopy(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(std::make_shared<tracks::ThinFusion>(track));
 }
 BENCHMARK(BM_ThinFusionCopy)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// A Kalman track's request as POST /v1/tracks/{id}/steps runs it past the HTTP layer and the
+// transmitter cache (transmitter_cache_bench): the scan ranged on six transmitters around a
+// 14 m × 12 m room (seed 004's trilateration or multilateration), then the filter's copy runs
+// 4 steps and the ranged fix. Arg 0: 0 = kalman_seed, 1 = kalman_ranging.
+void BM_ThinFusionRangingRequest(benchmark::State& state) {
+    const bool ours = state.range(0) == 1;
+    const std::vector<ranging::Transmitter> txs = {{{1, 1}, 1.3, {-40, 2.0}},  {{14, 1}, 1.3, {-42, 2.1}}, {{14, 13}, 1.3, {-41, 2.0}},
+                                                   {{1, 13}, 1.3, {-39, 1.9}}, {{7, 7}, 1.6, {-40, 2.0}},  {{11, 7}, 1.0, {-41, 2.0}}};
+    const auto method = ours ? tracks::FusionMethod::kalman_ranging : tracks::FusionMethod::kalman_seed;
+    const auto no_plan = [](std::int64_t) { return std::shared_ptr<const fusion::Walkable>(); };
+    const auto scan_at = [&](double t, Point p, int k) {
+        std::vector<ranging::Heard> heard;
+        for (std::size_t i = 0; i < txs.size(); ++i) {
+            const double d = std::hypot(distance(txs[i].at, p), txs[i].dz);
+            heard.push_back({txs[i], ranging::rss_at(txs[i].model, d) + 2.0 * std::sin(1.7 * k + 2.3 * static_cast<double>(i))});
+        }
+        const auto f = ours ? ranging::multilaterate(heard) : ranging::trilaterate(heard);
+        tracks::RadioFix r;
+        r.t = t;
+        r.floor_id = 1;
+        r.x = f ? f->at.x : p.x;
+        r.y = f ? f->at.y : p.y;
+        r.accuracy_m = 1.0;
+        if (f) r.ranged = *f;
+        return r;
+    };
+    auto track = std::make_shared<tracks::ThinFusion>(method, 7);
+    track->run({}, {scan_at(0, {3, 3}, 0)}, no_plan);
+    double t = 0;
+    Point at{3, 3};
+    int k = 0;
+    for (auto _ : state) {
+        // Laps of the room's middle: 8 steps east, 8 west.
+        const bool east = (k / 2) % 2 == 0;
+        std::vector<tracks::Step> steps;
+        for (int i = 1; i <= 4; ++i) steps.push_back({t + i, 0.7, east ? 90.0 : 270.0});
+        at.x += east ? 2.8 : -2.8;
+        auto next = std::make_shared<tracks::ThinFusion>(*track);
+        benchmark::DoNotOptimize(next->run(steps, {scan_at(t + 4, at, ++k)}, no_plan));
+        track = std::move(next);
+        t += 4;
+    }
+}
+BENCHMARK(BM_ThinFusionRangingRequest)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
