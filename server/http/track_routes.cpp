@@ -218,7 +218,8 @@ tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMetho
         throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_seed, kalman_ranging); ") +
                             tracks::fusion_method_name(method) + " takes none");
     if (!it->is_object()) throw invalid_field("'fusion_options' must be an object");
-    for (const auto& [name, value] : it->items()) {
+    for (auto item = it->begin(); item != it->end(); ++item) {
+        const std::string name = item.key();  // not a structured binding: the lambda below captures it (clang 14)
         const auto spec = std::find_if(tracks::kFusionOptions.begin(), tracks::kFusionOptions.end(),
                                        [&name](const tracks::FusionOptionSpec& s) { return name == s.name; });
         if (spec == tracks::kFusionOptions.end() || !tracks::takes(*spec, method)) {

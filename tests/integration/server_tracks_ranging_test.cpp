@@ -145,6 +145,7 @@ struct Expected {
                 if (t.bssid == r["bssid"]) heard.push_back({t.model(), r["rss"].get<double>()});
         const auto f = multilateration ? ranging::multilaterate(heard) : ranging::trilaterate(heard);
         EXPECT_TRUE(f.has_value());
+        if (!f) return {};
         const Eigen::Matrix2d r = fusion::ranging_measurement_noise(*f, config);
         if (!kf) {
             fusion::KalmanConfig c = config.kalman;
