@@ -3,7 +3,8 @@
 // log-distance model gives along it; the server's fused fixes are client-lib's ranging and
 // Kalman filter run in-process on the same inputs, and end near the truth. Bad input (unknown
 // fusion, bad fusion_options, a scan hearing two known transmitters, a map with none) is
-// refused with nothing written, and a restarted server resumes at the latest stored fix.
+// refused with nothing written, and a restarted server (or, on PostgreSQL, another server
+// sharing the database) resumes at the latest stored fix.
 // Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
 #include "locus/fusion/kalman.hpp"
 #include "locus/fusion/ranging_fix.hpp"
@@ -390,4 +391,29 @@ TEST(ServerTracksRanging, ARestartResumesAtTheLatestStoredFix) {
     e.kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
     expect_same(got["fused"], e.run(slice(rest_steps, mid, 1e300), rest_scans));
     EXPECT_EQ(got["fused"][0]["floor_id"], h.floor);
+}
+
+// Two servers sharing a PostgreSQL database: a Kalman track's requests alternate between them,
+// and the one that did not run the last request resumes at the latest stored fix, ranging its
+// scans on the transmitters the other server created.
+TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesTheTrack) {
+    if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
+    ServerProcess a({"--quiet"});
+    ServerProcess b({"--quiet"}, locus::testing::SameDatabase{a.db()});
+    const auto h = locus::testing::make_hierarchy(a);
+    add_transmitters(a, h.floor);
+    const Walk w = make_walk(std::floor(unix_now()) - 60);
+    const Track t = open_track(a, h.map, "kalman_seed");
+    const double mid = w.t0 + 10.2;
+    ASSERT_EQ(call(a, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
+    const json latest = body_of(call(b, "GET", t.self(), t.token))["latest"];
+    ASSERT_EQ(latest["t"].get<double>(), w.t0 + 10);
+    const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
+    const json got = body_of(call(b, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    Expected e{fusion::seed004_kalman_config(), false, std::nullopt};
+    fusion::KalmanConfig c = e.config.kalman;
+    c.initial_sigma_m = latest["accuracy_m"].get<double>();
+    e.kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
+    expect_same(got["fused"], e.run(rest_steps, rest_scans));
+    EXPECT_EQ(body_of(call(a, "GET", t.self(), t.token))["fixes"].get<std::size_t>(), w.steps.size() + w.scans.size());
 }
