@@ -31,12 +31,6 @@ int int_option(const json& o, const char* field, int lo, int hi, int fallback) {
     return static_cast<int>(n);
 }
 
-// A transmitter of the store as ranging sees it, keyed as a scan names it.
-struct Known {
-    std::int64_t floor_id = 0;
-    ranging::Transmitter tx;
-};
-
 std::string key_of(std::string_view type, std::string_view bssid) {
     std::string k(type);
     k += '|';
@@ -44,11 +38,11 @@ std::string key_of(std::string_view type, std::string_view bssid) {
     return k;
 }
 
-void add_floor(TransmitterCache& cache, std::int64_t floor_id, double phone_height, std::map<std::string, Known>& out) {
+void add_floor(TransmitterCache& cache, std::int64_t floor_id, double phone_height, std::map<std::string, KnownTransmitter>& out) {
     const auto txs = cache.of_floor(floor_id);
     for (const auto& r : *txs) {
         const auto& f = r.fields;
-        Known k;
+        KnownTransmitter k;
         k.floor_id = floor_id;
         k.tx.at = {f.get<double>("x"), f.get<double>("y")};
         const auto& z = f.values.at("z");
@@ -126,19 +120,25 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     return r;
 }
 
-Ranged range_scan(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request) {
-    std::map<std::string, Known> known;
+KnownTransmitters known_transmitters(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, double phone_height) {
+    KnownTransmitters known;
+    known.map_scope = map_scope;
     if (map_scope) {
-        for (std::int64_t floor : floors_of_map(store, id)) add_floor(cache, floor, request.phone_height, known);
+        for (std::int64_t floor : floors_of_map(store, id)) add_floor(cache, floor, phone_height, known.by_key);
     } else {
         const auto radiomap = store.get(store::kind("radiomaps"), id);
-        add_floor(cache, radiomap.parent_id.value(), request.phone_height, known);
+        add_floor(cache, radiomap.parent_id.value(), phone_height, known.by_key);
     }
+    return known;
+}
+
+Ranged range_scan(const KnownTransmitters& known, const RangingRequest& request) {
+    const bool map_scope = known.map_scope;
     // The heard transmitters by floor; the floor that hears most is where the phone is.
     std::map<std::int64_t, std::vector<ranging::Heard>> by_floor;
     for (const auto& ap : request.query.aps) {
-        const auto k = known.find(key_of(ap.type, ap.bssid));
-        if (k != known.end()) by_floor[k->second.floor_id].push_back({k->second.tx, ap.rss});
+        const auto k = known.by_key.find(key_of(ap.type, ap.bssid));
+        if (k != known.by_key.end()) by_floor[k->second.floor_id].push_back({k->second.tx, ap.rss});
     }
     std::int64_t floor_id = 0;
     const std::vector<ranging::Heard>* heard = nullptr;
@@ -165,7 +165,7 @@ Ranged range_scan(store::Store& store, TransmitterCache& cache, bool map_scope, 
 }
 
 std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request) {
-    const Ranged ranged = range_scan(store, cache, map_scope, id, request);
+    const Ranged ranged = range_scan(known_transmitters(store, cache, map_scope, id, request.phone_height), request);
     const std::int64_t floor_id = ranged.floor_id;
     const auto* fix = &ranged.fix;
     const std::size_t count = ranged.heard;

@@ -2,6 +2,8 @@
 // POST …/localize with "algorithm": "trilateration" or "multilateration": a position from the
 // RSS of transmitters at known positions (the floor's transmitters), not from a radio map's
 // RPs. Same endpoints and body as the fingerprint matchers; its own options.
+#include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -36,8 +38,21 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body);
 // count heard) when fewer than three known transmitters are heard, 422 no_fix when the
 // method finds no position (every transmitter past the cutoff, or in a line).
 std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request);
+// The transmitters a scan may hear, as ranging sees them (keyed "type|bssid"): every floor's
+// of a map (map_scope) or the radio map's floor's. Read once for a batch of scans.
+struct KnownTransmitter {
+    std::int64_t floor_id = 0;
+    ranging::Transmitter tx;
+};
+struct KnownTransmitters {
+    bool map_scope = false;
+    std::map<std::string, KnownTransmitter> by_key;
+};
+KnownTransmitters known_transmitters(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, double phone_height);
+
 // The fix alone, with the same errors: what ranging_answer answers, and what a track fused by a
-// Kalman method takes for each scan (POST /v1/tracks/{id}/steps).
-Ranged range_scan(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request);
+// Kalman method takes for each scan (POST /v1/tracks/{id}/steps). `known` must have been read
+// with the request's phone_height.
+Ranged range_scan(const KnownTransmitters& known, const RangingRequest& request);
 
 }  // namespace locus::http

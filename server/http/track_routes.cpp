@@ -237,15 +237,15 @@ tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMetho
 // A scan on a track fused by a Kalman method: ranged on the map's transmitters as
 // POST /v1/maps/{id}/localize ranges it (kalman_seed: trilateration, kalman_ranging:
 // multilateration, the default options), the ranging fix carried for its covariance.
-tracks::RadioFix ranged_scan_fix(store::Store& store, TransmitterCache& cache, std::int64_t map_id, tracks::FusionMethod method,
-                                 double t, const Scan& readings, const std::string& where) {
+tracks::RadioFix ranged_scan_fix(const KnownTransmitters& known, tracks::FusionMethod method, double t, const Scan& readings,
+                                 const std::string& where) {
     RangingRequest request;
     request.multilateration = method == tracks::FusionMethod::kalman_ranging;
     request.query = match::Query::from_scans({readings});
     if (request.query.aps.empty()) throw invalid_field("'" + where + ".readings' holds no reading");
     Ranged ranged;
     try {
-        ranged = range_scan(store, cache, true, map_id, request);
+        ranged = range_scan(known, request);
     } catch (const ApiError& e) {
         throw ApiError(e.status, e.code, "'" + where + "': " + e.what());
     }
@@ -361,13 +361,17 @@ void App::install_track_routes() {
                 // A Kalman track ranges its scans on the map's transmitters; the particle
                 // filters take the radio map's match.
                 std::shared_ptr<const localize::Snapshot> snapshot;
-                if (!tracks::is_kalman(track.fusion)) snapshot = localizer_.lookup(localize::Service::Scope::map, track.map_id);
+                std::optional<KnownTransmitters> known;  // read once for the batch
+                if (tracks::is_kalman(track.fusion))
+                    known = known_transmitters(store_, transmitters_, true, track.map_id, RangingRequest{}.phone_height);
+                else
+                    snapshot = localizer_.lookup(localize::Service::Scope::map, track.map_id);
                 for (const auto& sc : scans) {
                     if (snapshot) {
                         radio.emplace_back();
                         static_cast<tracks::Fix&>(radio.back()) = scan_fix(*snapshot, sc.t, sc.readings, sc.where);
                     } else {
-                        radio.push_back(ranged_scan_fix(store_, transmitters_, track.map_id, track.fusion, sc.t, sc.readings, sc.where));
+                        radio.push_back(ranged_scan_fix(*known, track.fusion, sc.t, sc.readings, sc.where));
                     }
                     scan_fixes.push_back(fix_json(radio.back()));
                 }
