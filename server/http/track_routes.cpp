@@ -59,12 +59,7 @@ json track_json(const tracks::TrackInfo& t) {
               {"last_fix_at", t.last_fix_at},
               {"fixes", t.fixes},
               {"fusion", tracks::fusion_method_name(t.fusion)}};
-    if (!t.fusion_options.empty()) {
-        json o = json::object();
-        for (const auto& spec : tracks::kFusionOptions)
-            if (const auto& v = t.fusion_options.*spec.field) o[spec.name] = *v;
-        j["fusion_options"] = std::move(o);
-    }
+    if (!t.fusion_options.empty()) j["fusion_options"] = tracks::fusion_options_json(t.fusion_options);
     if (t.latest) j["latest"] = fix_json(*t.latest);  // absent before the first fix
     if (t.ended_at) j["ended_at"] = *t.ended_at;
     return j;

@@ -1,16 +1,15 @@
 #include "tracks/fusion_options.hpp"
 
-#include <nlohmann/json.hpp>
-
 namespace locus::tracks {
 
-std::string fusion_options_text(const FusionOptions& o) {
-    if (o.empty()) return "";
+nlohmann::json fusion_options_json(const FusionOptions& o) {
     nlohmann::json j = nlohmann::json::object();
     for (const auto& spec : kFusionOptions)
         if (const auto& v = o.*spec.field) j[spec.name] = *v;
-    return j.dump();
+    return j;
 }
+
+std::string fusion_options_text(const FusionOptions& o) { return o.empty() ? "" : fusion_options_json(o).dump(); }
 
 FusionOptions fusion_options_of_text(const std::string& text) {
     FusionOptions o;

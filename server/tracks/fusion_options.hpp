@@ -5,6 +5,7 @@
 // options, which method takes each and its range, is here once: the HTTP layer validates by
 // it and the filter is configured by it.
 #include <array>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -43,7 +44,9 @@ inline bool takes(const FusionOptionSpec& spec, FusionMethod m) {
     return (m == FusionMethod::kalman_seed && spec.seed) || (m == FusionMethod::kalman_ranging && spec.ranging);
 }
 
-// As stored: a JSON object of the options set ("" when none); unknown names are ignored.
+// The options set, as a JSON object (as answered, and as stored: text, "" when none); unknown
+// names are ignored when read back.
+nlohmann::json fusion_options_json(const FusionOptions& o);
 std::string fusion_options_text(const FusionOptions& o);
 FusionOptions fusion_options_of_text(const std::string& text);
 
