@@ -70,7 +70,9 @@ TEST(RangingEkf, WalkWithABiasedCompassLearnsTheBias) {
     const auto anchors = six_anchors();
     const double bias = 0.15;
     Point truth{1.0, 4.0};
-    RangingEkf ekf(truth, anchors);
+    RangingEkfConfig cfg;
+    cfg.step_lead_s = 0.0;  // these steps are made when stamped
+    RangingEkf ekf(truth, anchors, cfg);
     double t = 0.0;
     Point dead_reckoned = truth;
     for (int step = 0; step < 36; ++step) {
@@ -99,4 +101,23 @@ TEST(RangingEkf, AGlitchAndUnknownAnchorsDoNotMoveAStaticPhone) {
     EXPECT_EQ(ekf.update(glitch), 6);
     EXPECT_LT(distance(ekf.position(), truth), 0.5);
     EXPECT_EQ(ekf.update(std::vector<AnchorReading>{{"nobody", 21, -50.0}}), 0);
+}
+
+TEST(RangingEkf, AReadingIsTakenWhereThePhoneWasBeforeTheStepsStampedAhead) {
+    // A step stamped at t = 10 s that the phone makes over the next 0.7 s: readings at 10.2 s
+    // still come from where it stood. With the lead the filter keeps the step; without, the
+    // readings pull it back toward the old position.
+    const auto anchors = six_anchors();
+    const Point before{8.0, 4.0}, after{8.7, 4.0};
+    auto run = [&](double lead) {
+        RangingEkfConfig cfg;
+        cfg.step_lead_s = lead;
+        RangingEkf ekf(before, anchors, cfg);
+        for (int t = 0; t < 10; ++t) ekf.update(scan_at(anchors, before, t));
+        ekf.predict({0.7, 0.0}, 10.0);
+        for (int k = 0; k < 10; ++k) ekf.update(scan_at(anchors, before, 10.2 + 0.05 * k));
+        return ekf.position();
+    };
+    EXPECT_LT(distance(run(0.7), after), 0.05);
+    EXPECT_GT(distance(run(0.0), after), 0.2);
 }

@@ -378,6 +378,9 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
                     "Tightly coupled filter: prior σ of the heading bias, rad")->capture_default_str();
     cmd->add_option("--ekf-heading-walk", args->ranging.ekf.heading_walk_rad_per_sqrt_m,
                     "Tightly coupled filter: the heading bias's random walk, rad/√m")->capture_default_str();
+    cmd->add_option("--ekf-step-lead", args->ranging.ekf.step_lead_s,
+                    "Tightly coupled filter: a reading is taken where the phone was before the steps stamped in its "
+                    "last this-many seconds")->capture_default_str();
     cmd->add_option("--ekf-huber", args->ranging.ekf.huber_k,
                     "Tightly coupled filter: Huber threshold, in σ")->capture_default_str();
     cmd->add_option("--ekf-iterations", args->ranging.ekf.iterations,

@@ -32,6 +32,11 @@ void RangingEkf::predict(Point displacement, double t_s) {
     const double uy = s * displacement.x + c * displacement.y;
     s_(0) += ux;
     s_(1) += uy;
+    if (config_.step_lead_s > 0.0) {
+        recent_steps_.emplace_back(t_s, Eigen::Vector2d(ux, uy));
+        while (!recent_steps_.empty() && recent_steps_.front().first <= t_s - config_.step_lead_s)
+            recent_steps_.pop_front();
+    }
     const double len = std::hypot(displacement.x, displacement.y);
     Eigen::Matrix4d f = Eigen::Matrix4d::Identity();
     if (config_.estimate_heading_bias) {
@@ -46,10 +51,19 @@ void RangingEkf::predict(Point displacement, double t_s) {
     if (config_.estimate_heading_bias) p_(3, 3) += config_.heading_walk_rad_per_sqrt_m * config_.heading_walk_rad_per_sqrt_m * len;
 }
 
+Eigen::Vector2d RangingEkf::moved_since(double t_s) const {
+    Eigen::Vector2d d = Eigen::Vector2d::Zero();
+    for (const auto& [t, u] : recent_steps_)
+        if (t > t_s - config_.step_lead_s) d += u;
+    return d;
+}
+
 int RangingEkf::update(std::span<const AnchorReading> readings) {
     std::vector<const ranging::Transmitter*> tx;
     std::vector<double> z;
+    std::vector<Eigen::Vector2d> back;  // per reading: the steps stamped since it
     tx.reserve(readings.size());
+    back.reserve(readings.size());
     z.reserve(readings.size());
     double latest = t_s_;
     for (const AnchorReading& r : readings) {
@@ -57,6 +71,7 @@ int RangingEkf::update(std::span<const AnchorReading> readings) {
         if (it == anchors_.end() || !std::isfinite(r.rss)) continue;
         tx.push_back(&it->second);
         z.push_back(r.rss);
+        back.push_back(moved_since(r.t_s));
         latest = std::max(latest, r.t_s);
     }
     const int m = static_cast<int>(tx.size());
@@ -75,7 +90,8 @@ int RangingEkf::update(std::span<const AnchorReading> readings) {
     for (int it = 0; it < iterations; ++it) {
         for (int j = 0; j < m; ++j) {
             const ranging::Transmitter& t = *tx[static_cast<std::size_t>(j)];
-            const double dx = si(0) - t.at.x, dy = si(1) - t.at.y;
+            const Eigen::Vector2d& b = back[static_cast<std::size_t>(j)];
+            const double dx = si(0) - b.x() - t.at.x, dy = si(1) - b.y() - t.at.y;
             const double d2 = std::max(dx * dx + dy * dy, min_h2) + t.dz * t.dz;
             const double n = t.model.exponent;
             const double predicted = ranging::rss_at(t.model, std::sqrt(d2)) + si(2);
