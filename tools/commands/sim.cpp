@@ -96,8 +96,9 @@ void print_ranging_report(const std::map<std::string, std::vector<double>>& fina
     }
     const double target = 0.7 * kSeed004[2].mean;
     const double ours = stats("ekf_ranging")[2];
-    std::printf("ours (ekf_ranging: multilateration inside the Kalman update) %.2f m against the target %.3f m (30 %% below the seed's %.3f m): %s\n", ours,
-                target, kSeed004[2].mean, ours <= target ? "met" : "NOT met");
+    std::printf("ours (ekf_ranging: multilateration inside the Kalman update) %.2f m against the target %.3f m "
+                "(30 %% below the seed's %.3f m): %s\n",
+                ours, target, kSeed004[2].mean, ours <= target ? "met" : "NOT met");
     std::printf("%s", notes.c_str());
 }
 

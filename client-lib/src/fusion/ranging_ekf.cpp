@@ -48,7 +48,8 @@ void RangingEkf::predict(Point displacement, double t_s) {
     const double q = config_.step_sigma_floor_m + config_.step_sigma_per_m * len;
     p_(0, 0) += q * q;
     p_(1, 1) += q * q;
-    if (config_.estimate_heading_bias) p_(3, 3) += config_.heading_walk_rad_per_sqrt_m * config_.heading_walk_rad_per_sqrt_m * len;
+    const double hw = config_.heading_walk_rad_per_sqrt_m;
+    if (config_.estimate_heading_bias) p_(3, 3) += hw * hw * len;
 }
 
 Eigen::Vector2d RangingEkf::moved_since(double t_s) const {

@@ -12,7 +12,7 @@
 // as if the phone stood still in it and its fix as independent of the prior; here each reading
 // is used at its own time with the position the steps give then, and the prior regularises
 // the geometry (a fix from six anchors in a line-like layout is poor along the line).
-// Pure: no I/O, no allocation per reading beyond the scan's small matrices.
+// Pure: no I/O; an update allocates only its scan's small matrices.
 #include <Eigen/Dense>
 #include <deque>
 #include <span>
@@ -39,7 +39,7 @@ struct AnchorReading {
     double rss = 0.0;  // dBm
 };
 
-// Defaults tuned on `locus sim --scenario seed004` walks 101..160, checked on 161..260
+// Defaults tuned on `locus sim --scenario seed004` walks 101..160, checked on 161..200 and 206..260
 // (docs/transmitters.md).
 struct RangingEkfConfig {
     double initial_sigma_m = 1.0;          // σ of the start position per axis
@@ -50,10 +50,9 @@ struct RangingEkfConfig {
     double heading_walk_rad_per_sqrt_m = 0.04;  // β's random walk per √metre walked (the compass's drift)
     double step_sigma_floor_m = 0.05;      // position noise per step even for a tiny step
     double step_sigma_per_m = 0.1;         // plus this much per metre walked (length and heading errors)
-    // The PDR stamps a step before the phone has made its displacement (the detector fires on
-    // the step's acceleration peak, not at its end): a reading at time t is taken where the
-    // phone was before the steps stamped in (t − this, t], so h is evaluated there.
-    // 0.7 s (locus::pdr's detector on the simulator's walker): 0.87 → 0.79 m on the tuning walks.
+    // A reading at time t is evaluated where the phone was before the steps stamped in
+    // (t − this, t]: the PDR stamps a step before the phone has made all of it (about 0.2 s on the
+    // simulated walker), and 0.7 s was best on the tuning walks (0.87 → 0.79 m; 0 turns it off).
     double step_lead_s = 0.7;
     double reading_sigma_db = 4.0;         // σ of one reading about the model (noise + shadowing + model error)
     double huber_k = 1.5;                  // innovations beyond huber_k·σ are down-weighted (Huber)
@@ -67,7 +66,7 @@ public:
     RangingEkf(Point start, std::span<const RangingAnchor> anchors, const RangingEkfConfig& config = {});
 
     // One PDR step: its displacement as the PDR gives it (rotated by the heading-bias state when
-    // estimated), at time t_s (for the offset's random walk).
+    // estimated), stamped t_s (for the offset's random walk and the step lead).
     void predict(Point displacement, double t_s);
     // The readings of one instant (one scan); readings of unknown anchors are ignored. Returns the
     // number of readings used.
