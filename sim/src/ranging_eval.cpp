@@ -4,6 +4,8 @@
 #include <map>
 #include <utility>
 
+#include "locus/pdr/heading_convention.hpp"
+
 namespace locus::sim {
 
 fusion::RangingKalmanConfig RangingEvalConfig::default_kalman() { return fusion::ranging_kalman_config(); }
@@ -66,8 +68,41 @@ RangingFixes run_ranging(const Walk& walk, const RangingEvalConfig& config) {
             ++residuals;
         }
     });
+    for (const Anchor& a : walk.anchors) out.anchors.push_back({a.id, a.tx});
+    for (const WifiScan& scan : walk.anchor_scans) {
+        std::vector<fusion::AnchorReading> readings;
+        for (const Reading& r : scan.readings) readings.push_back({r.bssid, scan.t_s, r.rss});
+        out.scans.push_back(std::move(readings));
+    }
     return out;
 }
+
+namespace {
+
+Track ekf_track(const std::vector<PdrStep>& steps, const RangingFixes& fixes, Point start,
+                const fusion::RangingEkfConfig& config) {
+    fusion::RangingEkf ekf(start, fixes.anchors, config);
+    Track track{{0.0, start}};
+    std::size_t i = 0, j = 0;
+    while (i < steps.size() || j < fixes.scans.size()) {
+        const bool scan_next = j < fixes.scans.size() && !fixes.scans[j].empty() &&
+                               (i >= steps.size() || fixes.scans[j].front().t_s < steps[i].t_s);
+        if (j < fixes.scans.size() && fixes.scans[j].empty()) {
+            ++j;
+        } else if (scan_next) {
+            ekf.update(fixes.scans[j]);
+            track.push_back({fixes.scans[j].front().t_s, ekf.position()});
+            ++j;
+        } else {
+            const PdrStep& s = steps[i++];
+            ekf.predict(pdr::step({0.0, 0.0}, s.length_m, s.heading_rad), s.t_s);
+            track.push_back({s.t_s, ekf.position()});
+        }
+    }
+    return track;
+}
+
+}  // namespace
 
 std::vector<NamedTrack> run_ranging_methods(const std::vector<PdrStep>& steps, const RangingFixes& fixes, Point start,
                                             const RangingEvalConfig& config,
@@ -83,6 +118,7 @@ std::vector<NamedTrack> run_ranging_methods(const std::vector<PdrStep>& steps, c
     out.push_back({"kalman_seed", kalman_track(steps, fixes.trilateration, start, config.seed_kalman.kalman)});
     out.push_back({"kalman_ranging", kalman_track(steps, fixes.multilateration, start, config.kalman.kalman,
                                                   config.kalman_fix_latency_s, std::move(floor_plan))});
+    out.push_back({"ekf_ranging", ekf_track(steps, fixes, start, config.ekf)});
     return out;
 }
 

@@ -113,4 +113,9 @@ TEST(SimAnchors, EachKalmanBeatsItsInputsOnTheMeanError) {
     EXPECT_LT(mean["kalman_ranging"], mean["multilateration"]);
     EXPECT_LT(mean["kalman_seed"], mean["pdr"]);
     EXPECT_LT(mean["kalman_seed"], mean["trilateration"]);
+    // The tightly coupled filter: the readings it takes one by one, ranged on their own, are
+    // multilateration's input.
+    EXPECT_LT(mean["ekf_ranging"], mean["pdr"]);
+    EXPECT_LT(mean["ekf_ranging"], mean["multilateration"]);
+    EXPECT_LT(mean["ekf_ranging"], mean["trilateration"]);
 }

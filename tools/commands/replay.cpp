@@ -127,12 +127,13 @@ void run(const Args& a) {
     const bool all = a.rule == "all";
     const std::vector<std::string> methods = {"pdr", "wifi", "only_wifi", "midpoint", "midpoint_threshold",
                                               "proportional", "proportional2", "kalman", "particle", "walk_pf"};
-    const std::vector<std::string> ranging_methods = {"trilateration", "multilateration", "kalman_seed", "kalman_ranging"};
+    const std::vector<std::string> ranging_methods = {"trilateration", "multilateration", "kalman_seed", "kalman_ranging",
+                                                      "ekf_ranging"};
     const bool ranging_rule = std::find(ranging_methods.begin(), ranging_methods.end(), a.rule) != ranging_methods.end();
     if (!all && !ranging_rule && std::find(methods.begin(), methods.end(), a.rule) == methods.end())
         throw tools::CommandError("unknown --rule '" + a.rule + "' (only_wifi, midpoint, midpoint_threshold, "
                                   "proportional, proportional2, kalman, particle, walk_pf, pdr, wifi, all; with "
-                                  "anchors: trilateration, multilateration, kalman_seed, kalman_ranging)");
+                                  "anchors: trilateration, multilateration, kalman_seed, kalman_ranging, ekf_ranging)");
 
     const sim::Walk walk = sim::load_walk(a.file);
     if (ranging_rule && walk.anchors.empty())
@@ -229,7 +230,8 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_option("--api-key", args->api_key, "API key (for --upload-survey)")->envname("LOCUS_API_KEY");
     cmd->add_option("--radiomap", args->radiomap, "radio map to localize against")->required()->check(CLI::PositiveNumber);
     cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, "
-                    "or all; for a walk with anchors also trilateration, multilateration, kalman_seed, kalman_ranging")->capture_default_str();
+                    "or all; for a walk with anchors also trilateration, multilateration, kalman_seed, kalman_ranging, "
+                    "ekf_ranging")->capture_default_str();
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn/bayes")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--format", args->format, "json (tracks with errors) or csv")->capture_default_str();

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "locus/fusion/ranging_ekf.hpp"
 #include "locus/fusion/ranging_fix.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "sim/evaluate.hpp"
@@ -32,6 +33,8 @@ struct RangingEvalConfig {
     // (causal). A common offset is what a phone model adds to every anchor alike; on the
     // tuning walks 101..160 it took the filter's final error from 1.21 to 1.11 m.
     bool learn_offset = true;
+    // The tightly coupled filter (ekf_ranging): every 1 Hz reading is its measurement.
+    fusion::RangingEkfConfig ekf;
 
     // Ours, tuned on seeds 101..160 (docs/transmitters.md): fusion::ranging_kalman_config().
     static fusion::RangingKalmanConfig default_kalman();
@@ -39,6 +42,9 @@ struct RangingEvalConfig {
 
 struct RangingFixes {
     std::vector<Fix> trilateration, multilateration;
+    // The raw material of ekf_ranging: the walk's anchors and its scans' readings, a scan each.
+    std::vector<fusion::RangingAnchor> anchors;
+    std::vector<std::vector<fusion::AnchorReading>> scans;
 };
 
 // One fix per window (window_s for trilateration, multilateration_window_s for
@@ -46,7 +52,8 @@ struct RangingFixes {
 // A reading is matched to its anchor by id; readings of unknown ids are ignored.
 RangingFixes run_ranging(const Walk& walk, const RangingEvalConfig& config);
 
-// trilateration, multilateration, kalman_seed, kalman_ranging. With a floor plan ours is
+// trilateration, multilateration, kalman_seed, kalman_ranging, ekf_ranging (the readings
+// themselves as the measurements, fusion::RangingEkf). With a floor plan ours is
 // map-matched as the WiFi Kalman filter is (a fix off the walkable floor snapped into it).
 std::vector<NamedTrack> run_ranging_methods(const std::vector<PdrStep>& steps, const RangingFixes& fixes, Point start,
                                             const RangingEvalConfig& config,
