@@ -12,6 +12,7 @@
 #include "http/store_json.hpp"
 #include "store/migrations.hpp"
 #include "store/sql_store.hpp"
+#include "temp_dir.hpp"
 
 using locus::store::kind;
 using locus::store::SqlStore;
@@ -19,15 +20,7 @@ using nlohmann::json;
 
 namespace {
 
-struct TempDb {
-    std::filesystem::path dir;
-    TempDb() {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "locus-bundle-XXXXXX").string();
-        dir = mkdtemp(tmpl.data());
-    }
-    ~TempDb() { std::filesystem::remove_all(dir); }
-    std::string path() const { return (dir / "t.db").string(); }
-};
+using locus::testing::TempDir;
 
 json small_bundle(json ground_links, json upper_links = {{{"level", 0}, {"connector", "S"}}}, json upper_plan = nullptr) {
     auto square = [](double x0, double y0, double x1, double y1) {
@@ -67,7 +60,7 @@ std::string refusal(SqlStore& store, const json& bundle) {
 }
 
 TEST(BundlePlans, TheDemoMapsPlansLandOnTheirFloorsLinkedToEachOther) {
-    TempDb t;
+    TempDir t{"bundle"};
     SqlStore store(t.path());
     const auto map_id = import(store, json::parse(locus::server::demo_map_json()));
     const auto plans = store.plans_of_map(map_id);
@@ -85,7 +78,7 @@ TEST(BundlePlans, TheDemoMapsPlansLandOnTheirFloorsLinkedToEachOther) {
 }
 
 TEST(BundlePlans, LinksByLevelResolveToThatBuildingsFloor) {
-    TempDb t;
+    TempDir t{"bundle"};
     SqlStore store(t.path());
     const auto map_id = import(store, small_bundle({{{"level", 1}, {"connector", "S"}}}));
     const auto plans = store.plans_of_map(map_id);
@@ -96,13 +89,13 @@ TEST(BundlePlans, LinksByLevelResolveToThatBuildingsFloor) {
 
 TEST(BundlePlans, ABadPlanIsRefusedNamingTheFloorAndTheFeature) {
     {
-        TempDb t;
+        TempDir t{"bundle"};
         SqlStore store(t.path());
         const auto r = refusal(store, small_bundle({{{"level", 7}, {"connector", "S"}}}));
         EXPECT_NE(r.find("422 invalid_field: 'buildings[0].floors[0].plan': the building has no floor at level 7"), std::string::npos) << r;
     }
     {
-        TempDb t;
+        TempDir t{"bundle"};
         SqlStore store(t.path());
         const auto r = refusal(store, small_bundle({{{"floor_id", 2}, {"connector", "S"}}}));
         EXPECT_NE(r.find("buildings[0].floors[0].plan.features[1]"), std::string::npos) << r;
@@ -110,7 +103,7 @@ TEST(BundlePlans, ABadPlanIsRefusedNamingTheFloorAndTheFeature) {
         EXPECT_FALSE(store.has_maps());  // refused while reading, before anything was written
     }
     {
-        TempDb t;
+        TempDir t{"bundle"};
         SqlStore store(t.path());
         // The second plan's link must name a connector the first has (the first may name a
         // floor that has no plan yet, as with PUT).
@@ -118,7 +111,7 @@ TEST(BundlePlans, ABadPlanIsRefusedNamingTheFloorAndTheFeature) {
         EXPECT_NE(r.find("422 invalid_plan: buildings[0].floors[1].plan:"), std::string::npos) << r;
     }
     {
-        TempDb t;
+        TempDir t{"bundle"};
         SqlStore store(t.path());
         json bowtie = {{"type", "FeatureCollection"},
                        {"features",

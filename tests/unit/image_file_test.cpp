@@ -13,18 +13,11 @@
 
 #include "image_file.hpp"
 #include "images/test_images.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
-struct TempDir {
-    std::filesystem::path dir;
-    TempDir() {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "locus-image-XXXXXX").string();
-        dir = mkdtemp(tmpl.data());
-    }
-    ~TempDir() { std::filesystem::remove_all(dir); }
-    std::string file(const std::string& name) const { return (dir / name).string(); }
-};
+using locus::testing::TempDir;
 
 constexpr int kW = 40, kH = 20;
 
@@ -58,7 +51,7 @@ void expect_half_black(const locus::imaging::GreyImage& g, int tolerance) {
 }
 
 TEST(ImageFile, PngInGreyOrColourReadsAsGrey) {
-    TempDir t;
+    TempDir t{"image"};
     write_png(t.file("grey.png"), PNG_FORMAT_GRAY, half_black(1));
     expect_half_black(locus::tools::read_grey_image(t.file("grey.png")), 0);
     write_png(t.file("rgb.png"), PNG_FORMAT_RGB, half_black(3));
@@ -66,7 +59,7 @@ TEST(ImageFile, PngInGreyOrColourReadsAsGrey) {
 }
 
 TEST(ImageFile, TransparencyIsLaidOverWhite) {
-    TempDir t;
+    TempDir t{"image"};
     auto px = half_black(4);
     for (int y = 0; y < kH; ++y)  // the left half opaque black, the right half black but fully transparent
         for (int x = 0; x < kW; ++x) {
@@ -79,13 +72,13 @@ TEST(ImageFile, TransparencyIsLaidOverWhite) {
 }
 
 TEST(ImageFile, JpegIsReadByItsBytesWhateverItsName) {
-    TempDir t;
+    TempDir t{"image"};
     write_jpeg(t.file("drawing.png"), half_black(3));  // misnamed on purpose
     expect_half_black(locus::tools::read_grey_image(t.file("drawing.png")), 12);
 }
 
 TEST(ImageFile, AnythingElseIsRefusedNamingTheFile) {
-    TempDir t;
+    TempDir t{"image"};
     std::ofstream(t.file("notes.png")) << "not an image";
     try {
         locus::tools::read_grey_image(t.file("notes.png"));

@@ -10,6 +10,7 @@
 #include "plan_fixture.hpp"
 #include "store/migrations.hpp"
 #include "store/sql_store.hpp"
+#include "temp_dir.hpp"
 
 using locus::store::Change;
 using locus::store::Fields;
@@ -18,15 +19,7 @@ using locus::store::kind;
 
 namespace {
 
-struct TempDb {
-    std::filesystem::path dir;
-    TempDb() {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "locus-keep-XXXXXX").string();
-        dir = mkdtemp(tmpl.data());
-    }
-    ~TempDb() { std::filesystem::remove_all(dir); }
-    std::string path() const { return (dir / "t.db").string(); }
-};
+using locus::testing::TempDir;
 
 std::int64_t make_floor(SqlStore& st, const std::string& map = "M") {
     const auto m = st.create(kind("maps"), std::nullopt, {{"name", map}}).id;
@@ -53,7 +46,7 @@ std::vector<std::pair<std::string, bool>> row_changes(const std::vector<Change>&
 }  // namespace
 
 TEST(StorePlanKeep, APlanPutPublishesEveryRoomAndPoiItWritesAndNoOther) {
-    TempDb t;
+    TempDir t{"keep"};
     SqlStore st(t.path());
     const auto floor = make_floor(st);
     std::vector<Change> seen;
@@ -104,7 +97,7 @@ TEST(StorePlanKeep, APlanPutPublishesEveryRoomAndPoiItWritesAndNoOther) {
 }
 
 TEST(StorePlanKeep, AVersion4RoomIdOfAnotherFloorIsDroppedByTheMigration) {
-    TempDb t;
+    TempDir t{"keep"};
     {
         locus::store::Db db(t.path());
         for (int i = 0; i < 4; ++i) db.exec(locus::server::migrations().at(static_cast<std::size_t>(i)));
@@ -129,7 +122,7 @@ TEST(StorePlanKeep, AVersion4RoomIdOfAnotherFloorIsDroppedByTheMigration) {
 }
 
 TEST(StorePlanKeep, ImageBytesComeBackExactlyAndGoWithTheirFloor) {
-    TempDb t;
+    TempDir t{"keep"};
     SqlStore st(t.path());
     const auto floor = make_floor(st);
     EXPECT_FALSE(st.image_of_floor(floor));

@@ -8,6 +8,7 @@
 #include "store/migrations.hpp"
 #include "http/store_json.hpp"
 #include "store/sql_store.hpp"
+#include "temp_dir.hpp"
 
 using locus::store::SqlStore;
 using locus::store::Fields;
@@ -15,16 +16,8 @@ using locus::store::kind;
 using nlohmann::json;
 
 namespace {
-struct TempDb {
-    std::filesystem::path dir;
-    TempDb() {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "locus-store-XXXXXX").string();
-        dir = mkdtemp(tmpl.data());
-    }
-    ~TempDb() { std::filesystem::remove_all(dir); }
-    std::string path() const { return (dir / "t.db").string(); }
-};
 
+using locus::testing::TempDir;
 struct Chain {
     long long map, building, floor, radiomap, rp;
 };
@@ -41,7 +34,7 @@ Chain make_chain(SqlStore& repo) {
 }  // namespace
 
 TEST(Store, MigratesToTheLatestVersionOnceAndKeepsData) {
-    TempDb t;
+    TempDir t{"store"};
     {
         SqlStore repo(t.path());
         repo.create(kind("maps"), std::nullopt, {{"name", "kept"}});
@@ -53,7 +46,7 @@ TEST(Store, MigratesToTheLatestVersionOnceAndKeepsData) {
 }
 
 TEST(Store, RefusesADatabaseFromANewerVersion) {
-    TempDb t;
+    TempDir t{"store"};
     {
         locus::store::Db db(t.path());
         db.exec("PRAGMA user_version = 999");
@@ -62,7 +55,7 @@ TEST(Store, RefusesADatabaseFromANewerVersion) {
 }
 
 TEST(Store, CreateGetUpdateRemove) {
-    TempDb t;
+    TempDir t{"store"};
     SqlStore repo(t.path());
     const auto c = make_chain(repo);
     EXPECT_EQ(repo.get(kind("floors"), c.floor).fields.get<double>("width"), 10.0);
@@ -77,7 +70,7 @@ TEST(Store, CreateGetUpdateRemove) {
 }
 
 TEST(Store, MergeScansIsExactAndIdempotentPerRp) {
-    TempDb t;
+    TempDir t{"store"};
     SqlStore repo(t.path());
     const auto c = make_chain(repo);
     // {-60, -62} then {-64}: mean -62, population variance 8/3.
@@ -98,7 +91,7 @@ TEST(Store, MergeScansIsExactAndIdempotentPerRp) {
 }
 
 TEST(Store, SnapshotsForTheIndexCarryTheHierarchy) {
-    TempDb t;
+    TempDir t{"store"};
     SqlStore repo(t.path());
     const auto c = make_chain(repo);
     repo.merge_scans(c.rp, {std::nullopt, {{"wifi", "ap", locus::RssStats{-60.0, 1.0, 2}}}, 2});
@@ -117,7 +110,7 @@ TEST(Store, SnapshotsForTheIndexCarryTheHierarchy) {
 }
 
 TEST(Store, AFailedImportLeavesNoTrace) {
-    TempDb t;
+    TempDir t{"store"};
     SqlStore repo(t.path());
     const auto c = make_chain(repo);
     const locus::store::RadioMapDocument doc{{{"name", "dup"}}, {{"a", {0, 0}, 0, {}}, {"a", {1, 1}, 0, {}}}, {}};
@@ -126,7 +119,7 @@ TEST(Store, AFailedImportLeavesNoTrace) {
 }
 
 TEST(Store, DemoBundleImports) {
-    TempDb t;
+    TempDir t{"store"};
     SqlStore repo(t.path());
     EXPECT_FALSE(repo.has_maps());
     repo.import_map_bundle(locus::http::parse_map_bundle(json::parse(locus::server::demo_map_json())));
@@ -147,7 +140,7 @@ std::int64_t count_rows(locus::store::Db& db, const std::string& table) {
 // Regression: a deleted newest row's id went to the next row, so a client holding the old
 // id read another object. Every kind the API exposes: create two, delete the newer, create.
 TEST(Store, AnIdIsNeverHandedOutTwice) {
-    TempDb t;
+    TempDir t{"store"};
     SqlStore repo(t.path());
     const auto c = make_chain(repo);
     struct Case {
@@ -184,7 +177,7 @@ TEST(Store, AnIdIsNeverHandedOutTwice) {
 // with every row, id and reference, and ON DELETE CASCADE still works afterwards: the rebuild
 // must not cascade its own DROP TABLEs into the children.
 TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
-    TempDb t;
+    TempDir t{"store"};
     {
         locus::store::Db db(t.path());  // foreign keys on, as the server runs
         db.exec(locus::server::migrations().at(0));
@@ -248,7 +241,7 @@ TEST(Store, AVersion1DatabaseMigratesWithItsRowsReferencesAndCascades) {
 // The change feed: one typed change per committed write, with where the row sits for the
 // kinds an index depends on; nothing for a refused write or a repeated upload.
 TEST(Store, EveryCommittedWriteIsPublishedOnceAndARefusedOneNever) {
-    TempDb t;
+    TempDir t{"store"};
     SqlStore repo(t.path());
     std::vector<locus::store::Change> seen;
     const auto token = repo.subscribe([&](const locus::store::Change& c) { seen.push_back(c); });

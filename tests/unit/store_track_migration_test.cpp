@@ -8,18 +8,11 @@
 
 #include "store/db.hpp"
 #include "store/migrations.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
-struct TempDb {
-    std::filesystem::path dir;
-    TempDb() {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "locus-trackmig-XXXXXX").string();
-        dir = mkdtemp(tmpl.data());
-    }
-    ~TempDb() { std::filesystem::remove_all(dir); }
-    std::string path() const { return (dir / "t.db").string(); }
-};
+using locus::testing::TempDir;
 
 std::int64_t scalar(locus::store::Db& db, const std::string& sql) {
     locus::store::Stmt q(db, sql);
@@ -30,7 +23,7 @@ std::int64_t scalar(locus::store::Db& db, const std::string& sql) {
 }  // namespace
 
 TEST(StoreTrackMigration, Version12TracksKeepTheirRowsIdsAndReferences) {
-    TempDb t;
+    TempDir t{"trackmig"};
     const auto& all = locus::server::migrations();
     ASSERT_GE(all.size(), 13u);
     locus::store::Db db(t.path());  // foreign keys on, as the server runs

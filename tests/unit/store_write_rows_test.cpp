@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "store/sql_store.hpp"
+#include "temp_dir.hpp"
 
 using locus::store::Fields;
 using locus::store::kind;
@@ -12,16 +13,8 @@ using locus::store::RowWrite;
 using locus::store::SqlStore;
 
 namespace {
-struct TempDb {
-    std::filesystem::path dir;
-    TempDb() {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "locus-rows-XXXXXX").string();
-        dir = mkdtemp(tmpl.data());
-    }
-    ~TempDb() { std::filesystem::remove_all(dir); }
-    std::string path() const { return (dir / "t.db").string(); }
-};
 
+using locus::testing::TempDir;
 std::int64_t make_floor(SqlStore& s) {
     const auto map = s.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
     const auto building = s.create(kind("buildings"), map, {{"name", "B"}}).id;
@@ -34,7 +27,7 @@ Fields tx(const std::string& bssid, double x) {
 }  // namespace
 
 TEST(StoreWriteRows, CreatesAndUpdatesInOrderAndPublishesEach) {
-    TempDb t;
+    TempDir t{"rows"};
     SqlStore s(t.path());
     const auto floor = make_floor(s);
     const auto a = s.create(kind("transmitters"), floor, tx("aa:00:00:00:00:01", 1.0)).id;
@@ -52,7 +45,7 @@ TEST(StoreWriteRows, CreatesAndUpdatesInOrderAndPublishesEach) {
 }
 
 TEST(StoreWriteRows, ARefusedRowMidwayLeavesEveryRowAsItWas) {
-    TempDb t;
+    TempDir t{"rows"};
     SqlStore s(t.path());
     const auto floor = make_floor(s);
     const auto a = s.create(kind("transmitters"), floor, tx("aa:00:00:00:00:01", 1.0)).id;

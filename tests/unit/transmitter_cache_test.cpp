@@ -7,6 +7,7 @@
 
 #include "http/transmitter_cache.hpp"
 #include "store/sql_store.hpp"
+#include "temp_dir.hpp"
 
 using locus::http::TransmitterCache;
 using locus::store::Fields;
@@ -14,23 +15,15 @@ using locus::store::kind;
 using locus::store::SqlStore;
 
 namespace {
-struct TempDb {
-    std::filesystem::path dir;
-    TempDb() {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "locus-txcache-XXXXXX").string();
-        dir = mkdtemp(tmpl.data());
-    }
-    ~TempDb() { std::filesystem::remove_all(dir); }
-    std::string path() const { return (dir / "t.db").string(); }
-};
 
+using locus::testing::TempDir;
 Fields tx(const std::string& bssid, double x) {
     return {{"type", std::string("wifi")}, {"bssid", bssid}, {"x", x}, {"y", 1.0}, {"tx_power", -40.0}};
 }
 }  // namespace
 
 TEST(TransmitterCache, ReadsAFloorOnceAndFollowsEveryChange) {
-    TempDb t;
+    TempDir t{"txcache"};
     SqlStore s(t.path());
     const auto map = s.create(kind("maps"), std::nullopt, {{"name", "M"}}).id;
     const auto building = s.create(kind("buildings"), map, {{"name", "B"}}).id;
