@@ -644,3 +644,26 @@ TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesTheTrack) {
     expect_same(got["fused"], e.run(rest_steps, rest_scans));
     EXPECT_EQ(body_of(call(a, "GET", t.self(), t.token))["fixes"].get<std::size_t>(), w.steps.size() + w.scans.size());
 }
+
+// ekf_ranging across two servers sharing a PostgreSQL database: the second resumes at the
+// latest stored fix the first wrote, its anchors the transmitters the first created.
+TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesAnEkfTrack) {
+    if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
+    ServerProcess a({"--quiet"});
+    ServerProcess b({"--quiet"}, locus::testing::SameDatabase{a.db()});
+    const auto h = locus::testing::make_hierarchy(a);
+    add_transmitters(a, h.floor);
+    const Walk w = make_walk(std::floor(unix_now()) - 60);
+    const Track t = open_track(a, h.map, "ekf_ranging", {{"step_lead_s", 0.0}});
+    const double mid = w.t0 + 10.2;
+    ASSERT_EQ(call(a, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
+    const json latest = body_of(call(b, "GET", t.self(), t.token))["latest"];
+    ASSERT_EQ(latest["t"].get<double>(), w.t0 + 10);
+    const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
+    const json got = body_of(call(b, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    ExpectedEkf e;
+    e.config.step_lead_s = 0.0;
+    e.start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>());
+    expect_same(got["fused"], e.run(rest_steps, rest_scans));
+    EXPECT_EQ(body_of(call(a, "GET", t.self(), t.token))["fixes"].get<std::size_t>(), w.steps.size() + w.scans.size());
+}
