@@ -304,7 +304,8 @@ void App::install_track_routes() {
             if (const auto f = body.find("fusion"); f != body.end()) {
                 const auto named = f->is_string() ? tracks::fusion_method_of(f->get<std::string>()) : std::nullopt;
                 if (!named)
-                    throw invalid_field("'fusion' must be \"walk_pf\" (the default), \"particle\", \"kalman_seed\", \"kalman_ranging\" or \"ekf_ranging\"");
+                    throw invalid_field("'fusion' must be \"walk_pf\" (the default), \"particle\", \"kalman_seed\", "
+                                        "\"kalman_ranging\" or \"ekf_ranging\"");
                 fusion = *named;
             }
             const auto fusion_options = parse_fusion_options(body, fusion);
