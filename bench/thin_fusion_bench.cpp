@@ -2,8 +2,9 @@
 // HTTP): the copy of the track's filter a request runs on, then a typical batch (4 steps and
 // the radio fix of one ~4 s WiFi scan), with walk_pf (the default) and the particle filter, on
 // the PUTMC floor's plan made from its drawing; walk_pf also without a plan. Skipped when the
-// shared data folder is absent. And a Kalman track's request (kalman_seed, kalman_ranging): its
-// scan of six transmitters ranged (trilateration, multilateration) and fused with 4 steps.
+// shared data folder is absent. And a Kalman track's request (kalman_seed, kalman_ranging,
+// ekf_ranging): its scan of six transmitters ranged (trilateration, multilateration) and fused
+// with 4 steps (ekf_ranging: the scan's six readings are its measurements).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -88,18 +89,24 @@ BENCHMARK(BM_ThinFusionCopy)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 // A Kalman track's request as POST /v1/tracks/{id}/steps runs it past the HTTP layer and the
 // transmitter cache (transmitter_cache_bench): the scan ranged on six transmitters around a
 // 14 m × 12 m room (seed 004's trilateration or multilateration), then the filter's copy runs
-// 4 steps and the ranged fix. Arg 0: 0 = kalman_seed, 1 = kalman_ranging.
+// 4 steps and the ranged fix. Arg 0: 0 = kalman_seed, 1 = kalman_ranging, 2 = ekf_ranging (the
+// scan multilaterated as the route does, its six readings the update).
 void BM_ThinFusionRangingRequest(benchmark::State& state) {
-    const bool ours = state.range(0) == 1;
+    const bool ekf = state.range(0) == 2;
+    const bool ours = state.range(0) >= 1;
     const std::vector<ranging::Transmitter> txs = {{{1, 1}, 1.3, {-40, 2.0}},  {{14, 1}, 1.3, {-42, 2.1}}, {{14, 13}, 1.3, {-41, 2.0}},
                                                    {{1, 13}, 1.3, {-39, 1.9}}, {{7, 7}, 1.6, {-40, 2.0}},  {{11, 7}, 1.0, {-41, 2.0}}};
-    const auto method = ours ? tracks::FusionMethod::kalman_ranging : tracks::FusionMethod::kalman_seed;
+    const auto method = ekf ? tracks::FusionMethod::ekf_ranging : ours ? tracks::FusionMethod::kalman_ranging : tracks::FusionMethod::kalman_seed;
+    auto anchors = std::make_shared<tracks::FloorAnchors>();
+    for (std::size_t i = 0; i < txs.size(); ++i) anchors->by_floor[1].push_back({"wifi|tx" + std::to_string(i), txs[i]});
     const auto no_plan = [](std::int64_t) { return std::shared_ptr<const fusion::Walkable>(); };
     const auto scan_at = [&](double t, Point p, int k) {
         std::vector<ranging::Heard> heard;
+        std::vector<fusion::AnchorReading> readings;
         for (std::size_t i = 0; i < txs.size(); ++i) {
             const double d = std::hypot(distance(txs[i].at, p), txs[i].dz);
             heard.push_back({txs[i], ranging::rss_at(txs[i].model, d) + 2.0 * std::sin(1.7 * k + 2.3 * static_cast<double>(i))});
+            if (ekf) readings.push_back({"wifi|tx" + std::to_string(i), t, heard.back().rss});
         }
         const auto f = ours ? ranging::multilaterate(heard) : ranging::trilaterate(heard);
         tracks::RadioFix r;
@@ -109,9 +116,11 @@ void BM_ThinFusionRangingRequest(benchmark::State& state) {
         r.y = f ? f->at.y : p.y;
         r.accuracy_m = 1.0;
         if (f) r.ranged = *f;
+        r.readings = std::move(readings);
         return r;
     };
     auto track = std::make_shared<tracks::ThinFusion>(method, 7);
+    track->set_anchors(anchors);
     track->run({}, {scan_at(0, {3, 3}, 0)}, no_plan);
     double t = 0;
     Point at{3, 3};
@@ -128,7 +137,7 @@ void BM_ThinFusionRangingRequest(benchmark::State& state) {
         t += 4;
     }
 }
-BENCHMARK(BM_ThinFusionRangingRequest)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ThinFusionRangingRequest)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -1,5 +1,6 @@
 -- Locus schema v13: a track may be fused by seed 004's Kalman filters (`fusion`
--- 'kalman_seed' or 'kalman_ranging' on POST /v1/tracks), with their noise options
+-- 'kalman_seed' or 'kalman_ranging' on POST /v1/tracks) or our tightly coupled ranging filter
+-- ('ekf_ranging'; added before 013 was released, so no database has 013 without it), with their noise options
 -- (`fusion_options`, JSON text; NULL: the method's defaults). Tracks opened before keep their
 -- fusion and have no options.
 --
@@ -18,7 +19,7 @@ CREATE TABLE tracks_v13 (
   created_at     REAL NOT NULL,
   last_fix_at    REAL NOT NULL,  -- server clock when the last fix arrived (creation until then)
   ended_at       REAL,           -- when it closed, then when it went
-  fusion         TEXT NOT NULL DEFAULT 'walk_pf' CHECK (fusion IN ('walk_pf', 'particle', 'kalman_seed', 'kalman_ranging')),
+  fusion         TEXT NOT NULL DEFAULT 'walk_pf' CHECK (fusion IN ('walk_pf', 'particle', 'kalman_seed', 'kalman_ranging', 'ekf_ranging')),
   fusion_options TEXT
 );
 INSERT INTO tracks_v13 (id, map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion)

@@ -489,6 +489,16 @@ async function run() {
     await post(`/v1/tracks/${k}/steps`, { scans: [{ t: nowS - 1.2, readings: txScan([[1, -55], [2, -68], [3, -63]]) }], steps: [{ t: nowS - 1, length_m: 0.7, heading_deg: 90 }] }, own(tk, { expect: 200 }));
     await get(`/v1/tracks/${k}`, { headers: tk, expect: 200 });
     await post(`/v1/tracks/${k}/steps`, { scans: [{ t: nowS - 0.9, readings: txScan([[1, -55], [2, -68]]) }] }, own(tk, { expect: 422 }));
+    // An ekf_ranging track: a scan of two known transmitters refused before it runs, then a
+    // ranged scan starts it, a step and a scan of two are fused; an option of another method.
+    const openedE = await post('/v1/tracks', { map_id: map, fusion: 'ekf_ranging', fusion_options: { reading_sigma_db: 4, step_lead_s: 0.7 } }, { auth: false, expect: 201 });
+    const ekfT = openedE.json?.id ?? UNKNOWN;
+    const te = { 'x-track-token': openedE.json?.token ?? '' };
+    await post(`/v1/tracks/${ekfT}/steps`, { scans: [{ t: nowS - 1.3, readings: txScan([[1, -55], [2, -68]]) }] }, own(te, { expect: 422 }));
+    await post(`/v1/tracks/${ekfT}/steps`, { scans: [{ t: nowS - 1.2, readings: txScan([[1, -55], [2, -68], [3, -63]]) }, { t: nowS - 0.9, readings: txScan([[1, -56], [2, -67]]) }], steps: [{ t: nowS - 1, length_m: 0.7, heading_deg: 90 }] }, own(te, { expect: 200 }));
+    await get(`/v1/tracks/${ekfT}`, { headers: te, expect: 200 });
+    await post('/v1/tracks', { map_id: map, fusion: 'ekf_ranging', fusion_options: { r_floor_m: 0.5 } }, { auth: false, expect: 422 });
+    await post('/v1/tracks', { map_id: map, fusion: 'ekf_ranging', fusion_options: { reading_sigma_db: 0 } }, { auth: false, expect: 422, invalid: true });
     await post('/v1/tracks', { map_id: map, fusion: 'kalman_seed', fusion_options: { r_sigma_m: -1 } }, { auth: false, expect: 422, invalid: true });
     await post('/v1/tracks', { map_id: map, fusion: 'walk_pf', fusion_options: { q_sigma_m: 0.3 } }, { auth: false, expect: 422 });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, { auth: false, expect: 401 });

@@ -31,13 +31,6 @@ int int_option(const json& o, const char* field, int lo, int hi, int fallback) {
     return static_cast<int>(n);
 }
 
-std::string key_of(std::string_view type, std::string_view bssid) {
-    std::string k(type);
-    k += '|';
-    k += bssid;
-    return k;
-}
-
 void add_floor(TransmitterCache& cache, std::int64_t floor_id, double phone_height, std::map<std::string, KnownTransmitter>& out) {
     const auto txs = cache.of_floor(floor_id);
     for (const auto& r : *txs) {
@@ -48,7 +41,7 @@ void add_floor(TransmitterCache& cache, std::int64_t floor_id, double phone_heig
         const auto& z = f.values.at("z");
         k.tx.dz = std::holds_alternative<double>(z) ? std::get<double>(z) - phone_height : 0.0;
         k.tx.model = {f.get<double>("tx_power"), f.get<double>("path_loss_exponent")};
-        out.emplace(key_of(f.get<std::string>("type"), f.get<std::string>("bssid")), k);
+        out.emplace(transmitter_key(f.get<std::string>("type"), f.get<std::string>("bssid")), k);
     }
 }
 
@@ -64,6 +57,13 @@ std::vector<std::int64_t> floors_of_map(store::Store& store, std::int64_t map_id
 std::string number(double v) { return std::isfinite(v) ? json(v).dump() : "null"; }
 
 }  // namespace
+
+std::string transmitter_key(std::string_view type, std::string_view bssid) {
+    std::string k(type);
+    k += '|';
+    k += bssid;
+    return k;
+}
 
 std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     // The fingerprint matchers' bodies are the hot path: they never hold these names.
@@ -137,7 +137,7 @@ Ranged range_scan(const KnownTransmitters& known, const RangingRequest& request)
     // The heard transmitters by floor; the floor that hears most is where the phone is.
     std::map<std::int64_t, std::vector<ranging::Heard>> by_floor;
     for (const auto& ap : request.query.aps) {
-        const auto k = known.by_key.find(key_of(ap.type, ap.bssid));
+        const auto k = known.by_key.find(transmitter_key(ap.type, ap.bssid));
         if (k != known.by_key.end()) by_floor[k->second.floor_id].push_back({k->second.tx, ap.rss});
     }
     std::int64_t floor_id = 0;

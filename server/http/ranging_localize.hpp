@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "locus/match/query.hpp"
 #include "locus/ranging/trilateration.hpp"
@@ -44,6 +45,8 @@ struct KnownTransmitter {
     std::int64_t floor_id = 0;
     ranging::Transmitter tx;
 };
+// A transmitter's key in KnownTransmitters: "type|bssid", the bssid normalised.
+std::string transmitter_key(std::string_view type, std::string_view bssid);
 struct KnownTransmitters {
     bool map_scope = false;
     std::map<std::string, KnownTransmitter> by_key;

@@ -28,6 +28,7 @@
 #include "http/app.hpp"
 #include "http/json_text.hpp"
 #include "http/ranging_localize.hpp"
+#include "http/track_anchors.hpp"
 #include "http/route_json.hpp"
 #include "http/track_scan.hpp"
 #include "http/validation.hpp"
@@ -209,8 +210,8 @@ tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMetho
     tracks::FusionOptions out;
     const auto it = body.find("fusion_options");
     if (it == body.end()) return out;
-    if (!tracks::is_kalman(method))
-        throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_seed, kalman_ranging); ") +
+    if (!tracks::ranges_scans(method))
+        throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_seed, kalman_ranging, ekf_ranging); ") +
                             tracks::fusion_method_name(method) + " takes none");
     if (!it->is_object()) throw invalid_field("'fusion_options' must be an object");
     for (auto item = it->begin(); item != it->end(); ++item) {
@@ -230,21 +231,30 @@ tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMetho
 }
 
 // A scan on a track fused by a Kalman method: ranged on the map's transmitters as
-// POST /v1/maps/{id}/localize ranges it (kalman_seed: trilateration, kalman_ranging:
-// multilateration, the default options), the ranging fix carried for its covariance.
+// POST /v1/maps/{id}/localize ranges it (kalman_seed: trilateration, kalman_ranging and
+// ekf_ranging: multilateration, the default options), the ranging fix carried for its
+// covariance. ekf_ranging also carries the readings of known transmitters, its measurements,
+// and takes a scan that cannot be ranged (fewer than three heard, no fix) as readings alone:
+// refused only if the filter has not started (tracks::CannotFuse, the same error).
 tracks::RadioFix ranged_scan_fix(const KnownTransmitters& known, tracks::FusionMethod method, double t, const Scan& readings,
                                  const std::string& where) {
+    const bool ekf = method == tracks::FusionMethod::ekf_ranging;
     RangingRequest request;
-    request.multilateration = method == tracks::FusionMethod::kalman_ranging;
+    request.multilateration = method != tracks::FusionMethod::kalman_seed;
     request.query = match::Query::from_scans({readings});
     if (request.query.aps.empty()) throw invalid_field("'" + where + ".readings' holds no reading");
+    tracks::RadioFix f;
+    if (ekf) f.readings = anchor_readings(known, request.query, t);
     Ranged ranged;
     try {
         ranged = range_scan(known, request);
     } catch (const ApiError& e) {
-        throw ApiError(e.status, e.code, "'" + where + "': " + e.what());
+        const std::string message = "'" + where + "': " + e.what();
+        if (!ekf || e.status != 422) throw ApiError(e.status, e.code, message);
+        f.t = t;
+        f.unplaced = {e.code, message + "; ekf_ranging starts at a ranged scan (or a posted fix), then takes scans hearing even one or two"};
+        return f;
     }
-    tracks::RadioFix f;
     f.t = t;
     f.floor_id = ranged.floor_id;
     f.x = ranged.fix.at.x;
@@ -294,7 +304,8 @@ void App::install_track_routes() {
             if (const auto f = body.find("fusion"); f != body.end()) {
                 const auto named = f->is_string() ? tracks::fusion_method_of(f->get<std::string>()) : std::nullopt;
                 if (!named)
-                    throw invalid_field("'fusion' must be \"walk_pf\" (the default), \"particle\", \"kalman_seed\" or \"kalman_ranging\"");
+                    throw invalid_field("'fusion' must be \"walk_pf\" (the default), \"particle\", \"kalman_seed\", "
+                                        "\"kalman_ranging\" or \"ekf_ranging\"");
                 fusion = *named;
             }
             const auto fusion_options = parse_fusion_options(body, fusion);
@@ -351,15 +362,22 @@ void App::install_track_routes() {
             }
             const auto scans = parse_timed_scans(scans_json, svc.options().retention_s);
             json scan_fixes = json::array();
+            std::optional<KnownTransmitters> known;  // read once for the batch
+            std::shared_ptr<const tracks::FloorAnchors> anchors;
+            const auto track = svc.info(id);
+            // An ekf_ranging filter (re)started by this request, even by steps alone (resumed at
+            // the latest stored fix), takes its floor's transmitters as anchors.
+            if (track.fusion == tracks::FusionMethod::ekf_ranging && track.state == tracks::State::live) {
+                known = known_transmitters(store_, transmitters_, true, track.map_id, RangingRequest{}.phone_height);
+                anchors = floor_anchors(*known);
+            }
             if (!scans.empty()) {
-                const auto track = svc.info(id);
                 // A Kalman track ranges its scans on the map's transmitters; the particle
                 // filters take the radio map's match.
                 std::shared_ptr<const localize::Snapshot> snapshot;
-                std::optional<KnownTransmitters> known;  // read once for the batch
-                if (tracks::is_kalman(track.fusion))
+                if (tracks::ranges_scans(track.fusion) && !known)
                     known = known_transmitters(store_, transmitters_, true, track.map_id, RangingRequest{}.phone_height);
-                else
+                else if (!known)
                     snapshot = localizer_.lookup(localize::Service::Scope::map, track.map_id);
                 for (const auto& sc : scans) {
                     if (snapshot) {
@@ -368,15 +386,20 @@ void App::install_track_routes() {
                     } else {
                         radio.push_back(ranged_scan_fix(*known, track.fusion, sc.t, sc.readings, sc.where));
                     }
-                    scan_fixes.push_back(fix_json(radio.back()));
+                    if (!radio.back().unplaced) scan_fixes.push_back(fix_json(radio.back()));
                 }
                 std::stable_sort(radio.begin(), radio.end(), [](const tracks::Fix& a, const tracks::Fix& b) { return a.t < b.t; });
             }
-            if (const auto floor = svc.misplaced_floor(id, std::vector<tracks::Fix>(radio.begin(), radio.end())))
+            std::vector<tracks::Fix> placed;
+            for (const auto& r : radio)
+                if (!r.unplaced) placed.push_back(r);
+            if (const auto floor = svc.misplaced_floor(id, placed))
                 throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
             std::pair<tracks::Posted, std::vector<tracks::Fix>> done;
             try {
-                done = svc.post_raw(id, steps, radio);
+                done = svc.post_raw(id, steps, radio, std::move(anchors));
+            } catch (const tracks::CannotFuse& e) {
+                throw ApiError(422, e.code, e.what());
             } catch (const std::invalid_argument& e) {
                 throw ApiError(422, "cannot_fuse", e.what());
             }

@@ -20,11 +20,24 @@ fusion::RangingKalmanConfig kalman_config(FusionMethod method, const FusionOptio
     return c;
 }
 
+fusion::RangingEkfConfig ekf_config(const FusionOptions& options) {
+    fusion::RangingEkfConfig c;
+    if (options.q_sigma_m) c.step_sigma_floor_m = *options.q_sigma_m;
+    if (options.q_sigma_per_m) c.step_sigma_per_m = *options.q_sigma_per_m;
+    if (options.reading_sigma_db) c.reading_sigma_db = *options.reading_sigma_db;
+    if (options.step_lead_s) c.step_lead_s = *options.step_lead_s;
+    if (options.offset_sigma_db) c.offset_sigma_db = *options.offset_sigma_db;
+    if (options.heading_walk_rad_per_sqrt_m) c.heading_walk_rad_per_sqrt_m = *options.heading_walk_rad_per_sqrt_m;
+    if (options.huber_k) c.huber_k = *options.huber_k;
+    return c;
+}
+
 ThinFusion::ThinFusion(FusionMethod method, std::uint64_t seed, const FusionOptions& options)
     : method_(method), walk_config_(fusion::WalkFilterConfig::real_walks()) {
     config_.seed = seed;
     walk_config_.seed = seed;
     if (is_kalman(method)) kalman_config_ = kalman_config(method, options);
+    if (method == FusionMethod::ekf_ranging) ekf_config_ = ekf_config(options);
 }
 
 Eigen::Matrix2d ThinFusion::kalman_r(const RadioFix& r) const {
@@ -39,7 +52,19 @@ Eigen::Matrix2d ThinFusion::kalman_r(const RadioFix& r) const {
 
 void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resumed) {
     const Point at{r.x, r.y};
-    if (is_kalman(method_)) {
+    if (method_ == FusionMethod::ekf_ranging) {
+        // At the fix, as sure of it as the fix is (floored as a posted fix's R is); resumed, as
+        // sure as the filter was then. The starting scan's readings are not used again: the
+        // fix is made of them. The phone's offset and the heading bias start afresh (the
+        // stored fix does not hold them).
+        fusion::RangingEkfConfig c = ekf_config_;
+        c.initial_sigma_m = resumed ? std::max(r.accuracy_m, 0.05) : std::max(r.accuracy_m, 0.5);
+        static const std::vector<fusion::RangingAnchor> none;
+        const std::vector<fusion::RangingAnchor>* anchors = &none;
+        if (anchors_)
+            if (const auto it = anchors_->by_floor.find(r.floor_id); it != anchors_->by_floor.end()) anchors = &it->second;
+        ekf_.emplace(at, *anchors, c);
+    } else if (is_kalman(method_)) {
         // The filter starts at the fix, as sure of it as the fix is (its R's mean σ per axis);
         // resumed at a stored fused fix, as sure as the filter was then.
         fusion::KalmanConfig c = kalman_config_.kalman;
@@ -63,6 +88,13 @@ Fix ThinFusion::fused(double t, std::optional<double> heading_deg) const {
     f.t = t;
     f.floor_id = floor_id_;
     f.heading_deg = heading_deg;
+    if (ekf_) {
+        const Point p = ekf_->position();
+        f.x = p.x;
+        f.y = p.y;
+        f.accuracy_m = std::sqrt(ekf_->position_covariance().trace() / 2.0);
+        return f;
+    }
     if (kalman_) {
         const Point p = kalman_->position();
         f.x = p.x;

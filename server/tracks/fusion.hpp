@@ -8,10 +8,13 @@
 // the older fusion::ParticleFilter, which needs a plan, or seed 004's Kalman filter
 // (fusion::KalmanFilter with PDR steps as control input, as `locus sim` and `locus replay` run
 // it: kalman_seed with constant R and Q, kalman_ranging with each ranged fix's covariance as R;
-// the latter map-matched on the floor's plan when it has one). One filter per track, started at
+// the latter map-matched on the floor's plan when it has one), or our tightly coupled
+// fusion::RangingEkf (ekf_ranging: each known transmitter a scan hears is a measurement, so a
+// scan hearing one or two still counts once the filter runs). One filter per track, started at
 // its first radio fix and restarted at a radio fix on another floor (steps alone never change
 // floor), seeded with the track's id so a track's fused fixes are reproducible.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -21,6 +24,7 @@
 
 #include "locus/fusion/kalman.hpp"
 #include "locus/fusion/particle_filter.hpp"
+#include "locus/fusion/ranging_ekf.hpp"
 #include "locus/fusion/ranging_fix.hpp"
 #include "locus/fusion/walk_filter.hpp"
 #include "locus/pdr/heading_convention.hpp"
@@ -36,6 +40,24 @@ namespace locus::tracks {
 // R; any other fix's R comes from its accuracy_m.
 struct RadioFix : Fix {
     std::optional<ranging::Fix> ranged;
+    // ekf_ranging: the scan's readings of known transmitters (anchor ids as in FloorAnchors),
+    // the filter's measurements; the position above only starts (or moves to another floor) it.
+    std::vector<fusion::AnchorReading> readings;
+    // ekf_ranging: a scan that could not be ranged on its own (fewer than three known
+    // transmitters heard, or no fix from them): no position, only readings, which the running
+    // filter takes; before it runs, the request is refused with this error (code, message).
+    std::optional<std::pair<std::string, std::string>> unplaced;
+};
+
+// ekf_ranging's anchors: each floor's known transmitters.
+struct FloorAnchors {
+    std::map<std::int64_t, std::vector<fusion::RangingAnchor>> by_floor;
+};
+
+// A request ThinFusion cannot fuse, with the API error code it answers with.
+struct CannotFuse : std::invalid_argument {
+    CannotFuse(std::string c, const std::string& message) : std::invalid_argument(message), code(std::move(c)) {}
+    std::string code;
 };
 
 // One track's filter.
@@ -54,7 +76,10 @@ public:
     template <typename WalkableOf>
     std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of);
 
-    bool started() const { return filter_.has_value() || walk_.has_value() || kalman_.has_value(); }
+    bool started() const { return filter_.has_value() || walk_.has_value() || kalman_.has_value() || ekf_.has_value(); }
+    // ekf_ranging's anchors, read by the caller from the map's transmitters for each request:
+    // a filter (re)started takes its floor's; a running one keeps those it started with.
+    void set_anchors(std::shared_ptr<const FloorAnchors> anchors) { anchors_ = std::move(anchors); }
     // The latest t this filter has run (nullopt before its first input).
     std::optional<double> done_t() const { return done_t_; }
     // Starts the filter at a fix the track already stored (its latest), as if it were a radio
@@ -85,6 +110,9 @@ private:
     std::optional<fusion::WalkFilter> walk_;        // one of the three, by method_
     fusion::RangingKalmanConfig kalman_config_;
     std::optional<fusion::KalmanFilter> kalman_;
+    fusion::RangingEkfConfig ekf_config_;
+    std::optional<fusion::RangingEkf> ekf_;
+    std::shared_ptr<const FloorAnchors> anchors_;
     std::int64_t floor_id_ = 0;
     std::optional<double> heading_deg_;
     std::optional<double> done_t_;  // the latest t run so far
@@ -95,6 +123,8 @@ Eigen::Matrix2d fix_covariance(double accuracy_m);
 
 // A Kalman method's configuration: its defaults with the track's options over them.
 fusion::RangingKalmanConfig kalman_config(FusionMethod method, const FusionOptions& options);
+// ekf_ranging's: fusion::RangingEkfConfig's defaults with the track's options over them.
+fusion::RangingEkfConfig ekf_config(const FusionOptions& options);
 
 template <typename WalkableOf>
 std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of) {
@@ -113,9 +143,15 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
         if (take_radio) {
             const RadioFix& r = radio[ri++];
             const Point at{r.x, r.y};
-            if (!started() || r.floor_id != floor_id_) {
+            if (r.unplaced) {
+                if (!ekf_) throw CannotFuse(r.unplaced->first, r.unplaced->second);
+                ekf_->update(r.readings);
+            } else if (!started() || r.floor_id != floor_id_) {
                 std::shared_ptr<const fusion::Walkable> w = walkable_of(r.floor_id);
                 start(w.get(), r);
+            } else if (ekf_) {
+                if (r.readings.empty()) ekf_->update_position(at, fix_covariance(r.accuracy_m));
+                else ekf_->update(r.readings);
             } else if (kalman_) {
                 kalman_->update(at, kalman_r(r));
             } else if (walk_) {
@@ -128,7 +164,8 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
             const Step& s = steps[si++];
             if (!started()) throw std::invalid_argument("steps need a radio fix first (in this request or an earlier one): the filter starts there");
             const double heading_rad = s.heading_deg * 3.14159265358979323846 / 180.0;
-            if (kalman_) kalman_->predict(pdr::step({0.0, 0.0}, s.length_m, heading_rad));
+            if (ekf_) ekf_->predict(pdr::step({0.0, 0.0}, s.length_m, heading_rad), s.t);
+            else if (kalman_) kalman_->predict(pdr::step({0.0, 0.0}, s.length_m, heading_rad));
             else if (walk_) walk_->step(s.length_m, heading_rad);
             else filter_->predict(s.length_m, heading_rad);
             heading_deg_ = s.heading_deg;

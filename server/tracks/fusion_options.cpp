@@ -2,6 +2,12 @@
 
 namespace locus::tracks {
 
+bool FusionOptions::empty() const {
+    for (const auto& spec : kFusionOptions)
+        if (this->*spec.field) return false;
+    return true;
+}
+
 nlohmann::json fusion_options_json(const FusionOptions& o) {
     nlohmann::json j = nlohmann::json::object();
     for (const auto& spec : kFusionOptions)

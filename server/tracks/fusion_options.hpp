@@ -1,7 +1,7 @@
 #pragma once
 // `fusion_options` on POST /v1/tracks: the Kalman methods' noise, each absent one the method's
 // default (fusion::seed004_kalman_config() for kalman_seed, fusion::ranging_kalman_config()
-// for kalman_ranging). Stored with the track as JSON text (migration 013). The table of
+// for kalman_ranging, fusion::RangingEkfConfig{} for ekf_ranging). Stored with the track as JSON text (migration 013). The table of
 // options, which method takes each and its range, is here once: the HTTP layer validates by
 // it and the filter is configured by it.
 #include <array>
@@ -15,33 +15,47 @@ namespace locus::tracks {
 
 struct FusionOptions {
     std::optional<double> r_sigma_m;      // kalman_seed: R = σ² I, whatever the fix says
-    std::optional<double> q_sigma_m;      // both: Q's σ per step, however short
-    std::optional<double> q_sigma_per_m;  // both: plus this σ per metre walked
+    std::optional<double> q_sigma_m;      // all three: Q's σ per step, however short
+    std::optional<double> q_sigma_per_m;  // all three: plus this σ per metre walked
     std::optional<double> r_floor_m;      // kalman_ranging: R's σ per axis is at least this
     std::optional<double> r_scale;        // kalman_ranging: the fix's covariance × this
+    // ekf_ranging (fusion::RangingEkfConfig's fields of the same meaning):
+    std::optional<double> reading_sigma_db;            // σ of one reading about the path-loss model
+    std::optional<double> step_lead_s;                 // how far the PDR's step stamps lead the motion
+    std::optional<double> offset_sigma_db;             // prior σ of the phone's RSS offset
+    std::optional<double> heading_walk_rad_per_sqrt_m; // the compass drift's random walk
+    std::optional<double> huber_k;                     // readings beyond this many σ are down-weighted
 
-    bool empty() const { return !r_sigma_m && !q_sigma_m && !q_sigma_per_m && !r_floor_m && !r_scale; }
+    bool empty() const;
 };
 
 struct FusionOptionSpec {
     const char* name;
     std::optional<double> FusionOptions::*field;
     double min, max;  // inclusive
-    bool seed, ranging;  // taken by kalman_seed, by kalman_ranging
+    bool seed, ranging, ekf;  // taken by kalman_seed, by kalman_ranging, by ekf_ranging
 };
 
 // Every σ is positive (a zero R or Q would make the filter trust one side absolutely), except
-// the per-metre Q, which seed 004 sets to 0 (its Q is per step).
-inline constexpr std::array<FusionOptionSpec, 5> kFusionOptions{{
-    {"r_sigma_m", &FusionOptions::r_sigma_m, 0.05, 100.0, true, false},
-    {"q_sigma_m", &FusionOptions::q_sigma_m, 0.001, 10.0, true, true},
-    {"q_sigma_per_m", &FusionOptions::q_sigma_per_m, 0.0, 10.0, true, true},
-    {"r_floor_m", &FusionOptions::r_floor_m, 0.01, 100.0, false, true},
-    {"r_scale", &FusionOptions::r_scale, 0.01, 100.0, false, true},
+// the per-metre Q, which seed 004 sets to 0 (its Q is per step), and the EKF's step lead (0
+// turns it off), offset σ (0: the phone's offset is held at 0) and heading walk (0: the bias
+// stays at what the first readings make of it).
+inline constexpr std::array<FusionOptionSpec, 10> kFusionOptions{{
+    {"r_sigma_m", &FusionOptions::r_sigma_m, 0.05, 100.0, true, false, false},
+    {"q_sigma_m", &FusionOptions::q_sigma_m, 0.001, 10.0, true, true, true},
+    {"q_sigma_per_m", &FusionOptions::q_sigma_per_m, 0.0, 10.0, true, true, true},
+    {"r_floor_m", &FusionOptions::r_floor_m, 0.01, 100.0, false, true, false},
+    {"r_scale", &FusionOptions::r_scale, 0.01, 100.0, false, true, false},
+    {"reading_sigma_db", &FusionOptions::reading_sigma_db, 0.1, 30.0, false, false, true},
+    {"step_lead_s", &FusionOptions::step_lead_s, 0.0, 5.0, false, false, true},
+    {"offset_sigma_db", &FusionOptions::offset_sigma_db, 0.0, 30.0, false, false, true},
+    {"heading_walk_rad_per_sqrt_m", &FusionOptions::heading_walk_rad_per_sqrt_m, 0.0, 1.0, false, false, true},
+    {"huber_k", &FusionOptions::huber_k, 0.5, 100.0, false, false, true},
 }};
 
 inline bool takes(const FusionOptionSpec& spec, FusionMethod m) {
-    return (m == FusionMethod::kalman_seed && spec.seed) || (m == FusionMethod::kalman_ranging && spec.ranging);
+    return (m == FusionMethod::kalman_seed && spec.seed) || (m == FusionMethod::kalman_ranging && spec.ranging) ||
+           (m == FusionMethod::ekf_ranging && spec.ekf);
 }
 
 // The options set, as a JSON object (as answered, and as stored: text, "" when none); unknown

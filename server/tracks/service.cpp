@@ -326,7 +326,8 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
     return out;
 }
 
-std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio) {
+std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
+                                                     std::shared_ptr<const FloorAnchors> anchors) {
     std::lock_guard fusion_lock(fusion_mu_);
     FusionMethod method;
     FusionOptions options;
@@ -357,6 +358,7 @@ std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std
     const auto it = fusions_.find(id);
     const bool held = it != fusions_.end() && (!latest || (it->second->done_t() && latest->t <= *it->second->done_t()));
     auto next = held ? std::make_shared<ThinFusion>(*it->second) : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id), options);
+    next->set_anchors(std::move(anchors));
     if (!held && latest) next->resume(*latest, walkable_of);
     std::vector<Fix> fused = next->run(steps, radio, walkable_of);
     // A radio fix and a step at one t give two fixes: the track keeps the later state. A t

@@ -112,6 +112,7 @@ struct MapEvents {
 
 class ThinFusion;
 struct RadioFix;
+struct FloorAnchors;
 
 class Service {
     struct Track;
@@ -144,7 +145,9 @@ public:
     // A thin client's raw steps and radio fixes, fused by client-lib's filter the track chose
     // (tracks/fusion.hpp), seeded with the track's id, and stored as the track's fixes; answers them with the post's counts.
     // std::invalid_argument when the filter cannot run (steps before any fix; no plan for particle).
-    std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio);
+    // `anchors`: ekf_ranging's, the map's known transmitters (tracks/fusion.hpp), else unused.
+    std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
+                                                 std::shared_ptr<const FloorAnchors> anchors = nullptr);
     void close(std::int64_t id);
     void remove(std::int64_t id);
 

@@ -121,3 +121,19 @@ TEST(RangingEkf, AReadingIsTakenWhereThePhoneWasBeforeTheStepsStampedAhead) {
     EXPECT_LT(distance(run(0.7), after), 0.05);
     EXPECT_GT(distance(run(0.0), after), 0.2);
 }
+
+TEST(RangingEkf, PositionFixIsAWeightedMeanOfPriorAndFix) {
+    const auto anchors = six_anchors();
+    RangingEkfConfig cfg;
+    cfg.initial_sigma_m = 2.0;  // prior variance 4 m² per axis
+    RangingEkf ekf({0.0, 0.0}, anchors, cfg);
+    // Fix variance 4 m² too: halfway, and half the variance.
+    ekf.update_position({4.0, -2.0}, Eigen::Matrix2d::Identity() * 4.0);
+    EXPECT_NEAR(ekf.position().x, 2.0, 1e-12);
+    EXPECT_NEAR(ekf.position().y, -1.0, 1e-12);
+    EXPECT_NEAR(ekf.position_covariance()(0, 0), 2.0, 1e-12);
+    EXPECT_NEAR(ekf.offset_db(), 0.0, 1e-12);  // uncorrelated with the position yet: untouched
+    // A far surer fix wins.
+    ekf.update_position({10.0, 10.0}, Eigen::Matrix2d::Identity() * 1e-4);
+    EXPECT_LT(distance(ekf.position(), {10.0, 10.0}), 0.01);
+}

@@ -54,6 +54,9 @@ TEST(StoreTrackMigration, Version12TracksKeepTheirRowsIdsAndReferences) {
             "VALUES (1, x'08', 'live', 1, 1, 'kalman_ranging', '{\"r_scale\":2.0}')");
     EXPECT_EQ(db.last_insert_id(), 8);
     db.exec("INSERT INTO tracks (map_id, token_hash, state, created_at, last_fix_at, fusion) VALUES (1, x'09', 'live', 1, 1, 'kalman_seed')");
+    db.exec("INSERT INTO tracks (map_id, token_hash, state, created_at, last_fix_at, fusion, fusion_options) "
+            "VALUES (1, x'0b', 'live', 1, 1, 'ekf_ranging', '{\"reading_sigma_db\":5.0}')");
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM tracks WHERE fusion = 'ekf_ranging'"), 1);
     EXPECT_THROW(db.exec("INSERT INTO tracks (map_id, token_hash, state, created_at, last_fix_at, fusion) "
                          "VALUES (1, x'0a', 'live', 1, 1, 'kalman')"),
                  locus::store::DbError);

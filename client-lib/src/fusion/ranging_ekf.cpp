@@ -122,4 +122,14 @@ int RangingEkf::update(std::span<const AnchorReading> readings) {
     return m;
 }
 
+void RangingEkf::update_position(Point at, const Eigen::Matrix2d& r) {
+    Eigen::Matrix<double, 2, 4> h = Eigen::Matrix<double, 2, 4>::Zero();
+    h(0, 0) = h(1, 1) = 1.0;
+    const Eigen::Matrix2d s = h * p_ * h.transpose() + r;
+    const Eigen::Matrix<double, 4, 2> k = p_ * h.transpose() * s.inverse();
+    s_ += k * (Eigen::Vector2d(at.x, at.y) - s_.head<2>());
+    const Eigen::Matrix4d ikh = Eigen::Matrix4d::Identity() - k * h;
+    p_ = ikh * p_ * ikh.transpose() + k * r * k.transpose();
+}
+
 }  // namespace locus::fusion

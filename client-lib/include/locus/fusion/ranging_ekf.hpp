@@ -71,6 +71,10 @@ public:
     // The readings of one instant (one scan); readings of unknown anchors are ignored. Returns the
     // number of readings used.
     int update(std::span<const AnchorReading> readings);
+    // A position fix from elsewhere (a radio-map match, a QR code at a door) with covariance r
+    // (m²): a linear update of x, y (the offset and the heading bias move only through their
+    // correlation with the position).
+    void update_position(Point at, const Eigen::Matrix2d& r);
 
     Point position() const { return {s_(0), s_(1)}; }
     double offset_db() const { return s_(2); }
