@@ -31,9 +31,12 @@ public:
 
     std::vector<RpDocument> next_rps(std::size_t n) override {
         // Keyset pages rather than one cursor: PostgreSQL's client holds a statement's whole
-        // result, and the snapshot keeps the pages consistent.
+        // result, and the snapshot keeps the pages consistent. Both queries walk ids in order
+        // (`radiomap_id + 0`: not the (radiomap_id, name) index, which SQLite would scan whole
+        // and sort at every page); measurements of another radio map's RPs in the id range
+        // are skipped here.
         std::vector<RpDocument> out;
-        Stmt s(db_, "SELECT id, name, x, y, scans FROM rps WHERE radiomap_id = ? AND id > ? ORDER BY id LIMIT ?");
+        Stmt s(db_, "SELECT id, name, x, y, scans FROM rps WHERE radiomap_id + 0 = ? AND id > ? ORDER BY id LIMIT ?");
         s.bind(1, radiomap_id_).bind(2, after_).bind(3, static_cast<std::int64_t>(n));
         std::vector<std::int64_t> ids;
         while (s.step()) {
@@ -42,13 +45,14 @@ public:
         }
         if (out.empty()) return out;
         after_ = ids.back();
-        Stmt m(db_, "SELECT m.rp_id, m.type, m.bssid, m.mean, m.variance, m.count FROM measurements m JOIN rps r ON r.id = m.rp_id "
-                    "WHERE r.radiomap_id = ? AND m.rp_id BETWEEN ? AND ? ORDER BY m.rp_id, m.type, m.bssid");
-        m.bind(1, radiomap_id_).bind(2, ids.front()).bind(3, ids.back());
+        Stmt m(db_, "SELECT rp_id, type, bssid, mean, variance, count FROM measurements WHERE rp_id BETWEEN ? AND ? "
+                    "ORDER BY rp_id, type, bssid");
+        m.bind(1, ids.front()).bind(2, ids.back());
         std::size_t at = 0;
         while (m.step()) {
-            while (at < ids.size() && ids[at] != m.int64(0)) ++at;  // both in id order
-            if (at == ids.size()) break;
+            const std::int64_t rp_id = m.int64(0);
+            while (ids[at] < rp_id) ++at;  // both in id order, and rp_id <= ids.back()
+            if (ids[at] != rp_id) continue;
             out[at].measurements.push_back({m.text(1), Bssid::stored(m.text(2)), RssStats{m.real(3), m.real(4), m.int64(5)}});
         }
         return out;
