@@ -10,21 +10,14 @@ TrackTokens with_api_key(const std::string& api_key) {
 
 Response track_call(const ServerProcess& s, const std::string& method, const std::string& path, const TrackTokens& tokens,
                     const std::string& body) {
-    httplib::Client c("127.0.0.1", s.port());
-    c.set_read_timeout(5, 0);
+    httplib::Client c = client(s.port());
     httplib::Headers h;
     if (!tokens.track.empty()) h.emplace("X-Track-Token", tokens.track);
     if (!tokens.peer.empty()) h.emplace("X-Peer-Token", tokens.peer);
     if (!tokens.api_key.empty()) h.emplace("Authorization", "Bearer " + tokens.api_key);
-    httplib::Result r = method == "GET"      ? c.Get(path.c_str(), h)
-                        : method == "DELETE" ? c.Delete(path.c_str(), h)
-                                             : c.Post(path.c_str(), h, body, "application/json");
-    Response out;
-    if (!r) return out;
-    out.status = r->status;
-    out.raw = r->body;
-    out.body = nlohmann::json::parse(r->body, nullptr, false);
-    return out;
+    return to_response(method == "GET"      ? c.Get(path.c_str(), h)
+                       : method == "DELETE" ? c.Delete(path.c_str(), h)
+                                            : c.Post(path.c_str(), h, body, "application/json"));
 }
 
 }  // namespace locus::testing

@@ -2,14 +2,12 @@
 // reader: the same bytes as the whole document written at once, whatever the piece size, and
 // one snapshot however long it is read, without holding a writer back (SQLite file).
 #include <gtest/gtest.h>
-#include <unistd.h>
-
-#include <filesystem>
 
 #include "http/export_stream.hpp"
 #include "http/json_text.hpp"
 #include "http/store_json.hpp"
 #include "store/sql_store.hpp"
+#include "temp_dir.hpp"
 
 using locus::RssStats;
 using locus::http::ExportStream;
@@ -18,17 +16,9 @@ using locus::store::ScanBatch;
 using locus::store::SqlStore;
 using nlohmann::json;
 
-namespace {
+using locus::testing::TempDir;
 
-struct TempDb {
-    std::filesystem::path dir;
-    TempDb() {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "locus-export-XXXXXX").string();
-        dir = mkdtemp(tmpl.data());
-    }
-    ~TempDb() { std::filesystem::remove_all(dir); }
-    std::string path() const { return (dir / "t.db").string(); }
-};
+namespace {
 
 std::string drain(ExportStream& s) {
     std::string out;
@@ -76,7 +66,7 @@ Surveyed survey(SqlStore& repo) {
 }  // namespace
 
 TEST(ExportStream, WritesTheBytesOfTheWholeDocument) {
-    TempDb t;
+    TempDir t("export");
     SqlStore repo(t.path());
     const auto s = survey(repo);
     const std::string expected = whole(repo, s.radiomap);
@@ -89,13 +79,13 @@ TEST(ExportStream, WritesTheBytesOfTheWholeDocument) {
 }
 
 TEST(ExportStream, AnUnknownRadioMapIsNotFound) {
-    TempDb t;
+    TempDir t("export");
     SqlStore repo(t.path());
     EXPECT_THROW(repo.read_radiomap(4242), locus::store::NotFound);
 }
 
 TEST(ExportStream, ReadsOneSnapshotAndHoldsNoWriterBack) {
-    TempDb t;
+    TempDir t("export");
     SqlStore repo(t.path());
     const auto s = survey(repo);
     const std::string before = whole(repo, s.radiomap);
