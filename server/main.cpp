@@ -72,8 +72,9 @@ int main(int argc, char** argv) {
     cli.add_option("--max-live-tracks", tracks_options.max_live_tracks, "live tracks at once; past it, opening one answers 503")
         ->capture_default_str()->check(CLI::Range(1, 10000000));
     cli.add_option("--max-tracks", tracks_options.max_tracks,
-                   "tracks held at all (live, closed within the retention period, deleted ones' tombstones); past it, "
-                   "opening one answers 503 too_many_tracks")
+                   "tracks held at all (live, closed within the retention period, deleted ones' tombstones); at it, "
+                   "opening one evicts the oldest tombstone, else closed track, and answers 503 too_many_tracks only when "
+                   "live tracks fill it")
         ->capture_default_str()->check(CLI::Range(1, 100000000));
     cli.add_option("--max-streams-per-track", tracks_options.max_streams_per_track,
                    "open event streams on one track; past it, 429 too_many_streams")

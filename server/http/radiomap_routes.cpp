@@ -1,5 +1,10 @@
 // Survey uploads into one RP, and a radio map's export and import as one document.
+#include <cstdio>
+#include <memory>
+
 #include "http/app.hpp"
+#include "http/export_stream.hpp"
+#include "http/json_text.hpp"
 #include "http/transmitter_fields.hpp"
 #include "http/store_json.hpp"
 #include "http/validation.hpp"
@@ -17,9 +22,26 @@ void App::install_radiomap_routes() {
         });
     });
 
+    // Written out as it is read, from one snapshot: a large radio map is never whole in memory.
     server_.Get(R"(/v1/radiomaps/(\d+)/export)", [this](const httplib::Request& req, httplib::Response& res) {
-        respond(req, res, [&] {
-            return std::pair{200, export_json(store_.export_radiomap(parse_id(req.matches[1].str(), "radiomap")))};
+        guarded(req, res, [&] {
+            auto stream = std::make_shared<ExportStream>(store_.read_radiomap(parse_id(req.matches[1].str(), "radiomap")));
+            res.status = 200;
+            res.set_chunked_content_provider("application/json", [stream](std::size_t, httplib::DataSink& sink) {
+                try {
+                    const std::string piece = stream->next();
+                    if (piece.empty()) {
+                        sink.done();
+                        return true;
+                    }
+                    return sink.write(piece.data(), piece.size());
+                } catch (const std::exception& e) {
+                    // The status is sent: the connection is cut, so the client sees a broken
+                    // answer rather than a short document.
+                    std::fprintf(stderr, "{\"event\":\"export_failed\",\"message\":%s}\n", json_text(e.what()).c_str());
+                    return false;
+                }
+            });
         });
     });
 

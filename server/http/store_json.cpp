@@ -89,30 +89,34 @@ json rp_json(const store::RpRecord& rp) {
     return out;
 }
 
+json export_rp_json(const store::RpDocument& rp) {
+    return {{"name", rp.name}, {"x", rp.at.x}, {"y", rp.at.y}, {"scans", rp.scans}, {"measurements", measurements_json(rp.measurements)}};
+}
+
 json export_json(const store::RadioMapExport& doc) {
-    json rps = json::array();
-    for (const auto& rp : doc.rps)
-        rps.push_back({{"name", rp.name},
-                       {"x", rp.at.x},
-                       {"y", rp.at.y},
-                       {"scans", rp.scans},
-                       {"measurements", measurements_json(rp.measurements)}});
+    json out = export_json_without_rps(doc.radiomap, doc.transmitters);
+    json& rps = out["rps"];
+    for (const auto& rp : doc.rps) rps.push_back(export_rp_json(rp));
+    return out;
+}
+
+json export_json_without_rps(const store::Record& radiomap, const std::vector<store::Record>& floor_transmitters) {
     // The floor's transmitters without their ids, as a create body: a calibrated model moves
     // with the survey (ranging and generate need them on the target floor).
     json transmitters = json::array();
-    for (const auto& t : doc.transmitters) {
+    for (const auto& t : floor_transmitters) {
         json item = record_json(store::kind("transmitters"), t);
         item.erase("id");
         item.erase("floor_id");
         for (auto it = item.begin(); it != item.end();) it = it->is_null() ? item.erase(it) : std::next(it);  // absent = unset
         transmitters.push_back(std::move(item));
     }
-    const auto& f = doc.radiomap.fields.values;
+    const auto& f = radiomap.fields.values;
     return {{"format", "locus-radiomap/1"},
             {"name", value_json(f.at("name"))},
             {"description", value_json(f.at("description"))},
-            {"floor_id", doc.radiomap.parent_id.value_or(0)},
-            {"rps", rps},
+            {"floor_id", radiomap.parent_id.value_or(0)},
+            {"rps", json::array()},
             {"transmitters", transmitters}};
 }
 

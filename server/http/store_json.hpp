@@ -16,6 +16,9 @@ nlohmann::json measurement_json(const Measurement& m);
 nlohmann::json rp_json(const store::RpRecord& rp);
 // {"format": "locus-radiomap/1", "name", "description", "floor_id", "rps": [...]}.
 nlohmann::json export_json(const store::RadioMapExport& doc);
+// Its parts, for export_stream.hpp: the document with "rps" empty, and one of its RPs.
+nlohmann::json export_json_without_rps(const store::Record& radiomap, const std::vector<store::Record>& floor_transmitters);
+nlohmann::json export_rp_json(const store::RpDocument& rp);
 // The new radio map's row with "rp_count" and "measurement_count".
 nlohmann::json imported_json(const store::ImportedRadioMap& imported);
 

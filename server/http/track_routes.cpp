@@ -86,7 +86,7 @@ void respond_track(const httplib::Request& req, httplib::Response& res, const st
             return body();
         } catch (const tracks::Refused& e) {
             if (e.reason == tracks::Reason::busy || e.reason == tracks::Reason::too_many_streams) res.set_header("Retry-After", "1");
-            // Retained slots free only as closed tracks expire: no use retrying at once.
+            // Every slot is a live track's: they free as tracks close, no use retrying at once.
             if (e.reason == tracks::Reason::too_many_tracks) res.set_header("Retry-After", "60");
             throw api_error_of(e);
         }

@@ -275,7 +275,9 @@ Transaction::Transaction(Db& db, Mode mode) : db_(db) {
         db_.pg_set_in_transaction(true);
         return;
     }
-    db_.exec("BEGIN IMMEDIATE");
+    // A read takes no lock until its first statement, and then only its snapshot (WAL): a long
+    // one (an export being written out) does not hold writers back.
+    db_.exec(mode == Mode::read ? "BEGIN" : "BEGIN IMMEDIATE");
 }
 
 Transaction::~Transaction() {

@@ -144,7 +144,7 @@ private:
     std::string url_;
 };
 
-// BEGIN IMMEDIATE (PostgreSQL: BEGIN) on construction, ROLLBACK unless commit() was called: one per request.
+// BEGIN IMMEDIATE (PostgreSQL: BEGIN; a read: BEGIN, deferred) on construction, ROLLBACK unless commit() was called: one per request.
 class Transaction {
 public:
     // read: the transaction only reads, from one snapshot. SQLite gives that to any

@@ -96,6 +96,15 @@ struct RadioMapExport {
     std::vector<RpDocument> rps;
     std::vector<Record> transmitters;  // of the radio map's floor, so the map can move with them
 };
+// The same, read a batch of RPs at a time, every read from one snapshot (Store::read_radiomap).
+class RadioMapReader {
+public:
+    virtual ~RadioMapReader() = default;
+    virtual const Record& radiomap() const = 0;
+    virtual const std::vector<Record>& transmitters() const = 0;
+    // The next (at most) `n` RPs in id order, with their measurements; empty once all were read.
+    virtual std::vector<RpDocument> next_rps(std::size_t n) = 0;
+};
 struct ImportedRadioMap {
     Record radiomap;
     std::int64_t rp_count = 0, measurement_count = 0;

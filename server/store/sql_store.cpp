@@ -8,14 +8,43 @@
 
 namespace locus::store {
 
-namespace {
-
 std::string column_list(const Kind& k) {
     std::string cols = "id";
     if (!k.parent_column.empty()) cols += ", " + std::string(k.parent_column);
     for (const auto& f : k.fields) cols += ", " + std::string(f.name);
     return cols;
 }
+
+static std::vector<Rect> read_rects(Db& db, std::int64_t room_id) {
+    Stmt s(db, "SELECT xmin, ymin, xmax, ymax FROM room_rects WHERE room_id = ? ORDER BY id");
+    s.bind(1, room_id);
+    std::vector<Rect> out;
+    while (s.step()) out.push_back({s.real(0), s.real(1), s.real(2), s.real(3)});
+    return out;
+}
+
+Record read_row(Db& db, const Kind& k, Stmt& s) {
+    Record r;
+    r.id = s.int64(0);
+    int col = 1;
+    if (!k.parent_column.empty()) r.parent_id = s.int64(col++);
+    for (const auto& f : k.fields) {
+        Value v;
+        if (!s.is_null(col)) {
+            switch (f.type) {
+                case FieldType::Text: v = s.text(col); break;
+                case FieldType::Real: v = s.real(col); break;
+                case FieldType::Integer: v = s.int64(col); break;
+            }
+        }
+        r.fields.values.emplace(std::string(f.name), std::move(v));
+        ++col;
+    }
+    if (k.has_rects) r.fields.rects = read_rects(db, r.id);
+    return r;
+}
+
+namespace {
 
 void bind_value(Stmt& s, int i, const Value& v) {
     std::visit(
@@ -59,34 +88,9 @@ void SqlStore::probe_write() {
     tx.commit();
 }
 
-Record SqlStore::row(const Kind& k, Stmt& s) {
-    Record r;
-    r.id = s.int64(0);
-    int col = 1;
-    if (!k.parent_column.empty()) r.parent_id = s.int64(col++);
-    for (const auto& f : k.fields) {
-        Value v;
-        if (!s.is_null(col)) {
-            switch (f.type) {
-                case FieldType::Text: v = s.text(col); break;
-                case FieldType::Real: v = s.real(col); break;
-                case FieldType::Integer: v = s.int64(col); break;
-            }
-        }
-        r.fields.values.emplace(std::string(f.name), std::move(v));
-        ++col;
-    }
-    if (k.has_rects) r.fields.rects = rects_of(r.id);
-    return r;
-}
+Record SqlStore::row(const Kind& k, Stmt& s) { return read_row(db_, k, s); }
 
-std::vector<Rect> SqlStore::rects_of(std::int64_t room_id) {
-    Stmt s(db_, "SELECT xmin, ymin, xmax, ymax FROM room_rects WHERE room_id = ? ORDER BY id");
-    s.bind(1, room_id);
-    std::vector<Rect> out;
-    while (s.step()) out.push_back({s.real(0), s.real(1), s.real(2), s.real(3)});
-    return out;
-}
+std::vector<Rect> SqlStore::rects_of(std::int64_t room_id) { return read_rects(db_, room_id); }
 
 void SqlStore::replace_rects(std::int64_t room_id, const std::vector<Rect>& rects) {
     Stmt del(db_, "DELETE FROM room_rects WHERE room_id = ?");
@@ -329,21 +333,6 @@ UploadResult SqlStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch) {
         result.rp = {get_locked(kind("rps"), rp_id), measurements_of(rp_id)};
         return result;
     });
-}
-
-RadioMapExport SqlStore::export_radiomap(std::int64_t radiomap_id) {
-    std::lock_guard lock(mu_);
-    Transaction tx(db_, Transaction::Mode::read);
-    RadioMapExport out{get_locked(kind("radiomaps"), radiomap_id), {}, {}};
-    Stmt s(db_, "SELECT id, name, x, y, scans FROM rps WHERE radiomap_id = ? ORDER BY id");
-    s.bind(1, radiomap_id);
-    while (s.step()) out.rps.push_back({s.text(1), {s.real(2), s.real(3)}, s.int64(4), measurements_of(s.int64(0))});
-    const Kind& tk = kind("transmitters");
-    Stmt t(db_, "SELECT " + column_list(tk) + " FROM transmitters WHERE floor_id = ? ORDER BY id");
-    t.bind(1, out.radiomap.parent_id.value_or(0));
-    while (t.step()) out.transmitters.push_back(row(tk, t));
-    tx.commit();
-    return out;
 }
 
 std::int64_t SqlStore::insert_radiomap(std::int64_t floor_id, const RadioMapDocument& doc, std::int64_t* measurements) {

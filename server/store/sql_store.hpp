@@ -4,7 +4,7 @@
 // takes one advisory lock for its transaction, so writes from every server sharing the
 // database run one at a time as they do on SQLite (read-modify-write such as a Welford merge
 // stays exact), and announces its changes to the other servers (pg_changes.hpp). A
-// write, and a read of several statements, is one transaction (BEGIN IMMEDIATE); a read of
+// write, and a read of several statements, is one transaction (BEGIN IMMEDIATE; a read: BEGIN); a read of
 // one statement is its own. Reads of one call see one snapshot; the SQL is built from
 // the kind descriptors, so a new field in kinds.cpp needs a migration and nothing here.
 #include <cstdint>
@@ -21,6 +21,11 @@
 #include "store/store.hpp"
 
 namespace locus::store {
+
+// The columns a Kind's row is selected with, for read_row.
+std::string column_list(const Kind& k);
+// A row selected with column_list(k); a room's rectangles are read on `db` too.
+Record read_row(Db& db, const Kind& k, Stmt& s);
 
 class SqlStore final : public Store {
 public:
@@ -44,6 +49,7 @@ public:
     UploadResult merge_scans(std::int64_t rp_id, const ScanBatch& batch) override;
 
     RadioMapExport export_radiomap(std::int64_t radiomap_id) override;
+    std::unique_ptr<RadioMapReader> read_radiomap(std::int64_t radiomap_id) override;  // sql_export.cpp
     ImportedRadioMap import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) override;
     ImportedRadioMap add_rps(std::int64_t radiomap_id, const std::vector<RpDocument>& rps) override;
     Record import_map_bundle(const MapBundle& bundle) override;

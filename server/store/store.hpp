@@ -99,6 +99,12 @@ public:
     virtual UploadResult merge_scans(std::int64_t rp_id, const ScanBatch& batch) = 0;
 
     virtual RadioMapExport export_radiomap(std::int64_t radiomap_id) = 0;
+    // The export read as it is written out: on a connection of its own, in one read
+    // transaction held until the reader is dropped, so a large radio map is never whole in
+    // memory and a slow client holds neither the store's lock nor the database's write lock.
+    // NotFound for an unknown radio map. Needs a database another connection can open (a file
+    // or PostgreSQL, as the track service does; not ":memory:").
+    virtual std::unique_ptr<RadioMapReader> read_radiomap(std::int64_t radiomap_id) = 0;
     virtual ImportedRadioMap import_radiomap(std::int64_t floor_id, const RadioMapDocument& doc) = 0;
     // Adds RPs (with their measurements) to a stored radio map in one transaction; returns
     // the radio map with the counts added (POST /v1/radiomaps/{id}/densify).

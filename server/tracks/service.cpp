@@ -156,25 +156,61 @@ std::shared_ptr<Service::Track> Service::find(std::int64_t id) const {
     return it->second;
 }
 
+std::vector<std::shared_ptr<Service::Track>> Service::evictable(std::size_t n) const {
+    std::vector<std::shared_ptr<Track>> out;
+    for (const auto& [id, tr] : tracks_)
+        if (tr->info.state != State::live) out.push_back(tr);
+    const auto first_to_go = [](const std::shared_ptr<Track>& a, const std::shared_ptr<Track>& b) {
+        const bool a_closed = a->info.state == State::closed, b_closed = b->info.state == State::closed;
+        if (a_closed != b_closed) return b_closed;  // tombstones first: they hold nothing but a 404
+        return std::pair(a->info.ended_at.value_or(0), a->info.id) < std::pair(b->info.ended_at.value_or(0), b->info.id);
+    };
+    n = std::min(n, out.size());
+    std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n), out.end(), first_to_go);
+    out.resize(n);
+    return out;
+}
+
 Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options) {
     (void)store_.get(store::kind("maps"), map_id);  // NotFound for an unknown map
     Opened out;
     out.token = new_token("trk_");
     const std::string hash = token_hash(out.token);
     const double t = now();
-    std::lock_guard db_lock(db_mu_);
+    std::vector<std::shared_ptr<Track>> evicted;
     {
-        std::lock_guard lock(mu_);
-        const auto live = std::count_if(tracks_.begin(), tracks_.end(), [](const auto& kv) { return kv.second->info.state == State::live; });
-        if (static_cast<std::size_t>(live) >= options_.max_live_tracks)
-            throw Refused(Reason::busy, "the server follows " + std::to_string(live) + " live tracks, its most; try again later");
-        if (tracks_.size() >= options_.max_tracks)
-            throw Refused(Reason::too_many_tracks,
-                          "the server holds " + std::to_string(tracks_.size()) +
-                              " tracks (live, closed within the retention period, and deleted ones' tombstones), its most; "
-                              "slots free as closed tracks expire: try again later");
+        std::lock_guard db_lock(db_mu_);
+        {
+            std::lock_guard lock(mu_);
+            const auto live = std::count_if(tracks_.begin(), tracks_.end(), [](const auto& kv) { return kv.second->info.state == State::live; });
+            if (static_cast<std::size_t>(live) >= options_.max_live_tracks)
+                throw Refused(Reason::busy, "the server follows " + std::to_string(live) + " live tracks, its most; try again later");
+            // Closed tracks and tombstones give way to a live one: an anonymous loop of opens
+            // and deletes (or closes) must not refuse everyone else's opens for a retention period.
+            if (tracks_.size() >= options_.max_tracks) {
+                const std::size_t over = tracks_.size() + 1 - options_.max_tracks;
+                evicted = evictable(over);
+                if (evicted.size() < over)
+                    throw Refused(Reason::too_many_tracks, "the server follows " + std::to_string(live) +
+                                                               " live tracks, as many as it holds at all (--max-tracks); try again later");
+            }
+        }
+        out.info = insert_track(map_id, label, fusion, options, hash, t, evicted);
     }
+    // With no other lock held: post_raw takes fusion_mu_ first.
+    std::lock_guard fusion_lock(fusion_mu_);
+    for (const auto& tr : evicted) fusions_.erase(tr->info.id);
+    return out;
+}
+
+TrackInfo Service::insert_track(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options,
+                                const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted) {
     store::Transaction tx(db_);
+    for (const auto& tr : evicted) {
+        store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, tr->info.id).run();
+        store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, tr->info.id).run();
+        store::Stmt(db_, "DELETE FROM tracks WHERE id = ?").bind(1, tr->info.id).run();
+    }
     store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at, fusion, fusion_options) "
                          "VALUES (?, ?, ?, 'live', ?, ?, ?, ?)");
     ins.bind(1, map_id);
@@ -190,17 +226,26 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
     auto track = std::make_shared<Track>();
     track->info = {id, map_id, label, State::live, t, t, std::nullopt, std::nullopt, 0, fusion, options};
     track->token_hash = hash;
-    out.info = track->info;
     std::lock_guard lock(mu_);
-    tracks_[id] = std::move(track);
-    return out;
+    for (const auto& tr : evicted) {
+        if (tr->info.state != State::gone) mark_gone(*tr, t);  // its streams end
+        tracks_.erase(tr->info.id);
+    }
+    tracks_[id] = track;
+    return track->info;
 }
 
 void Service::refresh(std::int64_t id) {
     std::lock_guard db_lock(db_mu_);
     store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion, fusion_options FROM tracks WHERE id = ?");
     q.bind(1, id);
-    if (!q.step()) return;  // unknown here too: refused as forbidden
+    if (!q.step()) {
+        // Another server evicted it (or its map went): what this one holds of it goes too,
+        // its owner told so; a track unknown here too is refused as forbidden.
+        std::lock_guard lock(mu_);
+        if (const auto it = tracks_.find(id); it != tracks_.end() && it->second->info.state != State::gone) mark_gone(*it->second, now());
+        return;
+    }
     TrackInfo row;
     row.id = id;
     row.map_id = q.is_null(0) ? 0 : q.int64(0);

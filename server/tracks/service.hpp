@@ -43,7 +43,9 @@ struct Options {
     std::size_t max_live_tracks = 10'000;
     // Tracks held at all: live, closed within the retention period, and the tombstones of
     // deleted or expired ones (kept one more retention period). Bounds what a loop of
-    // anonymous open/close (or open/delete) can make the server hold.
+    // anonymous open/close (or open/delete) can make the server hold. Only live tracks fill
+    // it: at the cap, opening a track evicts the oldest tombstone, else the closed track that
+    // closed first, so such a loop cannot lock everyone else out of opening tracks.
     std::size_t max_tracks = 50'000;
     std::size_t max_fixes_per_track = 200'000;  // more than two days at one fix a second
     std::size_t event_buffer = 64;  // fixes kept per track for a stream that falls behind (streams wake at each fix)
@@ -51,8 +53,8 @@ struct Options {
 };
 
 // Why a request on a track is refused; the HTTP layer gives each its status.
-// busy: the server's shared limits (streams, live tracks); too_many_tracks: every retained
-// track slot is taken until some expire; too_many_streams: this track's own stream limit.
+// busy: the server's shared limits (streams, live tracks); too_many_tracks: every track slot
+// is held by a live track; too_many_streams: this track's own stream limit.
 enum class Reason { forbidden, gone, closed, busy, full, too_many_tracks, too_many_streams };
 struct Refused : std::runtime_error {
     Reason reason;
@@ -208,10 +210,16 @@ private:
     void publish(const TrackInfo& track, std::optional<Fix> fix);
     // Under mu_: the track went (deleted, expired, its map deleted) at `t`; only its tombstone stays.
     void mark_gone(Track& track, double t);
+    // Under mu_: the `n` tracks opening a track at max_tracks drops, tombstones before closed
+    // tracks, each oldest first; fewer when the rest are live.
+    std::vector<std::shared_ptr<Track>> evictable(std::size_t n) const;
     // A map was deleted: the database dropped its tracks with it (ON DELETE CASCADE); in
     // memory they go too, so their owners are told 404 and their streams end.
     void map_deleted(std::int64_t map_id);
     std::shared_ptr<Track> find(std::int64_t id) const;  // under mu_; Refused(forbidden) for no such track
+    // Under db_mu_: open()'s writes, in one transaction: the evicted tracks go, the new one is stored.
+    TrackInfo insert_track(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options,
+                           const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted);
     void load();
     // PostgreSQL, several servers: the track as the database holds it now (another server may
     // have opened it, stored its fixes, shared or closed it). Takes db_mu_, then mu_.

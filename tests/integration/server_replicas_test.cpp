@@ -16,11 +16,13 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "track_call.hpp"
 
 using locus::testing::body_of;
 using locus::testing::Response;
 using locus::testing::SameDatabase;
 using locus::testing::ServerProcess;
+using locus::testing::track_call;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
@@ -224,22 +226,6 @@ TEST_F(Replicas, AChangeWhoseNotificationNeverCameIsSeenByTheCounter) {
     })) << "B never noticed the change the counter announced";
 }
 
-namespace {
-Response track_call(const ServerProcess& s, const std::string& method, const std::string& path, const std::string& token,
-                    const std::string& body = "{}") {
-    httplib::Client c("127.0.0.1", s.port());
-    c.set_read_timeout(5, 0);
-    const httplib::Headers h{{"X-Track-Token", token}};
-    const auto r = method == "GET" ? c.Get(path.c_str(), h) : c.Post(path.c_str(), h, body, "application/json");
-    Response out;
-    if (!r) return out;
-    out.status = r->status;
-    out.raw = r->body;
-    out.body = json::parse(r->body, nullptr, false);
-    return out;
-}
-}  // namespace
-
 TEST_F(Replicas, ALiveTrackTakesFixesOnEitherServer) {
     const auto h = locus::testing::make_hierarchy(*a);
     const json opened = body_of(a->post("/v1/tracks", {{"map_id", h.map}, {"label", "phone"}}), 201);
@@ -272,7 +258,7 @@ TEST_F(Replicas, ALiveTrackTakesFixesOnEitherServer) {
     }
     EXPECT_EQ(body_of(track_call(*a, "GET", path, token)).at("fixes"), 10);
     // Closed on one server, the track takes no fix on the other.
-    EXPECT_EQ(body_of(track_call(*b, "POST", path + "/close", token)).at("state"), "closed");
+    EXPECT_EQ(body_of(track_call(*b, "POST", path + "/close", token, "{}")).at("state"), "closed");
     const json late = {{"t", t0 + 7}, {"floor_id", h.floor}, {"x", 7.0}, {"y", 0.0}, {"accuracy_m", 1.5}};
     const auto refused = track_call(*a, "POST", path + "/fixes", token, json{{"fixes", json::array({late})}}.dump());
     EXPECT_EQ(refused.status, 409) << refused.raw;

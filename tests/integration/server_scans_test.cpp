@@ -112,6 +112,8 @@ TEST_F(Fixture, ExportImportRoundTrip) {
     const auto exported = s.get("/v1/radiomaps/" + std::to_string(h.radiomap) + "/export");
     ASSERT_EQ(exported.status, 200);
     EXPECT_EQ(exported.body.at("rps").size(), 2u);
+    // Written out in pieces, the answer is byte for byte the document written as one value.
+    EXPECT_EQ(exported.raw, exported.body.dump(-1, ' ', false, json::error_handler_t::replace));
 
     json doc = exported.body;
     doc["name"] = "copy";
@@ -126,4 +128,32 @@ TEST_F(Fixture, ExportImportRoundTrip) {
     const auto dup = s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", doc);
     EXPECT_EQ(dup.status, 409);
     EXPECT_EQ(body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/radiomaps")).at("total"), 2);
+}
+
+// More RPs than the export writes in one piece (256): the pieces join into the one document,
+// and it imports back to the same RPs.
+TEST_F(Fixture, ALargeExportIsOneDocumentThatImportsBack) {
+    json rps = json::array();
+    for (int i = 0; i < 600; ++i) {
+        std::string name = std::to_string(i), bssid = "aa:bb:cc:00:01:";  // appended: GCC 12 misreads "p" + std::to_string(i) (-Wrestrict)
+        name.insert(0, 1, 'p');
+        bssid += std::to_string(10 + i % 90);
+        rps.push_back({{"name", name}, {"x", 0.5 + (i % 19) * 0.5}, {"y", 0.25 + (i % 7) * 0.5}, {"scans", 2},
+                       {"measurements", json::array({{{"type", "wifi"}, {"bssid", bssid}, {"mean", -40.0 - i % 50 - 1.0 / 3.0},
+                                                      {"variance", 1.25}, {"count", 2}}})}});
+    }
+    json doc = {{"format", "locus-radiomap/1"}, {"name", "big"}, {"rps", rps}};
+    const auto first = s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", doc);
+    ASSERT_EQ(first.status, 201) << first.raw;
+    const auto exported = s.get("/v1/radiomaps/" + std::to_string(first.body.at("id").get<long long>()) + "/export");
+    ASSERT_EQ(exported.status, 200) << exported.raw.substr(0, 200);
+    EXPECT_EQ(exported.raw, exported.body.dump(-1, ' ', false, json::error_handler_t::replace));
+    ASSERT_EQ(exported.body.at("rps").size(), 600u);
+    for (std::size_t i = 0; i < 600; ++i) EXPECT_EQ(exported.body["rps"][i]["name"], rps[i]["name"]) << i;
+    json again = exported.body;
+    again["name"] = "big again";
+    const auto second = s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", again);
+    ASSERT_EQ(second.status, 201) << second.raw;
+    const auto reexported = body_of(s.get("/v1/radiomaps/" + std::to_string(second.body.at("id").get<long long>()) + "/export"));
+    EXPECT_EQ(reexported.at("rps"), exported.body.at("rps"));
 }

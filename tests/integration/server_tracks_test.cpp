@@ -20,44 +20,18 @@
 #include "locus/plan/geojson.hpp"
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
+#include "track_call.hpp"
 
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
+using locus::testing::track_call;
+using locus::testing::with_api_key;
 using nlohmann::json;
 
 namespace {
 
 double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
-
-struct Tokens {
-    Tokens(std::string t = "", std::string p = "") : track(std::move(t)), peer(std::move(p)) {}
-    std::string track, peer, api_key;
-};
-Tokens key(const std::string& api_key) {
-    Tokens t;
-    t.api_key = api_key;
-    return t;
-}
-
-Response call(const ServerProcess& s, const std::string& method, const std::string& path, const Tokens& tokens = {},
-              const std::string& body = "") {
-    httplib::Client c("127.0.0.1", s.port());
-    c.set_read_timeout(5, 0);
-    httplib::Headers h;
-    if (!tokens.track.empty()) h.emplace("X-Track-Token", tokens.track);
-    if (!tokens.peer.empty()) h.emplace("X-Peer-Token", tokens.peer);
-    if (!tokens.api_key.empty()) h.emplace("Authorization", "Bearer " + tokens.api_key);
-    httplib::Result r = method == "GET"      ? c.Get(path.c_str(), h)
-                        : method == "DELETE" ? c.Delete(path.c_str(), h)
-                                             : c.Post(path.c_str(), h, body, "application/json");
-    Response out;
-    if (!r) return out;
-    out.status = r->status;
-    out.raw = r->body;
-    out.body = json::parse(r->body, nullptr, false);
-    return out;
-}
 
 struct Track {
     std::int64_t id = 0;
@@ -67,7 +41,7 @@ struct Track {
 Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label = "phone", const std::string& fusion = "") {
     json req = {{"map_id", map}, {"label", label}};
     if (!fusion.empty()) req["fusion"] = fusion;
-    const json b = body_of(call(s, "POST", "/v1/tracks", {}, req.dump()), 201);
+    const json b = body_of(track_call(s, "POST", "/v1/tracks", {}, req.dump()), 201);
     return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
 }
 
@@ -80,7 +54,7 @@ json fix(double t, std::int64_t floor, double x, double y, std::optional<double>
 Response post_fixes(const ServerProcess& s, const Track& t, const std::vector<json>& fixes, const std::string& token = "") {
     json body = json::object();
     body["fixes"] = json(fixes);
-    return call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/fixes", {token.empty() ? t.token : token}, body.dump());
+    return track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/fixes", {token.empty() ? t.token : token}, body.dump());
 }
 
 std::string path_of(const Track& t, const std::string& rest = "") { return "/v1/tracks/" + std::to_string(t.id) + rest; }
@@ -99,14 +73,14 @@ TEST(ServerTracks, FixesInAnyOrderAndTwiceMakeOneOrderedTrail) {
     json second = body_of(post_fixes(s, t, {fix(t0 + 1, h.floor, 9, 9), fix(t0 - 1, h.floor, -1, 0)}));
     EXPECT_EQ(second["stored"], 1);
     EXPECT_EQ(second["duplicates"], 1);
-    const json got = body_of(call(s, "GET", path_of(t), {t.token}));
+    const json got = body_of(track_call(s, "GET", path_of(t), {t.token}));
     EXPECT_EQ(got["state"], "live");
     EXPECT_EQ(got["fixes"], 4);
     EXPECT_DOUBLE_EQ(got["latest"]["x"].get<double>(), 2.0);  // the largest t, not the last posted
     ASSERT_EQ(got["trail"].size(), 4u);
     for (std::size_t i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(got["trail"][i]["x"].get<double>(), static_cast<double>(i) - 1.0);
     EXPECT_DOUBLE_EQ(got["trail"][2]["heading_deg"].get<double>(), 90.0);  // the first of t0 + 1 kept
-    const json two = body_of(call(s, "GET", path_of(t, "?limit=2"), {t.token}));
+    const json two = body_of(track_call(s, "GET", path_of(t, "?limit=2"), {t.token}));
     ASSERT_EQ(two["trail"].size(), 2u);
     EXPECT_DOUBLE_EQ(two["trail"][1]["x"].get<double>(), 2.0);
 }
@@ -116,16 +90,16 @@ TEST(ServerTracks, AShareReadsOneTrackUntilRevoked) {
     const auto h = locus::testing::make_hierarchy(s);
     const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
     body_of(post_fixes(s, a, {fix(unix_now(), h.floor, 1, 1)}));
-    const json share = body_of(call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201);
+    const json share = body_of(track_call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201);
     const std::string st = share["token"];
-    EXPECT_EQ(body_of(call(s, "GET", path_of(a), {st}))["label"], "ann");
-    EXPECT_EQ(call(s, "GET", path_of(b), {st}).status, 403);  // one track only
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(a), {st}))["label"], "ann");
+    EXPECT_EQ(track_call(s, "GET", path_of(b), {st}).status, 403);  // one track only
     EXPECT_EQ(post_fixes(s, a, {fix(unix_now(), h.floor, 2, 2)}, st).status, 403);  // reads, never writes
-    EXPECT_EQ(call(s, "POST", path_of(a, "/shares"), {st}, "{}").status, 403);
-    EXPECT_EQ(call(s, "DELETE", path_of(a), {st}).status, 403);
-    EXPECT_EQ(call(s, "DELETE", path_of(a, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {a.token}).status, 204);
-    EXPECT_EQ(call(s, "GET", path_of(a), {st}).status, 403);
-    EXPECT_EQ(call(s, "DELETE", path_of(a, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {a.token}).status, 404);
+    EXPECT_EQ(track_call(s, "POST", path_of(a, "/shares"), {st}, "{}").status, 403);
+    EXPECT_EQ(track_call(s, "DELETE", path_of(a), {st}).status, 403);
+    EXPECT_EQ(track_call(s, "DELETE", path_of(a, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {a.token}).status, 204);
+    EXPECT_EQ(track_call(s, "GET", path_of(a), {st}).status, 403);
+    EXPECT_EQ(track_call(s, "DELETE", path_of(a, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {a.token}).status, 404);
 }
 
 TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
@@ -136,11 +110,11 @@ TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
     const double now = unix_now();
     auto code = [](const Response& r) { return r.body.is_object() ? r.body["error"]["code"].get<std::string>() : std::string("?"); };
 
-    EXPECT_EQ(call(s, "POST", "/v1/tracks", {}, R"({"map_id": 999})").status, 422);
-    EXPECT_EQ(call(s, "POST", "/v1/tracks", {}, R"({"map_id": "1"})").status, 422);
-    EXPECT_EQ(call(s, "POST", "/v1/tracks", {}, R"({"map_id": 1, "colour": "red"})").status, 422);
+    EXPECT_EQ(track_call(s, "POST", "/v1/tracks", {}, R"({"map_id": 999})").status, 422);
+    EXPECT_EQ(track_call(s, "POST", "/v1/tracks", {}, R"({"map_id": "1"})").status, 422);
+    EXPECT_EQ(track_call(s, "POST", "/v1/tracks", {}, R"({"map_id": 1, "colour": "red"})").status, 422);
 
-    const Response missing = call(s, "POST", path_of(t, "/fixes"), {}, R"({"fixes": [{"t": 1, "floor_id": 1, "x": 0, "y": 0, "accuracy_m": 1}]})");
+    const Response missing = track_call(s, "POST", path_of(t, "/fixes"), {}, R"({"fixes": [{"t": 1, "floor_id": 1, "x": 0, "y": 0, "accuracy_m": 1}]})");
     EXPECT_EQ(missing.status, 401);
     EXPECT_EQ(code(missing), "unauthorized");
     const Response wrong = post_fixes(s, t, {fix(now, h.floor, 0, 0)}, "trk_0000");
@@ -149,10 +123,10 @@ TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
     const Response unknown = post_fixes(s, Track{t.id + 100, t.token}, {fix(now, h.floor, 0, 0)});
     EXPECT_EQ(unknown.status, 403);
     EXPECT_EQ(code(unknown), code(wrong));
-    EXPECT_EQ(call(s, "GET", "/v1/tracks/999", {t.token}).status, 403);
+    EXPECT_EQ(track_call(s, "GET", "/v1/tracks/999", {t.token}).status, 403);
 
     const std::string p = path_of(t, "/fixes");
-    EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"fixes": [{"t": NaN, "floor_id": 1, "x": 0, "y": 0, "accuracy_m": 1}]})").status, 400);
+    EXPECT_EQ(track_call(s, "POST", p, {t.token}, R"({"fixes": [{"t": NaN, "floor_id": 1, "x": 0, "y": 0, "accuracy_m": 1}]})").status, 400);
     EXPECT_EQ(post_fixes(s, t, {fix(now, h.floor, 1e308 * 10, 0)}).status, 422);  // infinity is written as null: not a number
     EXPECT_EQ(code(post_fixes(s, t, {fix(now, h.floor, 1e9, 0)})), "out_of_range");
     EXPECT_EQ(code(post_fixes(s, t, {fix(now, other.floor, 0, 0)})), "invalid_field");  // a floor of another map
@@ -168,7 +142,7 @@ TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
     // A good fix before a bad one in the same batch: neither is written.
     EXPECT_EQ(post_fixes(s, t, {fix(now, h.floor, 0, 0), fix(now + 1, h.floor, 0, std::nan(""))}).status, 422);
     EXPECT_EQ(post_fixes(s, t, {fix(now, h.floor, 0, 0), fix(now + 1, other.floor, 0, 0)}).status, 422);
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 0);  // every refused batch wrote nothing
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fixes"], 0);  // every refused batch wrote nothing
 
     // A floor of the map that is deleted is no longer one to post on.
     const auto extra = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
@@ -178,16 +152,16 @@ TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
     EXPECT_EQ(code(post_fixes(s, t, {fix(now, extra, 0, 0)})), "invalid_field");
 
     // Closed: no more fixes, no new shares; closing twice is fine.
-    EXPECT_EQ(body_of(call(s, "POST", path_of(t, "/close"), {t.token}, "{}"))["state"], "closed");
-    EXPECT_EQ(call(s, "POST", path_of(t, "/close"), {t.token}, "{}").status, 200);
+    EXPECT_EQ(body_of(track_call(s, "POST", path_of(t, "/close"), {t.token}, "{}"))["state"], "closed");
+    EXPECT_EQ(track_call(s, "POST", path_of(t, "/close"), {t.token}, "{}").status, 200);
     EXPECT_EQ(code(post_fixes(s, t, {fix(now, h.floor, 0, 0)})), "track_closed");
-    EXPECT_EQ(code(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}")), "track_closed");
-    EXPECT_EQ(call(s, "GET", path_of(t, "?limit=5000"), {t.token}).status, 400);
+    EXPECT_EQ(code(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}")), "track_closed");
+    EXPECT_EQ(track_call(s, "GET", path_of(t, "?limit=5000"), {t.token}).status, 400);
 
     // Deleted: the owner is told it went, anyone else learns nothing.
-    EXPECT_EQ(call(s, "DELETE", path_of(t), {t.token}).status, 204);
-    EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
-    EXPECT_EQ(call(s, "GET", path_of(t), {"trk_guess"}).status, 403);
+    EXPECT_EQ(track_call(s, "DELETE", path_of(t), {t.token}).status, 204);
+    EXPECT_EQ(track_call(s, "GET", path_of(t), {t.token}).status, 404);
+    EXPECT_EQ(track_call(s, "GET", path_of(t), {"trk_guess"}).status, 403);
 }
 
 TEST(ServerTracks, RelativePositionMatchesHandComputedValues) {
@@ -197,11 +171,11 @@ TEST(ServerTracks, RelativePositionMatchesHandComputedValues) {
     const double now = unix_now();
     const std::string rel = "/v1/tracks/" + std::to_string(a.id) + "/relative/" + std::to_string(b.id);
     body_of(post_fixes(s, a, {fix(now - 2, h.floor, 1, 1, 90.0)}));  // facing +x
-    EXPECT_EQ(call(s, "GET", rel, {a.token, b.token}).status, 409);  // b has no fix yet
+    EXPECT_EQ(track_call(s, "GET", rel, {a.token, b.token}).status, 409);  // b has no fix yet
     body_of(post_fixes(s, b, {fix(now - 1, h.floor, 4, 5)}));
-    EXPECT_EQ(call(s, "GET", rel, {a.token}).status, 401);
-    const std::string b_share = body_of(call(s, "POST", path_of(b, "/shares"), {b.token}, "{}"), 201)["token"];
-    const json r = body_of(call(s, "GET", rel, {a.token, b_share}));
+    EXPECT_EQ(track_call(s, "GET", rel, {a.token}).status, 401);
+    const std::string b_share = body_of(track_call(s, "POST", path_of(b, "/shares"), {b.token}, "{}"), 201)["token"];
+    const json r = body_of(track_call(s, "GET", rel, {a.token, b_share}));
     EXPECT_NEAR(r["straight_distance_m"].get<double>(), 5.0, 1e-9);
     // b is 3 m along +x and 4 m along +y: bearing atan2(3, 4) = 36.87° clockwise from +y,
     // 53.13° left of a's heading of 90°.
@@ -214,8 +188,8 @@ TEST(ServerTracks, RelativePositionMatchesHandComputedValues) {
     EXPECT_FALSE(r.contains("walking_distance_m"));  // the floor has no plan to walk on
     EXPECT_TRUE(r.contains("walking_problem"));
     // a's token for b's side, or b's share for a's side, does not do.
-    EXPECT_EQ(call(s, "GET", rel, {b_share, a.token}).status, 403);
-    EXPECT_EQ(call(s, "GET", rel, {a.token, "shr_nothing"}).status, 403);
+    EXPECT_EQ(track_call(s, "GET", rel, {b_share, a.token}).status, 403);
+    EXPECT_EQ(track_call(s, "GET", rel, {a.token, "shr_nothing"}).status, 403);
 }
 
 TEST(ServerTracks, PositionsNeedTheApiKeyAndListLiveTracks) {
@@ -228,18 +202,18 @@ TEST(ServerTracks, PositionsNeedTheApiKeyAndListLiveTracks) {
     body_of(post_fixes(s, a, {fix(unix_now(), h.floor, 1, 1)}));
     body_of(post_fixes(s, b, {fix(unix_now(), h.floor, 2, 2)}));
     const std::string p = "/v1/maps/" + std::to_string(h.map) + "/positions";
-    EXPECT_EQ(call(s, "GET", p).status, 401);
-    EXPECT_EQ(call(s, "GET", p, key("wrong")).status, 401);
-    EXPECT_EQ(call(s, "GET", p, {a.token}).status, 401);  // a track's token is not the operator's key
-    const json all = body_of(call(s, "GET", p, key("k1")));
+    EXPECT_EQ(track_call(s, "GET", p).status, 401);
+    EXPECT_EQ(track_call(s, "GET", p, with_api_key("wrong")).status, 401);
+    EXPECT_EQ(track_call(s, "GET", p, {a.token}).status, 401);  // a track's token is not the operator's key
+    const json all = body_of(track_call(s, "GET", p, with_api_key("k1")));
     ASSERT_EQ(all["positions"].size(), 2u);
     EXPECT_EQ(all["positions"][0]["label"], "ann");
     EXPECT_EQ(all["positions"][1]["fix"]["x"], 2.0);
-    EXPECT_EQ(body_of(call(s, "GET", p + "?floor_id=" + std::to_string(h.floor + 1000), key("k1")))["positions"].size(), 0u);
-    EXPECT_EQ(call(s, "GET", p + "?floor_id=x", key("k1")).status, 400);
-    EXPECT_EQ(call(s, "GET", "/v1/maps/999/positions", key("k1")).status, 404);
-    body_of(call(s, "POST", path_of(a, "/close"), {a.token}, "{}"));
-    EXPECT_EQ(body_of(call(s, "GET", p, key("k1")))["positions"].size(), 1u);
+    EXPECT_EQ(body_of(track_call(s, "GET", p + "?floor_id=" + std::to_string(h.floor + 1000), with_api_key("k1")))["positions"].size(), 0u);
+    EXPECT_EQ(track_call(s, "GET", p + "?floor_id=x", with_api_key("k1")).status, 400);
+    EXPECT_EQ(track_call(s, "GET", "/v1/maps/999/positions", with_api_key("k1")).status, 404);
+    body_of(track_call(s, "POST", path_of(a, "/close"), {a.token}, "{}"));
+    EXPECT_EQ(body_of(track_call(s, "GET", p, with_api_key("k1")))["positions"].size(), 1u);
 }
 
 namespace {
@@ -295,14 +269,14 @@ TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
     const Track t = open_track(s, h.map);
     const double now = unix_now();
     body_of(post_fixes(s, t, {fix(now - 5, h.floor, 0, 0)}));
-    const std::string share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
+    const std::string share = body_of(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
     Listener owner(s.port(), path_of(t, "/events"), t.token);
     Listener friend_(s.port(), path_of(t, "/events"), share);
     ASSERT_TRUE(owner.wait_for(1, 2.0));  // the latest fix, at once
     ASSERT_TRUE(friend_.wait_for(1, 2.0));
     // A third stream is past --max-track-streams; a wrong token never gets one.
-    EXPECT_EQ(call(s, "GET", path_of(t, "/events"), {t.token}).status, 503);
-    EXPECT_EQ(call(s, "GET", path_of(t, "/events"), {"trk_wrong"}).status, 403);
+    EXPECT_EQ(track_call(s, "GET", path_of(t, "/events"), {t.token}).status, 503);
+    EXPECT_EQ(track_call(s, "GET", path_of(t, "/events"), {"trk_wrong"}).status, 403);
 
     for (int i = 0; i < 3; ++i) {
         const auto posted = std::chrono::steady_clock::now();
@@ -315,7 +289,7 @@ TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
     EXPECT_EQ(owner.count(), 4u);
     EXPECT_DOUBLE_EQ(owner.fixes.back()["x"].get<double>(), 3.0);
     // Closing ends both streams.
-    body_of(call(s, "POST", path_of(t, "/close"), {t.token}, "{}"));
+    body_of(track_call(s, "POST", path_of(t, "/close"), {t.token}, "{}"));
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
     while (!(owner.ended && friend_.ended) && std::chrono::steady_clock::now() < until)
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -330,12 +304,12 @@ TEST(ServerTracks, OneTrackCannotTakeEveryStreamSlot) {
     const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
     body_of(post_fixes(s, a, {fix(unix_now() - 1, h.floor, 0, 0)}));
     body_of(post_fixes(s, b, {fix(unix_now() - 1, h.floor, 1, 0)}));
-    const std::string share = body_of(call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201)["token"];
+    const std::string share = body_of(track_call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201)["token"];
     auto first = std::make_unique<Listener>(s.port(), path_of(a, "/events"), a.token);
     Listener second(s.port(), path_of(a, "/events"), share);
     ASSERT_TRUE(first->wait_for(1, 2.0));
     ASSERT_TRUE(second.wait_for(1, 2.0));
-    const Response refused = call(s, "GET", path_of(a, "/events"), {a.token});
+    const Response refused = track_call(s, "GET", path_of(a, "/events"), {a.token});
     EXPECT_EQ(refused.status, 429);
     EXPECT_EQ(refused.body["error"]["code"], "too_many_streams") << refused.raw;
     Listener other(s.port(), path_of(b, "/events"), b.token);  // another track still gets one
@@ -350,25 +324,45 @@ TEST(ServerTracks, OneTrackCannotTakeEveryStreamSlot) {
     EXPECT_TRUE(again);
 }
 
-// An anonymous loop of open and close (or delete) had no bound: every track is held until it
-// expires, so all of them together are capped, and slots come back as they expire.
-TEST(ServerTracks, RetainedTracksAreCapped) {
-    ServerProcess s({"--quiet", "--max-tracks", "3", "--track-ttl", "60", "--track-retention", "0.3"});
+// An anonymous loop of open and close (or delete) had no bound, so every track held is capped
+// (--max-tracks); but a loop of opens and deletes then filled the cap with tombstones and
+// refused everyone's opens for up to a day. Tombstones, then closed tracks, now give way to a
+// new track, oldest first: only live tracks fill the cap. The retention here is a day, so
+// nothing expires on its own during the test.
+TEST(ServerTracks, OnlyLiveTracksFillTheTrackCap) {
+    ServerProcess s({"--quiet", "--max-tracks", "3", "--track-ttl", "600"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track live = open_track(s, h.map), closed = open_track(s, h.map), deleted = open_track(s, h.map);
-    body_of(call(s, "POST", path_of(closed, "/close"), {closed.token}, "{}"));
-    EXPECT_EQ(call(s, "DELETE", path_of(deleted), {deleted.token}).status, 204);
-    const Response refused = call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump());
+    const Track live = open_track(s, h.map, "live");
+    const Track closed = open_track(s, h.map, "closed");
+    body_of(post_fixes(s, closed, {fix(unix_now() - 1, h.floor, 1, 1)}));
+    body_of(track_call(s, "POST", path_of(closed, "/close"), {closed.token}, "{}"));
+    std::vector<Track> deleted;
+    for (int i = 0; i < 10; ++i) {  // well past the cap
+        deleted.push_back(open_track(s, h.map, "loop"));
+        ASSERT_EQ(track_call(s, "DELETE", path_of(deleted.back()), {deleted.back().token}).status, 204) << i;
+    }
+    // Each open evicted the oldest tombstone: the latest one still answers its owner 404, an
+    // evicted one 403 as for a track never opened; the closed track kept its fixes.
+    EXPECT_EQ(track_call(s, "GET", path_of(deleted.back()), {deleted.back().token}).status, 404);
+    EXPECT_EQ(track_call(s, "GET", path_of(deleted.front()), {deleted.front().token}).status, 403);
+    const json kept = body_of(track_call(s, "GET", path_of(closed), {closed.token}));
+    EXPECT_EQ(kept["state"], "closed");
+    EXPECT_EQ(kept["trail"].size(), 1u) << kept.dump();
+
+    // With no tombstone left, the closed track gives way.
+    const Track second = open_track(s, h.map, "second");
+    EXPECT_EQ(track_call(s, "GET", path_of(closed), {closed.token}).status, 200);  // the last tombstone went first
+    const Track third = open_track(s, h.map, "third");
+    EXPECT_EQ(track_call(s, "GET", path_of(closed), {closed.token}).status, 403);
+
+    // Live tracks alone fill it: an honest 503, and nothing given way.
+    const Response refused = track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump());
     EXPECT_EQ(refused.status, 503);
     EXPECT_EQ(refused.body["error"]["code"], "too_many_tracks") << refused.raw;
-    EXPECT_EQ(body_of(call(s, "GET", path_of(live), {live.token}))["state"], "live");  // the live one is untouched
-    // The closed and deleted tracks expire (and their tombstones after them): slots come back.
-    int status = 503;
-    for (int i = 0; i < 100 && status == 503; ++i) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        status = call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump()).status;
-    }
-    EXPECT_EQ(status, 201);
+    for (const Track& t : {live, second, third}) EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["state"], "live");
+    // A live track closing frees its slot for the next open.
+    body_of(track_call(s, "POST", path_of(third, "/close"), {third.token}, "{}"));
+    EXPECT_EQ(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump()).status, 201);
 }
 
 // Deleting a map deleted its tracks' rows, but in memory they lived on (a post answered 409
@@ -379,19 +373,19 @@ TEST(ServerTracks, DeletingAMapEndsItsTracks) {
     const auto other = locus::testing::make_hierarchy(s, "Elsewhere");
     const Track t = open_track(s, h.map), kept = open_track(s, other.map);
     body_of(post_fixes(s, t, {fix(unix_now() - 1, h.floor, 1, 1)}));
-    const std::string share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
+    const std::string share = body_of(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
     Listener stream(s.port(), path_of(t, "/events"), t.token);
     ASSERT_TRUE(stream.wait_for(1, 2.0));
 
     ASSERT_EQ(s.del("/v1/maps/" + std::to_string(h.map)).status, 204);
-    EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
+    EXPECT_EQ(track_call(s, "GET", path_of(t), {t.token}).status, 404);
     EXPECT_EQ(post_fixes(s, t, {fix(unix_now(), h.floor, 2, 2)}).status, 404);
-    EXPECT_EQ(call(s, "POST", path_of(t, "/close"), {t.token}, "{}").status, 404);
-    EXPECT_EQ(call(s, "GET", path_of(t), {share}).status, 403);
+    EXPECT_EQ(track_call(s, "POST", path_of(t, "/close"), {t.token}, "{}").status, 404);
+    EXPECT_EQ(track_call(s, "GET", path_of(t), {share}).status, 403);
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
     while (!stream.ended && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     EXPECT_TRUE(stream.ended);
-    EXPECT_EQ(body_of(call(s, "GET", path_of(kept), {kept.token}))["state"], "live");  // another map's track is untouched
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(kept), {kept.token}))["state"], "live");  // another map's track is untouched
 }
 
 // A revoked share had kept an open stream receiving every fix for as long as the track lived.
@@ -401,13 +395,13 @@ TEST(ServerTracks, RevokingAShareEndsTheStreamsItOpened) {
     const Track t = open_track(s, h.map);
     const double now = unix_now();
     body_of(post_fixes(s, t, {fix(now - 5, h.floor, 0, 0)}));
-    const json share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201);
+    const json share = body_of(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201);
     Listener owner(s.port(), path_of(t, "/events"), t.token);
     Listener friend_(s.port(), path_of(t, "/events"), share["token"].get<std::string>());
     ASSERT_TRUE(owner.wait_for(1, 2.0));
     ASSERT_TRUE(friend_.wait_for(1, 2.0));
 
-    EXPECT_EQ(call(s, "DELETE", path_of(t, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {t.token}).status, 204);
+    EXPECT_EQ(track_call(s, "DELETE", path_of(t, "/shares/" + std::to_string(share["id"].get<std::int64_t>())), {t.token}).status, 204);
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
     while (!friend_.ended && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     EXPECT_TRUE(friend_.ended) << "the revoked share's stream stayed open";
@@ -423,26 +417,26 @@ TEST(ServerTracks, ATrackClosesAfterItsTtlAndGoesAfterRetention) {
     const auto h = locus::testing::make_hierarchy(s);
     const Track t = open_track(s, h.map);
     body_of(post_fixes(s, t, {fix(unix_now(), h.floor, 1, 1)}));
-    const std::string share = body_of(call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
+    const std::string share = body_of(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
     std::string state;
     for (int i = 0; i < 100 && state != "closed"; ++i) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        state = body_of(call(s, "GET", path_of(t), {t.token}))["state"];
+        state = body_of(track_call(s, "GET", path_of(t), {t.token}))["state"];
     }
     EXPECT_EQ(state, "closed");
     EXPECT_EQ(post_fixes(s, t, {fix(unix_now(), h.floor, 1, 1)}).status, 409);
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {share}))["state"], "closed");  // still readable until retention
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {share}))["state"], "closed");  // still readable until retention
     int status = 200;
     for (int i = 0; i < 100 && status == 200; ++i) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        status = call(s, "GET", path_of(t), {t.token}).status;
+        status = track_call(s, "GET", path_of(t), {t.token}).status;
     }
     EXPECT_EQ(status, 404);  // expired: the owner is told, the share opens nothing
-    EXPECT_EQ(call(s, "GET", path_of(t), {share}).status, 403);
+    EXPECT_EQ(track_call(s, "GET", path_of(t), {share}).status, 403);
     // Nothing of it is left in the database but its tombstone, and a restart keeps it so.
     s.stop();
     s.start();
-    EXPECT_EQ(call(s, "GET", path_of(t), {t.token}).status, 404);
+    EXPECT_EQ(track_call(s, "GET", path_of(t), {t.token}).status, 404);
 }
 
 // A live track keeps its last retention period of fixes; its count had kept every fix ever
@@ -453,16 +447,16 @@ TEST(ServerTracks, ALongLiveTrackCountsOnlyTheFixesItKeeps) {
     const Track t = open_track(s, h.map);
     const double start = unix_now();
     body_of(post_fixes(s, t, {fix(start - 0.2, h.floor, 1, 1), fix(start - 0.1, h.floor, 2, 1)}));
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 2);
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fixes"], 2);
     std::this_thread::sleep_for(std::chrono::milliseconds(1200));  // both older than the retention period
     body_of(post_fixes(s, t, {fix(unix_now(), h.floor, 3, 1)}));
     int fixes = -1;
     for (int i = 0; i < 100 && fixes != 1; ++i) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        fixes = body_of(call(s, "GET", path_of(t), {t.token}))["fixes"].get<int>();
+        fixes = body_of(track_call(s, "GET", path_of(t), {t.token}))["fixes"].get<int>();
     }
     EXPECT_EQ(fixes, 1);
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["trail"].size(), 1u);
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["trail"].size(), 1u);
 }
 
 // A thin client's steps and radio fixes, fused on the server, give exactly what client-lib's
@@ -478,12 +472,12 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
                                      feature("wall", locus::testing::line({{0, 4}, {8, 4}}))}}};
     ASSERT_EQ(s.put("/v1/floors/" + std::to_string(h.floor) + "/plan", plan).status, 200);
     const Track t = open_track(s, h.map, "phone", "particle");
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fusion"], "particle");
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fusion"], "particle");
     const double t0 = std::floor(unix_now()) - 30;
     const std::string p = path_of(t, "/steps");
     // Steps with nowhere to start from are refused, and nothing is stored.
     json steps_only = {{"steps", {{{"t", t0}, {"length_m", 0.7}, {"heading_deg", 90}}}}};
-    const Response refused = call(s, "POST", p, {t.token}, steps_only.dump());
+    const Response refused = track_call(s, "POST", p, {t.token}, steps_only.dump());
     EXPECT_EQ(refused.status, 422);
     EXPECT_EQ(refused.body["error"]["code"], "cannot_fuse");
 
@@ -492,7 +486,7 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
     const json body = {{"steps", steps},
                        {"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 2.0}, {"y", 2.0}, {"accuracy_m", 2.0}},
                                   {{"t", t0 + 3}, {"floor_id", h.floor}, {"x", 4.5}, {"y", 2.5}, {"accuracy_m", 1.5}}}}};
-    const json got = body_of(call(s, "POST", p, {t.token}, body.dump()));
+    const json got = body_of(track_call(s, "POST", p, {t.token}, body.dump()));
     ASSERT_EQ(got["fused"].size(), 8u);
     EXPECT_EQ(got["stored"], 7);  // the radio fix and the step at t0 + 3: the track keeps the state after both
 
@@ -517,14 +511,14 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
     }
     EXPECT_GT(got["fused"][7]["x"].get<double>(), 5.0);  // it walked east
     // The next request goes on from where this one left the filter.
-    const json more = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 7}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
+    const json more = body_of(track_call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 7}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
     pf.predict(0.7, 90.0 * std::numbers::pi / 180.0);
     EXPECT_NEAR(more["fused"][0]["x"].get<double>(), pf.position().x, 1e-9);
-    EXPECT_DOUBLE_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["latest"]["x"].get<double>(), more["fused"][0]["x"].get<double>());
+    EXPECT_DOUBLE_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["latest"]["x"].get<double>(), more["fused"][0]["x"].get<double>());
     // Bad steps: a step longer than 3 m, a floor of no plan, a share token.
-    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 8}, {"length_m", 9}, {"heading_deg", 0}}}}}.dump()).status, 422);
-    EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"steps": []})").status, 422);
-    EXPECT_EQ(call(s, "POST", p, {t.token}, R"({"walk": []})").status, 422);
+    EXPECT_EQ(track_call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 8}, {"length_m", 9}, {"heading_deg", 0}}}}}.dump()).status, 422);
+    EXPECT_EQ(track_call(s, "POST", p, {t.token}, R"({"steps": []})").status, 422);
+    EXPECT_EQ(track_call(s, "POST", p, {t.token}, R"({"walk": []})").status, 422);
 }
 
 // A thin client's scans are localized as the map's localize endpoint answers them (the same
@@ -567,18 +561,18 @@ TEST(ServerTracks, ServerFusionLocalizesScansLikeTheLocalizeEndpoint) {
                             json{{"t", unix_now() + 3600}, {"readings", west}},
                             json{{"readings", west}},
                             json(west)}) {
-        const Response r = call(s, "POST", p, {t.token}, json{{"steps", good_steps}, {"scans", {bad}}}.dump());
+        const Response r = track_call(s, "POST", p, {t.token}, json{{"steps", good_steps}, {"scans", {bad}}}.dump());
         EXPECT_EQ(r.status, 422) << bad.dump() << " " << r.raw;
         EXPECT_TRUE(r.body["error"].contains("code")) << r.raw;
     }
-    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"scans", json::object()}}.dump()).status, 422);
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 0);
+    EXPECT_EQ(track_call(s, "POST", p, {t.token}, json{{"scans", json::object()}}.dump()).status, 422);
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fixes"], 0);
 
     // The first scan starts the filter, steps walk it east, the second scan corrects it.
     json steps = json::array();
     for (int i = 1; i <= 8; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
     const json body = {{"steps", steps}, {"scans", {{{"t", t0 + 4.5}, {"readings", middle}}, {{"t", t0}, {"readings", west}}}}};
-    const json got = body_of(call(s, "POST", p, {t.token}, body.dump()));
+    const json got = body_of(track_call(s, "POST", p, {t.token}, body.dump()));
     ASSERT_EQ(got["fused"].size(), 10u);
     EXPECT_EQ(got["stored"], 10);
     ASSERT_EQ(got["scan_fixes"].size(), 2u);
@@ -623,12 +617,12 @@ TEST(ServerTracks, ServerFusionLocalizesScansLikeTheLocalizeEndpoint) {
         EXPECT_NEAR(got["fused"][i]["y"].get<double>(), expected[i].y, 1e-9) << i;
     }
     // A bad scan after that leaves the filter where it was: the next good step is client-lib's next step.
-    EXPECT_EQ(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}},
+    EXPECT_EQ(track_call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}},
                                                   {"scans", {{{"t", t0 + 9}, {"readings", {{{"bssid", "bb:00:00:00:00:09"}, {"rss", -50}}}}}}}}.dump())
                   .status,
               422);
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fixes"], 10);
-    const json next = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fixes"], 10);
+    const json next = body_of(track_call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 9}, {"length_m", 0.7}, {"heading_deg", 90.0}}}}}.dump()));
     pf.step(0.7, 90.0 * std::numbers::pi / 180.0);
     EXPECT_NEAR(next["fused"][0]["x"].get<double>(), pf.position().x, 1e-9);
 }
@@ -643,10 +637,10 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
     (void)open_track(s, h.map, "first");  // so this track's id, its seed, is not the default seed 1
     const Track t = open_track(s, h.map);
     ASSERT_NE(t.id, 1);
-    EXPECT_EQ(body_of(call(s, "GET", path_of(t), {t.token}))["fusion"], "walk_pf");
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fusion"], "walk_pf");
     const double t0 = std::floor(unix_now()) - 30;
     const std::string p = path_of(t, "/steps");
-    const Response refused = call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0}, {"length_m", 0.7}, {"heading_deg", 90}}}}}.dump());
+    const Response refused = track_call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0}, {"length_m", 0.7}, {"heading_deg", 90}}}}}.dump());
     EXPECT_EQ(refused.status, 422);
     EXPECT_EQ(refused.body["error"]["code"], "cannot_fuse");
 
@@ -654,7 +648,7 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
     json steps = json::array(), fixes = json::array();
     for (int i = 1; i <= 12; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 0.0}});
     for (int i = 0; i <= 12; i += 3) fixes.push_back({{"t", t0 + i}, {"floor_id", h.floor}, {"x", 2.0 + 0.7 * i}, {"y", 2.0}, {"accuracy_m", i == 0 ? 2.0 : 0.3}});
-    const json got = body_of(call(s, "POST", p, {t.token}, json{{"steps", steps}, {"fixes", fixes}}.dump()));
+    const json got = body_of(track_call(s, "POST", p, {t.token}, json{{"steps", steps}, {"fixes", fixes}}.dump()));
     ASSERT_EQ(got["fused"].size(), 17u);
     EXPECT_EQ(got["stored"], 13);  // a fix and a step at one t: the track keeps the state after both
 
@@ -684,11 +678,11 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
     }
     EXPECT_GT(ordered.back().second, 0.0);
     // A retry of that request (its answer lost) moves the filter no further and stores nothing.
-    const json retried = body_of(call(s, "POST", p, {t.token}, json{{"steps", steps}, {"fixes", fixes}}.dump()));
+    const json retried = body_of(track_call(s, "POST", p, {t.token}, json{{"steps", steps}, {"fixes", fixes}}.dump()));
     EXPECT_EQ(retried["fused"].size(), 0u);
     EXPECT_EQ(retried["stored"], 0);
     // The next request goes on from where the first left the filter.
-    const json more = body_of(call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 13}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}.dump()));
+    const json more = body_of(track_call(s, "POST", p, {t.token}, json{{"steps", {{{"t", t0 + 13}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}.dump()));
     wf.step(0.7, 0.0);
     EXPECT_NEAR(more["fused"][0]["x"].get<double>(), wf.position().x, 1e-9);
     EXPECT_NEAR(more["fused"][0]["y"].get<double>(), wf.position().y, 1e-9);
@@ -702,7 +696,7 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
                        {"features", {feature("space", locus::testing::rect_polygon(0, 0, 20, 4), {{"name", "Corridor"}, {"kind", "corridor"}}),
                                      feature("wall", locus::testing::line({{0, 4}, {20, 4}}))}}};
     ASSERT_EQ(s.put("/v1/floors/" + std::to_string(upstairs) + "/plan", plan).status, 200);
-    const json moved = body_of(call(s, "POST", p, {t.token},
+    const json moved = body_of(track_call(s, "POST", p, {t.token},
                                     json{{"fixes", {{{"t", t0 + 14}, {"floor_id", upstairs}, {"x", 3.0}, {"y", 2.0}, {"accuracy_m", 1.0}}}},
                                          {"steps", {{{"t", t0 + 15}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}
                                         .dump()));
@@ -720,11 +714,11 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
 
     // The particle filter walks on a plan: on this floor it refuses, and stores nothing.
     const Track old = open_track(s, h.map, "old", "particle");
-    const Response no_plan = call(s, "POST", path_of(old, "/steps"), {old.token},
+    const Response no_plan = track_call(s, "POST", path_of(old, "/steps"), {old.token},
                                   json{{"steps", steps}, {"fixes", fixes}}.dump());
     EXPECT_EQ(no_plan.status, 422) << no_plan.raw;
     EXPECT_EQ(no_plan.body["error"]["code"], "cannot_fuse");
-    EXPECT_EQ(body_of(call(s, "GET", path_of(old), {old.token}))["fixes"], 0);
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(old), {old.token}))["fixes"], 0);
 }
 
 // A track whose filter the server does not hold (here after a restart; on PostgreSQL also when
@@ -738,12 +732,12 @@ TEST(ServerTracks, AFilterTheServerDoesNotHoldResumesAtTheLatestStoredFix) {
     const std::string p = path_of(t, "/steps");
     const json first = {{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 4.0}, {"y", 3.0}, {"accuracy_m", 1.5}}}},
                         {"steps", {{{"t", t0 + 1}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}};
-    ASSERT_EQ(call(s, "POST", p, {t.token}, first.dump()).status, 200);
+    ASSERT_EQ(track_call(s, "POST", p, {t.token}, first.dump()).status, 200);
     s.stop();
     s.start();
-    const json latest = body_of(call(s, "GET", path_of(t), {t.token}))["latest"];
+    const json latest = body_of(track_call(s, "GET", path_of(t), {t.token}))["latest"];
     ASSERT_EQ(latest["t"], t0 + 1);
-    const json resumed = body_of(call(s, "POST", p, {t.token},
+    const json resumed = body_of(track_call(s, "POST", p, {t.token},
                                       json{{"steps", {{{"t", t0 + 1}, {"length_m", 0.7}, {"heading_deg", 0.0}},  // already run
                                                       {{"t", t0 + 2}, {"length_m", 0.7}, {"heading_deg", 0.0}}}}}
                                           .dump()));
@@ -765,21 +759,21 @@ TEST(ServerTracks, OpeningATrackRefusesAnUnknownFusion) {
     const auto h = locus::testing::make_hierarchy(s);
     const Track first = open_track(s, h.map, "a", "walk_pf");
     for (const json& bad : {json("kalman"), json("WALK_PF"), json(""), json(1), json(nullptr), json::array({"walk_pf"})}) {
-        const Response r = call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", bad}}.dump());
+        const Response r = track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", bad}}.dump());
         EXPECT_EQ(r.status, 422) << bad.dump() << " " << r.raw;
         EXPECT_EQ(r.body["error"]["code"], "invalid_field") << r.raw;
         EXPECT_NE(r.body["error"]["message"].get<std::string>().find("fusion"), std::string::npos) << r.raw;
     }
     // Nothing was written: the next track takes the next id.
-    const json next = body_of(call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", "particle"}}.dump()), 201);
+    const json next = body_of(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", "particle"}}.dump()), 201);
     EXPECT_EQ(next["id"].get<std::int64_t>(), first.id + 1);
     EXPECT_EQ(next["fusion"], "particle");
     // The choice is stored with the track: a restart keeps it.
     s.stop();
     s.start();
     const Track reopened{next["id"].get<std::int64_t>(), next["token"].get<std::string>()};
-    EXPECT_EQ(body_of(call(s, "GET", path_of(reopened), {reopened.token}))["fusion"], "particle");
-    EXPECT_EQ(body_of(call(s, "GET", path_of(first), {first.token}))["fusion"], "walk_pf");
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(reopened), {reopened.token}))["fusion"], "particle");
+    EXPECT_EQ(body_of(track_call(s, "GET", path_of(first), {first.token}))["fusion"], "walk_pf");
 }
 
 

@@ -21,7 +21,6 @@
 
 namespace locus::testing {
 
-namespace {
 Response to_response(const httplib::Result& r) {
     Response out;
     if (!r) return out;
@@ -40,6 +39,8 @@ httplib::Client client(int port) {
     c.set_write_timeout(30, 0);
     return c;
 }
+
+namespace {
 
 int wait_status(pid_t pid) {
     int status = 0;

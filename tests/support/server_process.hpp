@@ -30,6 +30,9 @@ struct Response {
     nlohmann::json body;
     std::string raw;
 };
+Response to_response(const httplib::Result& r);
+// A client of the server on `port` (127.0.0.1) with timeouts generous enough for a loaded CI machine.
+httplib::Client client(int port);
 
 class ServerProcess {
 public:
