@@ -14,7 +14,10 @@
 namespace locus::http {
 
 std::shared_ptr<const tracks::FloorAnchors> floor_anchors(const KnownTransmitters& known);
-// The query's readings of known transmitters (of any floor), stamped t.
+// The query's readings of known transmitters (of any floor), stamped t: the kMaxEkfReadings
+// strongest. The filter's update solves a system as large as the readings, cubic in their
+// count, under the lock all thin-client fusion shares; multilateration keeps at most 30 too.
+inline constexpr std::size_t kMaxEkfReadings = 30;
 std::vector<fusion::AnchorReading> anchor_readings(const KnownTransmitters& known, const match::Query& query, double t);
 
 }  // namespace locus::http

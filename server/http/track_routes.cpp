@@ -417,8 +417,7 @@ void App::install_track_routes() {
             const auto id = parse_id(req.matches[1].str(), "track");
             if (svc.authorize(id, token_of(req)) != tracks::Access::owner)
                 throw ApiError(403, "forbidden", "only the track's owner closes it");
-            svc.close(id);
-            return std::pair{200, track_json(svc.info(id))};
+            return std::pair{200, track_json(svc.close(id))};
         });
     });
 

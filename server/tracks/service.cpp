@@ -197,9 +197,12 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
         }
         out.info = insert_track(map_id, label, fusion, options, hash, t, evicted);
     }
-    // With no other lock held: post_raw takes fusion_mu_ first.
-    std::lock_guard fusion_lock(fusion_mu_);
-    for (const auto& tr : evicted) fusions_.erase(tr->info.id);
+    // With no other lock held: post_raw takes fusion_mu_ first. Only when something was
+    // evicted: fusion_mu_ is held through a whole filter run, which an open need not wait for.
+    if (!evicted.empty()) {
+        std::lock_guard fusion_lock(fusion_mu_);
+        for (const auto& tr : evicted) fusions_.erase(tr->info.id);
+    }
     return out;
 }
 
@@ -240,10 +243,23 @@ void Service::refresh(std::int64_t id) {
     store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion, fusion_options FROM tracks WHERE id = ?");
     q.bind(1, id);
     if (!q.step()) {
-        // Another server evicted it (or its map went): what this one holds of it goes too,
-        // its owner told so; a track unknown here too is refused as forbidden.
+        // Its map was deleted (the row went with it): gone, 404, as on the server that deleted
+        // it. Else another server evicted it at --max-tracks: dropped, as the evicting server
+        // dropped it, so its tokens answer 403 here too. Either way its streams end.
+        std::optional<std::int64_t> map_id;
+        {
+            std::lock_guard lock(mu_);
+            if (const auto it = tracks_.find(id); it != tracks_.end()) map_id = it->second->info.map_id;
+        }
+        if (!map_id) return;  // unknown here too: refused as forbidden
+        store::Stmt m(db_, "SELECT 1 FROM maps WHERE id = ?");
+        m.bind(1, *map_id);
+        const bool map_exists = m.step();
         std::lock_guard lock(mu_);
-        if (const auto it = tracks_.find(id); it != tracks_.end() && it->second->info.state != State::gone) mark_gone(*it->second, now());
+        if (const auto it = tracks_.find(id); it != tracks_.end()) {
+            if (it->second->info.state != State::gone) mark_gone(*it->second, now());
+            if (map_exists) tracks_.erase(it);
+        }
         return;
     }
     TrackInfo row;
@@ -418,14 +434,14 @@ std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std
     return {posted, std::move(fused)};
 }
 
-void Service::close(std::int64_t id) {
+TrackInfo Service::close(std::int64_t id) {
     const double t = now();
     std::lock_guard db_lock(db_mu_);
     std::shared_ptr<Track> track;
     {
         std::lock_guard lock(mu_);
         track = find(id);
-        if (track->info.state != State::live) return;  // closing twice is closing once
+        if (track->info.state != State::live) return track->info;  // closing twice is closing once
     }
     store::Stmt up(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?");
     up.bind(1, t).bind(2, id).run();
@@ -434,6 +450,7 @@ void Service::close(std::int64_t id) {
     track->info.ended_at = t;
     track->changed.notify_all();
     publish(track->info, std::nullopt);
+    return track->info;
 }
 
 void Service::remove(std::int64_t id) {

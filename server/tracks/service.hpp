@@ -150,7 +150,9 @@ public:
     // `anchors`: ekf_ranging's, the map's known transmitters (tracks/fusion.hpp), else unused.
     std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
                                                  std::shared_ptr<const FloorAnchors> anchors = nullptr);
-    void close(std::int64_t id);
+    // Returns the track as closed, taken under the lock: an open at --max-tracks may evict a
+    // closed track the moment after, so looking it up again could find it gone.
+    TrackInfo close(std::int64_t id);
     void remove(std::int64_t id);
 
     TrackInfo info(std::int64_t id) const;

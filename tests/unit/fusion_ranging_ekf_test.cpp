@@ -137,3 +137,15 @@ TEST(RangingEkf, PositionFixIsAWeightedMeanOfPriorAndFix) {
     ekf.update_position({10.0, 10.0}, Eigen::Matrix2d::Identity() * 1e-4);
     EXPECT_LT(distance(ekf.position(), {10.0, 10.0}), 0.01);
 }
+
+// A config that would divide by zero in the update is refused when the filter is made.
+TEST(RangingEkf, RefusesAConfigThatWouldTurnTheStateNaN) {
+    const std::vector<RangingAnchor> none;
+    for (auto broken : {+[](RangingEkfConfig& c) { c.reading_sigma_db = 0.0; }, +[](RangingEkfConfig& c) { c.huber_k = -1.0; },
+                        +[](RangingEkfConfig& c) { c.min_range_m = 0.0; }, +[](RangingEkfConfig& c) { c.iterations = 0; }}) {
+        RangingEkfConfig c;
+        broken(c);
+        EXPECT_THROW(RangingEkf({0.0, 0.0}, none, c), std::invalid_argument);
+    }
+    EXPECT_NO_THROW(RangingEkf({0.0, 0.0}, none, RangingEkfConfig{}));
+}

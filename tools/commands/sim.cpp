@@ -364,28 +364,28 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
     cmd->add_option("--ranging-sigma-db", args->ranging.multilateration.sigma_db, "Multilateration's shadowing σ, dB")
         ->capture_default_str();
     cmd->add_option("--ekf-reading-sigma", args->ranging.ekf.reading_sigma_db,
-                    "Tightly coupled filter: σ of one anchor reading about the model, dB")->capture_default_str();
+                    "Tightly coupled filter: σ of one anchor reading about the model, dB")->check(CLI::PositiveNumber)->capture_default_str();
     cmd->add_option("--ekf-q-per-m", args->ranging.ekf.step_sigma_per_m,
-                    "Tightly coupled filter: position noise σ per metre walked")->capture_default_str();
+                    "Tightly coupled filter: position noise σ per metre walked")->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd->add_option("--ekf-q-floor", args->ranging.ekf.step_sigma_floor_m,
-                    "Tightly coupled filter: position noise σ per step, m")->capture_default_str();
+                    "Tightly coupled filter: position noise σ per step, m")->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd->add_option("--ekf-offset-sigma", args->ranging.ekf.offset_sigma_db,
-                    "Tightly coupled filter: prior σ of the phone's RSS offset, dB (0: not estimated)")->capture_default_str();
+                    "Tightly coupled filter: prior σ of the phone's RSS offset, dB (0: not estimated)")->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd->add_option("--ekf-offset-walk", args->ranging.ekf.offset_walk_db_per_sqrt_s,
-                    "Tightly coupled filter: the offset's random walk, dB/√s")->capture_default_str();
+                    "Tightly coupled filter: the offset's random walk, dB/√s")->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd->add_option("--ekf-heading-bias", args->ranging.ekf.estimate_heading_bias,
                     "Tightly coupled filter: estimate the PDR heading's bias (true/false)")->capture_default_str();
     cmd->add_option("--ekf-heading-sigma", args->ranging.ekf.heading_bias_sigma_rad,
-                    "Tightly coupled filter: prior σ of the heading bias, rad")->capture_default_str();
+                    "Tightly coupled filter: prior σ of the heading bias, rad")->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd->add_option("--ekf-heading-walk", args->ranging.ekf.heading_walk_rad_per_sqrt_m,
-                    "Tightly coupled filter: the heading bias's random walk, rad/√m")->capture_default_str();
+                    "Tightly coupled filter: the heading bias's random walk, rad/√m")->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd->add_option("--ekf-step-lead", args->ranging.ekf.step_lead_s,
                     "Tightly coupled filter: a reading is taken where the phone was before the steps stamped in its "
-                    "last this-many seconds")->capture_default_str();
+                    "last this-many seconds")->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd->add_option("--ekf-huber", args->ranging.ekf.huber_k,
-                    "Tightly coupled filter: Huber threshold, in σ")->capture_default_str();
+                    "Tightly coupled filter: Huber threshold, in σ")->check(CLI::PositiveNumber)->capture_default_str();
     cmd->add_option("--ekf-iterations", args->ranging.ekf.iterations,
-                    "Tightly coupled filter: Gauss–Newton iterations per update")->capture_default_str();
+                    "Tightly coupled filter: Gauss–Newton iterations per update")->check(CLI::Range(1, 20))->capture_default_str();
     cmd->add_flag("--put-plan", args->put_plan, "first put the scenario's rooms and doors on --floor as its plan");
     cmd->callback([args, walls, cmd] {
         args->walls_given = walls->count() > 0;

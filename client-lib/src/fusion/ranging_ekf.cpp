@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace locus::fusion {
 
 RangingEkf::RangingEkf(Point start, std::span<const RangingAnchor> anchors, const RangingEkfConfig& config)
     : config_(config) {
+    // A zero σ or Huber threshold divides by zero in the update and turns the state NaN.
+    if (!(config.reading_sigma_db > 0.0) || !(config.huber_k > 0.0) || !(config.min_range_m > 0.0) || config.iterations < 1)
+        throw std::invalid_argument("RangingEkfConfig: reading_sigma_db, huber_k and min_range_m must be positive and iterations at least 1");
     for (const RangingAnchor& a : anchors) anchors_[a.id] = a.tx;
     s_ << start.x, start.y, 0.0, 0.0;
     p_.setZero();

@@ -62,7 +62,8 @@ struct RangingEkfConfig {
 
 class RangingEkf {
 public:
-    // Anchors with the same id: the last one wins.
+    // Anchors with the same id: the last one wins. Throws std::invalid_argument for a config
+    // whose reading_sigma_db, huber_k or min_range_m is not positive or iterations below 1.
     RangingEkf(Point start, std::span<const RangingAnchor> anchors, const RangingEkfConfig& config = {});
 
     // One PDR step: its displacement as the PDR gives it (rotated by the heading-bias state when
