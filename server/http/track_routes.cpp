@@ -356,10 +356,7 @@ void App::install_track_routes() {
             check_batch_size(n);
             const auto steps = parse_steps(steps_json, svc.options().retention_s);
             std::vector<tracks::RadioFix> radio;
-            for (const auto& f : parse_fix_array(fixes_json, "fixes", svc.options().retention_s)) {
-                radio.emplace_back();
-                static_cast<tracks::Fix&>(radio.back()) = f;
-            }
+            for (const auto& f : parse_fix_array(fixes_json, "fixes", svc.options().retention_s)) radio.emplace_back(f);
             const auto scans = parse_timed_scans(scans_json, svc.options().retention_s);
             json scan_fixes = json::array();
             std::optional<KnownTransmitters> known;  // read once for the batch
@@ -380,12 +377,10 @@ void App::install_track_routes() {
                 else if (!known)
                     snapshot = localizer_.lookup(localize::Service::Scope::map, track.map_id);
                 for (const auto& sc : scans) {
-                    if (snapshot) {
-                        radio.emplace_back();
-                        static_cast<tracks::Fix&>(radio.back()) = scan_fix(*snapshot, sc.t, sc.readings, sc.where);
-                    } else {
+                    if (snapshot)
+                        radio.emplace_back(scan_fix(*snapshot, sc.t, sc.readings, sc.where));
+                    else
                         radio.push_back(ranged_scan_fix(*known, track.fusion, sc.t, sc.readings, sc.where));
-                    }
                     if (!radio.back().unplaced) scan_fixes.push_back(fix_json(radio.back()));
                 }
                 std::stable_sort(radio.begin(), radio.end(), [](const tracks::Fix& a, const tracks::Fix& b) { return a.t < b.t; });

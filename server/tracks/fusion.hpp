@@ -39,6 +39,9 @@ namespace locus::tracks {
 // scan ranged on transmitters also carries the ranging fix, whose covariance is kalman_ranging's
 // R; any other fix's R comes from its accuracy_m.
 struct RadioFix : Fix {
+    RadioFix() = default;
+    explicit RadioFix(const Fix& f) : Fix(f) {}  // a posted, matched or stored fix: no ranging, no readings
+
     std::optional<ranging::Fix> ranged;
     // ekf_ranging: the scan's readings of known transmitters (anchor ids as in FloorAnchors),
     // the filter's measurements; the position above only starts (or moves to another floor) it.
@@ -88,9 +91,7 @@ public:
     template <typename WalkableOf>
     void resume(const Fix& stored, WalkableOf&& walkable_of) {
         std::shared_ptr<const fusion::Walkable> w = walkable_of(stored.floor_id);
-        RadioFix at;
-        static_cast<Fix&>(at) = stored;
-        start(w.get(), at, true);
+        start(w.get(), RadioFix(stored), true);
         heading_deg_ = stored.heading_deg;
         done_t_ = stored.t;
     }
