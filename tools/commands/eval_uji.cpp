@@ -168,7 +168,7 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
                     "drop this USERID's training rows from both map and queries (repeatable)");
     cmd->add_option("--algorithm", a->algorithm,
                     "bsb, nn, bsbnn, knn, wknn, bayes, default (the server's), yardstick (raw-scan kNN-3, "
-                    "powed, Sørensen) or all")
+                    "powed, Sørensen), all, or grid (tune's candidates and the yardstick)")
         ->capture_default_str();
     a->flags.add_to(*cmd);
     cmd->add_flag("--oracle", a->oracle,
