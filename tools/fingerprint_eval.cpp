@@ -45,17 +45,26 @@ Method server_default() {
     return m;
 }
 
-Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& train_rows, std::string& chosen) {
+Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& train_rows, std::string& chosen,
+                     const match::TuneLimits& limits) {
     const auto grid = match::tune_grid();
     // floor_id is building·100 + floor (uji::floor_id): the level is what is left of 100.
     const auto report = match::tune(uji::indexed_rps(train, train_rows), grid,
-                                    [](long long floor) { return floor % 100; });
+                                    [](long long floor) { return floor % 100; }, limits);
     const auto& best = report.rows[report.best];
     Method m = server_default();
     m.algorithm = best.setting.algorithm;
     m.options = best.setting.options;
     chosen = best.name;
     return m;
+}
+
+match::FoldScheme fold_scheme(const std::string& option, const std::string& text) {
+    const auto scheme = match::parse_fold_scheme(text);
+    if (!scheme)
+        throw CommandError(option + ": expected position, spatial:G (metres > 0) or order:N (N >= 1), got '" + text +
+                           "'");
+    return *scheme;
 }
 
 void MatcherFlags::add_to(CLI::App& cmd) {

@@ -39,6 +39,8 @@ struct Args {
     match::FoldScheme blocks;  // parsed from cv_blocks
     bool json = false;
     bool tune = false;
+    std::string tune_blocks;  // empty: the server's shuffled folds
+    match::TuneLimits tune_limits;
 };
 
 // The folders of `dir` that hold a training file, by name.
@@ -118,7 +120,7 @@ nlohmann::json run_database(const fs::path& db, const Args& a) {
             // The tune sees this split's training rows only, as the server's sees its RPs.
             std::string name;
             for (auto& m : methods)
-                if (m.name == "default") m = eval::tuned_default(train, train_sets[s], name);
+                if (m.name == "default") m = eval::tuned_default(train, train_sets[s], name, a.tune_limits);
             chosen.push_back(name);
         }
         const eval::Queries q = eval::queries_of(test, test_sets[s]);
@@ -157,10 +159,12 @@ void run(Args& a) {
     using tools::CommandError;
     if (!fs::is_directory(a.dir)) throw CommandError(a.dir + " is not a directory");
     eval::check_algorithm_name(a.algorithm);
-    const auto scheme = match::parse_fold_scheme(a.cv_blocks);
-    if (!scheme) throw CommandError("--cv-blocks: expected position, spatial:G (metres > 0) or order:N (N >= 1), got '" + a.cv_blocks + "'");
-    if (scheme->blocks != match::FoldBlocks::position && a.cv == 0) throw CommandError("--cv-blocks needs --cv K");
-    a.blocks = *scheme;
+    a.blocks = eval::fold_scheme("--cv-blocks", a.cv_blocks);
+    if (a.blocks.blocks != match::FoldBlocks::position && a.cv == 0) throw CommandError("--cv-blocks needs --cv K");
+    if (!a.tune_blocks.empty()) {
+        if (!a.tune) throw CommandError("--tune-blocks needs --tune");
+        a.tune_limits.blocks = eval::fold_scheme("--tune-blocks", a.tune_blocks);
+    }
     const auto dbs = databases(a.dir);
     if (dbs.empty()) throw CommandError("no <DB>/trainingData.csv under " + a.dir);
     a.flags.options();  // an unknown name fails before any database is read
@@ -209,5 +213,8 @@ LOCUS_COMMAND("eval fingerprints", [](CLI::App& app) {
     cmd->add_flag("--tune", a->tune,
                   "--algorithm default first tunes each training map as "
                   "POST /v1/radiomaps/{id}/tune does, on the training rows only");
+    cmd->add_option("--tune-blocks", a->tune_blocks,
+                    "with --tune, the tune's folds take out whole blocks (as --cv-blocks) instead of "
+                    "shuffled single RPs");
     cmd->callback([a] { run(*a); });
 });
