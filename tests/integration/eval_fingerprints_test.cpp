@@ -204,3 +204,20 @@ TEST(EvalFingerprints, TuneChoosesOnTheTrainingRowsAndReportsTheChoice) {
     ASSERT_EQ(cv.status, 0) << cv.err;
     EXPECT_EQ(row_of(json::parse(cv.out), "hand", "default")["tuned"].size(), 2u);
 }
+
+// `locus eval uji` shares the tune and its --tune-blocks with eval fingerprints.
+TEST(EvalUji, TuneBlocksAreAcceptedAndChecked) {
+    const std::string train = kDbs + "/hand/trainingData.csv", test = kDbs + "/hand/testData.csv";
+    auto r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--algorithm", "default", "--tune",
+                          "--tune-blocks", "spatial:100", "--json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "tuned default: ")) << r.err;
+    EXPECT_EQ(json::parse(r.out)["algorithm"], "default");  // one method: one object
+    r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--tune-blocks", "spatial:100"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_TRUE(contains(r.err, "needs --tune")) << r.err;
+    r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--tune", "--tune-blocks", "order:0"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_TRUE(contains(r.err, "--tune-blocks")) << r.err;
+    EXPECT_TRUE(contains(r.err, "order:0")) << r.err;
+}
