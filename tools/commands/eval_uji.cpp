@@ -183,7 +183,7 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
                     "only queries within this many metres of a remaining RP on their true floor");
     cmd->add_option("--per-query", a->per_query,
                     "write one CSV line per answered query (truth, estimate, error, oracle distance) to this file");
-    cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all)");
+    cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all or grid)");
     cmd->add_flag("--tune", a->tune,
                   "--algorithm default first tunes the training map as POST /v1/radiomaps/{id}/tune does");
     cmd->add_option("--tune-blocks", a->tune_blocks,

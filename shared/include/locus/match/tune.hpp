@@ -3,7 +3,8 @@
 // K-fold cross-validation over the radio map's own RPs. Each fold's RPs are taken out of the
 // index and localized, each with its stored per-AP means as the scan, by every candidate
 // setting of a small fixed grid; the setting with the lowest mean error wins. Pure and
-// deterministic: the folds come from a fixed-seed shuffle of the RPs' positions.
+// deterministic: the folds come from a fixed-seed shuffle of the RPs' positions (or whole
+// blocks of them, TuneLimits::blocks, which the server never sets).
 #include <cstddef>
 #include <functional>
 #include <optional>
