@@ -45,17 +45,26 @@ Method server_default() {
     return m;
 }
 
-Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& train_rows, std::string& chosen) {
+Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& train_rows, std::string& chosen,
+                     const match::TuneLimits& limits) {
     const auto grid = match::tune_grid();
     // floor_id is building·100 + floor (uji::floor_id): the level is what is left of 100.
     const auto report = match::tune(uji::indexed_rps(train, train_rows), grid,
-                                    [](long long floor) { return floor % 100; });
+                                    [](long long floor) { return floor % 100; }, limits);
     const auto& best = report.rows[report.best];
     Method m = server_default();
     m.algorithm = best.setting.algorithm;
     m.options = best.setting.options;
     chosen = best.name;
     return m;
+}
+
+match::FoldScheme fold_scheme(const std::string& option, const std::string& text) {
+    const auto scheme = match::parse_fold_scheme(text);
+    if (!scheme)
+        throw CommandError(option + ": expected position, spatial:G (metres > 0) or order:N (N >= 1), got '" + text +
+                           "'");
+    return *scheme;
 }
 
 void MatcherFlags::add_to(CLI::App& cmd) {
@@ -136,12 +145,13 @@ match::IndexParams MatcherFlags::params() const {
 
 namespace {
 [[noreturn]] void unknown_algorithm(const std::string& name) {
-    throw CommandError("unknown algorithm '" + name + "' (bsb, nn, bsbnn, knn, wknn, bayes, default, yardstick or all)");
+    throw CommandError("unknown algorithm '" + name +
+                       "' (bsb, nn, bsbnn, knn, wknn, bayes, default, yardstick, all or grid)");
 }
 }  // namespace
 
 void check_algorithm_name(const std::string& name) {
-    if (name != "all" && name != "default" && name != "yardstick" && !match::parse_algorithm(name))
+    if (name != "all" && name != "grid" && name != "default" && name != "yardstick" && !match::parse_algorithm(name))
         unknown_algorithm(name);
 }
 
@@ -159,6 +169,17 @@ std::vector<Method> methods_named(const std::string& name, const MatcherFlags& f
     std::vector<Method> out;
     if (name == "all") {
         for (auto a : match::all_algorithms()) out.push_back(with_flags(a));
+        out.push_back(yardstick(train, train_rows));
+    } else if (name == "grid") {
+        // tune's candidates exactly as tune runs them (their own options, the default index),
+        // so a CV here ranks what the tune chooses between.
+        for (const auto& c : match::tune_grid()) {
+            Method m;
+            m.name = c.name;
+            m.algorithm = c.setting.algorithm;
+            m.options = c.setting.options;
+            out.push_back(std::move(m));
+        }
         out.push_back(yardstick(train, train_rows));
     } else if (name == "default") {
         out.push_back(server_default());
@@ -255,12 +276,14 @@ nlohmann::json evaluate(const match::Index& index, const Queries& q, const Metho
 }
 
 void print_table(const nlohmann::json& rows, const std::string& label) {
+    int width = 9;  // the tune grid's candidate names are longer than a matcher's
+    for (const auto& o : rows) width = std::max(width, static_cast<int>(o["algorithm"].get<std::string>().size()));
     if (!label.empty()) std::printf("%-10s ", label.c_str());
-    std::printf("%-9s %7s %9s %9s %8s %8s %8s %8s %8s %9s\n", "algo", "queries", "building", "floor", "mean_m",
+    std::printf("%-*s %7s %9s %9s %8s %8s %8s %8s %8s %9s\n", width, "algo", "queries", "building", "floor", "mean_m",
                 "median_m", "p75_m", "p95_m", "evaal_m", "us/query");
     for (const auto& o : rows) {
         if (!label.empty()) std::printf("%-10s ", o.value(label, std::string()).c_str());
-        std::printf("%-9s %7d %8.2f%% %8.2f%% %8.2f %8.2f %8.2f %8.2f %8.2f %9.1f\n",
+        std::printf("%-*s %7d %8.2f%% %8.2f%% %8.2f %8.2f %8.2f %8.2f %8.2f %9.1f\n", width,
                     o["algorithm"].get<std::string>().c_str(), o["queries"].get<int>(),
                     100.0 * o["building_hit_rate"].get<double>(), 100.0 * o["floor_hit_rate"].get<double>(),
                     o["mean_error_m"].get<double>(), o["median_error_m"].get<double>(),

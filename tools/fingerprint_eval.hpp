@@ -12,7 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "datasets/uji_csv.hpp"
+#include "locus/match/cv_folds.hpp"
 #include "locus/match/localize.hpp"
+#include "locus/match/tune.hpp"
 
 namespace locus::tools::eval {
 
@@ -44,7 +46,13 @@ Method server_default();
 // What it gets once the radio map built from the training rows has been tuned
 // (POST /v1/radiomaps/{id}/tune's code, match::tune, over those RPs only): the chosen
 // setting, named "default"; `chosen` gets the candidate's name.
-Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& train_rows, std::string& chosen);
+// `limits` as the server's by default; `locus eval … --tune-blocks` sets its fold blocks.
+Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& train_rows, std::string& chosen,
+                     const match::TuneLimits& limits = {});
+
+// A --cv-blocks / --tune-blocks value (match::parse_fold_scheme); throws CommandError naming
+// the option on a bad one.
+match::FoldScheme fold_scheme(const std::string& option, const std::string& text);
 
 // The matcher knobs both eval commands take; unset ones keep the server's defaults.
 struct MatcherFlags {

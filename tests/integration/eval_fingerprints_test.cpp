@@ -115,10 +115,51 @@ TEST(EvalFingerprints, CrossValidationUsesTheTrainingRowsOnly) {
     EXPECT_TRUE(contains(no_test.err, "testData.csv")) << no_test.err;
 }
 
+// --cv-blocks deals whole blocks to the folds. hand/'s training positions: (2,0), (0,2),
+// (9,0), (0,12) on floor 0 and (30,30) on floor 1. Cells of 100 m: one block per floor, so
+// two folds hold rows whatever K; runs of 2 positions in file order: three blocks.
+TEST(EvalFingerprints, CvBlocksDealWholeBlocksToTheFolds) {
+    const std::string dir = make_temp_dir();
+    std::filesystem::create_directories(dir + "/only-train");
+    std::filesystem::copy_file(kDbs + "/hand/trainingData.csv", dir + "/only-train/trainingData.csv");
+    auto cv = [&](const std::string& blocks) {
+        const auto r = run_command(
+            {kCli, "eval", "fingerprints", dir, "--cv", "5", "--cv-blocks", blocks, "--algorithm", "wknn", "--json"});
+        EXPECT_EQ(r.status, 0) << r.err;
+        return json::parse(r.out).at(0);
+    };
+    const json position = cv("position"), spatial = cv("spatial:100"), order = cv("order:2");
+    EXPECT_EQ(position["folds"].get<int>(), 5);
+    EXPECT_EQ(spatial["folds"].get<int>(), 2);
+    EXPECT_EQ(order["folds"].get<int>(), 3);
+    for (const json* row : {&position, &spatial, &order}) EXPECT_EQ((*row)["queries"].get<int>(), 5);
+    EXPECT_EQ(spatial["cv_blocks"], "spatial:100");
+    // Floor 1's one position held out against a map of floor 0 only: the floor is missed.
+    EXPECT_LT(spatial["floor_hit_rate"].get<double>(), 1.0);
+}
+
 TEST(EvalFingerprints, BadInputIsNamed) {
     auto r = run_command({kCli, "eval", "fingerprints", kDbs, "--algorithm", "knnn"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "knnn")) << r.err;
+
+    for (const char* bad : {"spatial:0", "order:0", "cells:5", "spatial:-1"}) {
+        r = run_command({kCli, "eval", "fingerprints", kDbs, "--cv", "2", "--cv-blocks", bad});
+        EXPECT_NE(r.status, 0) << bad;
+        EXPECT_TRUE(contains(r.err, "--cv-blocks")) << r.err;
+        EXPECT_TRUE(contains(r.err, bad)) << r.err;
+    }
+    // Without --cv the test files would be read: blocks make no sense there.
+    r = run_command({kCli, "eval", "fingerprints", kDbs, "--cv-blocks", "spatial:10"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_TRUE(contains(r.err, "needs --cv")) << r.err;
+    r = run_command({kCli, "eval", "fingerprints", kDbs, "--cv", "2", "--tune-blocks", "spatial:10"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_TRUE(contains(r.err, "needs --tune")) << r.err;
+    r = run_command({kCli, "eval", "fingerprints", kDbs, "--cv", "2", "--tune", "--algorithm", "default",
+                     "--tune-blocks", "spatial:x"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_TRUE(contains(r.err, "--tune-blocks")) << r.err;
 
     const std::string empty = make_temp_dir();
     r = run_command({kCli, "eval", "fingerprints", empty});
@@ -162,4 +203,21 @@ TEST(EvalFingerprints, TuneChoosesOnTheTrainingRowsAndReportsTheChoice) {
     const auto cv = run_command({kCli, "eval", "fingerprints", kDbs, "--json", "--algorithm", "default", "--tune", "--cv", "2"});
     ASSERT_EQ(cv.status, 0) << cv.err;
     EXPECT_EQ(row_of(json::parse(cv.out), "hand", "default")["tuned"].size(), 2u);
+}
+
+// `locus eval uji` shares the tune and its --tune-blocks with eval fingerprints.
+TEST(EvalUji, TuneBlocksAreAcceptedAndChecked) {
+    const std::string train = kDbs + "/hand/trainingData.csv", test = kDbs + "/hand/testData.csv";
+    auto r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--algorithm", "default", "--tune",
+                          "--tune-blocks", "spatial:100", "--json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "tuned default: ")) << r.err;
+    EXPECT_EQ(json::parse(r.out)["algorithm"], "default");  // one method: one object
+    r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--tune-blocks", "spatial:100"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_TRUE(contains(r.err, "needs --tune")) << r.err;
+    r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--tune", "--tune-blocks", "order:0"});
+    EXPECT_NE(r.status, 0);
+    EXPECT_TRUE(contains(r.err, "--tune-blocks")) << r.err;
+    EXPECT_TRUE(contains(r.err, "order:0")) << r.err;
 }

@@ -115,3 +115,26 @@ TEST(MatchTune, HybridTiesWithItsBayesOnOneFloorSoTheEarlierCandidateStays) {
     EXPECT_DOUBLE_EQ(report.rows[hybrid].mean_error_m, report.rows[wide].mean_error_m);
     EXPECT_NE(report.best, hybrid);
 }
+
+TEST(MatchTune, SpatialBlocksTakeAHeldOutRpsNeighboursOutWithIt) {
+    // Cells of 6 m hold 3 RPs each (x 0-4, 6-10, …, 24-28), one cell per fold: an RP in a
+    // cell's middle finds its nearest remaining RP 4 m away, one at a cell's edge 2 m away,
+    // the corridor's two end RPs 6 m away: (6 + 4 + 2) · 2 + (2 + 4 + 2) · 3 over 15 RPs.
+    const auto rps = corridor(15);
+    const std::vector<TuneCandidate> grid{knn(1)};
+    const auto blocked = tune(rps, grid, level, {.folds = 5, .blocks = parse_fold_scheme("spatial:6")});
+    EXPECT_EQ(blocked.queries, 15u);
+    EXPECT_NEAR(blocked.rows[0].mean_error_m, 48.0 / 15.0, 1e-9);
+    // Left out alone, every RP keeps a neighbour 2 m away.
+    EXPECT_NEAR(tune(rps, grid, level, {.folds = 15}).rows[0].mean_error_m, 2.0, 1e-9);
+}
+
+TEST(MatchTune, BlocksThatLeaveOneFoldFallBackToTheShuffle) {
+    const auto rps = corridor(20);
+    const auto grid = tune_grid();
+    const auto shuffled = tune(rps, grid, level, {.folds = 5});
+    const auto one_cell = tune(rps, grid, level, {.folds = 5, .blocks = parse_fold_scheme("spatial:1000")});
+    EXPECT_EQ(one_cell.queries, shuffled.queries);
+    for (std::size_t i = 0; i < grid.size(); ++i)
+        EXPECT_DOUBLE_EQ(one_cell.rows[i].mean_error_m, shuffled.rows[i].mean_error_m) << grid[i].name;
+}

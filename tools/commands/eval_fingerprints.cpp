@@ -3,16 +3,16 @@
 // layout), localized in-process; one row of figures per database and method, the
 // yardstick among them, so every comparison is side by side in one run.
 //
-// --cv K instead leaves the test files unread: each database's training rows are split by
-// surveyed position into K folds, each fold queried against a map of the others, pooled.
-// That is the protocol defaults are tuned on, so that the test sets stay unseen.
+// --cv K instead leaves the test files unread (it needs no testData.csv): each database's
+// training rows are split by surveyed position into K folds, each fold queried against a map
+// of the others, pooled. That is the protocol defaults are tuned on, so that the test sets stay
+// unseen. --cv-blocks chooses what a fold takes out whole: single positions (round-robin in
+// file order), spatial cells or runs of the survey order (match::assign_folds).
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -20,6 +20,7 @@
 #include "command_registry.hpp"
 #include "datasets/uji_csv.hpp"
 #include "fingerprint_eval.hpp"
+#include "locus/match/cv_folds.hpp"
 #include "locus/metrics.hpp"
 
 namespace {
@@ -34,8 +35,12 @@ struct Args {
     std::string algorithm = "all";
     eval::MatcherFlags flags;
     int cv = 0;
+    std::string cv_blocks = "position";
+    match::FoldScheme blocks;  // parsed from cv_blocks
     bool json = false;
     bool tune = false;
+    std::string tune_blocks;  // empty: the server's shuffled folds
+    match::TuneLimits tune_limits;
 };
 
 // The folders of `dir` that hold a training file, by name.
@@ -47,19 +52,14 @@ std::vector<fs::path> databases(const fs::path& dir) {
     return out;
 }
 
-// Per surveyed position (building, floor, x, y) of the rows, its fold: positions in file order
-// of first appearance, dealt round-robin, so every scan of a position is in one fold and a
-// query never finds its own position in the map.
-std::vector<int> position_folds(const uji::Data& data, int k) {
-    std::map<std::tuple<int, int, double, double>, int> fold_of;
-    std::vector<int> folds;
-    folds.reserve(data.rows.size());
-    for (const auto& row : data.rows) {
-        auto [it, inserted] = fold_of.try_emplace({row.building, row.floor, row.longitude, row.latitude},
-                                                  static_cast<int>(fold_of.size()) % k);
-        folds.push_back(it->second);
-    }
-    return folds;
+// Per training row, its fold: whole blocks of surveyed positions (building, floor, x, y) per
+// fold (match::assign_folds), so every scan of a position is in one fold and a query never
+// finds its own position in the map.
+std::vector<int> row_folds(const uji::Data& data, int k, const match::FoldScheme& scheme) {
+    std::vector<match::FoldSite> sites;
+    sites.reserve(data.rows.size());
+    for (const auto& row : data.rows) sites.push_back({row.building, row.floor, Point{row.longitude, row.latitude}});
+    return match::assign_folds(sites, k, scheme);
 }
 
 // Hit rates, mean and µs weighted by queries; the percentiles are the queries-weighted mean
@@ -86,7 +86,7 @@ nlohmann::json run_database(const fs::path& db, const Args& a) {
     std::vector<std::vector<std::size_t>> train_sets, test_sets;
     uji::Data test_file;
     if (a.cv > 0) {
-        const std::vector<int> folds = position_folds(train, a.cv);
+        const std::vector<int> folds = row_folds(train, a.cv, a.blocks);
         for (int f = 0; f < a.cv; ++f) {
             std::vector<std::size_t> tr, te;
             for (std::size_t i = 0; i < train.rows.size(); ++i) (folds[i] == f ? te : tr).push_back(i);
@@ -120,7 +120,7 @@ nlohmann::json run_database(const fs::path& db, const Args& a) {
             // The tune sees this split's training rows only, as the server's sees its RPs.
             std::string name;
             for (auto& m : methods)
-                if (m.name == "default") m = eval::tuned_default(train, train_sets[s], name);
+                if (m.name == "default") m = eval::tuned_default(train, train_sets[s], name, a.tune_limits);
             chosen.push_back(name);
         }
         const eval::Queries q = eval::queries_of(test, test_sets[s]);
@@ -135,7 +135,7 @@ nlohmann::json run_database(const fs::path& db, const Args& a) {
     }
     if (per_method.front().empty()) throw CommandError(name + ": no test row with a detected WAP");
     std::cerr << "eval fingerprints: " << name << ": " << train.rows.size() << " training rows, "
-              << (a.cv > 0 ? std::to_string(train_sets.size()) + "-fold position CV of the training rows"
+              << (a.cv > 0 ? std::to_string(train_sets.size()) + "-fold CV of the training rows, blocks " + match::to_string(a.blocks)
                            : std::to_string(test.rows.size()) + " test rows")
               << " (" << skipped << " without any detected WAP skipped";
     if (unanswered_total > 0) std::cerr << ", " << unanswered_total << " answers missing: counted as misses";
@@ -148,16 +148,23 @@ nlohmann::json run_database(const fs::path& db, const Args& a) {
     for (auto& folds : per_method) {
         nlohmann::json row = folds.size() == 1 ? folds.front() : pool(folds);
         row["database"] = name;
+        if (a.cv > 0) row["cv_blocks"] = match::to_string(a.blocks);
         if (row["algorithm"] == "default" && !chosen.empty()) row["tuned"] = chosen;
         rows.push_back(std::move(row));
     }
     return rows;
 }
 
-void run(const Args& a) {
+void run(Args& a) {
     using tools::CommandError;
     if (!fs::is_directory(a.dir)) throw CommandError(a.dir + " is not a directory");
     eval::check_algorithm_name(a.algorithm);
+    a.blocks = eval::fold_scheme("--cv-blocks", a.cv_blocks);
+    if (a.blocks.blocks != match::FoldBlocks::position && a.cv == 0) throw CommandError("--cv-blocks needs --cv K");
+    if (!a.tune_blocks.empty()) {
+        if (!a.tune) throw CommandError("--tune-blocks needs --tune");
+        a.tune_limits.blocks = eval::fold_scheme("--tune-blocks", a.tune_blocks);
+    }
     const auto dbs = databases(a.dir);
     if (dbs.empty()) throw CommandError("no <DB>/trainingData.csv under " + a.dir);
     a.flags.options();  // an unknown name fails before any database is read
@@ -192,15 +199,22 @@ LOCUS_COMMAND("eval fingerprints", [](CLI::App& app) {
     cmd->add_option("DIR", a->dir, "folder of databases, one folder each")->required()->check(CLI::ExistingDirectory);
     cmd->add_option("--algorithm", a->algorithm,
                     "bsb, nn, bsbnn, knn, wknn, bayes, default (the server's), yardstick (raw-scan kNN-3, "
-                    "powed, Sørensen) or all")
+                    "powed, Sørensen), all, or grid (tune's candidates and the yardstick)")
         ->capture_default_str();
     a->flags.add_to(*cmd);
     cmd->add_option("--cv", a->cv,
                     "leave the test files unread: K-fold CV over each training set, folds by surveyed position")
         ->check(CLI::Range(2, 1000));
+    cmd->add_option("--cv-blocks", a->cv_blocks,
+                    "with --cv, what a fold deals out whole: position (each surveyed position), spatial:G "
+                    "(positions in one G x G metre cell of a floor) or order:N (N consecutive positions in file order)")
+        ->capture_default_str();
     cmd->add_flag("--json", a->json, "print one JSON array, one object per database and method");
     cmd->add_flag("--tune", a->tune,
                   "--algorithm default first tunes each training map as "
                   "POST /v1/radiomaps/{id}/tune does, on the training rows only");
+    cmd->add_option("--tune-blocks", a->tune_blocks,
+                    "with --tune, the tune's folds take out whole blocks (as --cv-blocks) instead of "
+                    "shuffled single RPs");
     cmd->callback([a] { run(*a); });
 });

@@ -34,6 +34,7 @@ struct Args {
     std::optional<double> covered_within;
     bool json = false;
     bool tune = false;
+    std::string tune_blocks;  // empty: the server's shuffled folds
     std::string per_query;
 };
 
@@ -67,6 +68,11 @@ void run(const Args& a) {
     const int split_modes = !a.test.empty() + a.holdout_user.has_value() + a.holdout_phone.has_value();
     if (split_modes != 1) throw CommandError("give exactly one of --test, --holdout-user, --holdout-phone");
 
+    match::TuneLimits tune_limits;
+    if (!a.tune_blocks.empty()) {
+        if (!a.tune) throw CommandError("--tune-blocks needs --tune");
+        tune_limits.blocks = eval::fold_scheme("--tune-blocks", a.tune_blocks);
+    }
     const uji::Data train = uji::read_file(a.train);
     uji::Data test_file;
     if (!a.test.empty()) {
@@ -94,7 +100,7 @@ void run(const Args& a) {
         for (auto& m : methods)
             if (m.name == "default") {
                 std::string chosen;
-                m = eval::tuned_default(train, train_rows, chosen);
+                m = eval::tuned_default(train, train_rows, chosen, tune_limits);
                 std::cerr << "eval uji: tuned default: " << chosen << "\n";
             }
 
@@ -168,7 +174,7 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
                     "drop this USERID's training rows from both map and queries (repeatable)");
     cmd->add_option("--algorithm", a->algorithm,
                     "bsb, nn, bsbnn, knn, wknn, bayes, default (the server's), yardstick (raw-scan kNN-3, "
-                    "powed, Sørensen) or all")
+                    "powed, Sørensen), all, or grid (tune's candidates and the yardstick)")
         ->capture_default_str();
     a->flags.add_to(*cmd);
     cmd->add_flag("--oracle", a->oracle,
@@ -177,8 +183,11 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
                     "only queries within this many metres of a remaining RP on their true floor");
     cmd->add_option("--per-query", a->per_query,
                     "write one CSV line per answered query (truth, estimate, error, oracle distance) to this file");
-    cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all)");
+    cmd->add_flag("--json", a->json, "print JSON (an array for --algorithm all or grid)");
     cmd->add_flag("--tune", a->tune,
                   "--algorithm default first tunes the training map as POST /v1/radiomaps/{id}/tune does");
+    cmd->add_option("--tune-blocks", a->tune_blocks,
+                    "with --tune, the tune's folds take out whole blocks: position, spatial:G (metres) or order:N "
+                    "(match::assign_folds) instead of shuffled single RPs");
     cmd->callback([a] { run(*a); });
 });

@@ -68,18 +68,34 @@ std::vector<TuneCandidate> tune_grid() {
     return grid;
 }
 
-// The folds tune and held_out_errors share: fold f holds out every position i of the shuffled
-// order with i % folds == f; of those, only the first `queried` positions are localized (the
-// subsample). visit(index, h, query) runs for each held-out RP h that holds a measurement,
-// against the index of the other folds' RPs.
+// The folds tune and held_out_errors share: position i of the shuffled order is in fold
+// i % folds, or, with TuneLimits::blocks, in its block's fold; of the held-out RPs only those
+// among the first `queried` of the shuffled order are localized (the subsample). visit(index,
+// h, query) runs for each held-out RP h that holds a measurement, against the index of the
+// other folds' RPs (added in shuffled order either way).
 struct Folds {
     std::size_t folds = 0, queried = 0;
 };
+
+// Per RP, its fold by the limits' blocks; empty when there are none or they leave fewer than
+// 2 folds holding RPs.
+std::vector<int> block_folds(const std::vector<IndexedRp>& rps, std::size_t folds, const TuneLimits& limits) {
+    if (!limits.blocks) return {};
+    std::vector<FoldSite> sites;
+    sites.reserve(rps.size());
+    for (const auto& r : rps) sites.push_back({r.building_id, r.floor_id, r.rp.at});
+    auto fold_of = assign_folds(sites, static_cast<int>(folds), *limits.blocks);
+    const bool split = std::any_of(fold_of.begin(), fold_of.end(), [&fold_of](int f) { return f != fold_of.front(); });
+    if (!split) fold_of.clear();
+    return fold_of;
+}
+
 template <class Visit>
 Folds for_each_held_out(const std::vector<IndexedRp>& rps, const TuneLimits& limits, const IndexParams& params, Visit visit) {
     const std::size_t n = rps.size();
     const std::size_t folds = std::clamp<std::size_t>(static_cast<std::size_t>(std::max(limits.folds, 2)), 2, n);
     const auto order = shuffled(n);
+    const auto blocked = block_folds(rps, folds, limits);
     const std::size_t queried = std::min(n, std::max<std::size_t>(limits.max_queries, 1));
     std::vector<IndexedRp> kept;
     kept.reserve(n);
@@ -87,13 +103,14 @@ Folds for_each_held_out(const std::vector<IndexedRp>& rps, const TuneLimits& lim
         std::vector<std::size_t> held;
         kept.clear();
         for (std::size_t i = 0; i < n; ++i) {
-            if (i % folds == f) {
+            const std::size_t fold = blocked.empty() ? i % folds : static_cast<std::size_t>(blocked[order[i]]);
+            if (fold == f) {
                 if (i < queried) held.push_back(order[i]);
             } else {
                 kept.push_back(rps[order[i]]);
             }
         }
-        if (held.empty()) continue;
+        if (held.empty() || kept.empty()) continue;
         const Index index = Index::build(kept, params);
         for (const auto h : held) {
             const Query q = query_of(rps[h].rp);

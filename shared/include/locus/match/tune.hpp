@@ -3,15 +3,18 @@
 // K-fold cross-validation over the radio map's own RPs. Each fold's RPs are taken out of the
 // index and localized, each with its stored per-AP means as the scan, by every candidate
 // setting of a small fixed grid; the setting with the lowest mean error wins. Pure and
-// deterministic: the folds come from a fixed-seed shuffle of the RPs' positions.
+// deterministic: the folds come from a fixed-seed shuffle of the RPs' positions (or whole
+// blocks of them, TuneLimits::blocks, which the server never sets).
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "locus/match/algorithm.hpp"
+#include "locus/match/cv_folds.hpp"
 #include "locus/match/index.hpp"
 #include "locus/match/options.hpp"
 
@@ -35,6 +38,11 @@ std::vector<TuneCandidate> tune_grid();
 struct TuneLimits {
     int folds = 10;                  // K; fewer when the map has fewer RPs (then leave-one-out)
     std::size_t max_queries = 2000;  // held-out RPs localized at most (a fixed-seed subsample)
+    // What a fold takes out whole (match::assign_folds over the RPs in the map's order, so the
+    // blocks of a spatial or order scheme see the map as surveyed). Unset: each RP on its own,
+    // dealt from the fixed-seed shuffle. A scheme that leaves fewer than 2 folds holding RPs
+    // falls back to that shuffle.
+    std::optional<FoldScheme> blocks{};
 };
 
 // EvAAL's penalties (IPIN 2015 UJIIndoorLoc track): 4 m per floor of difference, 50 m for a
