@@ -6,6 +6,7 @@
 #include <chrono>
 #include <nlohmann/json.hpp>
 
+#include "store/db.hpp"
 #include "store/kinds.hpp"
 #include "store/pg_detail.hpp"
 
@@ -28,6 +29,14 @@ std::string payload_of(const std::string& origin, std::int64_t version, const st
     return out;
 }
 
+void announce(Db& db, const std::string& origin, const std::vector<Change>& changes) {
+    Stmt bump(db, "UPDATE change_counter SET version = version + 1 WHERE id = 1 RETURNING version");
+    bump.step();
+    const std::int64_t version = bump.int64(0);
+    Stmt notify(db, "SELECT pg_notify('locus_changes', ?)");
+    notify.bind(1, payload_of(origin, version, changes)).run();
+}
+
 Change everything_changed() { return Change{&kind("maps"), 0, true, false, std::nullopt, std::nullopt}; }
 
 Notification parse_payload(const std::string& payload) {
@@ -38,7 +47,8 @@ Notification parse_payload(const std::string& payload) {
     n.everything = j.value("all", false);
     if (j.contains("c"))
         for (const auto& c : j.at("c")) {
-            Change ch{&kind(c.at(0).get<std::string>()), c.at(1).get<std::int64_t>(), c.at(2).get<bool>(),
+            const auto name = c.at(0).get<std::string>();
+            Change ch{name == track_kind().name ? &track_kind() : &kind(name), c.at(1).get<std::int64_t>(), c.at(2).get<bool>(),
                       c.at(3).get<bool>(), std::nullopt, std::nullopt};
             if (!c.at(4).is_null()) ch.radiomap_id = c.at(4).get<std::int64_t>();
             if (!c.at(5).is_null()) ch.map_id = c.at(5).get<std::int64_t>();

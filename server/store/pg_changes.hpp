@@ -27,6 +27,11 @@ struct Notification {
     bool everything = false;
     std::vector<Change> changes;
 };
+// Inside a write transaction on `db` (PostgreSQL), as its last statement: adds one to
+// change_counter and sends the notification, so other servers see `changes` once it commits.
+// The counter's row lock orders the announcing transactions, so versions stay consecutive.
+class Db;
+void announce(Db& db, const std::string& origin, const std::vector<Change>& changes);
 // Throws on a payload payload_of did not write.
 Notification parse_payload(const std::string& payload);
 // The change that makes every subscriber drop everything it holds (a deleted map, id 0).
