@@ -367,7 +367,7 @@ void Service::announce(const std::vector<std::pair<std::int64_t, std::int64_t>>&
     constexpr std::size_t kPerNotification = 50;
     for (std::size_t i = 0; i < changes.size(); i += kPerNotification) {
         const auto end = changes.begin() + static_cast<std::ptrdiff_t>(std::min(changes.size(), i + kPerNotification));
-        store::announce(db_, origin_, std::vector<store::Change>(changes.begin() + static_cast<std::ptrdiff_t>(i), end));
+        store::announce_tracks(db_, origin_, std::vector<store::Change>(changes.begin() + static_cast<std::ptrdiff_t>(i), end));
     }
 }
 

@@ -228,8 +228,8 @@ private:
     // are told what changed as if it had happened here. Takes db_mu_, then mu_.
     void refresh(std::int64_t id);
     void sweeper();
-    // PostgreSQL: inside a write transaction on db_, as its last statement, tells the other
-    // servers that these tracks (id, map id) changed (store::announce); nothing on SQLite.
+    // PostgreSQL: inside a write transaction on db_, tells the other
+    // servers that these tracks (id, map id) changed (store::announce_tracks); nothing on SQLite.
     void announce(const std::vector<std::pair<std::int64_t, std::int64_t>>& tracks);
     // Another server's change (the feed, on the watcher thread): whether this server's streams
     // care, then refreshing on refresher_'s thread, so the watcher never waits for db_mu_.
