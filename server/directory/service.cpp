@@ -10,7 +10,7 @@ Service::~Service() { store_.unsubscribe(subscription_); }
 
 void Service::on_change(const store::Change& change) {
     const std::string_view kind = change.kind->name;
-    if (kind == "radiomaps" || kind == "rps") return;  // the directory holds neither
+    if (kind == "radiomaps" || kind == "rps" || kind == "tracks") return;  // the directory holds none
     std::lock_guard lock(mu_);
     maps_.clear();
     ++generation_;

@@ -69,6 +69,11 @@ const Kind* find_kind(std::string_view name) {
     return nullptr;
 }
 
+const Kind& track_kind() {
+    static const Kind k{"tracks", "track", "map_id", "maps", {}};
+    return k;
+}
+
 const Kind& kind(std::string_view name) {
     if (const Kind* k = find_kind(name)) return *k;
     throw std::out_of_range("no resource kind '" + std::string(name) + "'");

@@ -36,5 +36,9 @@ const std::vector<Kind>& kinds();
 // nullptr when there is no such kind.
 const Kind* find_kind(std::string_view name);
 const Kind& kind(std::string_view name);  // throws std::out_of_range
+// Live tracks (tracks::Service): not a resource of the hierarchy (no CRUD, not in kinds()),
+// only the kind of the Change a track write puts on the feed, so other servers sharing
+// PostgreSQL wake their event streams (store/pg_changes.hpp).
+const Kind& track_kind();
 
 }  // namespace locus::store

@@ -4,8 +4,10 @@
 #include <poll.h>
 
 #include <chrono>
+#include <string_view>
 #include <nlohmann/json.hpp>
 
+#include "store/db.hpp"
 #include "store/kinds.hpp"
 #include "store/pg_detail.hpp"
 
@@ -14,6 +16,7 @@ namespace locus::store {
 namespace {
 // PostgreSQL refuses a NOTIFY payload of 8000 bytes or more.
 constexpr std::size_t kMaxPayload = 7900;
+constexpr std::string_view kTrackChannel = "locus_tracks";
 
 nlohmann::json optional_id(const std::optional<std::int64_t>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
 }  // namespace
@@ -28,6 +31,19 @@ std::string payload_of(const std::string& origin, std::int64_t version, const st
     return out;
 }
 
+void announce(Db& db, const std::string& origin, const std::vector<Change>& changes) {
+    Stmt bump(db, "UPDATE change_counter SET version = version + 1 WHERE id = 1 RETURNING version");
+    bump.step();
+    const std::int64_t version = bump.int64(0);
+    Stmt notify(db, "SELECT pg_notify('locus_changes', ?)");
+    notify.bind(1, payload_of(origin, version, changes)).run();
+}
+
+void announce_tracks(Db& db, const std::string& origin, const std::vector<Change>& changes) {
+    Stmt notify(db, "SELECT pg_notify('locus_tracks', ?)");
+    notify.bind(1, payload_of(origin, 0, changes)).run();
+}
+
 Change everything_changed() { return Change{&kind("maps"), 0, true, false, std::nullopt, std::nullopt}; }
 
 Notification parse_payload(const std::string& payload) {
@@ -38,7 +54,8 @@ Notification parse_payload(const std::string& payload) {
     n.everything = j.value("all", false);
     if (j.contains("c"))
         for (const auto& c : j.at("c")) {
-            Change ch{&kind(c.at(0).get<std::string>()), c.at(1).get<std::int64_t>(), c.at(2).get<bool>(),
+            const auto name = c.at(0).get<std::string>();
+            Change ch{name == track_kind().name ? &track_kind() : &kind(name), c.at(1).get<std::int64_t>(), c.at(2).get<bool>(),
                       c.at(3).get<bool>(), std::nullopt, std::nullopt};
             if (!c.at(4).is_null()) ch.radiomap_id = c.at(4).get<std::int64_t>();
             if (!c.at(5).is_null()) ch.map_id = c.at(5).get<std::int64_t>();
@@ -78,6 +95,7 @@ void ChangeWatcher::run() {
         try {
             c = pg::connect(url_);
             pg::exec(c, "LISTEN locus_changes");
+            pg::exec(c, "LISTEN " + std::string(kTrackChannel));
         } catch (const std::exception&) {
             pg::close(c);
             for (int i = 0; i < 10 && !stop_; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -101,6 +119,7 @@ void ChangeWatcher::run() {
                 while (PGnotify* n = PQnotifies(c)) {
                     Notification note;
                     bool ok = true;
+                    const bool tracks = n->relname == kTrackChannel;
                     try {
                         note = parse_payload(n->extra);
                     } catch (const std::exception&) {
@@ -109,6 +128,10 @@ void ChangeWatcher::run() {
                     PQfreemem(n);
                     if (!ok) {
                         apply_(everything);
+                        continue;
+                    }
+                    if (tracks) {  // not counted (announce_tracks): no version to follow
+                        if (note.origin != origin_) apply_(note.changes);
                         continue;
                     }
                     const bool gap = note.version > seen + 1;

@@ -7,6 +7,7 @@
 // (Store::subscribe). Versions are consecutive (writes take one lock), so a missed
 // notification shows as a gap; and the counter, read twice a second, catches one that never
 // came (a dropped listener connection). Either way the watcher hands on "everything changed".
+// Live tracks' writes come on a second channel, uncounted (announce_tracks).
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -27,6 +28,16 @@ struct Notification {
     bool everything = false;
     std::vector<Change> changes;
 };
+// Inside a write transaction on `db` (PostgreSQL), as its last statement: adds one to
+// change_counter and sends the notification, so other servers see `changes` once it commits.
+class Db;
+void announce(Db& db, const std::string& origin, const std::vector<Change>& changes);
+// Live tracks' writes (tracks::Service, on its own connection) are announced on a channel of
+// their own, locus_tracks, without the counter: bumping its one row would make every fix post
+// of every server wait for the one before it to commit. Nothing is invalidated by them, only
+// event streams woken, so a notification lost with its connection is made good by the
+// "everything changed" the watcher hands on when it reconnects.
+void announce_tracks(Db& db, const std::string& origin, const std::vector<Change>& changes);
 // Throws on a payload payload_of did not write.
 Notification parse_payload(const std::string& payload);
 // The change that makes every subscriber drop everything it holds (a deleted map, id 0).
@@ -36,7 +47,7 @@ class ChangeWatcher {
 public:
     using Apply = std::function<void(const std::vector<Change>&)>;
     // Connects on its own thread (retrying every second while PostgreSQL is away) and calls
-    // `apply` there with the changes of servers other than `origin`.
+    // `apply` there with the changes of servers other than `origin`, tracks' included.
     ChangeWatcher(std::string url, std::string origin, Apply apply);
     ~ChangeWatcher();
     ChangeWatcher(const ChangeWatcher&) = delete;

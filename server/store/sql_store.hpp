@@ -34,6 +34,7 @@ public:
 
     const std::string& location() const override { return db_.path(); }
     const std::string& connection() const override { return db_.url(); }
+    std::string change_origin() const override { return origin_; }
     void probe_write() override;
 
     Record create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) override;

@@ -26,13 +26,7 @@ void SqlStore::pg_begin_write() {
     db_.exec("SELECT pg_advisory_xact_lock(7343468)");
 }
 
-void SqlStore::pg_announce(const std::vector<Change>& changes) {
-    Stmt bump(db_, "UPDATE change_counter SET version = version + 1 WHERE id = 1 RETURNING version");
-    bump.step();
-    const std::int64_t version = bump.int64(0);
-    Stmt notify(db_, "SELECT pg_notify('locus_changes', ?)");
-    notify.bind(1, payload_of(origin_, version, changes)).run();
-}
+void SqlStore::pg_announce(const std::vector<Change>& changes) { announce(db_, origin_, changes); }
 
 std::unique_ptr<Store> open(const std::string& url) {
     if (url.starts_with("sqlite:")) return std::make_unique<SqlStore>(url.substr(7));

@@ -79,6 +79,10 @@ public:
     // What opens the same database again (a file, or the full URL with its credentials), for
     // a service that keeps its own connection (tracks::Service). Never for logs.
     virtual const std::string& connection() const { return location(); }
+    // This server in the change announcements of a database other servers share (empty
+    // otherwise), for a service that writes on its own connection and announces its own
+    // changes (tracks::Service, store/pg_changes.hpp).
+    virtual std::string change_origin() const { return {}; }
     // Commits a one-row change, so that it has to reach durable storage: throws when the
     // database cannot really be written (GET /ready).
     virtual void probe_write() = 0;

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "store/kinds.hpp"
+#include "store/pg_changes.hpp"
 #include "tracks/fusion.hpp"
 #include "tracks/token.hpp"
 
@@ -54,9 +55,13 @@ double Service::now() {
 }
 
 Service::Service(store::Store& store, Options options)
-    : store_(store), options_(options), db_(store.connection()) {
+    : store_(store), options_(options), db_(store.connection()), origin_(store.change_origin()) {
     load();
     subscription_ = store_.subscribe([this](const store::Change& c) {
+        if (c.kind == &store::track_kind()) {
+            on_track_change(c.id, c.map_id);
+            return;
+        }
         if (c.plan || (c.kind && c.kind->name == "floors")) {
             std::lock_guard lock(fusion_mu_);
             walkables_.erase(c.id);
@@ -73,20 +78,30 @@ Service::Service(store::Store& store, Options options)
             floors_of_map_.clear();
         }
         if (!c.plan && c.deleted && c.kind && c.kind->name == "maps") map_deleted(c.id);
+        // "Everything changed" (a map id 0 cannot be deleted otherwise): notifications of other
+        // servers' track writes may have been missed too.
+        if (!c.plan && c.deleted && c.kind && c.kind->name == "maps" && c.id == 0 && !origin_.empty()) {
+            std::lock_guard lock(mu_);
+            catch_up_ = true;
+            refresh_cv_.notify_one();
+        }
     });
     sweeper_ = std::thread([this] { sweeper(); });
+    if (!origin_.empty()) refresher_ = std::thread([this] { refresher(); });
 }
 
 Service::~Service() {
     store_.unsubscribe(subscription_);
     stop();
     if (sweeper_.joinable()) sweeper_.join();
+    if (refresher_.joinable()) refresher_.join();
 }
 
 void Service::stop() {
     std::lock_guard lock(mu_);
     stopping_ = true;
     sweep_cv_.notify_all();
+    refresh_cv_.notify_all();
     for (auto& [id, t] : tracks_) t->changed.notify_all();
     map_changed_.notify_all();
 }
@@ -276,6 +291,33 @@ void Service::refresh(std::int64_t id) {
     store::Stmt latest(db_, "SELECT t, floor_id, x, y, accuracy_m, heading_deg FROM track_fixes WHERE track_id = ? ORDER BY t DESC LIMIT 1");
     latest.bind(1, id);
     if (latest.step()) row.latest = fix_of(latest, 0);
+    // The latest fix held here; db_mu_ keeps this server's own posts out until the end.
+    std::optional<double> held_t;
+    bool known = false;
+    {
+        std::lock_guard lock(mu_);
+        if (const auto it = tracks_.find(id); it != tracks_.end()) {
+            known = true;
+            if (it->second->info.latest) held_t = it->second->info.latest->t;
+        }
+    }
+    // The fixes stored since (by t, oldest first, as many as a stream buffers): what this
+    // server's streams would have been given had they been posted here. A track new here has no
+    // stream yet: its latest fix is enough.
+    std::vector<Fix> fresh;
+    if (row.latest && (!held_t || row.latest->t > *held_t)) {
+        if (!known) {
+            fresh.push_back(*row.latest);
+        } else {
+            store::Stmt q_new(db_, held_t ? "SELECT t, floor_id, x, y, accuracy_m, heading_deg FROM track_fixes WHERE track_id = ? AND t > ? ORDER BY t DESC LIMIT ?"
+                                          : "SELECT t, floor_id, x, y, accuracy_m, heading_deg FROM track_fixes WHERE track_id = ? ORDER BY t DESC LIMIT ?");
+            q_new.bind(1, id);
+            if (held_t) q_new.bind(2, *held_t).bind(3, options_.event_buffer);
+            else q_new.bind(2, options_.event_buffer);
+            while (q_new.step()) fresh.push_back(fix_of(q_new, 0));
+            std::reverse(fresh.begin(), fresh.end());
+        }
+    }
     store::Stmt count(db_, "SELECT count(*) FROM track_fixes WHERE track_id = ?");
     count.bind(1, id);
     count.step();
@@ -287,19 +329,115 @@ void Service::refresh(std::int64_t id) {
 
     std::lock_guard lock(mu_);
     auto& slot = tracks_[id];
+    known = slot != nullptr;  // a map deletion may have dropped it meanwhile (map_deleted holds no db_mu_)
     if (!slot) slot = std::make_shared<Track>();
     Track& t = *slot;
-    const bool was_live = t.info.state == State::live;
-    // A fix another server stored reaches this server's streams as the latest one.
-    const bool newer = row.latest && (!t.info.latest || row.latest->t > t.info.latest->t);
+    if (known && t.info.state == State::gone) return;  // a tombstone stays one
+    if (row.state == State::gone) {
+        // Deleted or expired on another server: its map is no longer stored in the row, so the
+        // tombstone is made from what this server held, as a local delete makes it.
+        t.token_hash = hash;
+        if (known) mark_gone(t, row.ended_at.value_or(now()));
+        else t.info = row;
+        return;
+    }
+    const bool was_live = known && t.info.state == State::live;
+    const bool revoked = std::any_of(t.shares.begin(), t.shares.end(), [&](const auto& s) { return !shares.contains(s.first); });
     t.info = row;
     t.token_hash = hash;
     t.shares = std::move(shares);
-    if (newer) {
-        t.recent.emplace_back(++t.seq, *row.latest);
+    for (const auto& f : fresh) {
+        t.recent.emplace_back(++t.seq, f);
         if (t.recent.size() > options_.event_buffer) t.recent.pop_front();
     }
-    if (newer || (was_live && row.state != State::live)) t.changed.notify_all();
+    const bool ended = was_live && row.state != State::live;
+    if (!fresh.empty() || ended || revoked) t.changed.notify_all();
+    // The map's positions streams: the new latest position, then the end, as local writes publish them.
+    if (!fresh.empty() && (was_live || row.state == State::live)) publish(t.info, t.info.latest);
+    if (ended) publish(t.info, std::nullopt);
+}
+
+void Service::announce(const std::vector<std::pair<std::int64_t, std::int64_t>>& tracks) {
+    if (origin_.empty() || tracks.empty()) return;
+    std::vector<store::Change> changes;
+    for (const auto& [id, map_id] : tracks)
+        changes.push_back(store::Change{&store::track_kind(), id, false, false, std::nullopt, map_id});
+    // A notification of many changes would pass PostgreSQL's payload limit and be sent as
+    // "everything changed", dropping every server's caches: a sweep closing many tracks sends several.
+    constexpr std::size_t kPerNotification = 50;
+    for (std::size_t i = 0; i < changes.size(); i += kPerNotification) {
+        const auto end = changes.begin() + static_cast<std::ptrdiff_t>(std::min(changes.size(), i + kPerNotification));
+        store::announce_tracks(db_, origin_, std::vector<store::Change>(changes.begin() + static_cast<std::ptrdiff_t>(i), end));
+    }
+}
+
+void Service::on_track_change(std::int64_t id, std::optional<std::int64_t> map_id) {
+    std::lock_guard lock(mu_);
+    if (stopping_) return;
+    const auto watched = [&](std::int64_t m) {
+        const auto it = map_streams_.find(m);
+        return it != map_streams_.end() && it->second > 0;
+    };
+    bool cares = map_id && watched(*map_id);
+    if (const auto it = tracks_.find(id); !cares && it != tracks_.end())
+        cares = it->second->streams > 0 || watched(it->second->info.map_id);
+    // Any other track is read again when a request for it comes (authorize).
+    if (!cares) return;
+    if (queued_.insert(id).second) to_refresh_.push_back(id);
+    refresh_cv_.notify_one();
+}
+
+void Service::catch_up_map(std::int64_t map_id) {
+    std::unordered_set<std::int64_t> ids;
+    {
+        std::lock_guard db_lock(db_mu_);
+        store::Stmt q(db_, "SELECT id FROM tracks WHERE map_id = ? AND state = 'live'");
+        q.bind(1, map_id);
+        while (q.step()) ids.insert(q.int64(0));
+    }
+    {
+        std::lock_guard lock(mu_);  // and those live here that may have ended elsewhere
+        for (const auto& [id, t] : tracks_)
+            if (t->info.map_id == map_id && t->info.state == State::live) ids.insert(id);
+    }
+    for (const auto id : ids) refresh(id);
+}
+
+void Service::catch_up() {
+    std::vector<std::int64_t> ids, maps;
+    {
+        std::lock_guard lock(mu_);
+        for (const auto& [id, t] : tracks_)
+            if (t->streams > 0) ids.push_back(id);
+        for (const auto& [map_id, n] : map_streams_)
+            if (n > 0) maps.push_back(map_id);
+    }
+    for (const auto id : ids) refresh(id);
+    for (const auto map_id : maps) catch_up_map(map_id);
+}
+
+void Service::refresher() {
+    std::unique_lock lock(mu_);
+    while (!stopping_) {
+        refresh_cv_.wait(lock, [this] { return stopping_ || catch_up_ || !to_refresh_.empty(); });
+        if (stopping_) break;
+        const bool all = std::exchange(catch_up_, false);
+        std::deque<std::int64_t> ids;
+        ids.swap(to_refresh_);
+        queued_.clear();
+        lock.unlock();
+        // A storage fault loses nothing for good: the watcher's reconnect sends "everything
+        // changed", which catches up again.
+        try {
+            if (all) catch_up();
+        } catch (const std::exception&) {
+        }
+        for (const auto id : ids) try {
+                refresh(id);
+            } catch (const std::exception&) {
+            }
+        lock.lock();
+    }
 }
 
 Access Service::authorize(std::int64_t id, const std::string& token) {
@@ -345,9 +483,11 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
     const double t_now = now();
     std::lock_guard db_lock(db_mu_);  // held to the end: two posts of one track publish in commit order
     std::shared_ptr<Track> track;
+    std::int64_t map_id = 0;
     {
         std::lock_guard lock(mu_);
         track = find(id);
+        map_id = track->info.map_id;
         if (track->info.state != State::live)
             throw Refused(Reason::closed, "track " + std::to_string(id) + " is " + state_name(track->info.state) + "; open a new one");
         if (track->info.fixes + fixes.size() > options_.max_fixes_per_track)
@@ -368,6 +508,7 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
     }
     store::Stmt up(db_, "UPDATE tracks SET last_fix_at = ? WHERE id = ?");
     up.bind(1, t_now).bind(2, id).run();
+    if (!stored.empty()) announce({{id, map_id}});
     tx.commit();
 
     std::lock_guard lock(mu_);
@@ -438,13 +579,18 @@ TrackInfo Service::close(std::int64_t id) {
     const double t = now();
     std::lock_guard db_lock(db_mu_);
     std::shared_ptr<Track> track;
+    std::int64_t map_id = 0;
     {
         std::lock_guard lock(mu_);
         track = find(id);
+        map_id = track->info.map_id;
         if (track->info.state != State::live) return track->info;  // closing twice is closing once
     }
+    store::Transaction tx(db_);
     store::Stmt up(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?");
     up.bind(1, t).bind(2, id).run();
+    announce({{id, map_id}});
+    tx.commit();
     std::lock_guard lock(mu_);
     track->info.state = State::closed;
     track->info.ended_at = t;
@@ -457,14 +603,17 @@ void Service::remove(std::int64_t id) {
     const double t = now();
     std::lock_guard db_lock(db_mu_);
     std::shared_ptr<Track> track;
+    std::int64_t map_id = 0;
     {
         std::lock_guard lock(mu_);
         track = find(id);
+        map_id = track->info.map_id;
     }
     store::Transaction tx(db_);
     store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, id).run();
     store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, id).run();
     store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ? WHERE id = ?").bind(1, t).bind(2, id).run();
+    announce({{id, map_id}});
     tx.commit();
     std::lock_guard lock(mu_);
     mark_gone(*track, t);
@@ -521,13 +670,18 @@ Share Service::add_share(std::int64_t id) {
 void Service::revoke_share(std::int64_t id, std::int64_t share_id) {
     std::lock_guard db_lock(db_mu_);
     std::shared_ptr<Track> track;
+    std::int64_t map_id = 0;
     {
         std::lock_guard lock(mu_);
         track = find(id);
+        map_id = track->info.map_id;
         if (!track->shares.contains(share_id))
             throw store::NotFound("track " + std::to_string(id) + " has no share " + std::to_string(share_id));
     }
+    store::Transaction tx(db_);
     store::Stmt(db_, "DELETE FROM track_shares WHERE id = ?").bind(1, share_id).run();
+    announce({{id, map_id}});
+    tx.commit();
     std::lock_guard lock(mu_);
     track->shares.erase(share_id);
     track->changed.notify_all();  // its open streams end now
@@ -584,14 +738,24 @@ Events Service::next_events(Stream& s) {
 Service::MapStream::~MapStream() {
     std::lock_guard lock(service_.mu_);
     --service_.streams_;
+    if (const auto it = service_.map_streams_.find(map_id_); it != service_.map_streams_.end() && --it->second == 0)
+        service_.map_streams_.erase(it);
 }
 
 std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id) {
-    std::lock_guard lock(mu_);
-    if (streams_ >= options_.max_streams)
-        throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
-    ++streams_;
-    return std::unique_ptr<MapStream>(new MapStream(*this, map_id, floor_id));
+    std::unique_ptr<MapStream> s;
+    {
+        std::lock_guard lock(mu_);
+        if (streams_ >= options_.max_streams)
+            throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
+        ++streams_;
+        ++map_streams_[map_id];
+        s.reset(new MapStream(*this, map_id, floor_id));
+    }
+    // Other servers' tracks on the map, as the database holds them now, for the first answer;
+    // their later changes arrive on the feed (on_track_change).
+    if (!origin_.empty()) catch_up_map(map_id);
+    return s;
 }
 
 MapEvents Service::next_map_events(MapStream& s) {
@@ -685,6 +849,10 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         store::Stmt count(db_, "SELECT track_id, count(*) FROM track_fixes GROUP BY track_id");
         while (count.step()) kept[count.int64(0)] = static_cast<std::size_t>(count.int64(1));
     }
+    std::vector<std::pair<std::int64_t, std::int64_t>> ended_here;
+    for (const auto* list : {&to_close, &to_purge})
+        for (const auto& tr : *list) ended_here.emplace_back(tr->info.id, tr->info.map_id);
+    announce(ended_here);
     tx.commit();
 
     std::lock_guard lock(mu_);

@@ -224,9 +224,21 @@ private:
                            const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted);
     void load();
     // PostgreSQL, several servers: the track as the database holds it now (another server may
-    // have opened it, stored its fixes, shared or closed it). Takes db_mu_, then mu_.
+    // have opened it, stored its fixes, shared or closed it); its streams and its map's streams
+    // are told what changed as if it had happened here. Takes db_mu_, then mu_.
     void refresh(std::int64_t id);
     void sweeper();
+    // PostgreSQL: inside a write transaction on db_, tells the other
+    // servers that these tracks (id, map id) changed (store::announce_tracks); nothing on SQLite.
+    void announce(const std::vector<std::pair<std::int64_t, std::int64_t>>& tracks);
+    // Another server's change (the feed, on the watcher thread): whether this server's streams
+    // care, then refreshing on refresher_'s thread, so the watcher never waits for db_mu_.
+    void on_track_change(std::int64_t id, std::optional<std::int64_t> map_id);
+    // Every track a stream here follows, and every live track of a map a positions stream here
+    // follows, read again: after "everything changed" (a missed notification, a reconnect).
+    void catch_up();
+    void catch_up_map(std::int64_t map_id);  // the live tracks of one map
+    void refresher();
 
     store::Store& store_;
     Options options_;
@@ -252,6 +264,14 @@ private:
     bool stopping_ = false;
     std::condition_variable sweep_cv_;
     std::thread sweeper_;
+    std::string origin_;  // this server in change announcements; empty: no other server to tell
+    std::unordered_map<std::int64_t, std::size_t> map_streams_;  // positions streams open, by map
+    // Under mu_: other servers' track changes waiting for refresher_, each track once.
+    std::deque<std::int64_t> to_refresh_;
+    std::unordered_set<std::int64_t> queued_;
+    bool catch_up_ = false;
+    std::condition_variable refresh_cv_;
+    std::thread refresher_;
 };
 
 }  // namespace locus::tracks

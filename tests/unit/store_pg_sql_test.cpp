@@ -43,13 +43,14 @@ TEST(PgChanges, APayloadReadsBackAsTheChangesItCarries) {
     const std::vector<Change> changes{
         Change{&locus::store::kind("rps"), 7, false, false, 3, 1},
         Change{&locus::store::kind("floors"), 2, false, true, std::nullopt, std::nullopt},
-        Change{&locus::store::kind("maps"), 1, true, false, std::nullopt, 1}};
+        Change{&locus::store::kind("maps"), 1, true, false, std::nullopt, 1},
+        Change{&locus::store::track_kind(), 12, false, false, std::nullopt, 4}};
     const auto n = locus::store::parse_payload(locus::store::payload_of("server-a", 42, changes));
     EXPECT_EQ(n.origin, "server-a");
     EXPECT_EQ(n.version, 42);
     EXPECT_FALSE(n.everything);
-    ASSERT_EQ(n.changes.size(), 3u);
-    for (std::size_t i = 0; i < 3; ++i) {
+    ASSERT_EQ(n.changes.size(), 4u);
+    for (std::size_t i = 0; i < 4; ++i) {
         EXPECT_EQ(n.changes[i].kind, changes[i].kind);
         EXPECT_EQ(n.changes[i].id, changes[i].id);
         EXPECT_EQ(n.changes[i].deleted, changes[i].deleted);
@@ -57,6 +58,20 @@ TEST(PgChanges, APayloadReadsBackAsTheChangesItCarries) {
         EXPECT_EQ(n.changes[i].radiomap_id, changes[i].radiomap_id);
         EXPECT_EQ(n.changes[i].map_id, changes[i].map_id);
     }
+}
+
+// Live tracks announce their writes on the feed without being a resource of the hierarchy, and
+// tracks::Service sends at most 50 track changes per notification: they fit in one payload.
+TEST(PgChanges, TrackChangesAreNoCrudKindAndFiftyFitOnePayload) {
+    EXPECT_EQ(locus::store::find_kind("tracks"), nullptr);
+    EXPECT_EQ(locus::store::track_kind().name, "tracks");
+    using locus::store::Change;
+    const std::vector<Change> fifty(50, Change{&locus::store::track_kind(), 9'007'199'254'740'991, false, false, std::nullopt,
+                                               9'007'199'254'740'991});
+    const auto n = locus::store::parse_payload(locus::store::payload_of("12345-1234567890123456789", 9'007'199'254'740'991, fifty));
+    EXPECT_FALSE(n.everything);
+    ASSERT_EQ(n.changes.size(), 50u);
+    EXPECT_EQ(n.changes[49].kind, &locus::store::track_kind());
 }
 
 TEST(PgChanges, ATooLongPayloadSaysEverythingChanged) {

@@ -1,0 +1,273 @@
+// Event streams across servers sharing one PostgreSQL database: a fix, a close, a revoked share
+// or a deleted track on server A reaches the track and positions streams open on server B
+// promptly, in order and once each, as if it had happened on B; a change whose notification
+// never came is caught up too; and a thin client's steps track fuses as on one server. Runs
+// only under scripts/with_postgres.sh (LOCUS_TEST_DB_URL); an SQLite file has one server.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "hierarchy.hpp"
+#include "server_process.hpp"
+#include "test_database.hpp"
+#include "track_call.hpp"
+
+using locus::testing::body_of;
+using locus::testing::SameDatabase;
+using locus::testing::ServerProcess;
+using locus::testing::track_call;
+using nlohmann::json;
+
+namespace {
+
+double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+struct Track {
+    std::int64_t id = 0;
+    std::string token;
+    std::string path(const std::string& rest = "") const { return "/v1/tracks/" + std::to_string(id) + rest; }
+};
+
+Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label) {
+    const json b = body_of(s.post("/v1/tracks", {{"map_id", map}, {"label", label}}), 201);
+    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
+}
+
+json fix(double t, std::int64_t floor, double x) { return {{"t", t}, {"floor_id", floor}, {"x", x}, {"y", 1.0}, {"accuracy_m", 1.5}}; }
+
+void post_fixes(const ServerProcess& s, const Track& t, const json& fixes) {
+    const auto r = track_call(s, "POST", t.path("/fixes"), {t.token}, json{{"fixes", fixes}}.dump());
+    ASSERT_EQ(r.status, 200) << r.raw;
+}
+
+// Reads a server-sent event stream on its own thread, keeping each event's name and data.
+struct Listener {
+    std::mutex mu;
+    std::vector<std::pair<std::string, json>> events;
+    std::atomic<bool> stop{false}, closed{false};
+    std::thread thread;
+
+    Listener(int port, const std::string& path, const std::string& track_token) {
+        thread = std::thread([this, port, path, track_token] {
+            httplib::Client c("127.0.0.1", port);
+            c.set_read_timeout(10, 0);
+            httplib::Headers h;
+            if (!track_token.empty()) h.emplace("X-Track-Token", track_token);
+            std::string buf;
+            c.Get(path.c_str(), h, [&](const char* data, std::size_t n) {
+                buf.append(data, n);
+                for (std::size_t end; (end = buf.find("\n\n")) != std::string::npos; buf.erase(0, end + 2)) {
+                    const std::string event = buf.substr(0, end);
+                    const auto d = event.find("\ndata: ");
+                    if (!event.starts_with("event: ") || d == std::string::npos) continue;  // a heartbeat
+                    std::lock_guard lock(mu);
+                    events.emplace_back(event.substr(7, d - 7), json::parse(event.substr(d + 7)));
+                }
+                return !stop.load();
+            });
+            closed = true;
+        });
+    }
+    ~Listener() {
+        stop = true;
+        thread.join();
+    }
+    std::vector<std::pair<std::string, json>> seen() {
+        std::lock_guard lock(mu);
+        return events;
+    }
+    // Polls up to `seconds` for at least n events; answers whether they came.
+    bool wait_for(std::size_t n, double seconds) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        while (seen().size() < n && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        return seen().size() >= n;
+    }
+    bool ended(double seconds) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        const auto has_end = [this] {
+            const auto e = seen();
+            return !e.empty() && e.back().first == "end";
+        };
+        while (!has_end() && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        return has_end();
+    }
+};
+
+std::vector<double> fix_times(const std::vector<std::pair<std::string, json>>& events) {
+    std::vector<double> out;
+    for (const auto& [name, data] : events)
+        if (name == "fix") out.push_back(data.at("t").get<double>());
+    return out;
+}
+
+struct ReplicaEvents : ::testing::Test {
+    void SetUp() override {
+        if (!locus::testing::on_postgres())
+            GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
+        a = std::make_unique<ServerProcess>(std::vector<std::string>{"--quiet", "--track-heartbeat", "0.2"});
+        b = std::make_unique<ServerProcess>(std::vector<std::string>{"--quiet", "--track-heartbeat", "0.2"}, SameDatabase{a->db()});
+    }
+    void TearDown() override {
+        b.reset();  // before a, whose database it uses
+        a.reset();
+    }
+    std::unique_ptr<ServerProcess> a, b;
+};
+
+}  // namespace
+
+TEST_F(ReplicaEvents, FixesPostedOnOneServerReachTheOthersStreamsInOrderOnceEach) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const double t0 = unix_now() - 60;
+    const Track t = open_track(*a, h.map, "ann");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
+    Listener track_stream(b->port(), t.path("/events"), t.token);
+    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
+    ASSERT_TRUE(track_stream.wait_for(1, 2.0));
+    ASSERT_TRUE(map_stream.wait_for(1, 2.0));
+    EXPECT_EQ(map_stream.seen()[0].second.at("fix").at("x"), 0.0);
+
+    // One fix at a time, each seen on B within a second; then a batch of three.
+    std::vector<double> want = {t0};
+    for (int i = 1; i <= 4; ++i) {
+        const auto posted = std::chrono::steady_clock::now();
+        post_fixes(*a, t, json::array({fix(t0 + i, h.floor, i)}));
+        want.push_back(t0 + i);
+        ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0)) << "fix " << i << " did not reach B's track stream";
+        ASSERT_TRUE(map_stream.wait_for(1 + static_cast<std::size_t>(i), 1.0)) << "fix " << i << " did not reach B's positions stream";
+        EXPECT_LT(std::chrono::steady_clock::now() - posted, std::chrono::seconds(1));
+        const auto last = map_stream.seen().back();
+        EXPECT_EQ(last.first, "position");
+        EXPECT_EQ(last.second.at("track_id"), t.id);
+        EXPECT_EQ(last.second.at("label"), "ann");
+        EXPECT_EQ(last.second.at("fix").at("x").get<double>(), i);
+    }
+    post_fixes(*a, t, json::array({fix(t0 + 5, h.floor, 5), fix(t0 + 6, h.floor, 6), fix(t0 + 7, h.floor, 7)}));
+    for (int i = 5; i <= 7; ++i) want.push_back(t0 + i);
+    ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0));
+    ASSERT_TRUE(map_stream.wait_for(6, 1.0));
+    // A retry of fixes already stored (on either server) is no event anywhere.
+    post_fixes(*b, t, json::array({fix(t0 + 7, h.floor, 7)}));
+    post_fixes(*a, t, json::array({fix(t0 + 6, h.floor, 6)}));
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // heartbeats only: nothing repeated
+    EXPECT_EQ(fix_times(track_stream.seen()), want);
+    EXPECT_EQ(map_stream.seen().size(), 6u);
+    EXPECT_EQ(map_stream.seen().back().second.at("fix").at("x"), 7.0);
+    // A fix posted to B itself still comes once.
+    post_fixes(*b, t, json::array({fix(t0 + 8, h.floor, 8)}));
+    want.push_back(t0 + 8);
+    ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0));
+
+    // Closed on A: B's track stream ends as on a local close, and the track leaves B's map stream.
+    ASSERT_EQ(track_call(*a, "POST", t.path("/close"), {t.token}, "{}").status, 200);
+    EXPECT_TRUE(track_stream.ended(1.0)) << "B's track stream did not end when A closed the track";
+    ASSERT_TRUE(map_stream.wait_for(8, 1.0));
+    EXPECT_EQ(map_stream.seen().back().first, "leave");
+    EXPECT_EQ(map_stream.seen().back().second.at("track_id"), t.id);
+    EXPECT_TRUE(map_stream.seen().back().second.at("floor_id").is_null());
+    EXPECT_EQ(fix_times(track_stream.seen()), want);
+}
+
+TEST_F(ReplicaEvents, ATrackOpenedOnOneServerAppearsOnTheOthersPositionsStream) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the stream is open, with nothing to show
+    ASSERT_TRUE(map_stream.seen().empty());
+    const Track t = open_track(*a, h.map, "bob");
+    post_fixes(*a, t, json::array({fix(unix_now() - 1, h.floor, 3)}));
+    ASSERT_TRUE(map_stream.wait_for(1, 1.0)) << "a track B never held did not appear on its positions stream";
+    EXPECT_EQ(map_stream.seen()[0].first, "position");
+    EXPECT_EQ(map_stream.seen()[0].second.at("track_id"), t.id);
+    EXPECT_EQ(map_stream.seen()[0].second.at("fix").at("x"), 3.0);
+    // Deleted on A: it leaves B's stream.
+    ASSERT_EQ(track_call(*a, "DELETE", t.path(), {t.token}).status, 204);
+    ASSERT_TRUE(map_stream.wait_for(2, 1.0));
+    EXPECT_EQ(map_stream.seen()[1].first, "leave");
+    EXPECT_EQ(map_stream.seen()[1].second.at("track_id"), t.id);
+}
+
+TEST_F(ReplicaEvents, RevokingAShareOrDeletingOnOneServerEndsTheOthersStreams) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const Track t = open_track(*a, h.map, "cat");
+    post_fixes(*a, t, json::array({fix(unix_now() - 5, h.floor, 1)}));
+    const json share = body_of(track_call(*a, "POST", t.path("/shares"), {t.token}, "{}"), 201);
+    Listener owner(b->port(), t.path("/events"), t.token);
+    Listener friend_(b->port(), t.path("/events"), share.at("token").get<std::string>());
+    ASSERT_TRUE(owner.wait_for(1, 2.0));
+    ASSERT_TRUE(friend_.wait_for(1, 2.0));
+
+    ASSERT_EQ(track_call(*a, "DELETE", t.path("/shares/" + std::to_string(share.at("id").get<std::int64_t>())), {t.token}).status, 204);
+    EXPECT_TRUE(friend_.ended(1.0)) << "the share revoked on A kept its stream on B open";
+    post_fixes(*a, t, json::array({fix(unix_now() - 4, h.floor, 2)}));
+    ASSERT_TRUE(owner.wait_for(2, 1.0));  // the owner's stream goes on
+    EXPECT_EQ(fix_times(friend_.seen()).size(), 1u) << "a fix posted after the revocation reached the revoked share";
+
+    ASSERT_EQ(track_call(*a, "DELETE", t.path(), {t.token}).status, 204);
+    EXPECT_TRUE(owner.ended(1.0)) << "B's stream of a track deleted on A did not end";
+    EXPECT_EQ(track_call(*b, "GET", t.path(), {t.token}).status, 404);
+}
+
+// A track fix written with no notification (as if it were lost): the change counter moves, B
+// hears "everything changed" and its streams read again what they follow.
+TEST_F(ReplicaEvents, AFixWhoseNotificationNeverCameIsCaughtUp) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const double t0 = unix_now() - 30;
+    const Track t = open_track(*a, h.map, "dan");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
+    Listener track_stream(b->port(), t.path("/events"), t.token);
+    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
+    ASSERT_TRUE(track_stream.wait_for(1, 2.0));
+    ASSERT_TRUE(map_stream.wait_for(1, 2.0));
+    locus::testing::database_exec(a->db(), "BEGIN; INSERT INTO track_fixes (track_id, t, floor_id, x, y, accuracy_m) VALUES (" +
+                                               std::to_string(t.id) + ", " + std::to_string(t0 + 1) + ", " + std::to_string(h.floor) +
+                                               ", 9, 1, 1.5); UPDATE change_counter SET version = version + 1; COMMIT");
+    ASSERT_TRUE(track_stream.wait_for(2, 2.0)) << "B's track stream never caught up";
+    EXPECT_EQ(track_stream.seen()[1].second.at("x"), 9.0);
+    ASSERT_TRUE(map_stream.wait_for(2, 2.0)) << "B's positions stream never caught up";
+    EXPECT_EQ(map_stream.seen()[1].second.at("fix").at("x"), 9.0);
+}
+
+// Steps fused on A reach B's stream as A stored them, and A's filter goes on as on one server.
+TEST_F(ReplicaEvents, AThinClientsStepsTrackFusesAsOnOneServer) {
+    const double t0 = unix_now() - 30;
+    const auto h = locus::testing::make_hierarchy(*a);
+    const Track t = open_track(*a, h.map, "eve");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 2)}));
+    Listener stream(b->port(), t.path("/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+    std::vector<json> fused;
+    for (int i = 1; i <= 4; ++i) {
+        const json step = {{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 90.0}};
+        const json r = body_of(track_call(*a, "POST", t.path("/steps"), {t.token}, json{{"steps", json::array({step})}}.dump()));
+        ASSERT_EQ(r.at("stored"), 1);
+        for (const auto& f : r.at("fused")) fused.push_back(f);
+    }
+    ASSERT_TRUE(stream.wait_for(1 + fused.size(), 1.0));
+    const auto events = stream.seen();
+    for (std::size_t i = 0; i < fused.size(); ++i) {
+        EXPECT_EQ(events[i + 1].second.at("t"), fused[i].at("t"));
+        EXPECT_EQ(events[i + 1].second.at("x"), fused[i].at("x"));
+        EXPECT_EQ(events[i + 1].second.at("y"), fused[i].at("y"));
+    }
+
+    // The same inputs on a server of its own (its own database, so the same track id and seed).
+    ServerProcess single({"--quiet"});
+    const auto h1 = locus::testing::make_hierarchy(single);
+    const Track t1 = open_track(single, h1.map, "eve");
+    ASSERT_EQ(t1.id, t.id);
+    ASSERT_EQ(h1.floor, h.floor);
+    post_fixes(single, t1, json::array({fix(t0, h1.floor, 2)}));
+    std::vector<json> alone;
+    for (int i = 1; i <= 4; ++i) {
+        const json step = {{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 90.0}};
+        const json r = body_of(track_call(single, "POST", t1.path("/steps"), {t1.token}, json{{"steps", json::array({step})}}.dump()));
+        for (const auto& f : r.at("fused")) alone.push_back(f);
+    }
+    EXPECT_EQ(fused, alone) << "B's streaming changed what A fused";
+}
