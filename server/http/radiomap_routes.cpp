@@ -1,4 +1,5 @@
 // Survey uploads into one RP, and a radio map's export and import as one document.
+#include <chrono>
 #include <cstdio>
 #include <memory>
 
@@ -13,6 +14,23 @@ namespace locus::http {
 
 using nlohmann::json;
 
+namespace {
+
+constexpr int kExportRetryAfterS = 5;  // an export takes seconds to minutes: no point asking every second
+
+// One export being written: what it reads, the slot it holds, and when it is cut.
+struct ExportJob {
+    ExportJob(std::unique_ptr<store::RadioMapReader> reader, Slots::Held held, std::chrono::steady_clock::time_point until,
+              std::int64_t id)
+        : stream(std::move(reader)), slot(std::move(held)), deadline(until), radiomap_id(id) {}
+    ExportStream stream;
+    Slots::Held slot;
+    std::chrono::steady_clock::time_point deadline;
+    std::int64_t radiomap_id;
+};
+
+}  // namespace
+
 void App::install_radiomap_routes() {
     server_.Post(R"(/v1/rps/(\d+)/scans)", [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {
@@ -23,21 +41,45 @@ void App::install_radiomap_routes() {
     });
 
     // Written out as it is read, from one snapshot: a large radio map is never whole in memory.
+    // Each export holds a connection and a read snapshot (SQLite's WAL cannot be reset behind
+    // it, PostgreSQL's vacuum waits for it) for as long as its client reads, so at most
+    // --max-exports run at once and none runs past --export-timeout.
     server_.Get(R"(/v1/radiomaps/(\d+)/export)", [this](const httplib::Request& req, httplib::Response& res) {
         guarded(req, res, [&] {
-            auto stream = std::make_shared<ExportStream>(store_.read_radiomap(parse_id(req.matches[1].str(), "radiomap")));
+            const auto id = parse_id(req.matches[1].str(), "radiomap");
+            // Before any database work: a busy server answers 503 even for a radio map it
+            // would not find.
+            auto slot = export_slots_.take(res,
+                                           std::to_string(options_.max_exports) +
+                                               " radio map exports are being written already (the server's --max-exports); retry later",
+                                           kExportRetryAfterS);
+            const auto deadline = std::chrono::steady_clock::now() + options_.export_timeout;
+            auto job = std::make_shared<ExportJob>(store_.read_radiomap(id), std::move(slot), deadline, id);
+            Front::limit_writes(deadline);  // a write blocked on a client that stopped reading ends then too
             res.status = 200;
-            res.set_chunked_content_provider("application/json", [stream](std::size_t, httplib::DataSink& sink) {
+            // The provider (and with it the job: reader, snapshot, slot) lives in `res`, which
+            // cpp-httplib destroys once the answer is written or its writing failed: when the
+            // client went away, a write fails and the provider is dropped.
+            const auto timeout_s = std::chrono::duration<double>(options_.export_timeout).count();
+            res.set_chunked_content_provider("application/json", [job, timeout_s](std::size_t, httplib::DataSink& sink) {
+                // Returning false ends the answer without its last chunk and closes the
+                // connection: a client sees a cut body, never a short document that parses.
                 try {
-                    const std::string piece = stream->next();
-                    if (piece.empty()) {
-                        sink.done();
-                        return true;
+                    if (std::chrono::steady_clock::now() < job->deadline) {
+                        const std::string piece = job->stream.next();
+                        if (piece.empty()) {
+                            sink.done();
+                            return true;
+                        }
+                        if (sink.write(piece.data(), piece.size())) return true;
+                        // A failed write is a client gone, or one that stopped reading until
+                        // the deadline (Front::limit_writes).
+                        if (std::chrono::steady_clock::now() < job->deadline) return false;
                     }
-                    return sink.write(piece.data(), piece.size());
+                    std::fprintf(stderr, "{\"event\":\"export_timeout\",\"radiomap_id\":%lld,\"timeout_s\":%g}\n",
+                                 static_cast<long long>(job->radiomap_id), timeout_s);
+                    return false;
                 } catch (const std::exception& e) {
-                    // The status is sent: the connection is cut, so the client sees a broken
-                    // answer rather than a short document.
                     std::fprintf(stderr, "{\"event\":\"export_failed\",\"message\":%s}\n", json_text(e.what()).c_str());
                     return false;
                 }
