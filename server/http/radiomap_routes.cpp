@@ -18,15 +18,54 @@ namespace {
 
 constexpr int kExportRetryAfterS = 5;  // an export takes seconds to minutes: no point asking every second
 
-// One export being written: what it reads, the slot it holds, and when it is cut.
-struct ExportJob {
-    ExportJob(std::unique_ptr<store::RadioMapReader> reader, Slots::Held held, std::chrono::steady_clock::time_point until,
-              std::int64_t id)
-        : stream(std::move(reader)), slot(std::move(held)), deadline(until), radiomap_id(id) {}
-    ExportStream stream;
-    Slots::Held slot;
-    std::chrono::steady_clock::time_point deadline;
-    std::int64_t radiomap_id;
+// One export being written: what it reads, the slot it holds, and when it is cut. It lives in
+// the answer's content provider, which cpp-httplib destroys with the answer once it was written
+// or its writing failed (a client gone, a write past the deadline): the reader (its connection
+// and snapshot) and the slot go with it, however the answer ended.
+class ExportJob {
+public:
+    using Clock = std::chrono::steady_clock;
+    ExportJob(std::unique_ptr<store::RadioMapReader> reader, Slots::Held slot, std::chrono::milliseconds timeout, std::int64_t radiomap_id)
+        : stream_(std::move(reader)), slot_(std::move(slot)), timeout_(timeout), deadline_(Clock::now() + timeout),
+          radiomap_id_(radiomap_id) {}
+    ExportJob(const ExportJob&) = delete;
+    ExportJob& operator=(const ExportJob&) = delete;
+    // Logged here rather than where the time ran out: cpp-httplib may give up on a write that
+    // reached the deadline (its writability check) without asking the provider again.
+    ~ExportJob() {
+        if (!ended_ && !failed_ && Clock::now() >= deadline_)
+            std::fprintf(stderr, "{\"event\":\"export_timeout\",\"radiomap_id\":%lld,\"timeout_s\":%g}\n",
+                         static_cast<long long>(radiomap_id_), std::chrono::duration<double>(timeout_).count());
+    }
+
+    Clock::time_point deadline() const { return deadline_; }
+
+    // cpp-httplib's chunked content provider. Returning false ends the answer without its last
+    // chunk and closes the connection: a client sees a cut body, never a short document that parses.
+    bool provide(httplib::DataSink& sink) {
+        if (Clock::now() >= deadline_) return false;
+        try {
+            const std::string piece = stream_.next();
+            if (piece.empty()) {
+                ended_ = true;
+                sink.done();
+                return true;
+            }
+            return sink.write(piece.data(), piece.size());
+        } catch (const std::exception& e) {
+            failed_ = true;
+            std::fprintf(stderr, "{\"event\":\"export_failed\",\"message\":%s}\n", json_text(e.what()).c_str());
+            return false;
+        }
+    }
+
+private:
+    ExportStream stream_;
+    Slots::Held slot_;
+    std::chrono::milliseconds timeout_;
+    Clock::time_point deadline_;
+    std::int64_t radiomap_id_;
+    bool ended_ = false, failed_ = false;
 };
 
 }  // namespace
@@ -53,37 +92,11 @@ void App::install_radiomap_routes() {
                                            std::to_string(options_.max_exports) +
                                                " radio map exports are being written already (the server's --max-exports); retry later",
                                            kExportRetryAfterS);
-            const auto deadline = std::chrono::steady_clock::now() + options_.export_timeout;
-            auto job = std::make_shared<ExportJob>(store_.read_radiomap(id), std::move(slot), deadline, id);
-            Front::limit_writes(deadline);  // a write blocked on a client that stopped reading ends then too
+            auto job = std::make_shared<ExportJob>(store_.read_radiomap(id), std::move(slot), options_.export_timeout, id);
+            Front::limit_writes(job->deadline());  // a write blocked on a client that stopped reading ends then too
             res.status = 200;
-            // The provider (and with it the job: reader, snapshot, slot) lives in `res`, which
-            // cpp-httplib destroys once the answer is written or its writing failed: when the
-            // client went away, a write fails and the provider is dropped.
-            const auto timeout_s = std::chrono::duration<double>(options_.export_timeout).count();
-            res.set_chunked_content_provider("application/json", [job, timeout_s](std::size_t, httplib::DataSink& sink) {
-                // Returning false ends the answer without its last chunk and closes the
-                // connection: a client sees a cut body, never a short document that parses.
-                try {
-                    if (std::chrono::steady_clock::now() < job->deadline) {
-                        const std::string piece = job->stream.next();
-                        if (piece.empty()) {
-                            sink.done();
-                            return true;
-                        }
-                        if (sink.write(piece.data(), piece.size())) return true;
-                        // A failed write is a client gone, or one that stopped reading until
-                        // the deadline (Front::limit_writes).
-                        if (std::chrono::steady_clock::now() < job->deadline) return false;
-                    }
-                    std::fprintf(stderr, "{\"event\":\"export_timeout\",\"radiomap_id\":%lld,\"timeout_s\":%g}\n",
-                                 static_cast<long long>(job->radiomap_id), timeout_s);
-                    return false;
-                } catch (const std::exception& e) {
-                    std::fprintf(stderr, "{\"event\":\"export_failed\",\"message\":%s}\n", json_text(e.what()).c_str());
-                    return false;
-                }
-            });
+            res.set_chunked_content_provider("application/json",
+                                             [job](std::size_t, httplib::DataSink& sink) { return job->provide(sink); });
         });
     });
 
