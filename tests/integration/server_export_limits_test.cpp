@@ -18,6 +18,7 @@
 #include "hierarchy.hpp"
 #include "raw_connection.hpp"
 #include "server_process.hpp"
+#include "test_database.hpp"
 
 using locus::testing::RawConnection;
 using locus::testing::ServerProcess;
@@ -159,4 +160,34 @@ TEST(ServerExportLimits, BadLimitsAreRefusedAtStart) {
         EXPECT_NE(r.status, 124) << option << " " << value << ": the server started";
         EXPECT_NE(r.err.find(option), std::string::npos) << option << " " << value << ": " << r.err;
     }
+}
+
+// A failure part way (here: PostgreSQL ends the export's own connection while its client has
+// stopped reading) ends the answer the same way: no terminating chunk, export_failed logged,
+// the slot given back, and the server serving on.
+TEST(ServerExportLimits, AnExportFailingPartWayIsCutWithoutItsLastChunk) {
+    if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
+    ServerProcess s(server_args({"--max-exports", "1"}));
+    const auto h = locus::testing::make_hierarchy(s);
+    const auto big = big_radiomap(s, h.floor).first;
+    locus::testing::make_rp(s, h.radiomap, "small", 1, 1);
+
+    auto stalled = stalled_export(s, big);
+    // The export's connection is the one whose last statement read a page of RPs (it may be
+    // between pages still, so PostgreSQL looks for it until it is there, for at most 5 s).
+    const std::string database = s.db().substr(s.db().rfind('/') + 1);
+    locus::testing::cluster_exec(
+        "DO $$ BEGIN FOR i IN 1..100 LOOP "
+        "IF (SELECT count(pg_terminate_backend(pid)) FROM pg_stat_activity WHERE datname = '" + database +
+        "' AND (query LIKE '%FROM rps WHERE radiomap_id + 0%' OR query LIKE '%FROM measurements WHERE rp_id BETWEEN%')) > 0 "
+        "THEN RETURN; END IF; PERFORM pg_sleep(0.05); END LOOP; RAISE EXCEPTION 'no export connection'; END $$");
+    ASSERT_TRUE(stalled->closed_within(10s)) << "the server did not end the export";
+    const std::string& body = stalled->pending();
+    EXPECT_FALSE(body.ends_with("\r\n0\r\n\r\n")) << body.substr(body.size() > 100 ? body.size() - 100 : 0);
+    EXPECT_EQ(body.find("HTTP/1.1"), std::string::npos) << "nothing is written after the cut";
+    EXPECT_NE(s.log().find("\"event\":\"export_failed\""), std::string::npos) << s.log();
+
+    const auto later = first_not_busy(s, export_path(h.radiomap), 5s);
+    ASSERT_EQ(later.status, 200) << later.raw;
+    EXPECT_EQ(later.body.at("rps").size(), 1u);
 }
