@@ -107,7 +107,7 @@ TEST(ServerExportLimits, PastTheCapAnExportIsBusyUntilTheHeldOneIsLetGo) {
     const auto error = json::parse(busy->body);
     EXPECT_EQ(error.at("error").at("code"), "server_busy") << busy->body;
     EXPECT_NE(error.at("error").at("message").get<std::string>().find("--max-exports"), std::string::npos) << busy->body;
-    // Busy is decided before the radio map is looked up: no database work for a refusal.
+    // Busy is decided before the radio map is looked up: an unknown one is 503 too, not 404.
     EXPECT_EQ(s.get(export_path(big + 1000)).status, 503);
     // Other reads are not held up by it.
     EXPECT_EQ(s.get("/v1/radiomaps/" + std::to_string(big)).status, 200);
