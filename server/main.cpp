@@ -59,6 +59,15 @@ int main(int argc, char** argv) {
     cli.add_option("--read-timeout", read_s, "seconds to wait for the next bytes of a request body")
         ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
     cli.add_flag("--quiet", quiet, "no access log");
+    std::size_t max_exports = 2;
+    double export_timeout_s = 600;
+    cli.add_option("--max-exports", max_exports,
+                   "radio map exports written at once (each holds a database connection and read snapshot); past it, "
+                   "503 server_busy")
+        ->capture_default_str()->check(CLI::Range(1, 1000));
+    cli.add_option("--export-timeout", export_timeout_s,
+                   "seconds an export may take; past it the answer is cut (no last chunk) and its snapshot let go")
+        ->capture_default_str()->check(CLI::Range(0.1, 604800.0));
     locus::tracks::Options tracks_options;
     cli.add_option("--track-ttl", tracks_options.ttl_s, "seconds without a fix after which a live track closes")
         ->capture_default_str()->check(CLI::Range(0.01, 1e7));
@@ -124,7 +133,8 @@ int main(int argc, char** argv) {
         locus::routing::Service router(store);
         locus::directory::Service directory(store);
         locus::tracks::Service tracks(store, tracks_options);
-        locus::http::App app(store, localizer, router, directory, {api_key, !quiet, front, {web_root, leaflet_root}, &tracks});
+        locus::http::App app(store, localizer, router, directory,
+                             {api_key, !quiet, front, {web_root, leaflet_root}, &tracks, max_exports, ms(export_timeout_s)});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);

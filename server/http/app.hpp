@@ -4,6 +4,7 @@
 // (localize::Service), and serialise. Every route of the server is added here, in one place.
 #include <httplib.h>
 
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 
 #include "directory/service.hpp"
 #include "http/front.hpp"
+#include "http/slots.hpp"
 #include "http/static_files.hpp"
 #include "http/transmitter_cache.hpp"
 #include "localize/service.hpp"
@@ -34,6 +36,10 @@ struct AppOptions {
     FrontOptions front;   // connections, timeouts, body limit
     StaticRoots web;      // the web viewer's files (static_files.cpp)
     tracks::Service* tracks = nullptr;  // live tracks (track_routes.cpp); none: no track routes
+    // Radio map exports at once (each holds a connection and a read snapshot while its client
+    // reads), and how long one may take before it is cut (radiomap_routes.cpp).
+    std::size_t max_exports = 2;
+    std::chrono::milliseconds export_timeout{600'000};
 };
 
 class App {
@@ -80,6 +86,7 @@ private:
     directory::Service& directory_;
     TransmitterCache transmitters_{store_};  // for the ranging localize
     AppOptions options_;
+    Slots export_slots_{options_.max_exports};
     Front server_;
 };
 

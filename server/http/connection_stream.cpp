@@ -104,17 +104,23 @@ ssize_t ConnectionStream::read(char* ptr, size_t size) {
 }
 
 bool ConnectionStream::is_writable() const {
+    const auto now = Clock::now();
+    if (now >= write_deadline_) return false;
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(write_deadline_ - now);
     pollfd fd{fd_, POLLOUT, 0};
-    return ::poll(&fd, 1, static_cast<int>(write_timeout_.count())) > 0;
+    return ::poll(&fd, 1, static_cast<int>(std::min(write_timeout_, left).count())) > 0;
 }
 
 ssize_t ConnectionStream::write(const char* ptr, size_t size) {
     // Send first, wait only when the socket's buffer is full (as fill() reads first).
     // Not woken at shutdown: the answer to a request already served should still reach its client.
-    const auto until = Clock::now() + write_timeout_;
+    const auto until = std::min(Clock::now() + write_timeout_, write_deadline_);
     for (;;) {
         const ssize_t n = ::send(fd_, ptr, size, MSG_NOSIGNAL | MSG_DONTWAIT);
-        if (n >= 0) return n;
+        if (n >= 0) {
+            written_ += static_cast<std::uint64_t>(n);
+            return n;
+        }
         if (errno == EINTR) continue;
         if (errno != EAGAIN && errno != EWOULDBLOCK) {
             failure_ = Failure::error;
@@ -137,6 +143,7 @@ void ConnectionStream::begin_head(Clock::time_point deadline, std::size_t max_by
     phase_ = Phase::head;
     deadline_ = deadline;
     remaining_ = max_bytes;
+    write_deadline_ = Clock::time_point::max();
     failure_ = Failure::none;
     head_.clear();
     head_from_ = begin_;

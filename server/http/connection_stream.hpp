@@ -49,11 +49,15 @@ public:
     // the read timeout and all of them ending at `deadline` (a body trickled a byte at a time
     // must not hold a worker for ever).
     void begin_body(std::uint64_t budget, Clock::time_point deadline);
+    // No write of this answer waits past `until` (the next request head lifts it): an answer
+    // with a time limit of its own (an export) is cut then, not a write timeout later.
+    void limit_writes(Clock::time_point until) { write_deadline_ = until; }
 
     // The request head as it came on the wire (request line, headers, blank line), so far.
     const std::string& head();
 
     std::uint64_t consumed() const { return consumed_; }  // bytes handed to the reader so far
+    std::uint64_t written() const { return written_; }    // bytes sent so far
     Failure failure() const { return failure_; }
 
 private:
@@ -65,8 +69,9 @@ private:
     std::chrono::milliseconds read_timeout_, write_timeout_;
     Phase phase_ = Phase::head;
     Clock::time_point deadline_ = Clock::time_point::max();  // of the head, or of the body
+    Clock::time_point write_deadline_ = Clock::time_point::max();  // limit_writes
     std::optional<std::uint64_t> remaining_;  // bytes this phase may still read
-    std::uint64_t consumed_ = 0;
+    std::uint64_t consumed_ = 0, written_ = 0;
     std::string head_;          // the head's bytes that have left the buffer
     std::size_t head_from_ = 0;  // where the head's bytes not yet in head_ start in buffer_
     Failure failure_ = Failure::none;

@@ -207,6 +207,10 @@ void Front::close_after(httplib::Response& res) {
     if (res.get_header_value("Connection") != "close") res.set_header("Connection", "close");
 }
 
+void Front::limit_writes(Clock::time_point until) {
+    if (current_framing && current_framing->stream) current_framing->stream->limit_writes(until);
+}
+
 std::optional<Refusal> Front::body_over_limit(const httplib::Request& req) {
     const RequestFraming* f = current_framing;
     if (f && f->chunked && req.body.size() > f->max_body_bytes) return body_too_large(f->max_body_bytes);
@@ -335,10 +339,13 @@ void Front::serve_connection(int fd) {
         stream.begin_head(Clock::now() + options_.header_timeout, options_.max_header_bytes);
         const bool last = served + 1 >= options_.keep_alive_max_requests || stopping_;
         bool client_closes = false;
+        const std::uint64_t written_before = stream.written();
         const bool answered =
             process_request(stream, last, client_closes, [&](httplib::Request& req) { start_request(req, framing, stream); });
         current_framing = nullptr;
-        if (!answered && !stream.head().empty()) {
+        // An answer cut while being written (an export past its time limit) gets nothing
+        // after it: the client sees the cut, not a second status line inside the body.
+        if (!answered && !stream.head().empty() && stream.written() == written_before) {
             // cpp-httplib gives up on a request line without answering; say why.
             if (stream.failure() == ConnectionStream::Failure::timeout)
                 send_all(fd, canned_answer(408, "Request Timeout", "", "request_timeout", "the request did not arrive in time"));

@@ -65,7 +65,7 @@ struct RequestFraming {
     std::uint64_t max_body_bytes = 0;
     std::uint64_t head_end = 0;                  // stream position where the body starts
     bool close = false;                          // end the connection after this answer
-    const ConnectionStream* stream = nullptr;
+    ConnectionStream* stream = nullptr;
 
     // A Content-Length body not read to its end: its rest would be taken for a next request.
     bool body_left_unread() const;
@@ -107,6 +107,8 @@ public:
     static RequestFraming* current();
     // Ends the connection after this answer, and says so in the answer.
     static void close_after(httplib::Response& res);
+    // No write of the answer now being served waits past `until` (ConnectionStream::limit_writes).
+    static void limit_writes(std::chrono::steady_clock::time_point until);
     // A chunked body, once read, over --max-body-bytes (its length was not known before).
     static std::optional<Refusal> body_over_limit(const httplib::Request& req);
     // Called for every answer >= 400: when the connection layer cut the body or head short,

@@ -1,4 +1,5 @@
 // Survey uploads into one RP, and a radio map's export and import as one document.
+#include <chrono>
 #include <cstdio>
 #include <memory>
 
@@ -13,6 +14,62 @@ namespace locus::http {
 
 using nlohmann::json;
 
+namespace {
+
+constexpr int kExportRetryAfterS = 5;  // an export takes seconds to minutes: no point asking every second
+
+// One export being written: what it reads, the slot it holds, and when it is cut. It lives in
+// the answer's content provider, which cpp-httplib destroys with the answer once it was written
+// or its writing failed (a client gone, a write past the deadline): the reader (its connection
+// and snapshot) and the slot go with it, however the answer ended.
+class ExportJob {
+public:
+    using Clock = std::chrono::steady_clock;
+    ExportJob(std::unique_ptr<store::RadioMapReader> reader, Slots::Held slot, std::chrono::milliseconds timeout, std::int64_t radiomap_id)
+        : stream_(std::move(reader)), slot_(std::move(slot)), timeout_(timeout), deadline_(Clock::now() + timeout),
+          radiomap_id_(radiomap_id) {}
+    ExportJob(const ExportJob&) = delete;
+    ExportJob& operator=(const ExportJob&) = delete;
+    // Logged here rather than where the time ran out: cpp-httplib may give up on a write that
+    // reached the deadline (its writability check) without asking the provider again.
+    ~ExportJob() {
+        if (!ended_ && !failed_ && Clock::now() >= deadline_)
+            std::fprintf(stderr, "{\"event\":\"export_timeout\",\"radiomap_id\":%lld,\"timeout_s\":%g}\n",
+                         static_cast<long long>(radiomap_id_), std::chrono::duration<double>(timeout_).count());
+    }
+
+    Clock::time_point deadline() const { return deadline_; }
+
+    // cpp-httplib's chunked content provider. Returning false ends the answer without its last
+    // chunk and closes the connection: a client sees a cut body, never a short document that parses.
+    bool provide(httplib::DataSink& sink) {
+        if (Clock::now() >= deadline_) return false;
+        try {
+            const std::string piece = stream_.next();
+            if (piece.empty()) {
+                ended_ = true;
+                sink.done();
+                return true;
+            }
+            return sink.write(piece.data(), piece.size());
+        } catch (const std::exception& e) {
+            failed_ = true;
+            std::fprintf(stderr, "{\"event\":\"export_failed\",\"message\":%s}\n", json_text(e.what()).c_str());
+            return false;
+        }
+    }
+
+private:
+    ExportStream stream_;
+    Slots::Held slot_;
+    std::chrono::milliseconds timeout_;
+    Clock::time_point deadline_;
+    std::int64_t radiomap_id_;
+    bool ended_ = false, failed_ = false;
+};
+
+}  // namespace
+
 void App::install_radiomap_routes() {
     server_.Post(R"(/v1/rps/(\d+)/scans)", [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {
@@ -23,25 +80,23 @@ void App::install_radiomap_routes() {
     });
 
     // Written out as it is read, from one snapshot: a large radio map is never whole in memory.
+    // Each export holds a connection and a read snapshot (SQLite's WAL cannot be reset behind
+    // it, PostgreSQL's vacuum waits for it) for as long as its client reads, so at most
+    // --max-exports run at once and none runs past --export-timeout.
     server_.Get(R"(/v1/radiomaps/(\d+)/export)", [this](const httplib::Request& req, httplib::Response& res) {
         guarded(req, res, [&] {
-            auto stream = std::make_shared<ExportStream>(store_.read_radiomap(parse_id(req.matches[1].str(), "radiomap")));
+            const auto id = parse_id(req.matches[1].str(), "radiomap");
+            // Before any database work: a busy server answers 503 even for a radio map it
+            // would not find.
+            auto slot = export_slots_.take(res,
+                                           std::to_string(options_.max_exports) +
+                                               " radio map exports are being written already (the server's --max-exports); retry later",
+                                           kExportRetryAfterS);
+            auto job = std::make_shared<ExportJob>(store_.read_radiomap(id), std::move(slot), options_.export_timeout, id);
+            Front::limit_writes(job->deadline());  // a write blocked on a client that stopped reading ends then too
             res.status = 200;
-            res.set_chunked_content_provider("application/json", [stream](std::size_t, httplib::DataSink& sink) {
-                try {
-                    const std::string piece = stream->next();
-                    if (piece.empty()) {
-                        sink.done();
-                        return true;
-                    }
-                    return sink.write(piece.data(), piece.size());
-                } catch (const std::exception& e) {
-                    // The status is sent: the connection is cut, so the client sees a broken
-                    // answer rather than a short document.
-                    std::fprintf(stderr, "{\"event\":\"export_failed\",\"message\":%s}\n", json_text(e.what()).c_str());
-                    return false;
-                }
-            });
+            res.set_chunked_content_provider("application/json",
+                                             [job](std::size_t, httplib::DataSink& sink) { return job->provide(sink); });
         });
     });
 

@@ -10,11 +10,11 @@
 // localize needs: localize keeps the old settings until the new ones are committed, and the
 // commit's change makes the index pick them up.
 #include <chrono>
-#include <semaphore>
 #include <unordered_map>
 
 #include "http/app.hpp"
 #include "http/radiomap_settings.hpp"
+#include "http/slots.hpp"
 #include "http/validation.hpp"
 #include "locus/match/quality.hpp"
 #include "locus/match/tune.hpp"
@@ -70,22 +70,7 @@ private:
 namespace {
 
 constexpr int kQualityAtOnce = 2;
-std::counting_semaphore<kQualityAtOnce> quality_slots(kQualityAtOnce);
-
-// A held slot of quality_slots; none free is 503 server_busy, not a wait.
-class QualitySlot {
-public:
-    explicit QualitySlot(httplib::Response& res) {
-        if (!quality_slots.try_acquire()) {
-            res.set_header("Retry-After", "1");
-            throw ApiError(503, "server_busy",
-                           std::to_string(kQualityAtOnce) + " quality assessments are running already; retry in a second");
-        }
-    }
-    ~QualitySlot() { quality_slots.release(); }
-    QualitySlot(const QualitySlot&) = delete;
-    QualitySlot& operator=(const QualitySlot&) = delete;
-};
+Slots quality_slots(kQualityAtOnce);
 
 // A radio map's RPs as the matchers index them, read once (one consistent snapshot), and the
 // level of each floor they are on, for the floor penalty.
@@ -116,7 +101,9 @@ void App::install_tune_routes() {
             if (req.has_param("max_queries"))
                 limits.max_queries = static_cast<std::size_t>(parse_query_integer(req.get_param_value("max_queries"), "max_queries", 10, 5000));
             store_.get(store::kind("radiomaps"), id);  // 404 before anything else
-            const QualitySlot slot(res);  // bad input and 404 cost nothing and are never busy
+            // Bad input and 404 cost nothing and are never busy.
+            const auto slot = quality_slots.take(res, std::to_string(kQualityAtOnce) +
+                                                          " quality assessments are running already; retry in a second");
             const auto stored_settings = store_.settings_of_radiomap(id);
             const match::Setting setting = stored_settings ? settings_of_text(stored_settings->settings) : match::Setting{};
             Snapshot snap = snapshot_of(store_, id);  // named, not bound: clang 14 lambdas cannot capture bindings

@@ -365,6 +365,45 @@ TEST(ServerTracks, OnlyLiveTracksFillTheTrackCap) {
     EXPECT_EQ(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump()).status, 201);
 }
 
+// Two servers on one PostgreSQL database: a track evicted at --max-tracks by one, or gone
+// with its map deleted there, answers on the other as on the first (Service::refresh finds
+// its row gone and tells the two apart by whether the map is still there): 403 for the
+// evicted one, as for a track never opened, and 404 for the one whose map went.
+TEST(ServerTracks, AnotherServerAnswersAnEvictedTrack403AndOneWhoseMapWent404) {
+    if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
+    ServerProcess a({"--quiet", "--max-tracks", "3", "--track-ttl", "600"});
+    ServerProcess b({"--quiet", "--track-ttl", "600"}, locus::testing::SameDatabase{a.db()});
+    const auto h = locus::testing::make_hierarchy(a);
+    const auto other = locus::testing::make_hierarchy(a, "Elsewhere");
+
+    // Both servers hold both tracks in memory before anything happens to them.
+    const Track on_other_map = open_track(a, other.map, "elsewhere");
+    const Track closed = open_track(a, h.map, "closed");
+    body_of(post_fixes(a, closed, {fix(unix_now() - 1, h.floor, 1, 1)}));
+    body_of(track_call(a, "POST", path_of(closed, "/close"), {closed.token}, "{}"));
+    EXPECT_EQ(body_of(track_call(b, "GET", path_of(closed), {closed.token}))["state"], "closed");
+    EXPECT_EQ(body_of(track_call(b, "GET", path_of(on_other_map), {on_other_map.token}))["state"], "live");
+
+    // At a's cap (3) the next open evicts the one closed track.
+    const Track live = open_track(a, h.map, "live");
+    const Track evicting = open_track(a, h.map, "evicting");
+    EXPECT_EQ(track_call(a, "GET", path_of(closed), {closed.token}).status, 403);
+    for (int i = 0; i < 2; ++i) {  // the second time from b's memory, the row being gone
+        const Response r = track_call(b, "GET", path_of(closed), {closed.token});
+        EXPECT_EQ(r.status, 403) << i << ": " << r.raw;
+        EXPECT_EQ(r.body["error"]["code"], "forbidden") << r.raw;
+    }
+    for (const Track& t : {live, evicting}) EXPECT_EQ(body_of(track_call(b, "GET", path_of(t), {t.token}))["state"], "live");
+
+    // Its map deleted on a: gone on both, 404 to its owner rather than 403.
+    ASSERT_EQ(a.del("/v1/maps/" + std::to_string(other.map)).status, 204);
+    for (int i = 0; i < 2; ++i) {
+        const Response r = track_call(b, "GET", path_of(on_other_map), {on_other_map.token});
+        EXPECT_EQ(r.status, 404) << i << ": " << r.raw;
+    }
+    EXPECT_EQ(track_call(a, "GET", path_of(on_other_map), {on_other_map.token}).status, 404);
+}
+
 // Deleting a map deleted its tracks' rows, but in memory they lived on (a post answered 409
 // or worse, a stream stayed open): now they go with it.
 TEST(ServerTracks, DeletingAMapEndsItsTracks) {

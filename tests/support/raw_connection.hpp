@@ -18,7 +18,10 @@ struct RawAnswer {
 
 class RawConnection {
 public:
-    explicit RawConnection(int port);  // connects at once; connected() says whether it worked
+    // Connects at once; connected() says whether it worked. A `receive_buffer` (bytes, before
+    // connecting) keeps the kernel from buffering much for a client that stops reading, so the
+    // server's writes to it block sooner.
+    explicit RawConnection(int port, int receive_buffer = 0);
     ~RawConnection();
     RawConnection(const RawConnection&) = delete;
     RawConnection& operator=(const RawConnection&) = delete;
@@ -31,6 +34,8 @@ public:
     // True when the server closes the connection (end of stream or reset) within `timeout`;
     // bytes that arrive meanwhile are kept for read_answer.
     bool closed_within(std::chrono::milliseconds timeout);
+    // The bytes received that read_answer has not taken (a chunked body, as it came).
+    const std::string& pending() const { return buffer_; }
 
 private:
     bool fill(std::chrono::steady_clock::time_point until);  // false: timeout or closed
