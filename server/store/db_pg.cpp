@@ -257,6 +257,14 @@ std::string unescape_bytea(const char* text) {
     return out;
 }
 
+std::string literal(pg_conn* c, std::string_view text) {
+    char* quoted = PQescapeLiteral(c, text.data(), text.size());
+    if (!quoted) throw error_of(c, nullptr, "quoting a literal: ");
+    std::string out(quoted);
+    PQfreemem(quoted);
+    return out;
+}
+
 int changed_rows(pg_result* r) {
     const char* n = PQcmdTuples(r);
     return n && *n ? std::atoi(n) : 0;

@@ -35,6 +35,8 @@ int column_type(const pg_result* r, int col);
 bool is_bytea(const pg_result* r, int col);
 // A bytea value in text form (\x…) as its bytes.
 std::string unescape_bytea(const char* text);
+// `text` as a quoted SQL literal for this connection (PQescapeLiteral); throws DbError.
+std::string literal(pg_conn* c, std::string_view text);
 // The rows an INSERT, UPDATE or DELETE changed.
 int changed_rows(pg_result* r);
 // The DbError a failed statement, or a lost connection, stands for.

@@ -36,6 +36,11 @@ public:
     const std::string& connection() const override { return db_.url(); }
     std::string change_origin() const override { return origin_; }
     void probe_write() override;
+    // PostgreSQL: the round trips this store's connection has made (Db::pg_round_trips).
+    std::int64_t round_trips() {
+        std::lock_guard lock(mu_);
+        return db_.pg_round_trips();
+    }
 
     Record create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) override;
     Record get(const Kind& k, std::int64_t id) override;
@@ -111,10 +116,11 @@ private:
     // Where a row of `k` sits, for its Change (documents.hpp).
     Change change_of(const Kind& k, std::int64_t id, bool deleted);
 
-    // PostgreSQL only (sql_store_pg.cpp): the write lock, and the change announcement.
+    // PostgreSQL only (sql_store_pg.cpp): the write lock, taken with BEGIN, and the change
+    // announcement, sent with COMMIT (each one round trip with its neighbour).
     void pg_start_watching();
-    void pg_begin_write();
-    void pg_announce(const std::vector<Change>& changes);
+    static std::string_view pg_write_lock();
+    std::string pg_announcement(const std::vector<Change>& changes);
 
     std::mutex mu_;
     Db db_;
@@ -128,21 +134,17 @@ auto SqlStore::write(Body&& body) {
     if constexpr (std::is_void_v<decltype(body(changes))>) {
         {
             std::lock_guard lock(mu_);
-            Transaction tx(db_);
-            if (db_.is_postgres()) pg_begin_write();
+            Transaction tx(db_, Transaction::Mode::write, db_.is_postgres() ? pg_write_lock() : "");
             body(changes);
-            if (db_.is_postgres() && !changes.empty()) pg_announce(changes);
-            tx.commit();
+            tx.commit(db_.is_postgres() && !changes.empty() ? pg_announcement(changes) : std::string());
         }
         publish(changes);
     } else {
         auto result = [&] {
             std::lock_guard lock(mu_);
-            Transaction tx(db_);
-            if (db_.is_postgres()) pg_begin_write();
+            Transaction tx(db_, Transaction::Mode::write, db_.is_postgres() ? pg_write_lock() : "");
             auto r = body(changes);
-            if (db_.is_postgres() && !changes.empty()) pg_announce(changes);
-            tx.commit();
+            tx.commit(db_.is_postgres() && !changes.empty() ? pg_announcement(changes) : std::string());
             return r;
         }();
         publish(changes);
