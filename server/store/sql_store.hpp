@@ -22,6 +22,12 @@
 
 namespace locus::store {
 
+// One AP of an upload merged into what the RP holds (RssStats::merge); throws OutOfRange when
+// the count would pass kMaxCount. Both backends' uploads merge through it.
+RssStats merged_or_refused(RssStats stored, const Measurement& m);
+// Throws OutOfRange when adding `scans` to the RP's stored scan count would pass kMaxCount.
+void refuse_scans_past_max(std::optional<std::int64_t> stored, std::int64_t scans);
+
 // The columns a Kind's row is selected with, for read_row.
 std::string column_list(const Kind& k);
 // A row selected with column_list(k); a room's rectangles are read on `db` too.
@@ -99,6 +105,9 @@ private:
     std::pair<std::int64_t, std::int64_t> insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
                                                               std::vector<Change>& changes);
     void merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans);
+    // merge_scans on PostgreSQL, inside write()'s transaction: one statement reads the RP and
+    // records the upload_id, one writes every merged AP and the RP (sql_upload_pg.cpp).
+    UploadResult pg_merge_scans(std::int64_t rp_id, const ScanBatch& batch, std::vector<Change>& changes);
     std::vector<Measurement> measurements_of(std::int64_t rp_id);
     std::vector<StoredRp> load_rps(std::string_view where, std::int64_t id);
     std::optional<std::int64_t> map_of_radiomap_locked(std::int64_t radiomap_id);
