@@ -31,6 +31,7 @@ Db::Db(const std::string& path) : path_(path), url_(path) {
     if (is_postgres_url(path)) {
         path_ = redacted_url(path);
         pg_ = pg::connect(path);
+        pg_prepared_ = std::make_unique<pg::Prepared>();
         return;
     }
     sqlite3* raw = nullptr;
@@ -67,10 +68,16 @@ void Db::pg_ensure_connected() {
     if (now < pg_retry_at_)
         throw DbError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable (retrying once a second)", path_);
     PQreset(pg_);
+    pg_prepared_ = std::make_unique<pg::Prepared>();  // they went with the old session
     if (PQstatus(pg_) != CONNECTION_OK) {
         pg_retry_at_ = std::chrono::steady_clock::now() + std::chrono::seconds(1);
         throw DbError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable: " + PQerrorMessage(pg_), path_);
     }
+}
+
+pg_result* Db::pg_run(const std::string& sql, const std::vector<std::optional<std::string>>& params,
+                      const std::vector<int>& formats) {
+    return pg::run(pg_, sql, params, formats, pg_prepared_.get(), &pg_round_trips_);
 }
 
 void Db::fail(int rc, std::string_view context) const {
@@ -144,7 +151,7 @@ void Stmt::pg_execute() {
     pg::clear(pg_res_);
     pg_res_ = nullptr;
     owner_->pg_count_round_trip();
-    pg_res_ = pg::run(owner_->pg(), pg_sql_, pg_params_, pg_formats_);
+    pg_res_ = owner_->pg_run(pg_sql_, pg_params_, pg_formats_);
     owner_->pg_set_changes(pg::changed_rows(pg_res_));
     pg_row_ = -1;
 }

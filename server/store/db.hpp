@@ -17,11 +17,15 @@
 #include <string_view>
 #include <utility>
 #include <concepts>
+#include <memory>
 
 struct pg_conn;
 struct pg_result;
 
 namespace locus::store {
+namespace pg {
+struct Prepared;
+}
 
 struct DbError : std::runtime_error {
     int code;
@@ -135,6 +139,9 @@ public:
     // trip). What a store call costs on a remote database is mostly these; tests count them.
     std::int64_t pg_round_trips() const { return pg_round_trips_; }
     void pg_count_round_trip() { ++pg_round_trips_; }
+    // PostgreSQL: runs one statement (PostgreSQL's spelling), prepared on this connection.
+    pg_result* pg_run(const std::string& sql, const std::vector<std::optional<std::string>>& params,
+                      const std::vector<int>& formats);
 
 private:
     sqlite3* db_ = nullptr;
@@ -144,6 +151,7 @@ private:
     std::chrono::steady_clock::time_point pg_retry_at_{};
     int pg_changes_ = 0;
     std::int64_t pg_round_trips_ = 0;
+    std::unique_ptr<pg::Prepared> pg_prepared_;
     bool pg_in_tx_ = false;
     std::string path_;
     std::string url_;

@@ -152,6 +152,10 @@ TEST(PostgresUpload, AnUploadCostsFourRoundTripsWhateverItsApsAndARetryThree) {
     locus::testing::TestDatabase db;
     SqlStore pg(db.url());
     const Rps rp = make_rps(pg);
+    // The first upload and retry also prepare their statements on the connection (once each).
+    ScanBatch warm{"warm", {ap("cc:00:00:00:00:01", -60.0, 0.5, 1)}, 1};
+    ASSERT_TRUE(pg.merge_scans(rp.b, warm).applied);
+    ASSERT_FALSE(pg.merge_scans(rp.b, warm).applied);
     for (const int aps : {1, 2, 20}) {
         ScanBatch b{"n" + std::to_string(aps), {}, 1};
         for (int i = 0; i < aps; ++i) b.measurements.push_back(ap("cc:00:00:00:00:" + std::to_string(10 + i), -60.0 - i, 0.5, 1));
