@@ -167,3 +167,29 @@ TEST(PostgresUpload, AnUploadCostsFourRoundTripsWhateverItsApsAndARetryThree) {
         EXPECT_EQ(pg.round_trips() - at, 3) << "a retry of " << aps << " APs";
     }
 }
+
+TEST(PostgresUpload, AStatementSentWithBeginOrCommitThatFailsLeavesNothingOpenOrWritten) {
+    REQUIRE_POSTGRES();
+    locus::testing::TestDatabase tdb;
+    locus::store::Db db(tdb.url());
+    db.exec("CREATE TABLE t (v BIGINT)");
+    // Sent with BEGIN: the transaction it opened is rolled back before the constructor throws.
+    EXPECT_THROW(locus::store::Transaction(db, locus::store::Transaction::Mode::write, "SELECT 1 / 0"), locus::store::DbError);
+    EXPECT_FALSE(db.pg_in_transaction());
+    {
+        // Sent with COMMIT: nothing of the transaction is kept.
+        locus::store::Transaction tx(db);
+        locus::store::Stmt(db, "INSERT INTO t (v) VALUES (1)").run();
+        EXPECT_THROW(tx.commit("SELECT 1 / 0"), locus::store::DbError);
+    }
+    {
+        // The connection works on: a transaction with both, and its statements, go through.
+        locus::store::Transaction tx(db, locus::store::Transaction::Mode::write, "SELECT pg_advisory_xact_lock(1)");
+        locus::store::Stmt(db, "INSERT INTO t (v) VALUES (2)").run();
+        tx.commit("SELECT 1");
+    }
+    locus::store::Stmt sum(db, "SELECT COUNT(*), COALESCE(SUM(v), 0) FROM t");
+    ASSERT_TRUE(sum.step());
+    EXPECT_EQ(sum.int64(0), 1);
+    EXPECT_EQ(sum.int64(1), 2);
+}
