@@ -31,6 +31,7 @@ Db::Db(const std::string& path) : path_(path), url_(path) {
     if (is_postgres_url(path)) {
         path_ = redacted_url(path);
         pg_ = pg::connect(path);
+        pg_prepared_ = std::make_unique<pg::Prepared>();
         return;
     }
     sqlite3* raw = nullptr;
@@ -67,10 +68,16 @@ void Db::pg_ensure_connected() {
     if (now < pg_retry_at_)
         throw DbError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable (retrying once a second)", path_);
     PQreset(pg_);
+    pg_prepared_ = std::make_unique<pg::Prepared>();  // they went with the old session
     if (PQstatus(pg_) != CONNECTION_OK) {
         pg_retry_at_ = std::chrono::steady_clock::now() + std::chrono::seconds(1);
         throw DbError(SQLITE_IOERR, "PostgreSQL at '" + path_ + "' is unreachable: " + PQerrorMessage(pg_), path_);
     }
+}
+
+pg_result* Db::pg_run(const std::string& sql, const std::vector<std::optional<std::string>>& params,
+                      const std::vector<int>& formats) {
+    return pg::run(pg_, sql, params, formats, pg_prepared_.get(), &pg_round_trips_);
 }
 
 void Db::fail(int rc, std::string_view context) const {
@@ -79,7 +86,10 @@ void Db::fail(int rc, std::string_view context) const {
 }
 
 void Db::exec(std::string_view sql) {
-    if (pg_) return pg::exec(pg_, pg::to_postgres(sql));
+    if (pg_) {
+        ++pg_round_trips_;
+        return pg::exec(pg_, pg::to_postgres(sql));
+    }
     char* err = nullptr;
     const std::string s(sql);
     const int rc = sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err);
@@ -93,6 +103,7 @@ void Db::exec(std::string_view sql) {
 std::int64_t Db::last_insert_id() const {
     if (pg_) {
         // The identity column's sequence, as used by this session's last INSERT.
+        ++const_cast<Db*>(this)->pg_round_trips_;
         PGresult* r = pg::run(pg_, "SELECT lastval()", {}, {});
         const std::int64_t id = std::atoll(PQgetvalue(r, 0, 0));
         PQclear(r);
@@ -139,7 +150,8 @@ void Stmt::pg_execute() {
     if (!owner_->pg_in_transaction()) owner_->pg_ensure_connected();
     pg::clear(pg_res_);
     pg_res_ = nullptr;
-    pg_res_ = pg::run(owner_->pg(), pg_sql_, pg_params_, pg_formats_);
+    owner_->pg_count_round_trip();
+    pg_res_ = owner_->pg_run(pg_sql_, pg_params_, pg_formats_);
     owner_->pg_set_changes(pg::changed_rows(pg_res_));
     pg_row_ = -1;
 }
@@ -268,16 +280,32 @@ std::string Stmt::column_name(int col) const {
     return sqlite3_column_name(stmt_, col);
 }
 
-Transaction::Transaction(Db& db, Mode mode) : db_(db) {
+Transaction::Transaction(Db& db, Mode mode, std::string_view then) : db_(db) {
     if (db_.is_postgres()) {
         db_.pg_ensure_connected();
-        db_.exec(mode == Mode::read ? "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY" : "BEGIN");
+        std::string sql = mode == Mode::read ? "BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY" : "BEGIN";
+        if (!then.empty()) sql.append("; ").append(then);
+        // One request: the simple query protocol runs the text's statements in order and stops at
+        // the first that fails, which leaves the transaction open (BEGIN ran) but aborted; no
+        // destructor runs for a constructor that throws, so it is rolled back here.
+        db_.pg_count_round_trip();
+        try {
+            pg::exec(db_.pg(), sql);
+        } catch (...) {
+            try {
+                pg::exec(db_.pg(), "ROLLBACK");
+            } catch (...) {
+                // The connection is gone: so is its transaction.
+            }
+            throw;
+        }
         db_.pg_set_in_transaction(true);
         return;
     }
     // A read takes no lock until its first statement, and then only its snapshot (WAL): a long
     // one (an export being written out) does not hold writers back.
     db_.exec(mode == Mode::read ? "BEGIN" : "BEGIN IMMEDIATE");
+    if (!then.empty()) db_.exec(then);
 }
 
 Transaction::~Transaction() {
@@ -291,9 +319,19 @@ Transaction::~Transaction() {
     }
 }
 
-void Transaction::commit() {
+void Transaction::commit(std::string_view last) {
+    if (db_.is_postgres()) {
+        std::string sql(last);
+        if (!sql.empty()) sql += "; ";
+        sql += "COMMIT";
+        db_.pg_count_round_trip();
+        pg::exec(db_.pg(), sql);
+        db_.pg_set_in_transaction(false);
+        done_ = true;
+        return;
+    }
+    if (!last.empty()) db_.exec(last);
     db_.exec("COMMIT");
-    if (db_.is_postgres()) db_.pg_set_in_transaction(false);
     done_ = true;
 }
 

@@ -17,11 +17,15 @@
 #include <string_view>
 #include <utility>
 #include <concepts>
+#include <memory>
 
 struct pg_conn;
 struct pg_result;
 
 namespace locus::store {
+namespace pg {
+struct Prepared;
+}
 
 struct DbError : std::runtime_error {
     int code;
@@ -131,6 +135,13 @@ public:
     void pg_set_changes(int n) { pg_changes_ = n; }
     bool pg_in_transaction() const { return pg_in_tx_; }
     void pg_set_in_transaction(bool on) { pg_in_tx_ = on; }
+    // PostgreSQL: the requests sent to the server so far (each waits for its answer: a round
+    // trip). What a store call costs on a remote database is mostly these; tests count them.
+    std::int64_t pg_round_trips() const { return pg_round_trips_; }
+    void pg_count_round_trip() { ++pg_round_trips_; }
+    // PostgreSQL: runs one statement (PostgreSQL's spelling), prepared on this connection.
+    pg_result* pg_run(const std::string& sql, const std::vector<std::optional<std::string>>& params,
+                      const std::vector<int>& formats);
 
 private:
     sqlite3* db_ = nullptr;
@@ -139,6 +150,8 @@ private:
     // the connect timeout under the store's lock (localize keeps serving from memory).
     std::chrono::steady_clock::time_point pg_retry_at_{};
     int pg_changes_ = 0;
+    std::int64_t pg_round_trips_ = 0;
+    std::unique_ptr<pg::Prepared> pg_prepared_;
     bool pg_in_tx_ = false;
     std::string path_;
     std::string url_;
@@ -152,9 +165,13 @@ public:
     // time under a lock, and read what committed before them) would see other servers' commits
     // between two statements, so a read is REPEATABLE READ there.
     enum class Mode { write, read };
-    explicit Transaction(Db& db, Mode mode = Mode::write);
+    // PostgreSQL: `then` (parameterless, PostgreSQL's spelling) runs right after BEGIN in the
+    // same round trip, such as the write lock; SQLite runs it as a statement of its own.
+    explicit Transaction(Db& db, Mode mode = Mode::write, std::string_view then = {});
     ~Transaction();
-    void commit();
+    // `last` (as `then`) runs just before COMMIT, in the same round trip on PostgreSQL; when it
+    // fails nothing is committed (the destructor rolls back).
+    void commit(std::string_view last = {});
 
 private:
     Db& db_;

@@ -182,7 +182,7 @@ void exec(pg_conn* c, std::string_view sql) {
 }
 
 pg_result* run(pg_conn* c, const std::string& sql, const std::vector<std::optional<std::string>>& params,
-               const std::vector<int>& formats) {
+               const std::vector<int>& formats, Prepared* prepared, std::int64_t* round_trips) {
     std::vector<const char*> values(params.size());
     std::vector<int> lengths(params.size());
     for (std::size_t i = 0; i < params.size(); ++i) {
@@ -202,8 +202,30 @@ pg_result* run(pg_conn* c, const std::string& sql, const std::vector<std::option
         }
         if (!used) types[i] = kTextOid;
     }
-    PGresult* r = PQexecParams(c, sql.c_str(), static_cast<int>(params.size()), types.data(), values.data(),
-                               lengths.data(), formats.data(), 0);
+    const int n = static_cast<int>(params.size());
+    // A bound on the statements kept per connection: the store's texts are few (built from the
+    // kinds), but nothing else stops a caller from making many.
+    constexpr std::size_t kMaxPrepared = 512;
+    const std::string* name = nullptr;
+    if (prepared) {
+        const std::string key = sql + '\0' + std::to_string(n);
+        auto at = prepared->names.find(key);
+        if (at == prepared->names.end() && prepared->names.size() < kMaxPrepared) {
+            std::string fresh = "locus_" + std::to_string(prepared->next++);
+            if (round_trips) ++*round_trips;
+            PGresult* p = PQprepare(c, fresh.c_str(), sql.c_str(), n, types.data());
+            if (PQresultStatus(p) != PGRES_COMMAND_OK) {
+                DbError e = error_of(c, p, "step: ");
+                PQclear(p);
+                throw e;
+            }
+            PQclear(p);
+            at = prepared->names.emplace(key, std::move(fresh)).first;
+        }
+        if (at != prepared->names.end()) name = &at->second;
+    }
+    PGresult* r = name ? PQexecPrepared(c, name->c_str(), n, values.data(), lengths.data(), formats.data(), 0)
+                       : PQexecParams(c, sql.c_str(), n, types.data(), values.data(), lengths.data(), formats.data(), 0);
     const auto st = PQresultStatus(r);
     if (st != PGRES_COMMAND_OK && st != PGRES_TUPLES_OK) {
         DbError e = error_of(c, r, "step: ");
@@ -254,6 +276,14 @@ std::string unescape_bytea(const char* text) {
     if (!bytes) throw DbError(SQLITE_NOMEM, "cannot decode a bytea value");
     std::string out(reinterpret_cast<const char*>(bytes), n);
     PQfreemem(bytes);
+    return out;
+}
+
+std::string literal(pg_conn* c, std::string_view text) {
+    char* quoted = PQescapeLiteral(c, text.data(), text.size());
+    if (!quoted) throw error_of(c, nullptr, "quoting a literal: ");
+    std::string out(quoted);
+    PQfreemem(quoted);
     return out;
 }
 

@@ -21,22 +21,33 @@ constexpr std::string_view kTrackChannel = "locus_tracks";
 nlohmann::json optional_id(const std::optional<std::int64_t>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
 }  // namespace
 
-std::string payload_of(const std::string& origin, std::int64_t version, const std::vector<Change>& changes) {
+std::string payload_head(const std::string& origin, const std::vector<Change>& changes) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& c : changes)
         list.push_back({c.kind ? std::string(c.kind->name) : std::string(), c.id, c.deleted, c.plan,
                         optional_id(c.radiomap_id), optional_id(c.map_id)});
-    std::string out = nlohmann::json{{"o", origin}, {"v", version}, {"c", list}}.dump();
-    if (out.size() > kMaxPayload) out = nlohmann::json{{"o", origin}, {"v", version}, {"all", true}}.dump();
+    // The object without its last member, the version, which comes last in the text as it would
+    // in nlohmann's (sorted) dump of the whole: {"c":…,"o":…,"v":N}.
+    const auto head_of = [](const nlohmann::json& j) {
+        std::string out = j.dump();
+        out.pop_back();  // the closing brace
+        return out + ",\"v\":";
+    };
+    std::string out = head_of(nlohmann::json{{"o", origin}, {"c", list}});
+    // Room for the longest version (19 digits) and the closing brace.
+    if (out.size() + 20 > kMaxPayload) out = head_of(nlohmann::json{{"o", origin}, {"all", true}});
     return out;
 }
 
-void announce(Db& db, const std::string& origin, const std::vector<Change>& changes) {
-    Stmt bump(db, "UPDATE change_counter SET version = version + 1 WHERE id = 1 RETURNING version");
-    bump.step();
-    const std::int64_t version = bump.int64(0);
-    Stmt notify(db, "SELECT pg_notify('locus_changes', ?)");
-    notify.bind(1, payload_of(origin, version, changes)).run();
+std::string payload_of(const std::string& origin, std::int64_t version, const std::vector<Change>& changes) {
+    return payload_head(origin, changes) + std::to_string(version) + "}";
+}
+
+std::string announcement(Db& db, const std::string& origin, const std::vector<Change>& changes) {
+    // One statement: the counter's next version goes into the payload there.
+    return "WITH v AS (UPDATE change_counter SET version = version + 1 WHERE id = 1 RETURNING version) "
+           "SELECT pg_notify('locus_changes', " +
+           pg::literal(db.pg(), payload_head(origin, changes)) + " || v.version || '}') FROM v";
 }
 
 void announce_tracks(Db& db, const std::string& origin, const std::vector<Change>& changes) {

@@ -22,16 +22,20 @@ namespace locus::store {
 // The NOTIFY payload: origin (the writing server), version and the changes; past PostgreSQL's
 // payload limit, the changes are left out and the payload means "everything changed".
 std::string payload_of(const std::string& origin, std::int64_t version, const std::vector<Change>& changes);
+// The payload up to its version: payload_of(…) is payload_head(…) + the version + "}", so the
+// writing transaction can add the version it takes from change_counter in the same statement.
+std::string payload_head(const std::string& origin, const std::vector<Change>& changes);
 struct Notification {
     std::string origin;
     std::int64_t version = 0;
     bool everything = false;
     std::vector<Change> changes;
 };
-// Inside a write transaction on `db` (PostgreSQL), as its last statement: adds one to
-// change_counter and sends the notification, so other servers see `changes` once it commits.
+// The statement a write transaction on `db` (PostgreSQL) ends with, sent with its COMMIT
+// (Transaction::commit): it adds one to change_counter and sends the notification with that
+// version, so other servers see `changes` once it commits.
 class Db;
-void announce(Db& db, const std::string& origin, const std::vector<Change>& changes);
+std::string announcement(Db& db, const std::string& origin, const std::vector<Change>& changes);
 // Live tracks' writes (tracks::Service, on its own connection) are announced on a channel of
 // their own, locus_tracks, without the counter: bumping its one row would make every fix post
 // of every server wait for the one before it to commit. Nothing is invalidated by them, only

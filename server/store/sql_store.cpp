@@ -287,6 +287,18 @@ RpRecord SqlStore::rp_with_measurements(std::int64_t rp_id) {
     return out;
 }
 
+RssStats merged_or_refused(RssStats stored, const Measurement& m) {
+    if (m.stats.count < 1 || !stored.can_merge(m.stats))
+        throw OutOfRange("the count of " + m.bssid.str() + " at this RP would pass 2^53");
+    stored.merge(m.stats);
+    return stored;
+}
+
+void refuse_scans_past_max(std::optional<std::int64_t> stored, std::int64_t scans) {
+    if (scans < 0 || scans > kMaxCount || (stored && *stored > kMaxCount - scans))
+        throw OutOfRange("the RP's scan count would pass 2^53");
+}
+
 void SqlStore::merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans) {
     Stmt sel(db_, "SELECT mean, variance, count FROM measurements WHERE rp_id = ? AND type = ? AND bssid = ?");
     Stmt put(db_,
@@ -298,23 +310,21 @@ void SqlStore::merge_measurements(std::int64_t rp_id, const std::vector<Measurem
         sel.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid.str());
         RssStats stats;
         if (sel.step()) stats = RssStats{sel.real(0), sel.real(1), sel.int64(2)};
-        if (m.stats.count < 1 || !stats.can_merge(m.stats))
-            throw OutOfRange("the count of " + m.bssid.str() + " at this RP would pass 2^53");
-        stats.merge(m.stats);
+        stats = merged_or_refused(stats, m);
         put.reset();
         put.bind(1, rp_id).bind(2, m.type).bind(3, m.bssid.str()).bind(4, stats.mean).bind(5, stats.variance).bind(6, stats.count);
         put.run();
     }
     Stmt cur(db_, "SELECT scans FROM rps WHERE id = ?");
     cur.bind(1, rp_id);
-    if (scans < 0 || scans > kMaxCount || (cur.step() && cur.int64(0) > kMaxCount - scans))
-        throw OutOfRange("the RP's scan count would pass 2^53");
+    refuse_scans_past_max(cur.step() ? std::optional(cur.int64(0)) : std::nullopt, scans);
     Stmt upd(db_, "UPDATE rps SET scans = scans + ? WHERE id = ?");
     upd.bind(1, scans).bind(2, rp_id).run();
 }
 
 UploadResult SqlStore::merge_scans(std::int64_t rp_id, const ScanBatch& batch) {
     return write([&](std::vector<Change>& changes) {
+        if (db_.is_postgres()) return pg_merge_scans(rp_id, batch, changes);  // sql_upload_pg.cpp
         UploadResult result;
         require_exists(kind("rps"), rp_id);
         bool fresh = true;

@@ -22,6 +22,12 @@
 
 namespace locus::store {
 
+// One AP of an upload merged into what the RP holds (RssStats::merge); throws OutOfRange when
+// the count would pass kMaxCount. Both backends' uploads merge through it.
+RssStats merged_or_refused(RssStats stored, const Measurement& m);
+// Throws OutOfRange when adding `scans` to the RP's stored scan count would pass kMaxCount.
+void refuse_scans_past_max(std::optional<std::int64_t> stored, std::int64_t scans);
+
 // The columns a Kind's row is selected with, for read_row.
 std::string column_list(const Kind& k);
 // A row selected with column_list(k); a room's rectangles are read on `db` too.
@@ -36,6 +42,11 @@ public:
     const std::string& connection() const override { return db_.url(); }
     std::string change_origin() const override { return origin_; }
     void probe_write() override;
+    // PostgreSQL: the round trips this store's connection has made (Db::pg_round_trips).
+    std::int64_t round_trips() {
+        std::lock_guard lock(mu_);
+        return db_.pg_round_trips();
+    }
 
     Record create(const Kind& k, std::optional<std::int64_t> parent_id, const Fields& values) override;
     Record get(const Kind& k, std::int64_t id) override;
@@ -94,6 +105,9 @@ private:
     std::pair<std::int64_t, std::int64_t> insert_transmitters(std::int64_t floor_id, const std::vector<Fields>& txs,
                                                               std::vector<Change>& changes);
     void merge_measurements(std::int64_t rp_id, const std::vector<Measurement>& ms, std::int64_t scans);
+    // merge_scans on PostgreSQL, inside write()'s transaction: one statement reads the RP and
+    // records the upload_id, one writes every merged AP and the RP (sql_upload_pg.cpp).
+    UploadResult pg_merge_scans(std::int64_t rp_id, const ScanBatch& batch, std::vector<Change>& changes);
     std::vector<Measurement> measurements_of(std::int64_t rp_id);
     std::vector<StoredRp> load_rps(std::string_view where, std::int64_t id);
     std::optional<std::int64_t> map_of_radiomap_locked(std::int64_t radiomap_id);
@@ -111,10 +125,11 @@ private:
     // Where a row of `k` sits, for its Change (documents.hpp).
     Change change_of(const Kind& k, std::int64_t id, bool deleted);
 
-    // PostgreSQL only (sql_store_pg.cpp): the write lock, and the change announcement.
+    // PostgreSQL only (sql_store_pg.cpp): the write lock, taken with BEGIN, and the change
+    // announcement, sent with COMMIT (each one round trip with its neighbour).
     void pg_start_watching();
-    void pg_begin_write();
-    void pg_announce(const std::vector<Change>& changes);
+    static std::string_view pg_write_lock();
+    std::string pg_announcement(const std::vector<Change>& changes);
 
     std::mutex mu_;
     Db db_;
@@ -128,21 +143,17 @@ auto SqlStore::write(Body&& body) {
     if constexpr (std::is_void_v<decltype(body(changes))>) {
         {
             std::lock_guard lock(mu_);
-            Transaction tx(db_);
-            if (db_.is_postgres()) pg_begin_write();
+            Transaction tx(db_, Transaction::Mode::write, db_.is_postgres() ? pg_write_lock() : "");
             body(changes);
-            if (db_.is_postgres() && !changes.empty()) pg_announce(changes);
-            tx.commit();
+            tx.commit(db_.is_postgres() && !changes.empty() ? pg_announcement(changes) : std::string());
         }
         publish(changes);
     } else {
         auto result = [&] {
             std::lock_guard lock(mu_);
-            Transaction tx(db_);
-            if (db_.is_postgres()) pg_begin_write();
+            Transaction tx(db_, Transaction::Mode::write, db_.is_postgres() ? pg_write_lock() : "");
             auto r = body(changes);
-            if (db_.is_postgres() && !changes.empty()) pg_announce(changes);
-            tx.commit();
+            tx.commit(db_.is_postgres() && !changes.empty() ? pg_announcement(changes) : std::string());
             return r;
         }();
         publish(changes);

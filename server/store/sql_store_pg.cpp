@@ -21,12 +21,12 @@ void SqlStore::pg_start_watching() {
     watcher_ = std::make_unique<ChangeWatcher>(db_.url(), origin_, [this](const std::vector<Change>& c) { publish(c); });
 }
 
-void SqlStore::pg_begin_write() {
+std::string_view SqlStore::pg_write_lock() {
     // Any constant (not migrate's): every server's writes queue on it until their commit.
-    db_.exec("SELECT pg_advisory_xact_lock(7343468)");
+    return "SELECT pg_advisory_xact_lock(7343468)";
 }
 
-void SqlStore::pg_announce(const std::vector<Change>& changes) { announce(db_, origin_, changes); }
+std::string SqlStore::pg_announcement(const std::vector<Change>& changes) { return announcement(db_, origin_, changes); }
 
 std::unique_ptr<Store> open(const std::string& url) {
     if (url.starts_with("sqlite:")) return std::make_unique<SqlStore>(url.substr(7));

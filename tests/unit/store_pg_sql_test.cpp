@@ -74,6 +74,17 @@ TEST(PgChanges, TrackChangesAreNoCrudKindAndFiftyFitOnePayload) {
     EXPECT_EQ(n.changes[49].kind, &locus::store::track_kind());
 }
 
+TEST(PgChanges, ThePayloadIsItsHeadThenTheVersion) {
+    // The writing transaction appends the version in SQL to the head it is sent.
+    using locus::store::Change;
+    const std::vector<Change> changes{Change{&locus::store::kind("rps"), 7, false, false, 3, 1}};
+    for (const std::int64_t v : {std::int64_t{1}, std::int64_t{42}, std::int64_t{9223372036854775807}}) {
+        const std::string payload = locus::store::payload_of("server-a", v, changes);
+        EXPECT_EQ(payload, locus::store::payload_head("server-a", changes) + std::to_string(v) + "}");
+        EXPECT_EQ(locus::store::parse_payload(payload).version, v);
+    }
+}
+
 TEST(PgChanges, ATooLongPayloadSaysEverythingChanged) {
     using locus::store::Change;
     const std::vector<Change> many(2000, Change{&locus::store::kind("rps"), 123456, false, false, 99, 98});
