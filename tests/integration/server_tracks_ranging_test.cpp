@@ -141,6 +141,12 @@ struct Expected {
         const Point p = kf->position();
         return {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(kf->covariance().trace() / 2.0)}};
     }
+    // A server resuming the track starts the filter at its latest stored fix, σ its accuracy.
+    void resume(const json& latest) {
+        fusion::KalmanConfig c = config.kalman;
+        c.initial_sigma_m = latest["accuracy_m"].get<double>();
+        kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
+    }
     json scan(const json& s) {
         std::vector<ranging::Heard> heard;
         for (const auto& r : s["readings"])
@@ -192,6 +198,7 @@ struct ExpectedEkf {
         c.initial_sigma_m = sigma;
         ekf.emplace(at, anchors(), c);
     }
+    void resume(const json& latest) { start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>()); }
     json fused(double t) const {
         const Point p = ekf->position();
         return {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(ekf->position_covariance().trace() / 2.0)}};
@@ -258,6 +265,44 @@ json body(const std::vector<json>& steps, const std::vector<json>& scans) {
 
 std::size_t stored_fixes(const ServerProcess& s, const Track& t) {
     return body_of(call(s, "GET", t.self(), t.token))["fixes"].get<std::size_t>();
+}
+
+// What the resume tests share: on `s`, the hierarchy with the transmitters, a track of `fusion`
+// (and `options`), and the walk's steps and scans before t0 + `mid_s` posted to it.
+struct HalfWalked {
+    locus::testing::Hierarchy h;
+    Walk w;
+    Track t;
+    double mid = 0;
+};
+
+HalfWalked walk_half(const ServerProcess& s, const std::string& fusion, const json& options, double mid_s) {
+    HalfWalked hw{locus::testing::make_hierarchy(s), make_walk(std::floor(unix_now()) - 60), {}, 0};
+    add_transmitters(s, hw.h.floor);
+    hw.t = open_track(s, hw.h.map, fusion, options);
+    hw.mid = hw.w.t0 + mid_s;
+    const auto& w = hw.w;
+    body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(slice(w.steps, w.t0, hw.mid), slice(w.scans, w.t0, hw.mid)).dump()));
+    return hw;
+}
+
+// Restarts `s`, checks the track kept its fusion and options, and returns its latest stored fix.
+json restart(ServerProcess& s, const HalfWalked& hw, const std::string& fusion, const json& options) {
+    s.stop();
+    s.start();
+    const json info = body_of(call(s, "GET", hw.t.self(), hw.t.token));
+    EXPECT_EQ(info["fusion"], fusion);
+    EXPECT_EQ(info["fusion_options"], options);
+    return info["latest"];
+}
+
+// On `other` (sharing the database): the latest stored fix, the last step's (t0 + 10), then the
+// answer to the rest of the walk posted there.
+std::pair<json, json> finish_on(const ServerProcess& other, const HalfWalked& hw) {
+    const json latest = body_of(call(other, "GET", hw.t.self(), hw.t.token))["latest"];
+    EXPECT_EQ(latest["t"].get<double>(), hw.w.t0 + 10);
+    const auto rest_steps = slice(hw.w.steps, hw.mid, 1e300), rest_scans = slice(hw.w.scans, hw.mid, 1e300);
+    return {latest, body_of(call(other, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()))};
 }
 
 }  // namespace
@@ -564,32 +609,20 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
 // options.
 TEST(ServerTracksRanging, ARestartResumesAtTheLatestStoredFix) {
     ServerProcess s({"--quiet"});
-    const auto h = locus::testing::make_hierarchy(s);
-    add_transmitters(s, h.floor);
-    const Walk w = make_walk(std::floor(unix_now()) - 60);
     const json options = {{"r_floor_m", 0.7}, {"q_sigma_per_m", 0.4}};
-    const Track t = open_track(s, h.map, "kalman_ranging", options);
-    const double mid = w.t0 + 8.2;
-    ASSERT_EQ(call(s, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
-    s.stop();
-    s.start();
-    const json info = body_of(call(s, "GET", t.self(), t.token));
-    EXPECT_EQ(info["fusion"], "kalman_ranging");
-    EXPECT_EQ(info["fusion_options"], options);
-    const json latest = info["latest"];
-    const auto rest_steps = slice(w.steps, latest["t"].get<double>() - 2.5, 1e300);  // the first ones were run: skipped
-    const auto rest_scans = slice(w.scans, mid, 1e300);
-    const json got = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const HalfWalked hw = walk_half(s, "kalman_ranging", options, 8.2);
+    const json latest = restart(s, hw, "kalman_ranging", options);
+    const auto rest_steps = slice(hw.w.steps, latest["t"].get<double>() - 2.5, 1e300);  // the first ones were run: skipped
+    const auto rest_scans = slice(hw.w.scans, hw.mid, 1e300);
+    const json got = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()));
 
     auto config = fusion::ranging_kalman_config();
     config.r_floor_m = 0.7;
     config.kalman.step_sigma_per_m = 0.4;
     Expected e{config, true, std::nullopt};
-    fusion::KalmanConfig c = config.kalman;
-    c.initial_sigma_m = latest["accuracy_m"].get<double>();
-    e.kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
-    expect_same(got["fused"], e.run(slice(rest_steps, mid, 1e300), rest_scans));
-    EXPECT_EQ(got["fused"][0]["floor_id"], h.floor);
+    e.resume(latest);
+    expect_same(got["fused"], e.run(slice(rest_steps, hw.mid, 1e300), rest_scans));
+    EXPECT_EQ(got["fused"][0]["floor_id"], hw.h.floor);
 }
 
 // ekf_ranging after a restart: resumed at the latest stored fix (σ its accuracy_m, the offset
@@ -597,33 +630,23 @@ TEST(ServerTracksRanging, ARestartResumesAtTheLatestStoredFix) {
 // request after it holds steps alone; then scans' readings update it as before.
 TEST(ServerTracksRanging, ARestartResumesAnEkfTrackAtTheLatestStoredFix) {
     ServerProcess s({"--quiet"});
-    const auto h = locus::testing::make_hierarchy(s);
-    add_transmitters(s, h.floor);
-    const Walk w = make_walk(std::floor(unix_now()) - 60);
     const json options = {{"q_sigma_per_m", 0.2}, {"huber_k", 2.0}};
-    const Track t = open_track(s, h.map, "ekf_ranging", options);
-    const double mid = w.t0 + 8.2;
-    ASSERT_EQ(call(s, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
-    s.stop();
-    s.start();
-    const json info = body_of(call(s, "GET", t.self(), t.token));
-    EXPECT_EQ(info["fusion"], "ekf_ranging");
-    EXPECT_EQ(info["fusion_options"], options);
-    const json latest = info["latest"];
+    const HalfWalked hw = walk_half(s, "ekf_ranging", options, 8.2);
+    const json latest = restart(s, hw, "ekf_ranging", options);
     ExpectedEkf e;
     e.config.step_sigma_per_m = 0.2;
     e.config.huber_k = 2.0;
-    e.start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>());
+    e.resume(latest);
     // Steps alone first (the earliest were run before the restart: skipped), then the rest.
-    const auto more_steps = slice(w.steps, latest["t"].get<double>() - 2.5, mid + 3);
-    const json got_steps = body_of(call(s, "POST", t.steps(), t.token, body(more_steps, {}).dump()));
-    expect_same(got_steps["fused"], e.run(slice(more_steps, mid, 1e300), {}));
-    const auto rest_steps = slice(w.steps, mid + 3, 1e300), rest_scans = slice(w.scans, mid + 3, 1e300);
-    const json got = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const auto more_steps = slice(hw.w.steps, latest["t"].get<double>() - 2.5, hw.mid + 3);
+    const json got_steps = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(more_steps, {}).dump()));
+    expect_same(got_steps["fused"], e.run(slice(more_steps, hw.mid, 1e300), {}));
+    const auto rest_steps = slice(hw.w.steps, hw.mid + 3, 1e300), rest_scans = slice(hw.w.scans, hw.mid + 3, 1e300);
+    const json got = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()));
     const auto expected = e.run(rest_steps, rest_scans);
     expect_same(got["fused"], expected);
-    EXPECT_EQ(got["fused"][0]["floor_id"], h.floor);
-    EXPECT_LT(std::hypot(expected.back()["x"].get<double>() - w.end.x, expected.back()["y"].get<double>() - w.end.y), 1.5);
+    EXPECT_EQ(got["fused"][0]["floor_id"], hw.h.floor);
+    EXPECT_LT(std::hypot(expected.back()["x"].get<double>() - hw.w.end.x, expected.back()["y"].get<double>() - hw.w.end.y), 1.5);
 }
 
 // Two servers sharing a PostgreSQL database: a Kalman track's requests alternate between them,
@@ -633,22 +656,12 @@ TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesTheTrack) {
     if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
     ServerProcess a({"--quiet"});
     ServerProcess b({"--quiet"}, locus::testing::SameDatabase{a.db()});
-    const auto h = locus::testing::make_hierarchy(a);
-    add_transmitters(a, h.floor);
-    const Walk w = make_walk(std::floor(unix_now()) - 60);
-    const Track t = open_track(a, h.map, "kalman_seed");
-    const double mid = w.t0 + 10.2;
-    ASSERT_EQ(call(a, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
-    const json latest = body_of(call(b, "GET", t.self(), t.token))["latest"];
-    ASSERT_EQ(latest["t"].get<double>(), w.t0 + 10);
-    const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-    const json got = body_of(call(b, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const HalfWalked hw = walk_half(a, "kalman_seed", nullptr, 10.2);
+    const auto [latest, got] = finish_on(b, hw);
     Expected e{fusion::seed004_kalman_config(), false, std::nullopt};
-    fusion::KalmanConfig c = e.config.kalman;
-    c.initial_sigma_m = latest["accuracy_m"].get<double>();
-    e.kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
-    expect_same(got["fused"], e.run(rest_steps, rest_scans));
-    EXPECT_EQ(body_of(call(a, "GET", t.self(), t.token))["fixes"].get<std::size_t>(), w.steps.size() + w.scans.size());
+    e.resume(latest);
+    expect_same(got["fused"], e.run(slice(hw.w.steps, hw.mid, 1e300), slice(hw.w.scans, hw.mid, 1e300)));
+    EXPECT_EQ(stored_fixes(a, hw.t), hw.w.steps.size() + hw.w.scans.size());
 }
 
 // ekf_ranging across two servers sharing a PostgreSQL database: the second resumes at the
@@ -657,19 +670,11 @@ TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesAnEkfTrack) {
     if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
     ServerProcess a({"--quiet"});
     ServerProcess b({"--quiet"}, locus::testing::SameDatabase{a.db()});
-    const auto h = locus::testing::make_hierarchy(a);
-    add_transmitters(a, h.floor);
-    const Walk w = make_walk(std::floor(unix_now()) - 60);
-    const Track t = open_track(a, h.map, "ekf_ranging", {{"step_lead_s", 0.0}});
-    const double mid = w.t0 + 10.2;
-    ASSERT_EQ(call(a, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
-    const json latest = body_of(call(b, "GET", t.self(), t.token))["latest"];
-    ASSERT_EQ(latest["t"].get<double>(), w.t0 + 10);
-    const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-    const json got = body_of(call(b, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const HalfWalked hw = walk_half(a, "ekf_ranging", {{"step_lead_s", 0.0}}, 10.2);
+    const auto [latest, got] = finish_on(b, hw);
     ExpectedEkf e;
     e.config.step_lead_s = 0.0;
-    e.start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>());
-    expect_same(got["fused"], e.run(rest_steps, rest_scans));
-    EXPECT_EQ(body_of(call(a, "GET", t.self(), t.token))["fixes"].get<std::size_t>(), w.steps.size() + w.scans.size());
+    e.resume(latest);
+    expect_same(got["fused"], e.run(slice(hw.w.steps, hw.mid, 1e300), slice(hw.w.scans, hw.mid, 1e300)));
+    EXPECT_EQ(stored_fixes(a, hw.t), hw.w.steps.size() + hw.w.scans.size());
 }
