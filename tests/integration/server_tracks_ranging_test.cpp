@@ -129,6 +129,19 @@ Walk make_walk(double t0) {
     return w;
 }
 
+// A filter's answers to the inputs of one request in the server's order (by t, a radio fix
+// before a step of equal t).
+template <class Filter>
+std::vector<json> in_server_order(Filter& f, const std::vector<json>& steps, const std::vector<json>& scans) {
+    std::vector<json> out;
+    std::size_t i = 0, j = 0;
+    while (i < steps.size() || j < scans.size()) {
+        if (j < scans.size() && (i >= steps.size() || scans[j]["t"].get<double>() <= steps[i]["t"].get<double>())) out.push_back(f.scan(scans[j++]));
+        else out.push_back(f.step(steps[i++]));
+    }
+    return out;
+}
+
 // What the server does, in-process: each scan ranged (in the order its readings came, as the
 // server's query keeps them), client-lib's Kalman filter started at the first fix with the
 // fix's own σ, steps as control input.
@@ -169,16 +182,7 @@ struct Expected {
         kf->predict(locus::pdr::step({0.0, 0.0}, s["length_m"].get<double>(), s["heading_deg"].get<double>() * std::numbers::pi / 180.0));
         return fused(s["t"].get<double>());
     }
-    // The inputs of one request in the server's order (by t, a radio fix before a step of equal t).
-    std::vector<json> run(std::vector<json> steps, std::vector<json> scans) {
-        std::vector<json> out;
-        std::size_t i = 0, j = 0;
-        while (i < steps.size() || j < scans.size()) {
-            if (j < scans.size() && (i >= steps.size() || scans[j]["t"].get<double>() <= steps[i]["t"].get<double>())) out.push_back(scan(scans[j++]));
-            else out.push_back(step(steps[i++]));
-        }
-        return out;
-    }
+    std::vector<json> run(const std::vector<json>& steps, const std::vector<json>& scans) { return in_server_order(*this, steps, scans); }
 };
 
 // ekf_ranging in-process: fusion::RangingEkf over the map's transmitters (ids as the server keys
@@ -228,15 +232,7 @@ struct ExpectedEkf {
         ekf->predict(locus::pdr::step({0.0, 0.0}, s["length_m"].get<double>(), heading), s["t"].get<double>());
         return fused(s["t"].get<double>());
     }
-    std::vector<json> run(std::vector<json> steps, std::vector<json> scans) {
-        std::vector<json> out;
-        std::size_t i = 0, j = 0;
-        while (i < steps.size() || j < scans.size()) {
-            if (j < scans.size() && (i >= steps.size() || scans[j]["t"].get<double>() <= steps[i]["t"].get<double>())) out.push_back(scan(scans[j++]));
-            else out.push_back(step(steps[i++]));
-        }
-        return out;
-    }
+    std::vector<json> run(const std::vector<json>& steps, const std::vector<json>& scans) { return in_server_order(*this, steps, scans); }
 };
 
 void expect_same(const json& got, const std::vector<json>& expected) {
