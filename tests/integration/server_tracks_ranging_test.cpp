@@ -149,16 +149,20 @@ struct Expected {
     fusion::RangingKalmanConfig config;
     bool multilateration = false;
     std::optional<fusion::KalmanFilter> kf;
+    json heading_deg = nullptr;  // the last step's, answered raw
 
     json fused(double t) const {
         const Point p = kf->position();
-        return {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(kf->covariance().trace() / 2.0)}};
+        json f = {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(kf->covariance().trace() / 2.0)}};
+        if (!heading_deg.is_null()) f["heading_deg"] = heading_deg;
+        return f;
     }
     // A server resuming the track starts the filter at its latest stored fix, σ its accuracy.
     void resume(const json& latest) {
         fusion::KalmanConfig c = config.kalman;
         c.initial_sigma_m = latest["accuracy_m"].get<double>();
         kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
+        heading_deg = latest.value("heading_deg", json());
     }
     json scan(const json& s) {
         std::vector<ranging::Heard> heard;
@@ -179,6 +183,7 @@ struct Expected {
         return fused(s["t"].get<double>());
     }
     json step(const json& s) {
+        heading_deg = s["heading_deg"];
         kf->predict(locus::pdr::step({0.0, 0.0}, s["length_m"].get<double>(), s["heading_deg"].get<double>() * std::numbers::pi / 180.0));
         return fused(s["t"].get<double>());
     }
@@ -191,6 +196,7 @@ struct Expected {
 struct ExpectedEkf {
     fusion::RangingEkfConfig config;
     std::optional<fusion::RangingEkf> ekf;
+    std::optional<double> heading_deg;  // the last step's; answered less the filter's heading bias
 
     static std::vector<fusion::RangingAnchor> anchors() {
         std::vector<fusion::RangingAnchor> out;
@@ -202,10 +208,16 @@ struct ExpectedEkf {
         c.initial_sigma_m = sigma;
         ekf.emplace(at, anchors(), c);
     }
-    void resume(const json& latest) { start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>()); }
+    void resume(const json& latest) {
+        start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>());
+        if (latest.contains("heading_deg")) heading_deg = latest["heading_deg"].get<double>();
+    }
     json fused(double t) const {
         const Point p = ekf->position();
-        return {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(ekf->position_covariance().trace() / 2.0)}};
+        json f = {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(ekf->position_covariance().trace() / 2.0)}};
+        // The bias turns the steps counter-clockwise; headings are clockwise.
+        if (heading_deg) f["heading_deg"] = *heading_deg - ekf->heading_bias_rad() * 180.0 / std::numbers::pi;
+        return f;
     }
     json scan(const json& s) {
         const double t = s["t"].get<double>();
@@ -228,7 +240,8 @@ struct ExpectedEkf {
         return fused(t);
     }
     json step(const json& s) {
-        const double heading = s["heading_deg"].get<double>() * std::numbers::pi / 180.0;
+        heading_deg = s["heading_deg"].get<double>();
+        const double heading = *heading_deg * std::numbers::pi / 180.0;
         ekf->predict(locus::pdr::step({0.0, 0.0}, s["length_m"].get<double>(), heading), s["t"].get<double>());
         return fused(s["t"].get<double>());
     }
@@ -242,6 +255,13 @@ void expect_same(const json& got, const std::vector<json>& expected) {
         EXPECT_NEAR(got[i]["x"].get<double>(), expected[i]["x"].get<double>(), 1e-9) << i;
         EXPECT_NEAR(got[i]["y"].get<double>(), expected[i]["y"].get<double>(), 1e-9) << i;
         EXPECT_NEAR(got[i]["accuracy_m"].get<double>(), expected[i]["accuracy_m"].get<double>(), 1e-9) << i;
+        ASSERT_EQ(got[i].contains("heading_deg"), expected[i].contains("heading_deg")) << i << ": " << got[i].dump();
+        if (expected[i].contains("heading_deg")) {  // as angles: the server answers in [0, 360)
+            const double h = got[i]["heading_deg"].get<double>();
+            EXPECT_GE(h, 0.0) << i;
+            EXPECT_LT(h, 360.0) << i;
+            EXPECT_NEAR(std::remainder(h - expected[i]["heading_deg"].get<double>(), 360.0), 0.0, 1e-9) << i;
+        }
     }
 }
 
