@@ -15,6 +15,7 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "sse_listener.hpp"
 #include "test_database.hpp"
 #include "track_call.hpp"
 
@@ -46,57 +47,10 @@ void post_fixes(const ServerProcess& s, const Track& t, const json& fixes) {
     ASSERT_EQ(r.status, 200) << r.raw;
 }
 
-// Reads a server-sent event stream on its own thread, keeping each event's name and data.
-struct Listener {
-    std::mutex mu;
-    std::vector<std::pair<std::string, json>> events;
-    std::atomic<bool> stop{false}, closed{false};
-    std::thread thread;
-
-    Listener(int port, const std::string& path, const std::string& track_token) {
-        thread = std::thread([this, port, path, track_token] {
-            httplib::Client c("127.0.0.1", port);
-            c.set_read_timeout(10, 0);
-            httplib::Headers h;
-            if (!track_token.empty()) h.emplace("X-Track-Token", track_token);
-            std::string buf;
-            c.Get(path.c_str(), h, [&](const char* data, std::size_t n) {
-                buf.append(data, n);
-                for (std::size_t end; (end = buf.find("\n\n")) != std::string::npos; buf.erase(0, end + 2)) {
-                    const std::string event = buf.substr(0, end);
-                    const auto d = event.find("\ndata: ");
-                    if (!event.starts_with("event: ") || d == std::string::npos) continue;  // a heartbeat
-                    std::lock_guard lock(mu);
-                    events.emplace_back(event.substr(7, d - 7), json::parse(event.substr(d + 7)));
-                }
-                return !stop.load();
-            });
-            closed = true;
-        });
-    }
-    ~Listener() {
-        stop = true;
-        thread.join();
-    }
-    std::vector<std::pair<std::string, json>> seen() {
-        std::lock_guard lock(mu);
-        return events;
-    }
-    // Polls up to `seconds` for at least n events; answers whether they came.
-    bool wait_for(std::size_t n, double seconds) {
-        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        while (seen().size() < n && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        return seen().size() >= n;
-    }
-    bool ended(double seconds) {
-        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        const auto has_end = [this] {
-            const auto e = seen();
-            return !e.empty() && e.back().first == "end";
-        };
-        while (!has_end() && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        return has_end();
-    }
+// A stream read with the track's token (none: the positions stream, open on a keyless server).
+struct Listener : locus::testing::SseListener {
+    Listener(int port, const std::string& path, const std::string& track_token)
+        : SseListener(port, path, track_token.empty() ? httplib::Headers{} : httplib::Headers{{"X-Track-Token", track_token}}) {}
 };
 
 std::vector<double> fix_times(const std::vector<std::pair<std::string, json>>& events) {
