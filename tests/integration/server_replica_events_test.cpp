@@ -60,6 +60,28 @@ std::vector<double> fix_times(const std::vector<std::pair<std::string, json>>& e
     return out;
 }
 
+Track open_with_fix(const ServerProcess& a, const locus::testing::Hierarchy& h, const std::string& label, double t) {
+    const Track out = open_track(a, h.map, label);
+    post_fixes(a, out, json::array({fix(t, h.floor, 0)}));
+    return out;
+}
+
+// On A: a hierarchy and a track `label` with one fix `age_s` ago; on B: the track's stream and
+// the map's positions stream, opened after that fix.
+struct Followed {
+    locus::testing::Hierarchy h;
+    double t0;
+    Track t;
+    Listener track_stream, map_stream;
+
+    Followed(const ServerProcess& a, const ServerProcess& b, const std::string& label, double age_s)
+        : h(locus::testing::make_hierarchy(a)),
+          t0(unix_now() - age_s),
+          t(open_with_fix(a, h, label, t0)),
+          track_stream(b.port(), t.path("/events"), t.token),
+          map_stream(b.port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "") {}
+};
+
 struct ReplicaEvents : ::testing::Test {
     void SetUp() override {
         if (!locus::testing::on_postgres())
@@ -77,55 +99,50 @@ struct ReplicaEvents : ::testing::Test {
 }  // namespace
 
 TEST_F(ReplicaEvents, FixesPostedOnOneServerReachTheOthersStreamsInOrderOnceEach) {
-    const auto h = locus::testing::make_hierarchy(*a);
-    const double t0 = unix_now() - 60;
-    const Track t = open_track(*a, h.map, "ann");
-    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
-    Listener track_stream(b->port(), t.path("/events"), t.token);
-    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
-    ASSERT_TRUE(track_stream.wait_for(1, 2.0));
-    ASSERT_TRUE(map_stream.wait_for(1, 2.0));
-    EXPECT_EQ(map_stream.seen()[0].second.at("fix").at("x"), 0.0);
+    Followed f(*a, *b, "ann", 60);
+    ASSERT_TRUE(f.track_stream.wait_for(1, 2.0));
+    ASSERT_TRUE(f.map_stream.wait_for(1, 2.0));
+    EXPECT_EQ(f.map_stream.seen()[0].second.at("fix").at("x"), 0.0);
 
     // One fix at a time, each seen on B within a second; then a batch of three.
-    std::vector<double> want = {t0};
+    std::vector<double> want = {f.t0};
     for (int i = 1; i <= 4; ++i) {
         const auto posted = std::chrono::steady_clock::now();
-        post_fixes(*a, t, json::array({fix(t0 + i, h.floor, i)}));
-        want.push_back(t0 + i);
-        ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0)) << "fix " << i << " did not reach B's track stream";
-        ASSERT_TRUE(map_stream.wait_for(1 + static_cast<std::size_t>(i), 1.0)) << "fix " << i << " did not reach B's positions stream";
+        post_fixes(*a, f.t, json::array({fix(f.t0 + i, f.h.floor, i)}));
+        want.push_back(f.t0 + i);
+        ASSERT_TRUE(f.track_stream.wait_for(want.size(), 1.0)) << "fix " << i << " did not reach B's track stream";
+        ASSERT_TRUE(f.map_stream.wait_for(1 + static_cast<std::size_t>(i), 1.0)) << "fix " << i << " did not reach B's positions stream";
         EXPECT_LT(std::chrono::steady_clock::now() - posted, std::chrono::seconds(1));
-        const auto last = map_stream.seen().back();
+        const auto last = f.map_stream.seen().back();
         EXPECT_EQ(last.first, "position");
-        EXPECT_EQ(last.second.at("track_id"), t.id);
+        EXPECT_EQ(last.second.at("track_id"), f.t.id);
         EXPECT_EQ(last.second.at("label"), "ann");
         EXPECT_EQ(last.second.at("fix").at("x").get<double>(), i);
     }
-    post_fixes(*a, t, json::array({fix(t0 + 5, h.floor, 5), fix(t0 + 6, h.floor, 6), fix(t0 + 7, h.floor, 7)}));
-    for (int i = 5; i <= 7; ++i) want.push_back(t0 + i);
-    ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0));
-    ASSERT_TRUE(map_stream.wait_for(6, 1.0));
+    post_fixes(*a, f.t, json::array({fix(f.t0 + 5, f.h.floor, 5), fix(f.t0 + 6, f.h.floor, 6), fix(f.t0 + 7, f.h.floor, 7)}));
+    for (int i = 5; i <= 7; ++i) want.push_back(f.t0 + i);
+    ASSERT_TRUE(f.track_stream.wait_for(want.size(), 1.0));
+    ASSERT_TRUE(f.map_stream.wait_for(6, 1.0));
     // A retry of fixes already stored (on either server) is no event anywhere.
-    post_fixes(*b, t, json::array({fix(t0 + 7, h.floor, 7)}));
-    post_fixes(*a, t, json::array({fix(t0 + 6, h.floor, 6)}));
+    post_fixes(*b, f.t, json::array({fix(f.t0 + 7, f.h.floor, 7)}));
+    post_fixes(*a, f.t, json::array({fix(f.t0 + 6, f.h.floor, 6)}));
     std::this_thread::sleep_for(std::chrono::milliseconds(600));  // heartbeats only: nothing repeated
-    EXPECT_EQ(fix_times(track_stream.seen()), want);
-    EXPECT_EQ(map_stream.seen().size(), 6u);
-    EXPECT_EQ(map_stream.seen().back().second.at("fix").at("x"), 7.0);
+    EXPECT_EQ(fix_times(f.track_stream.seen()), want);
+    EXPECT_EQ(f.map_stream.seen().size(), 6u);
+    EXPECT_EQ(f.map_stream.seen().back().second.at("fix").at("x"), 7.0);
     // A fix posted to B itself still comes once.
-    post_fixes(*b, t, json::array({fix(t0 + 8, h.floor, 8)}));
-    want.push_back(t0 + 8);
-    ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0));
+    post_fixes(*b, f.t, json::array({fix(f.t0 + 8, f.h.floor, 8)}));
+    want.push_back(f.t0 + 8);
+    ASSERT_TRUE(f.track_stream.wait_for(want.size(), 1.0));
 
     // Closed on A: B's track stream ends as on a local close, and the track leaves B's map stream.
-    ASSERT_EQ(track_call(*a, "POST", t.path("/close"), {t.token}, "{}").status, 200);
-    EXPECT_TRUE(track_stream.ended(1.0)) << "B's track stream did not end when A closed the track";
-    ASSERT_TRUE(map_stream.wait_for(8, 1.0));
-    EXPECT_EQ(map_stream.seen().back().first, "leave");
-    EXPECT_EQ(map_stream.seen().back().second.at("track_id"), t.id);
-    EXPECT_TRUE(map_stream.seen().back().second.at("floor_id").is_null());
-    EXPECT_EQ(fix_times(track_stream.seen()), want);
+    ASSERT_EQ(track_call(*a, "POST", f.t.path("/close"), {f.t.token}, "{}").status, 200);
+    EXPECT_TRUE(f.track_stream.ended(1.0)) << "B's track stream did not end when A closed the track";
+    ASSERT_TRUE(f.map_stream.wait_for(8, 1.0));
+    EXPECT_EQ(f.map_stream.seen().back().first, "leave");
+    EXPECT_EQ(f.map_stream.seen().back().second.at("track_id"), f.t.id);
+    EXPECT_TRUE(f.map_stream.seen().back().second.at("floor_id").is_null());
+    EXPECT_EQ(fix_times(f.track_stream.seen()), want);
 }
 
 TEST_F(ReplicaEvents, ATrackOpenedOnOneServerAppearsOnTheOthersPositionsStream) {
@@ -170,21 +187,16 @@ TEST_F(ReplicaEvents, RevokingAShareOrDeletingOnOneServerEndsTheOthersStreams) {
 // A track fix written with no notification (as if it were lost): the change counter moves, B
 // hears "everything changed" and its streams read again what they follow.
 TEST_F(ReplicaEvents, AFixWhoseNotificationNeverCameIsCaughtUp) {
-    const auto h = locus::testing::make_hierarchy(*a);
-    const double t0 = unix_now() - 30;
-    const Track t = open_track(*a, h.map, "dan");
-    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
-    Listener track_stream(b->port(), t.path("/events"), t.token);
-    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
-    ASSERT_TRUE(track_stream.wait_for(1, 2.0));
-    ASSERT_TRUE(map_stream.wait_for(1, 2.0));
+    Followed f(*a, *b, "dan", 30);
+    ASSERT_TRUE(f.track_stream.wait_for(1, 2.0));
+    ASSERT_TRUE(f.map_stream.wait_for(1, 2.0));
     locus::testing::database_exec(a->db(), "BEGIN; INSERT INTO track_fixes (track_id, t, floor_id, x, y, accuracy_m) VALUES (" +
-                                               std::to_string(t.id) + ", " + std::to_string(t0 + 1) + ", " + std::to_string(h.floor) +
+                                               std::to_string(f.t.id) + ", " + std::to_string(f.t0 + 1) + ", " + std::to_string(f.h.floor) +
                                                ", 9, 1, 1.5); UPDATE change_counter SET version = version + 1; COMMIT");
-    ASSERT_TRUE(track_stream.wait_for(2, 2.0)) << "B's track stream never caught up";
-    EXPECT_EQ(track_stream.seen()[1].second.at("x"), 9.0);
-    ASSERT_TRUE(map_stream.wait_for(2, 2.0)) << "B's positions stream never caught up";
-    EXPECT_EQ(map_stream.seen()[1].second.at("fix").at("x"), 9.0);
+    ASSERT_TRUE(f.track_stream.wait_for(2, 2.0)) << "B's track stream never caught up";
+    EXPECT_EQ(f.track_stream.seen()[1].second.at("x"), 9.0);
+    ASSERT_TRUE(f.map_stream.wait_for(2, 2.0)) << "B's positions stream never caught up";
+    EXPECT_EQ(f.map_stream.seen()[1].second.at("fix").at("x"), 9.0);
 }
 
 // Steps fused on A reach B's stream as A stored them, and A's filter goes on as on one server.
