@@ -283,6 +283,28 @@ std::size_t stored_fixes(const ServerProcess& s, const Track& t) {
     return body_of(call(s, "GET", t.self(), t.token))["fixes"].get<std::size_t>();
 }
 
+// The walk posted to `t` in two requests split at `mid`: each answer's fused fixes are `e`'s
+// (client-lib in-process) on the same inputs, and the first gives a scan fix a scan, on `floor`.
+struct TwoAnswers {
+    json first, rest;
+    std::vector<json> expected_rest;
+};
+
+template <class Filter>
+TwoAnswers post_in_two(const ServerProcess& s, const Track& t, const Walk& w, double mid, std::int64_t floor, Filter& e) {
+    TwoAnswers out;
+    const auto first_steps = slice(w.steps, w.t0, mid), first_scans = slice(w.scans, w.t0, mid);
+    out.first = body_of(call(s, "POST", t.steps(), t.token, body(first_steps, first_scans).dump()));
+    expect_same(out.first["fused"], e.run(first_steps, first_scans));
+    EXPECT_EQ(out.first["scan_fixes"].size(), first_scans.size());
+    for (const auto& f : out.first["scan_fixes"]) EXPECT_EQ(f["floor_id"], floor);
+    const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
+    out.rest = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    out.expected_rest = e.run(rest_steps, rest_scans);
+    expect_same(out.rest["fused"], out.expected_rest);
+    return out;
+}
+
 // What the resume tests share: on `s`, the hierarchy with the transmitters, a track of `fusion`
 // (and `options`), and the walk's steps and scans before t0 + `mid_s` posted to it.
 struct HalfWalked {
@@ -350,15 +372,8 @@ TEST(ServerTracksRanging, KalmanTracksFuseScansAsClientLibDoes) {
         if (!c.options.is_null()) EXPECT_EQ(info["fusion_options"], c.options);
         else EXPECT_FALSE(info.contains("fusion_options"));
         Expected e{c.config, c.multilateration, std::nullopt};
-        const auto first_steps = slice(w.steps, w.t0, mid), first_scans = slice(w.scans, w.t0, mid);
-        const json a = body_of(call(s, "POST", t.steps(), t.token, body(first_steps, first_scans).dump()));
-        expect_same(a["fused"], e.run(first_steps, first_scans));
-        ASSERT_EQ(a["scan_fixes"].size(), first_scans.size());
-        EXPECT_EQ(a["scan_fixes"][0]["floor_id"], h.floor);
+        const auto [a, b, expected_rest] = post_in_two(s, t, w, mid, h.floor, e);
         const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-        const json b = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
-        const auto expected_rest = e.run(rest_steps, rest_scans);
-        expect_same(b["fused"], expected_rest);
         EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
         const json latest = b["latest"];
         EXPECT_NEAR(latest["x"].get<double>(), expected_rest.back()["x"].get<double>(), 1e-9);
@@ -405,15 +420,8 @@ TEST(ServerTracksRanging, EkfTrackFusesReadingsAsClientLibDoes) {
     e.config.step_lead_s = 0.0;
     e.config.reading_sigma_db = 3.0;
     json all = json::array();
-    const auto first_steps = slice(w.steps, w.t0, mid), first_scans = slice(w.scans, w.t0, mid);
-    const json a = body_of(call(s, "POST", t.steps(), t.token, body(first_steps, first_scans).dump()));
-    expect_same(a["fused"], e.run(first_steps, first_scans));
-    ASSERT_EQ(a["scan_fixes"].size(), first_scans.size());
-    EXPECT_EQ(a["scan_fixes"][0]["floor_id"], h.floor);
+    const auto [a, b, expected_rest] = post_in_two(s, t, w, mid, h.floor, e);
     const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-    const json b = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
-    const auto expected_rest = e.run(rest_steps, rest_scans);
-    expect_same(b["fused"], expected_rest);
     for (const auto& f : a["fused"]) all.push_back(f);
     for (const auto& f : b["fused"]) all.push_back(f);
     EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
