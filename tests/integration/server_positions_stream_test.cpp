@@ -11,14 +11,14 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 #include "sse_listener.hpp"
+#include "unix_time.hpp"
 
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
+using locus::testing::unix_now;
 using nlohmann::json;
 
 namespace {
-
-double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 int get_status(const ServerProcess& s, const std::string& path, const std::string& api_key) {
     httplib::Client c("127.0.0.1", s.port());

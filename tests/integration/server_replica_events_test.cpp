@@ -18,16 +18,16 @@
 #include "sse_listener.hpp"
 #include "test_database.hpp"
 #include "track_call.hpp"
+#include "unix_time.hpp"
 
 using locus::testing::body_of;
 using locus::testing::SameDatabase;
 using locus::testing::ServerProcess;
 using locus::testing::track_call;
+using locus::testing::unix_now;
 using nlohmann::json;
 
 namespace {
-
-double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 struct Track {
     std::int64_t id = 0;

@@ -25,18 +25,18 @@
 #include "locus/ranging/path_loss.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "server_process.hpp"
+#include "unix_time.hpp"
 
 using locus::Point;
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
+using locus::testing::unix_now;
 using nlohmann::json;
 namespace fusion = locus::fusion;
 namespace ranging = locus::ranging;
 
 namespace {
-
-double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 constexpr double kPhoneHeight = 1.2;  // the server's default: a transmitter's z is measured against it
 
