@@ -6,7 +6,8 @@
 
 namespace locus::localize {
 
-Service::Service(store::Store& store, Prepare prepare) : store_(store), prepare_(std::move(prepare)) {
+Service::Service(store::Store& store, Prepare prepare, Options options)
+    : store_(store), prepare_(std::move(prepare)), options_(options) {
     subscription_ = store_.subscribe([this](const store::Change& change) { on_change(change); });
     try {
         std::unordered_set<std::int64_t> maps;
@@ -32,22 +33,37 @@ Service::~Service() {
     worker_.join();
 }
 
+// Stale-while-revalidate, for big indexes only. Rebuilding on the query's thread gives
+// read-your-writes (a surveyor's upload shows in the next localize) and costs a few ms on a
+// small radio map, so a query still does so when the index holds at most sync_rebuild_max_rps
+// RPs. On a big map (100,000 RPs: seconds) every query during an upload stream
+// would wait for a full rebuild, so it gets the previous snapshot instead and the background
+// rebuilds. Staleness is then bounded by settle + pace_factor x d + d, d the build's duration
+// (about 4 d with the defaults): the background starts the rebuild at most settle +
+// pace_factor x d after the write, and it takes about d.
 std::shared_ptr<const Snapshot> Service::lookup(Scope scope, std::int64_t id) {
     {
         std::lock_guard lock(mu_);
-        if (!dirty(scope).count(id)) {
-            if (auto it = table(scope).find(id); it != table(scope).end()) return it->second;
+        if (auto it = table(scope).find(id); it != table(scope).end() && it->second.snapshot) {
+            const Entry& e = it->second;
+            if (!e.stale() || e.snapshot->index.size() > options_.sync_rebuild_max_rps) return e.snapshot;
         }
     }
     return rebuild(scope, id);
 }
 
+std::size_t Service::background_rebuilds() const {
+    std::lock_guard lock(mu_);
+    return background_rebuilds_;
+}
+
 std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
-    std::lock_guard build(build_mu_);
+    const auto started = Clock::now();
+    std::uint64_t generation = 0;
     {
-        // Cleared before reading, so a write that commits during the read marks it again.
+        // Taken before reading, so a write that commits during the read leaves the entry stale.
         std::lock_guard lock(mu_);
-        dirty(scope).erase(id);
+        generation = table(scope)[id].wanted;
     }
     std::vector<store::StoredRp> stored;
     std::string settings;
@@ -76,10 +92,18 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
     snap->index = match::Index::build(rps);
     snap->settings_text = std::move(settings);
     if (prepare_) prepare_(*snap);
-    std::shared_ptr<const Snapshot> out = snap;
+    const auto finished = Clock::now();
     std::lock_guard lock(mu_);
-    table(scope)[id] = out;
-    return out;
+    const auto it = table(scope).find(id);
+    if (it == table(scope).end()) return snap;  // a delete raced the build: nothing to publish to
+    Entry& e = it->second;
+    if (generation > e.built) {
+        e.snapshot = std::move(snap);
+        e.built = generation;
+        e.last_build = finished - started;
+        e.last_finished = finished;
+    }
+    return e.snapshot;
 }
 
 std::string Service::common_settings(const std::vector<store::StoredRp>& stored) {
@@ -102,7 +126,7 @@ std::string Service::common_settings(const std::vector<store::StoredRp>& stored)
 void Service::mark_dirty(Scope scope, std::int64_t id) {
     {
         std::lock_guard lock(mu_);
-        dirty(scope).insert(id);
+        ++table(scope)[id].wanted;
     }
     wake_.notify_one();
 }
@@ -110,8 +134,8 @@ void Service::mark_dirty(Scope scope, std::int64_t id) {
 void Service::mark_all_dirty() {
     {
         std::lock_guard lock(mu_);
-        for (const auto& [id, snap] : radiomaps_) dirty_radiomaps_.insert(id);
-        for (const auto& [id, snap] : maps_) dirty_maps_.insert(id);
+        for (auto& entry : radiomaps_) ++entry.second.wanted;
+        for (auto& entry : maps_) ++entry.second.wanted;
     }
     wake_.notify_one();
 }
@@ -130,30 +154,54 @@ void Service::on_change(const store::Change& change) {
     }
 }
 
+// Pacing: a rebuild of an index starts no sooner than pace_factor x its last build's duration
+// after that build finished. Surveyors uploading without pause to a map whose build takes d
+// then cost d out of every (1 + pace_factor) d of one core, instead of a core busy re-reading
+// the store; uploads arriving meanwhile coalesce into the next rebuild. Small indexes (d of a
+// few ms) are hardly delayed. Queries never wait for this thread (see lookup).
 void Service::refresher() {
-    // Waits for writes to settle a little so a burst (an import) costs one rebuild, not one per row.
-    constexpr auto kSettle = std::chrono::milliseconds(50);
     std::unique_lock lock(mu_);
+    const auto any_stale = [this] {
+        for (const auto& entry : radiomaps_)
+            if (entry.second.stale()) return true;
+        for (const auto& entry : maps_)
+            if (entry.second.stale()) return true;
+        return false;
+    };
     while (!stopping_) {
-        wake_.wait(lock, [this] { return stopping_ || !dirty_radiomaps_.empty() || !dirty_maps_.empty(); });
+        wake_.wait(lock, [&] { return stopping_ || any_stale(); });
         if (stopping_) break;
-        wake_.wait_for(lock, kSettle, [this] { return stopping_; });
+        wake_.wait_for(lock, options_.settle, [this] { return stopping_; });
         if (stopping_) break;
-        std::vector<std::pair<Scope, std::int64_t>> todo;
-        for (auto id : dirty_radiomaps_) todo.emplace_back(Scope::radiomap, id);
-        for (auto id : dirty_maps_) todo.emplace_back(Scope::map, id);
+        const auto now = Clock::now();
+        std::vector<std::pair<Scope, std::int64_t>> due;
+        std::optional<Clock::time_point> next;
+        for (const Scope scope : {Scope::radiomap, Scope::map}) {
+            for (const auto& entry : table(scope)) {
+                const Entry& e = entry.second;
+                if (!e.stale()) continue;
+                const auto earliest = e.last_finished + std::chrono::duration_cast<Duration>(e.last_build * options_.pace_factor);
+                if (earliest <= now) due.emplace_back(scope, entry.first);
+                else if (!next || earliest < *next) next = earliest;
+            }
+        }
+        if (due.empty()) {
+            // Only paced entries are stale: sleep until the first is due (a stop wakes it).
+            if (next) wake_.wait_until(lock, *next, [this] { return stopping_; });
+            continue;
+        }
         lock.unlock();
-        for (const auto& [scope, id] : todo) {
+        for (const auto& item : due) {
             try {
-                rebuild(scope, id);
+                rebuild(item.first, item.second);
             } catch (const store::NotFound&) {
                 // Deleted meanwhile: rebuild already dropped it.
             } catch (const std::exception&) {
-                // A failed background rebuild leaves the entry dirty for the next query to retry.
-                mark_dirty(scope, id);
+                // A failed rebuild leaves the entry stale: retried after the next settle.
             }
         }
         lock.lock();
+        background_rebuilds_ += due.size();
     }
 }
 
