@@ -38,15 +38,18 @@ Service::~Service() {
 // small radio map, so a query still does so when the index holds at most sync_rebuild_max_rps
 // RPs. On a big map (100,000 RPs: seconds) every query during an upload stream
 // would wait for a full rebuild, so it gets the previous snapshot instead and the background
-// rebuilds. Staleness is then bounded by settle + pace_factor x d + d, d the build's duration
-// (about 4 d with the defaults): the background starts the rebuild at most settle +
-// pace_factor x d after the write, and it takes about d.
+// rebuilds. Staleness is then bounded by settle + (pace_factor + 2) x d, d the time of one
+// background round (every stale index rebuilt once; about 1.8 s for a 100,000-RP radio map
+// and its map, so about 9 s with the defaults): a write lands at worst just after a round
+// began reading (d to wait it out), the next round is paced (the longer of settle and
+// pace_factor x d) and takes d. Deletes are the exception (Entry::sync_before).
 std::shared_ptr<const Snapshot> Service::lookup(Scope scope, std::int64_t id) {
     {
         std::lock_guard lock(mu_);
         if (auto it = table(scope).find(id); it != table(scope).end() && it->second.snapshot) {
             const Entry& e = it->second;
-            if (!e.stale() || e.snapshot->index.size() > options_.sync_rebuild_max_rps) return e.snapshot;
+            if (!e.stale() || (e.snapshot->index.size() > options_.sync_rebuild_max_rps && e.built >= e.sync_before))
+                return e.snapshot;
         }
     }
     return rebuild(scope, id);
@@ -58,7 +61,6 @@ std::size_t Service::background_rebuilds() const {
 }
 
 std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
-    const auto started = Clock::now();
     std::uint64_t generation = 0;
     {
         // Taken before reading, so a write that commits during the read leaves the entry stale.
@@ -92,7 +94,6 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
     snap->index = match::Index::build(rps);
     snap->settings_text = std::move(settings);
     if (prepare_) prepare_(*snap);
-    const auto finished = Clock::now();
     std::lock_guard lock(mu_);
     const auto it = table(scope).find(id);
     if (it == table(scope).end()) return snap;  // a delete raced the build: nothing to publish to
@@ -100,8 +101,6 @@ std::shared_ptr<const Snapshot> Service::rebuild(Scope scope, std::int64_t id) {
     if (generation > e.built) {
         e.snapshot = std::move(snap);
         e.built = generation;
-        e.last_build = finished - started;
-        e.last_finished = finished;
     }
     return e.snapshot;
 }
@@ -123,19 +122,25 @@ std::string Service::common_settings(const std::vector<store::StoredRp>& stored)
     return common.value_or(std::string());
 }
 
-void Service::mark_dirty(Scope scope, std::int64_t id) {
+void Service::mark_dirty(Scope scope, std::int64_t id, bool sync) {
     {
         std::lock_guard lock(mu_);
-        ++table(scope)[id].wanted;
+        Entry& e = table(scope)[id];
+        ++e.wanted;
+        if (sync) e.sync_before = e.wanted;
     }
     wake_.notify_one();
 }
 
-void Service::mark_all_dirty() {
+void Service::mark_all_dirty(bool sync) {
     {
         std::lock_guard lock(mu_);
-        for (auto& entry : radiomaps_) ++entry.second.wanted;
-        for (auto& entry : maps_) ++entry.second.wanted;
+        for (Table* t : {&radiomaps_, &maps_})
+            for (auto& entry : *t) {
+                Entry& e = entry.second;
+                ++e.wanted;
+                if (sync) e.sync_before = e.wanted;
+            }
     }
     wake_.notify_one();
 }
@@ -144,21 +149,23 @@ void Service::on_change(const store::Change& change) {
     if (change.plan) return;  // indexes hold no plan
     const std::string_view kind = change.kind->name;
     if (kind == "rps" || kind == "radiomaps") {
-        if (change.radiomap_id) mark_dirty(Scope::radiomap, *change.radiomap_id);
+        if (change.radiomap_id) mark_dirty(Scope::radiomap, *change.radiomap_id, change.deleted);
         // Without its map (the write raced a delete of the hierarchy), any map may hold it.
-        if (change.map_id) mark_dirty(Scope::map, *change.map_id);
-        else mark_all_dirty();
+        if (change.map_id) mark_dirty(Scope::map, *change.map_id, change.deleted);
+        else mark_all_dirty(change.deleted);
     } else if (kind == "rooms" || change.deleted) {
-        // Rooms change symbolic locations; deleting a floor, building or map cascades.
-        mark_all_dirty();
+        // Rooms change symbolic locations; deleting a floor, building or map cascades, and
+        // is rare enough that queries may pay a rebuild to never answer from deleted RPs.
+        mark_all_dirty(change.deleted);
     }
 }
 
-// Pacing: a rebuild of an index starts no sooner than pace_factor x its last build's duration
-// after that build finished. Surveyors uploading without pause to a map whose build takes d
-// then cost d out of every (1 + pace_factor) d of one core, instead of a core busy re-reading
-// the store; uploads arriving meanwhile coalesce into the next rebuild. Small indexes (d of a
-// few ms) are hardly delayed. Queries never wait for this thread (see lookup).
+// Pacing: after a round of background rebuilds that took d, the next round starts no sooner
+// than pace_factor x d after it finished. Surveyors uploading without pause to a map whose
+// rebuilds (its radio map's and the map's index) take d then cost this thread at most
+// 1 / (1 + pace_factor) of one core, instead of a core busy re-reading the store; the uploads
+// arriving meanwhile coalesce into the next round. Small indexes (d of a few ms) are hardly
+// delayed, and queries never wait for this thread (see lookup).
 void Service::refresher() {
     std::unique_lock lock(mu_);
     const auto any_stale = [this] {
@@ -168,40 +175,32 @@ void Service::refresher() {
             if (entry.second.stale()) return true;
         return false;
     };
+    Clock::time_point next_round{};
     while (!stopping_) {
         wake_.wait(lock, [&] { return stopping_ || any_stale(); });
         if (stopping_) break;
         wake_.wait_for(lock, options_.settle, [this] { return stopping_; });
+        wake_.wait_until(lock, next_round, [this] { return stopping_; });
         if (stopping_) break;
-        const auto now = Clock::now();
-        std::vector<std::pair<Scope, std::int64_t>> due;
-        std::optional<Clock::time_point> next;
-        for (const Scope scope : {Scope::radiomap, Scope::map}) {
-            for (const auto& entry : table(scope)) {
-                const Entry& e = entry.second;
-                if (!e.stale()) continue;
-                const auto earliest = e.last_finished + std::chrono::duration_cast<Duration>(e.last_build * options_.pace_factor);
-                if (earliest <= now) due.emplace_back(scope, entry.first);
-                else if (!next || earliest < *next) next = earliest;
-            }
-        }
-        if (due.empty()) {
-            // Only paced entries are stale: sleep until the first is due (a stop wakes it).
-            if (next) wake_.wait_until(lock, *next, [this] { return stopping_; });
-            continue;
-        }
+        std::vector<std::pair<Scope, std::int64_t>> todo;
+        for (const Scope scope : {Scope::radiomap, Scope::map})
+            for (const auto& entry : table(scope))
+                if (entry.second.stale()) todo.emplace_back(scope, entry.first);
         lock.unlock();
-        for (const auto& item : due) {
+        const auto started = Clock::now();
+        for (const auto& item : todo) {
             try {
                 rebuild(item.first, item.second);
             } catch (const store::NotFound&) {
                 // Deleted meanwhile: rebuild already dropped it.
             } catch (const std::exception&) {
-                // A failed rebuild leaves the entry stale: retried after the next settle.
+                // A failed rebuild leaves the entry stale: retried in the next round.
             }
         }
+        const auto finished = Clock::now();
+        next_round = finished + std::chrono::duration_cast<Duration>((finished - started) * options_.pace_factor);
         lock.lock();
-        background_rebuilds_ += due.size();
+        background_rebuilds_ += todo.size();
     }
 }
 

@@ -51,11 +51,11 @@ struct ServiceOptions {
     using Duration = std::chrono::steady_clock::duration;
     // A stale index of at most this many RPs is rebuilt on the query's thread. A count, not a
     // build time: a timed limit would flip under load or sanitizers and lose read-your-writes.
-    std::size_t sync_rebuild_max_rps = 5000;
+    std::size_t sync_rebuild_max_rps = 2000;
     // Writes settle this long before the background rebuilds, so a burst costs one rebuild.
     Duration settle = std::chrono::milliseconds(50);
-    // An index is rebuilt no sooner than pace_factor times its last build's duration after
-    // that build finished: continuous writes take at most 1 / (1 + pace_factor) of a core.
+    // A round of background rebuilds starts no sooner than pace_factor times the last
+    // round's duration after it: continuous writes take at most 1 / (1 + pace_factor) of a core.
     double pace_factor = 3.0;
 };
 
@@ -89,8 +89,9 @@ private:
     struct Entry {
         std::shared_ptr<const Snapshot> snapshot;
         std::uint64_t wanted = 1, built = 0;
-        Duration last_build{};
-        Clock::time_point last_finished{};
+        // A query rebuilds (however big) until built reaches this: set by deletes, so a deleted
+        // radio map is not found and a deleted floor's RPs are gone at once, as before.
+        std::uint64_t sync_before = 0;
         bool stale() const { return built < wanted; }
     };
     using Table = std::unordered_map<std::int64_t, Entry>;
@@ -99,8 +100,9 @@ private:
     std::shared_ptr<const Snapshot> rebuild(Scope scope, std::int64_t id);
     // The settings every radio map of these RPs stores alike, else empty.
     std::string common_settings(const std::vector<store::StoredRp>& stored);
-    void mark_dirty(Scope scope, std::int64_t id);
-    void mark_all_dirty();
+    void mark_dirty(Scope scope, std::int64_t id, bool sync = false);
+    // An index (every index) is stale; with `sync`, queries rebuild it whatever its size.
+    void mark_all_dirty(bool sync = false);
     void refresher();
     // Marks what a committed write touched as stale.
     void on_change(const store::Change& change);

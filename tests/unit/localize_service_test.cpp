@@ -131,3 +131,23 @@ TEST(LocalizeService, SmallIndexesKeepReadYourWrites) {
     }
     EXPECT_EQ(service.background_rebuilds(), 0u);
 }
+
+// Deletes are rare and must not be answered from: a big stale index is rebuilt by the query
+// after one, so a deleted radio map is not found and a deleted RP is gone at once.
+TEST(LocalizeService, DeletesShowAtOnceEvenInBigIndexes) {
+    World w;
+    w.rp("a", 1.0, 1.0);
+    const auto b = w.rp("b", 5.0, 1.0);
+    localize::Service::Options options;
+    options.sync_rebuild_max_rps = 0;
+    options.settle = std::chrono::hours(1);
+    localize::Service service(w.store, {}, options);
+    ASSERT_EQ(service.lookup(Scope::map, w.map)->index.size(), 2u);
+
+    w.store.remove(kind("rps"), b);
+    EXPECT_EQ(service.lookup(Scope::radiomap, w.radiomap)->index.size(), 1u);
+    EXPECT_EQ(service.lookup(Scope::map, w.map)->index.size(), 1u);
+    w.store.remove(kind("radiomaps"), w.radiomap);
+    EXPECT_THROW(service.lookup(Scope::radiomap, w.radiomap), store::NotFound);
+    EXPECT_EQ(service.lookup(Scope::map, w.map)->index.size(), 0u);
+}
