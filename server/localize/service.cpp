@@ -44,15 +44,22 @@ Service::~Service() {
 // began reading (d to wait it out), the next round is paced (the longer of settle and
 // pace_factor x d) and takes d. Deletes are the exception (Entry::sync_before).
 std::shared_ptr<const Snapshot> Service::lookup(Scope scope, std::int64_t id) {
-    {
-        std::lock_guard lock(mu_);
-        if (auto it = table(scope).find(id); it != table(scope).end() && it->second.snapshot) {
-            const Entry& e = it->second;
-            if (!e.stale() || (e.snapshot->index.size() > options_.sync_rebuild_max_rps && e.built >= e.sync_before))
-                return e.snapshot;
-        }
-    }
+    if (auto snap = servable(scope, id)) return snap;
+    // Queries rebuild one at a time, each after checking that another has not just done so:
+    // after a delete, concurrent queries on a big map must not build it once each (memory).
+    // The background does not take this lock, so a query never waits behind its big builds.
+    std::lock_guard build(query_build_mu_);
+    if (auto snap = servable(scope, id)) return snap;
     return rebuild(scope, id);
+}
+
+std::shared_ptr<const Snapshot> Service::servable(Scope scope, std::int64_t id) {
+    std::lock_guard lock(mu_);
+    const auto it = table(scope).find(id);
+    if (it == table(scope).end() || !it->second.snapshot) return nullptr;
+    const Entry& e = it->second;
+    if (!e.stale() || (e.snapshot->index.size() > options_.sync_rebuild_max_rps && e.built >= e.sync_before)) return e.snapshot;
+    return nullptr;
 }
 
 std::size_t Service::background_rebuilds() const {

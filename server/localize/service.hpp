@@ -96,6 +96,8 @@ private:
     };
     using Table = std::unordered_map<std::int64_t, Entry>;
     Table& table(Scope scope) { return scope == Scope::radiomap ? radiomaps_ : maps_; }
+    // The snapshot a query may be answered from without rebuilding, else null.
+    std::shared_ptr<const Snapshot> servable(Scope scope, std::int64_t id);
     // The newest snapshot after building one; throws store::NotFound for an unknown id.
     std::shared_ptr<const Snapshot> rebuild(Scope scope, std::int64_t id);
     // The settings every radio map of these RPs stores alike, else empty.
@@ -114,6 +116,7 @@ private:
     mutable std::mutex mu_;  // guards the tables below, never held while building
     Table radiomaps_, maps_;
     std::size_t background_rebuilds_ = 0;
+    std::mutex query_build_mu_;  // one query-thread rebuild at a time (see lookup)
     std::condition_variable wake_;
     bool stopping_ = false;
     std::thread worker_;
