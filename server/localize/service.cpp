@@ -39,10 +39,11 @@ Service::~Service() {
 // RPs. On a big map (100,000 RPs: seconds) every query during an upload stream
 // would wait for a full rebuild, so it gets the previous snapshot instead and the background
 // rebuilds. Staleness is then bounded by settle + (pace_factor + 2) x d, d the time of one
-// background round (every stale index rebuilt once; about 1.8 s for a 100,000-RP radio map
-// and its map, so about 9 s with the defaults): a write lands at worst just after a round
-// began reading (d to wait it out), the next round is paced (the longer of settle and
-// pace_factor x d) and takes d. Deletes are the exception (Entry::sync_before).
+// background round (every stale index rebuilt once: a 100,000-RP radio map and its map take
+// 1.8 s at 8 APs per RP, 7 s at 14.5, so 9 s to 35 s with the defaults; a surveyor's new
+// data is not a fix anyone waits for, a localize stuck for seconds is): a write lands at
+// worst just after a round began reading (d to wait it out), the next round is paced (the
+// longer of settle and pace_factor x d) and takes d. Deletes are the exception (Entry::sync_before).
 std::shared_ptr<const Snapshot> Service::lookup(Scope scope, std::int64_t id) {
     if (auto snap = servable(scope, id)) return snap;
     // Queries rebuild one at a time, each after checking that another has not just done so:
