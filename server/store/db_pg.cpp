@@ -170,7 +170,7 @@ DbError error_of(pg_conn* c, pg_result* r, std::string_view context) {
     return e;
 }
 
-void exec(pg_conn* c, std::string_view sql) {
+std::string exec(pg_conn* c, std::string_view sql) {
     PGresult* r = PQexec(c, std::string(sql).c_str());
     const auto st = PQresultStatus(r);
     if (st != PGRES_COMMAND_OK && st != PGRES_TUPLES_OK && st != PGRES_EMPTY_QUERY) {
@@ -178,7 +178,9 @@ void exec(pg_conn* c, std::string_view sql) {
         PQclear(r);
         throw e;
     }
+    std::string status = PQcmdStatus(r);
     PQclear(r);
+    return status;
 }
 
 namespace {

@@ -21,8 +21,9 @@ std::string to_postgres(std::string_view sql);
 // Connects; throws DbError(SQLITE_CANTOPEN) naming the URL without its password.
 pg_conn* connect(const std::string& url);
 void close(pg_conn* c);
-// Runs one or more statements without parameters; throws DbError.
-void exec(pg_conn* c, std::string_view sql);
+// Runs one or more statements without parameters; throws DbError. Answers the last one's
+// command status ("COMMIT", or "ROLLBACK" for a COMMIT of an aborted transaction).
+std::string exec(pg_conn* c, std::string_view sql);
 // The statements a connection has prepared (by their text and parameter count): PostgreSQL
 // parses and plans a statement once per connection instead of at every run. Emptied when the
 // connection is reset (its prepared statements go with the session), and when the server says
