@@ -176,7 +176,8 @@ TEST(PostgresUpload, AStatementSentWithBeginOrCommitThatFailsLeavesNothingOpenOr
     db.exec("CREATE TABLE t (v BIGINT)");
     // Sent with BEGIN: the transaction it opened is rolled back before the constructor throws.
     EXPECT_THROW(locus::store::Transaction(db, locus::store::Transaction::Mode::write, "SELECT 1 / 0"), locus::store::DbError);
-    EXPECT_FALSE(db.pg_in_transaction());
+    // The session's own state, not the Db's flag (never set when the constructor throws).
+    EXPECT_EQ(PQtransactionStatus(db.pg()), PQTRANS_IDLE);
     {
         // Sent with COMMIT: nothing of the transaction is kept.
         locus::store::Transaction tx(db);
