@@ -244,8 +244,9 @@ pg_result* run_once(pg_conn* c, const std::string& sql, const std::vector<std::o
         // type": a table the statement reads changed. Either way the cache no longer says what
         // the session holds: it is emptied (whatever remains on the server is deallocated
         // before the next statement outside a transaction), and a statement outside a
-        // transaction runs again once, prepared afresh. Inside one the transaction is aborted
-        // whatever is done here: it fails as any failed statement does.
+        // transaction runs again once, prepared afresh (safe for a write too: both errors come
+        // before the statement executes). Inside one the transaction is aborted whatever is
+        // done here: it fails as any failed statement does.
         const bool stale = name && state && (std::strcmp(state, "26000") == 0 || std::strcmp(state, "0A000") == 0);
         if (stale) {
             prepared->names.clear();
