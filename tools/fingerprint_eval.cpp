@@ -62,7 +62,7 @@ Method tuned_default(const uji::Data& train, const std::vector<std::size_t>& tra
 match::FoldScheme fold_scheme(const std::string& option, const std::string& text) {
     const auto scheme = match::parse_fold_scheme(text);
     if (!scheme)
-        throw CommandError(option + ": expected position, spatial:G (metres > 0) or order:N (N >= 1), got '" + text +
+        throw CommandError(option + ": expected position, spatial:G (metres >= 0.01) or order:N (N >= 1), got '" + text +
                            "'");
     return *scheme;
 }

@@ -88,7 +88,8 @@ void Db::fail(int rc, std::string_view context) const {
 void Db::exec(std::string_view sql) {
     if (pg_) {
         ++pg_round_trips_;
-        return pg::exec(pg_, pg::to_postgres(sql));
+        pg::exec(pg_, pg::to_postgres(sql));
+        return;
     }
     char* err = nullptr;
     const std::string s(sql);
@@ -325,9 +326,13 @@ void Transaction::commit(std::string_view last) {
         if (!sql.empty()) sql += "; ";
         sql += "COMMIT";
         db_.pg_count_round_trip();
-        pg::exec(db_.pg(), sql);
+        const std::string status = pg::exec(db_.pg(), sql);
         db_.pg_set_in_transaction(false);
         done_ = true;
+        // COMMIT of a transaction a swallowed failure aborted rolls it back and says so only in
+        // its command status ("ROLLBACK", with no error): nothing was written, so say it.
+        if (status != "COMMIT")
+            throw DbError(SQLITE_ABORT, "commit: the transaction was rolled back (a statement in it had failed)");
         return;
     }
     if (!last.empty()) db_.exec(last);

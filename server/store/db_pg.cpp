@@ -170,7 +170,7 @@ DbError error_of(pg_conn* c, pg_result* r, std::string_view context) {
     return e;
 }
 
-void exec(pg_conn* c, std::string_view sql) {
+std::string exec(pg_conn* c, std::string_view sql) {
     PGresult* r = PQexec(c, std::string(sql).c_str());
     const auto st = PQresultStatus(r);
     if (st != PGRES_COMMAND_OK && st != PGRES_TUPLES_OK && st != PGRES_EMPTY_QUERY) {
@@ -178,11 +178,14 @@ void exec(pg_conn* c, std::string_view sql) {
         PQclear(r);
         throw e;
     }
+    std::string status = PQcmdStatus(r);
     PQclear(r);
+    return status;
 }
 
-pg_result* run(pg_conn* c, const std::string& sql, const std::vector<std::optional<std::string>>& params,
-               const std::vector<int>& formats, Prepared* prepared, std::int64_t* round_trips) {
+namespace {
+pg_result* run_once(pg_conn* c, const std::string& sql, const std::vector<std::optional<std::string>>& params,
+                    const std::vector<int>& formats, Prepared* prepared, std::int64_t* round_trips, bool may_retry) {
     std::vector<const char*> values(params.size());
     std::vector<int> lengths(params.size());
     for (std::size_t i = 0; i < params.size(); ++i) {
@@ -203,14 +206,21 @@ pg_result* run(pg_conn* c, const std::string& sql, const std::vector<std::option
         if (!used) types[i] = kTextOid;
     }
     const int n = static_cast<int>(params.size());
-    // A bound on the statements kept per connection: the store's texts are few (built from the
-    // kinds), but nothing else stops a caller from making many.
-    constexpr std::size_t kMaxPrepared = 512;
+    // Whether this statement runs outside a transaction: only then may a failure caused by a
+    // stale cache be retried (inside one the failure has aborted the transaction already).
+    const bool autocommit = PQtransactionStatus(c) == PQTRANS_IDLE;
+    if (prepared && prepared->stale_on_server && autocommit) {
+        // The cache was emptied inside a transaction: what the session still holds under the
+        // old names (a statement whose plan went stale) goes now, so that nothing leaks.
+        if (round_trips) ++*round_trips;
+        exec(c, "DEALLOCATE ALL");
+        prepared->stale_on_server = false;
+    }
     const std::string* name = nullptr;
     if (prepared) {
         const std::string key = sql + '\0' + std::to_string(n);
         auto at = prepared->names.find(key);
-        if (at == prepared->names.end() && prepared->names.size() < kMaxPrepared) {
+        if (at == prepared->names.end() && prepared->names.size() < prepared->limit) {
             std::string fresh = "locus_" + std::to_string(prepared->next++);
             if (round_trips) ++*round_trips;
             PGresult* p = PQprepare(c, fresh.c_str(), sql.c_str(), n, types.data());
@@ -228,11 +238,36 @@ pg_result* run(pg_conn* c, const std::string& sql, const std::vector<std::option
                        : PQexecParams(c, sql.c_str(), n, types.data(), values.data(), lengths.data(), formats.data(), 0);
     const auto st = PQresultStatus(r);
     if (st != PGRES_COMMAND_OK && st != PGRES_TUPLES_OK) {
+        const char* state = PQresultErrorField(r, PG_DIAG_SQLSTATE);
+        // 26000: the name is gone on the server (DISCARD ALL, DEALLOCATE, a pooler that hands
+        // the session's statements to another client); 0A000 "cached plan must not change result
+        // type": a table the statement reads changed. Either way the cache no longer says what
+        // the session holds: it is emptied (whatever remains on the server is deallocated
+        // before the next statement outside a transaction), and a statement outside a
+        // transaction runs again once, prepared afresh (safe for a write too: both errors come
+        // before the statement executes). Inside one the transaction is aborted whatever is
+        // done here: it fails as any failed statement does.
+        const bool stale = name && state && (std::strcmp(state, "26000") == 0 || std::strcmp(state, "0A000") == 0);
+        if (stale) {
+            prepared->names.clear();
+            prepared->stale_on_server = true;
+        }
+        if (stale && may_retry && autocommit && PQtransactionStatus(c) == PQTRANS_IDLE) {
+            PQclear(r);
+            if (round_trips) ++*round_trips;
+            return run_once(c, sql, params, formats, prepared, round_trips, false);
+        }
         DbError e = error_of(c, r, "step: ");
         PQclear(r);
         throw e;
     }
     return r;
+}
+}  // namespace
+
+pg_result* run(pg_conn* c, const std::string& sql, const std::vector<std::optional<std::string>>& params,
+               const std::vector<int>& formats, Prepared* prepared, std::int64_t* round_trips) {
+    return run_once(c, sql, params, formats, prepared, round_trips, true);
 }
 
 void clear(pg_result* r) {

@@ -21,14 +21,28 @@ std::string to_postgres(std::string_view sql);
 // Connects; throws DbError(SQLITE_CANTOPEN) naming the URL without its password.
 pg_conn* connect(const std::string& url);
 void close(pg_conn* c);
-// Runs one or more statements without parameters; throws DbError.
-void exec(pg_conn* c, std::string_view sql);
+// Runs one or more statements without parameters; throws DbError. Answers the last one's
+// command status ("COMMIT", or "ROLLBACK" for a COMMIT of an aborted transaction).
+std::string exec(pg_conn* c, std::string_view sql);
 // The statements a connection has prepared (by their text and parameter count): PostgreSQL
 // parses and plans a statement once per connection instead of at every run. Emptied when the
-// connection is reset (its prepared statements go with the session).
+// connection is reset (its prepared statements go with the session), and when the server says
+// a cached statement is gone or stale (run() then retries once outside a transaction).
+//
+// At most `limit` texts are prepared; a text met once the cache is full runs unprepared
+// (PQexecParams: one round trip, as before any caching) and nothing is evicted. An LRU was the
+// other choice, and is worse here: the store's fixed texts are a few dozen and prepared at their
+// first run; only PATCH's UPDATE, whose SET list is the fields sent, makes more, and those are
+// rare. Evicting would cost a DEALLOCATE round trip on every miss once full, and a working set
+// above the bound would thrash (prepare, deallocate, run: three round trips where one does).
+// Not preparing is never slower than no cache at all.
 struct Prepared {
     std::unordered_map<std::string, std::string> names;
     std::size_t next = 0;
+    std::size_t limit = 512;
+    // The cache was emptied while the session may still hold some of its statements: they are
+    // deallocated before the next statement run outside a transaction.
+    bool stale_on_server = false;
 };
 // Runs one statement (already in PostgreSQL's spelling); throws DbError on failure. With
 // `prepared`, the statement is prepared on its first run (one more round trip, counted in

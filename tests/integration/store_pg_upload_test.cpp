@@ -2,6 +2,7 @@
 // core's RssStats::merge on both), answers the same, and costs a handful of round trips
 // whatever the number of APs. Runs only under scripts/with_postgres.sh.
 #include <gtest/gtest.h>
+#include <libpq-fe.h>
 
 #include <cmath>
 #include <map>
@@ -175,7 +176,8 @@ TEST(PostgresUpload, AStatementSentWithBeginOrCommitThatFailsLeavesNothingOpenOr
     db.exec("CREATE TABLE t (v BIGINT)");
     // Sent with BEGIN: the transaction it opened is rolled back before the constructor throws.
     EXPECT_THROW(locus::store::Transaction(db, locus::store::Transaction::Mode::write, "SELECT 1 / 0"), locus::store::DbError);
-    EXPECT_FALSE(db.pg_in_transaction());
+    // The session's own state, not the Db's flag (never set when the constructor throws).
+    EXPECT_EQ(PQtransactionStatus(db.pg()), PQTRANS_IDLE);
     {
         // Sent with COMMIT: nothing of the transaction is kept.
         locus::store::Transaction tx(db);
@@ -192,4 +194,29 @@ TEST(PostgresUpload, AStatementSentWithBeginOrCommitThatFailsLeavesNothingOpenOr
     ASSERT_TRUE(sum.step());
     EXPECT_EQ(sum.int64(0), 1);
     EXPECT_EQ(sum.int64(1), 2);
+}
+
+TEST(PostgresUpload, ACommitAfterASwallowedFailureThrowsAndWritesNothing) {
+    REQUIRE_POSTGRES();
+    locus::testing::TestDatabase tdb;
+    locus::store::Db db(tdb.url());
+    db.exec("CREATE TABLE t (v BIGINT)");
+    for (const char* last : {"", "SELECT 1"}) {
+        SCOPED_TRACE(std::string("commit(\"") + last + "\")");
+        {
+            locus::store::Transaction tx(db);
+            locus::store::Stmt(db, "INSERT INTO t (v) VALUES (1)").run();
+            try {
+                locus::store::Stmt(db, "SELECT 1 / 0").run();
+                ADD_FAILURE() << "division by zero ran";
+            } catch (const locus::store::DbError&) {
+                // Swallowed: the transaction is aborted all the same.
+            }
+            EXPECT_THROW(tx.commit(last), locus::store::DbError);
+        }
+        EXPECT_EQ(PQtransactionStatus(db.pg()), PQTRANS_IDLE);
+    }
+    locus::store::Stmt rows(db, "SELECT COUNT(*) FROM t");
+    ASSERT_TRUE(rows.step());
+    EXPECT_EQ(rows.int64(0), 0);
 }

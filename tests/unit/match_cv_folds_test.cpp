@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -133,4 +134,38 @@ TEST(CvFolds, ParsesSchemesAndRefusesBadOnes) {
     EXPECT_THROW(assign_folds(survey(1), 0, FoldScheme{}), std::invalid_argument);
     EXPECT_THROW(assign_folds(survey(1), 3, FoldScheme{FoldBlocks::spatial, 0.0, 1}), std::invalid_argument);
     EXPECT_THROW(assign_folds(survey(1), 3, FoldScheme{FoldBlocks::order, 0.0, 0}), std::invalid_argument);
+}
+
+TEST(CvFolds, SpatialTextRoundTripsAndTinyCellsAreRefused) {
+    // Every accepted cell side prints as text that parses back to the same double.
+    for (const char* text : {"spatial:20", "spatial:2.5", "spatial:0.01", "spatial:0.1", "spatial:0.30000000000000004",
+                             "spatial:123456.789", "spatial:1e+300"}) {
+        const auto s = parse_fold_scheme(text);
+        ASSERT_TRUE(s) << text;
+        const auto back = parse_fold_scheme(to_string(*s));
+        ASSERT_TRUE(back) << to_string(*s);
+        EXPECT_EQ(back->cell_m, s->cell_m) << text << " printed as " << to_string(*s);
+    }
+    EXPECT_EQ(to_string(*parse_fold_scheme("spatial:20")), "spatial:20");
+    EXPECT_EQ(to_string(*parse_fold_scheme("spatial:0.01")), "spatial:0.01");
+    // Below a centimetre the cell index of an ordinary coordinate heads for long long's limits.
+    for (const char* tiny : {"spatial:1e-7", "spatial:0.0099", "spatial:1e-300", "spatial:4.9e-324"})
+        EXPECT_FALSE(parse_fold_scheme(tiny)) << tiny;
+    EXPECT_THROW(assign_folds(survey(1), 3, FoldScheme{FoldBlocks::spatial, 1e-300, 1}), std::invalid_argument);
+    EXPECT_THROW(assign_folds(survey(1), 3, FoldScheme{FoldBlocks::spatial, kMinCellM / 2, 1}), std::invalid_argument);
+}
+
+TEST(CvFolds, CoordinatesBeyondACellIndexShareTheOutermostCell) {
+    // x / 0.01 is far outside long long's range for these: each side's far-out positions are
+    // one block (two blocks in all, one per side), and near ones keep their own cells.
+    const std::vector<FoldSite> sites{{1, 0, {1e300, 0}}, {1, 0, {2e300, 0}}, {1, 0, {-1e300, 0}},
+                                      {1, 0, {-3e300, 0}}, {1, 0, {0.005, 0}}, {1, 0, {0.015, 0}},
+                                      {1, 0, {std::numeric_limits<double>::infinity(), 0}}};
+    const auto folds = assign_folds(sites, 7, *parse_fold_scheme("spatial:0.01"));
+    ASSERT_EQ(folds.size(), sites.size());
+    EXPECT_EQ(folds[0], folds[1]);
+    EXPECT_EQ(folds[0], folds[6]);
+    EXPECT_EQ(folds[2], folds[3]);
+    const std::set<int> distinct{folds[0], folds[2], folds[4], folds[5]};
+    EXPECT_EQ(distinct.size(), 4u);  // blocks: +far, -far, cell 0, cell 1 on 7 folds
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace locus::match {
@@ -23,11 +24,20 @@ std::optional<T> number_after(std::string_view text, std::string_view name) {
     return value;
 }
 
+// The cell holding coordinate v. Converting a double outside long long's range is undefined:
+// a coordinate that far out (or not finite) shares the outermost cell on its side.
+long long cell_index(double v, double cell_m) {
+    constexpr double kLimit = 9.0e18;  // below 2^63, and exact as a double
+    const double q = std::floor(v / cell_m);
+    if (std::isnan(q)) return 0;
+    return static_cast<long long>(std::clamp(q, -kLimit, kLimit));
+}
+
 }  // namespace
 
 std::optional<FoldScheme> parse_fold_scheme(std::string_view text) {
     if (text == "position") return FoldScheme{};
-    if (auto g = number_after<double>(text, "spatial"); g && std::isfinite(*g) && *g > 0.0)
+    if (auto g = number_after<double>(text, "spatial"); g && std::isfinite(*g) && *g >= kMinCellM)
         return FoldScheme{FoldBlocks::spatial, *g, 1};
     // from_chars into an unsigned type would reject "-3" anyway; long long keeps 0 and negatives explicit.
     if (auto n = number_after<long long>(text, "order"); n && *n >= 1)
@@ -38,11 +48,11 @@ std::optional<FoldScheme> parse_fold_scheme(std::string_view text) {
 std::string to_string(const FoldScheme& scheme) {
     switch (scheme.blocks) {
         case FoldBlocks::spatial: {
-            std::string g = std::to_string(scheme.cell_m);
-            // "20.000000" → "20", "2.500000" → "2.5"
-            g.erase(g.find_last_not_of('0') + 1);
-            if (g.back() == '.') g.pop_back();
-            return "spatial:" + g;
+            // The shortest text that reads back as the same double ("20", "2.5", "0.01"):
+            // fixed six decimals printed 1e-7 as "0".
+            char buf[32];
+            const auto r = std::to_chars(buf, buf + sizeof buf, scheme.cell_m);
+            return "spatial:" + std::string(buf, r.ptr);
         }
         case FoldBlocks::order:
             return "order:" + std::to_string(scheme.run);
@@ -54,8 +64,8 @@ std::string to_string(const FoldScheme& scheme) {
 
 std::vector<int> assign_folds(std::span<const FoldSite> sites, int k, const FoldScheme& scheme) {
     if (k < 1) throw std::invalid_argument("a CV needs at least 1 fold");
-    if (scheme.blocks == FoldBlocks::spatial && !(scheme.cell_m > 0.0 && std::isfinite(scheme.cell_m)))
-        throw std::invalid_argument("a spatial block needs a cell side above 0 m");
+    if (scheme.blocks == FoldBlocks::spatial && !(scheme.cell_m >= kMinCellM && std::isfinite(scheme.cell_m)))
+        throw std::invalid_argument("a spatial block needs a cell side of at least 0.01 m");
     if (scheme.blocks == FoldBlocks::order && scheme.run < 1)
         throw std::invalid_argument("an order block needs at least 1 position");
 
@@ -86,8 +96,8 @@ std::vector<int> assign_folds(std::span<const FoldSite> sites, int k, const Fold
             std::map<std::tuple<long long, long long, long long, long long>, std::size_t> cell_block;
             for (std::size_t p = 0; p < block.size(); ++p) {
                 const auto& s = sites[first_site[p]];
-                const auto cx = static_cast<long long>(std::floor(s.at.x / scheme.cell_m));
-                const auto cy = static_cast<long long>(std::floor(s.at.y / scheme.cell_m));
+                const auto cx = cell_index(s.at.x, scheme.cell_m);
+                const auto cy = cell_index(s.at.y, scheme.cell_m);
                 block[p] = cell_block.try_emplace({s.building, s.floor, cx, cy}, cell_block.size()).first->second;
             }
             blocks = cell_block.size();

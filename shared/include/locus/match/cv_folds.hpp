@@ -29,13 +29,18 @@ struct FoldSite {
 
 enum class FoldBlocks { position, spatial, order };
 
+// The smallest spatial cell side: a centimetre is below any survey's position accuracy, and a
+// bound keeps coordinate / side far inside the range of a cell index.
+inline constexpr double kMinCellM = 0.01;
+
 struct FoldScheme {
     FoldBlocks blocks = FoldBlocks::position;
-    double cell_m = 0.0;  // spatial: the cell's side (> 0)
+    double cell_m = 0.0;  // spatial: the cell's side (>= kMinCellM)
     std::size_t run = 1;  // order: positions per block (>= 1)
 };
 
-// "position", "spatial:G" (G metres, > 0) or "order:N" (N positions, >= 1); nullopt otherwise.
+// "position", "spatial:G" (G metres, >= kMinCellM) or "order:N" (N positions, >= 1); nullopt
+// otherwise. to_string gives back text that parses to the same scheme.
 std::optional<FoldScheme> parse_fold_scheme(std::string_view text);
 std::string to_string(const FoldScheme& scheme);
 
