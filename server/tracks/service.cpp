@@ -383,6 +383,11 @@ void Service::on_track_change(std::int64_t id, std::optional<std::int64_t> map_i
         cares = it->second->streams > 0 || watched(it->second->info.map_id);
     // Any other track is read again when a request for it comes (authorize).
     if (!cares) return;
+    queue_refresh(id);
+}
+
+void Service::queue_refresh(std::int64_t id) {
+    if (origin_.empty()) return;  // one server: nothing changes behind its back
     if (queued_.insert(id).second) to_refresh_.push_back(id);
     refresh_cv_.notify_one();
 }
@@ -707,6 +712,9 @@ std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std
     std::unique_ptr<Stream> s(new Stream(*this, track));
     if (shared) s->share_hash_ = token_hash(token);
     s->seen_ = track->seq;
+    // authorize() read the database before this stream was counted: another server's change
+    // notified in between found no stream caring and was dropped. Read again now it counts.
+    queue_refresh(id);
     return s;
 }
 
@@ -722,7 +730,9 @@ Events Service::next_events(Stream& s) {
     };
     if (!s.started_) {
         s.started_ = true;
+        // The latest fix stands for any stored since the stream opened: none is given twice.
         if (t.info.latest) out.fixes.push_back(*t.info.latest);
+        s.seen_ = t.seq;
     } else {
         t.changed.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s),
                            [&] { return t.seq > s.seen_ || t.info.state != State::live || stopping_ || revoked(); });
@@ -814,6 +824,7 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         }
     }
     store::Transaction tx(db_);
+    std::vector<std::int64_t> ended_elsewhere;
     if (db_.is_postgres()) {
         // Another server sharing the database may have stored fixes this one has not seen:
         // a track is closed only when the database says it has been quiet too.
@@ -821,7 +832,12 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         for (const auto& tr : to_close) {
             store::Stmt last(db_, "SELECT last_fix_at FROM tracks WHERE id = ? AND state = 'live'");
             last.bind(1, tr->info.id);
-            if (!last.step()) continue;
+            if (!last.step()) {
+                // Closed, deleted or evicted on another server whose notification never came:
+                // read again (refresher_), so it ends here too and its streams with it.
+                ended_elsewhere.push_back(tr->info.id);
+                continue;
+            }
             const double at = last.real(0);
             if (at + options_.ttl_s < t) {
                 quiet.push_back(tr);
@@ -856,6 +872,7 @@ std::vector<std::int64_t> Service::sweep_tracks() {
     tx.commit();
 
     std::lock_guard lock(mu_);
+    for (const auto id : ended_elsewhere) queue_refresh(id);
     for (const auto& tr : to_close) {
         tr->info.state = State::closed;
         tr->info.ended_at = t;

@@ -234,6 +234,8 @@ private:
     // Another server's change (the feed, on the watcher thread): whether this server's streams
     // care, then refreshing on refresher_'s thread, so the watcher never waits for db_mu_.
     void on_track_change(std::int64_t id, std::optional<std::int64_t> map_id);
+    // Under mu_: `id` read again on refresher_'s thread (each id once while queued); nothing on one server.
+    void queue_refresh(std::int64_t id);
     // Every track a stream here follows, and every live track of a map a positions stream here
     // follows, read again: after "everything changed" (a missed notification, a reconnect).
     void catch_up();

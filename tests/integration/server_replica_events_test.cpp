@@ -271,3 +271,19 @@ TEST_F(ReplicaEvents, AThinClientsStepsTrackFusesAsOnOneServer) {
     }
     EXPECT_EQ(fused, alone) << "B's streaming changed what A fused";
 }
+
+// A track closed on another server whose notification never came (a raw UPDATE: no NOTIFY, no
+// counter): B's sweep, finding it quiet past its TTL but no longer live in the database, reads it
+// again, so B's stream of it ends instead of staying open forever.
+TEST_F(ReplicaEvents, ATrackClosedElsewhereUnnotifiedEndsAtTheSweep) {
+    ServerProcess quick({"--quiet", "--track-heartbeat", "0.2", "--track-ttl", "1"}, SameDatabase{a->db()});
+    const auto h = locus::testing::make_hierarchy(*a);
+    const Track t = open_track(*a, h.map, "fay");
+    post_fixes(*a, t, json::array({fix(unix_now() - 5, h.floor, 0)}));
+    Listener stream(quick.port(), t.path("/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+    locus::testing::database_exec(a->db(), "UPDATE tracks SET state = 'closed', ended_at = " + std::to_string(unix_now()) +
+                                               " WHERE id = " + std::to_string(t.id));
+    EXPECT_TRUE(stream.ended(3.0)) << "the stream of a track closed elsewhere, unnotified, never ended";
+    EXPECT_EQ(body_of(track_call(quick, "GET", t.path(), {t.token})).at("state"), "closed");
+}
