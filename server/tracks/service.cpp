@@ -255,6 +255,10 @@ TrackInfo Service::insert_track(std::int64_t map_id, const std::string& label, F
 
 void Service::refresh(std::int64_t id) {
     std::lock_guard db_lock(db_mu_);
+    // Every read below from one snapshot (REPEATABLE READ on PostgreSQL): a fix committing
+    // between two of them would otherwise leave the latest fix read stale while "the fixes
+    // since" already held it, and the next refresh would append it a second time.
+    store::Transaction snapshot(db_, store::Transaction::Mode::read);
     store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion, fusion_options FROM tracks WHERE id = ?");
     q.bind(1, id);
     if (!q.step()) {
@@ -318,14 +322,20 @@ void Service::refresh(std::int64_t id) {
             std::reverse(fresh.begin(), fresh.end());
         }
     }
-    store::Stmt count(db_, "SELECT count(*) FROM track_fixes WHERE track_id = ?");
-    count.bind(1, id);
-    count.step();
-    row.fixes = static_cast<std::size_t>(count.int64(0));
+    // The count is kept by adding what is new (a count(*) would read every fix of the track on
+    // each remote fix); counted only for a track new here, or when more came than were read.
+    std::optional<std::size_t> counted;
+    if (!known || fresh.size() >= options_.event_buffer) {
+        store::Stmt count(db_, "SELECT count(*) FROM track_fixes WHERE track_id = ?");
+        count.bind(1, id);
+        count.step();
+        counted = static_cast<std::size_t>(count.int64(0));
+    }
     std::map<std::int64_t, std::string> shares;
     store::Stmt sh(db_, "SELECT id, token_hash FROM track_shares WHERE track_id = ?");
     sh.bind(1, id);
     while (sh.step()) shares[sh.int64(0)] = sh.blob(1);
+    snapshot.commit();
 
     std::lock_guard lock(mu_);
     auto& slot = tracks_[id];
@@ -343,7 +353,16 @@ void Service::refresh(std::int64_t id) {
     }
     const bool was_live = known && t.info.state == State::live;
     const bool revoked = std::any_of(t.shares.begin(), t.shares.end(), [&](const auto& s) { return !shares.contains(s.first); });
+    // Only fixes past the latest held now are new: a fix is never given to a stream twice.
+    if (known && t.info.latest) {
+        const double held = t.info.latest->t;
+        std::erase_if(fresh, [held](const Fix& f) { return f.t <= held; });
+    }
+    const std::size_t fixes_before = known ? t.info.fixes : 0;
+    const auto latest_before = known ? t.info.latest : std::nullopt;
     t.info = row;
+    t.info.fixes = counted ? *counted : fixes_before + fresh.size();
+    if (latest_before && (!t.info.latest || t.info.latest->t < latest_before->t)) t.info.latest = latest_before;
     t.token_hash = hash;
     t.shares = std::move(shares);
     for (const auto& f : fresh) {

@@ -287,3 +287,21 @@ TEST_F(ReplicaEvents, ATrackClosedElsewhereUnnotifiedEndsAtTheSweep) {
     EXPECT_TRUE(stream.ended(3.0)) << "the stream of a track closed elsewhere, unnotified, never ended";
     EXPECT_EQ(body_of(track_call(quick, "GET", t.path(), {t.token})).at("state"), "closed");
 }
+
+// B keeps a followed track's fix count by adding what its refreshes find new: fixes posted on A
+// in several requests, one a retry of a stored t, are counted once each on B however many
+// refreshes (notifications, requests) read them.
+TEST_F(ReplicaEvents, TheOthersFixCountFollowsRemotePostsOnceEach) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const double t0 = unix_now() - 60;
+    const Track t = open_track(*a, h.map, "gil");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
+    Listener stream(b->port(), t.path("/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+    post_fixes(*a, t, json::array({fix(t0 + 1, h.floor, 1), fix(t0 + 2, h.floor, 2)}));
+    EXPECT_EQ(body_of(track_call(*b, "GET", t.path(), {t.token})).at("fixes"), 3);
+    post_fixes(*a, t, json::array({fix(t0 + 2, h.floor, 2), fix(t0 + 3, h.floor, 3)}));
+    ASSERT_TRUE(stream.wait_for(4, 2.0));
+    EXPECT_EQ(fix_times(stream.seen()), (std::vector<double>{t0, t0 + 1, t0 + 2, t0 + 3}));
+    EXPECT_EQ(body_of(track_call(*b, "GET", t.path(), {t.token})).at("fixes"), 4);
+}
