@@ -424,7 +424,10 @@ void Service::catch_up_map(std::int64_t map_id) {
         for (const auto& [id, t] : tracks_)
             if (t->info.map_id == map_id && t->info.state == State::live) ids.insert(id);
     }
-    for (const auto id : ids) refresh(id);
+    for (const auto id : ids) {
+        if (stopping()) return;  // a slow PostgreSQL must not hold shutdown back
+        refresh(id);
+    }
 }
 
 void Service::catch_up() {
@@ -436,31 +439,60 @@ void Service::catch_up() {
         for (const auto& [map_id, n] : map_streams_)
             if (n > 0) maps.push_back(map_id);
     }
-    for (const auto id : ids) refresh(id);
+    for (const auto id : ids) {
+        if (stopping()) return;
+        refresh(id);
+    }
     for (const auto map_id : maps) catch_up_map(map_id);
 }
 
+bool Service::stopping() const {
+    std::lock_guard lock(mu_);
+    return stopping_;
+}
+
 void Service::refresher() {
+    // After a storage fault the failed work is queued again and retried after a pause, 0.1 s
+    // doubling to at most 5 s while faults go on: a fault on this connection alone (the
+    // watcher's still up) brings no "everything changed" to make good what was dropped.
+    double retry_s = 0;
     std::unique_lock lock(mu_);
     while (!stopping_) {
-        refresh_cv_.wait(lock, [this] { return stopping_ || catch_up_ || !to_refresh_.empty(); });
+        if (retry_s > 0) refresh_cv_.wait_for(lock, std::chrono::duration<double>(retry_s), [this] { return stopping_; });
+        else refresh_cv_.wait(lock, [this] { return stopping_ || catch_up_ || !to_refresh_.empty() || !maps_to_catch_up_.empty(); });
         if (stopping_) break;
         const bool all = std::exchange(catch_up_, false);
-        std::deque<std::int64_t> ids;
-        ids.swap(to_refresh_);
+        const auto ids = std::exchange(to_refresh_, {});
         queued_.clear();
+        const auto maps = std::exchange(maps_to_catch_up_, {});
         lock.unlock();
-        // A storage fault loses nothing for good: the watcher's reconnect sends "everything
-        // changed", which catches up again.
-        try {
-            if (all) catch_up();
-        } catch (const std::exception&) {
-        }
-        for (const auto id : ids) try {
+        bool all_failed = false;
+        std::vector<std::int64_t> failed_maps, failed_ids;
+        if (all) try {
+                catch_up();
+            } catch (const std::exception&) {
+                all_failed = true;
+            }
+        for (const auto map_id : maps) try {
+                catch_up_map(map_id);
+            } catch (const std::exception&) {
+                failed_maps.push_back(map_id);
+            }
+        for (const auto id : ids) {
+            if (stopping()) break;
+            try {
                 refresh(id);
             } catch (const std::exception&) {
+                failed_ids.push_back(id);
             }
+        }
         lock.lock();
+        if (all_failed) catch_up_ = true;
+        maps_to_catch_up_.insert(failed_maps.begin(), failed_maps.end());
+        for (const auto id : failed_ids)
+            if (queued_.insert(id).second) to_refresh_.push_back(id);
+        const bool failed = all_failed || !failed_maps.empty() || !failed_ids.empty();
+        retry_s = failed ? std::clamp(retry_s * 2, 0.1, 5.0) : 0;
     }
 }
 
@@ -780,10 +812,15 @@ std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id
         ++streams_;
         ++map_streams_[map_id];
         s.reset(new MapStream(*this, map_id, floor_id));
+        // Other servers' tracks on the map, as the database holds them now, read on
+        // refresher_'s thread: a request thread neither waits for their round trips nor fails
+        // when PostgreSQL is away (retried there). Each arrives as a position; their later
+        // changes come on the feed (on_track_change).
+        if (!origin_.empty()) {
+            maps_to_catch_up_.insert(map_id);
+            refresh_cv_.notify_one();
+        }
     }
-    // Other servers' tracks on the map, as the database holds them now, for the first answer;
-    // their later changes arrive on the feed (on_track_change).
-    if (!origin_.empty()) catch_up_map(map_id);
     return s;
 }
 

@@ -241,6 +241,7 @@ private:
     void catch_up();
     void catch_up_map(std::int64_t map_id);  // the live tracks of one map
     void refresher();
+    bool stopping() const;  // takes mu_
 
     store::Store& store_;
     Options options_;
@@ -272,6 +273,7 @@ private:
     std::deque<std::int64_t> to_refresh_;
     std::unordered_set<std::int64_t> queued_;
     bool catch_up_ = false;
+    std::unordered_set<std::int64_t> maps_to_catch_up_;  // new positions streams' maps
     std::condition_variable refresh_cv_;
     std::thread refresher_;
 };
