@@ -233,6 +233,29 @@ TEST_F(ReplicaEvents, AFixWhoseNotificationNeverCameIsCaughtUp) {
     EXPECT_EQ(map_stream.seen()[1].second.at("fix").at("x"), 9.0);
 }
 
+// A lost locus_tracks notification: the servers' listener connections are ended
+// (pg_terminate_backend on every backend whose last statement was the watcher's LISTEN or counter
+// read) and a fix is written raw while they are down, with no NOTIFY and no counter move. Only
+// B's reconnect ("everything changed") can bring it: B's streams catch up after it.
+TEST_F(ReplicaEvents, AFixWrittenWhileTheListenerWasDownIsCaughtUpAtReconnect) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const double t0 = unix_now() - 30;
+    const Track t = open_track(*a, h.map, "hal");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
+    Listener track_stream(b->port(), t.path("/events"), t.token);
+    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
+    ASSERT_TRUE(track_stream.wait_for(1, 2.0));
+    ASSERT_TRUE(map_stream.wait_for(1, 2.0));
+    locus::testing::database_exec(a->db(), "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE pid <> pg_backend_pid() AND "
+                                           "(query LIKE 'LISTEN %' OR query = 'SELECT version FROM change_counter WHERE id = 1')");
+    locus::testing::database_exec(a->db(), "INSERT INTO track_fixes (track_id, t, floor_id, x, y, accuracy_m) VALUES (" + std::to_string(t.id) +
+                                               ", " + std::to_string(t0 + 1) + ", " + std::to_string(h.floor) + ", 7, 1, 1.5)");
+    ASSERT_TRUE(track_stream.wait_for(2, 4.0)) << "B's track stream never caught up after its listener reconnected";
+    EXPECT_EQ(track_stream.seen()[1].second.at("x"), 7.0);
+    ASSERT_TRUE(map_stream.wait_for(2, 2.0)) << "B's positions stream never caught up after its listener reconnected";
+    EXPECT_EQ(map_stream.seen()[1].second.at("fix").at("x"), 7.0);
+}
+
 // Steps fused on A reach B's stream as A stored them, and A's filter goes on as on one server.
 TEST_F(ReplicaEvents, AThinClientsStepsTrackFusesAsOnOneServer) {
     const double t0 = unix_now() - 30;
