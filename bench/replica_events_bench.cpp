@@ -25,13 +25,7 @@
 #include <thread>
 #include <vector>
 
-#include "directory/service.hpp"
-#include "http/app.hpp"
-#include "http/localize_answer.hpp"
-#include "localize/service.hpp"
-#include "routing/service.hpp"
-#include "store/sql_store.hpp"
-#include "tracks/service.hpp"
+#include "in_process_server.hpp"
 
 namespace {
 
@@ -40,42 +34,6 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
-
-// A server in this process on `url`'s database.
-struct Server {
-    std::unique_ptr<store::SqlStore> store;
-    std::unique_ptr<localize::Service> localizer;
-    std::unique_ptr<routing::Service> router;
-    std::unique_ptr<directory::Service> directory;
-    std::unique_ptr<tracks::Service> tracks;
-    std::unique_ptr<http::App> app;
-    std::thread thread;
-    int port = 0;
-
-    explicit Server(const std::string& url) {
-        store = std::make_unique<store::SqlStore>(url);
-        localizer = std::make_unique<localize::Service>(*store, http::prepare_answers);
-        router = std::make_unique<routing::Service>(*store);
-        directory = std::make_unique<directory::Service>(*store);
-        tracks = std::make_unique<tracks::Service>(*store, tracks::Options{});
-        app = std::make_unique<http::App>(*store, *localizer, *router, *directory, http::AppOptions{"", false, http::FrontOptions{}, {}, tracks.get()});
-        std::string error;
-        port = app->server().bind("127.0.0.1", 0, error);
-        if (port < 0) throw std::runtime_error(error);
-        thread = std::thread([this] { app->server().serve(); });
-    }
-    ~Server() {
-        tracks->stop();
-        app->server().shut_down();
-        thread.join();
-        app.reset();
-        tracks.reset();
-        directory.reset();
-        router.reset();
-        localizer.reset();
-        store.reset();
-    }
-};
 
 std::int64_t id_of(const httplib::Result& r) {
     if (!r || r->status != 201) throw std::runtime_error("setup request failed");
@@ -96,7 +54,7 @@ void BM_FixFromReplicaAToStreamOnB(benchmark::State& state) {
     const char* n_env = std::getenv("LOCUS_REPLICA_EVENTS_FIXES");
     const int n = n_env && *n_env ? std::max(2, std::atoi(n_env)) : 50;
     for (auto _ : state) {
-        Server a(url), b(url);
+        bench::InProcessServer a(url), b(url);
         httplib::Client ca("127.0.0.1", a.port);
         // A name of its own: map names are unique, and each run adds one to the database.
         const auto map = id_of(ca.Post("/v1/maps", json{{"name", "Replicas " + std::to_string(unix_now())}}.dump(), "application/json"));

@@ -23,13 +23,7 @@
 #include <thread>
 #include <vector>
 
-#include "directory/service.hpp"
-#include "http/app.hpp"
-#include "http/localize_answer.hpp"
-#include "localize/service.hpp"
-#include "routing/service.hpp"
-#include "store/sql_store.hpp"
-#include "tracks/service.hpp"
+#include "in_process_server.hpp"
 
 namespace {
 
@@ -58,52 +52,36 @@ int env_int(const char* name, int fallback) {
     return v && *v ? std::max(1, std::atoi(v)) : fallback;
 }
 
-// A server in this process, its database in a temp directory removed at the end.
+// A temp directory, removed with all it holds at the end.
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        char tmpl[] = "/tmp/locus-track-bench.XXXXXX";
+        path = mkdtemp(tmpl);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+};
+
+tracks::Options track_options() {
+    tracks::Options o;
+    o.max_live_tracks = 100'000;
+    return o;
+}
+
+// A server in this process, its database in a temp directory (removed after the server), with
+// a map of one floor.
 struct Server {
-    std::filesystem::path dir;
-    std::unique_ptr<store::SqlStore> store;
-    std::unique_ptr<localize::Service> localizer;
-    std::unique_ptr<routing::Service> router;
-    std::unique_ptr<directory::Service> directory;
-    std::unique_ptr<tracks::Service> tracks;
-    std::unique_ptr<http::App> app;
-    std::thread thread;
-    int port = 0;
+    TempDir dir;
+    bench::InProcessServer in{(dir.path / "bench.db").string(), track_options()};
+    int port = in.port;
     std::int64_t floor = 0, map = 0;
 
     Server() {
-        char tmpl[] = "/tmp/locus-track-bench.XXXXXX";
-        dir = mkdtemp(tmpl);
-        store = std::make_unique<store::SqlStore>((dir / "bench.db").string());
-        localizer = std::make_unique<localize::Service>(*store, http::prepare_answers);
-        router = std::make_unique<routing::Service>(*store);
-        directory = std::make_unique<directory::Service>(*store);
-        tracks::Options topts;
-        topts.max_live_tracks = 100'000;
-        tracks = std::make_unique<tracks::Service>(*store, topts);
-        http::FrontOptions front;
-        app = std::make_unique<http::App>(*store, *localizer, *router, *directory, http::AppOptions{"", false, front, {}, tracks.get()});
-        std::string error;
-        port = app->server().bind("127.0.0.1", 0, error);
-        if (port < 0) throw std::runtime_error(error);
-        thread = std::thread([this] { app->server().serve(); });
         httplib::Client c("127.0.0.1", port);
         map = json::parse(c.Post("/v1/maps", R"({"name": "Load"})", "application/json")->body)["id"];
         const auto b = json::parse(c.Post("/v1/maps/" + std::to_string(map) + "/buildings", R"({"name": "Mall"})", "application/json")->body)["id"].get<std::int64_t>();
         floor = json::parse(c.Post("/v1/buildings/" + std::to_string(b) + "/floors",
                                    R"({"name": "Ground", "level": 0, "width": 200, "height": 100})", "application/json")->body)["id"];
-    }
-    ~Server() {
-        tracks->stop();
-        app->server().shut_down();
-        thread.join();
-        app.reset();
-        tracks.reset();
-        directory.reset();
-        router.reset();
-        localizer.reset();
-        store.reset();
-        std::filesystem::remove_all(dir);
     }
 };
 

@@ -363,19 +363,16 @@ void App::install_track_routes() {
             std::shared_ptr<const tracks::FloorAnchors> anchors;
             const auto track = svc.info(id);
             // An ekf_ranging filter (re)started by this request, even by steps alone (resumed at
-            // the latest stored fix), takes its floor's transmitters as anchors.
-            if (track.fusion == tracks::FusionMethod::ekf_ranging && track.state == tracks::State::live) {
+            // the latest stored fix), takes its floor's transmitters as anchors; a Kalman track
+            // ranges its scans on them.
+            const bool anchored = track.fusion == tracks::FusionMethod::ekf_ranging && track.state == tracks::State::live;
+            if (anchored || (!scans.empty() && tracks::ranges_scans(track.fusion)))
                 known = known_transmitters(store_, transmitters_, true, track.map_id, RangingRequest{}.phone_height);
-                anchors = floor_anchors(*known);
-            }
+            if (anchored) anchors = floor_anchors(*known);
             if (!scans.empty()) {
-                // A Kalman track ranges its scans on the map's transmitters; the particle
-                // filters take the radio map's match.
+                // The particle filters take the radio map's match.
                 std::shared_ptr<const localize::Snapshot> snapshot;
-                if (tracks::ranges_scans(track.fusion) && !known)
-                    known = known_transmitters(store_, transmitters_, true, track.map_id, RangingRequest{}.phone_height);
-                else if (!known)
-                    snapshot = localizer_.lookup(localize::Service::Scope::map, track.map_id);
+                if (!known) snapshot = localizer_.lookup(localize::Service::Scope::map, track.map_id);
                 for (const auto& sc : scans) {
                     if (snapshot)
                         radio.emplace_back(scan_fix(*snapshot, sc.t, sc.readings, sc.where));

@@ -1,9 +1,11 @@
 #pragma once
 // Localization over in-memory indexes (locus::match) of every radio map and every map.
-// Indexes are built from the store at start and rebuilt after writes: a background thread
-// rebuilds what a write touched, and a query that arrives before it has done so rebuilds
-// its own index first, so an answer always reflects every committed write. Queries then
-// run on an immutable index with no lock held and never touch SQLite.
+// Indexes are built from the store at start and rebuilt after writes by a background thread
+// that paces itself. A query on a small index a write made stale rebuilds it first (its answer
+// reflects every committed write); one on a big index gets the previous snapshot while the
+// background catches up (see Options). Queries run on an immutable index with no lock held
+// and never touch SQLite.
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -41,46 +43,82 @@ struct Snapshot {
     match::Setting defaults;
 };
 
+// How stale an index may get, and how much of a core keeping it fresh may take. The
+// reasoning is at Service::lookup and Service::refresher; tests shorten or
+// stretch them. (Outside Service: a nested class with default member initializers cannot be a
+// default argument of its enclosing class's constructor.)
+struct ServiceOptions {
+    using Duration = std::chrono::steady_clock::duration;
+    // A stale index of at most this many RPs is rebuilt on the query's thread. A count, not a
+    // build time: a timed limit would flip under load or sanitizers and lose read-your-writes.
+    std::size_t sync_rebuild_max_rps = 2000;
+    // Writes settle this long before the background rebuilds, so a burst costs one rebuild.
+    Duration settle = std::chrono::milliseconds(50);
+    // A round of background rebuilds starts no sooner than pace_factor times the last
+    // round's duration after it: continuous writes take at most 1 / (1 + pace_factor) of a core.
+    double pace_factor = 3.0;
+};
+
 class Service {
 public:
     enum class Scope { radiomap, map };
     // Called on each new snapshot before it is published, to add what answers need.
     using Prepare = std::function<void(Snapshot&)>;
+    using Duration = std::chrono::steady_clock::duration;
+    using Options = ServiceOptions;
 
     // Builds every radio map's and map's index, and subscribes to the store's change feed:
     // construct it before the server serves.
-    Service(store::Store& store, Prepare prepare = {});
+    Service(store::Store& store, Prepare prepare = {}, Options options = {});
     ~Service();
     Service(const Service&) = delete;
     Service& operator=(const Service&) = delete;
 
-    // The current snapshot of a radio map's or a map's index, rebuilt first if a committed
-    // write made it stale; throws store::NotFound for an unknown id.
+    // The snapshot of a radio map's or a map's index: rebuilt first if a committed write made
+    // it stale and it is small, else the last one built (see Options); throws store::NotFound
+    // for an unknown id.
     std::shared_ptr<const Snapshot> lookup(Scope scope, std::int64_t id);
+    // Background rebuilds so far (all scopes), for tests and benches.
+    std::size_t background_rebuilds() const;
 
 private:
-    using Table = std::unordered_map<std::int64_t, std::shared_ptr<const Snapshot>>;
+    using Clock = std::chrono::steady_clock;
+    // One index: stale while built < wanted. A write bumps wanted; a build takes the wanted it
+    // saw before reading the store and publishes only if that is newer than what is published,
+    // so concurrent builds (query threads, the background) never publish an older one last.
+    struct Entry {
+        std::shared_ptr<const Snapshot> snapshot;
+        std::uint64_t wanted = 1, built = 0;
+        // A query rebuilds (however big) until built reaches this: set by deletes, so a deleted
+        // radio map is not found and a deleted floor's RPs are gone at once, as before.
+        std::uint64_t sync_before = 0;
+        bool stale() const { return built < wanted; }
+    };
+    using Table = std::unordered_map<std::int64_t, Entry>;
     Table& table(Scope scope) { return scope == Scope::radiomap ? radiomaps_ : maps_; }
-    std::unordered_set<std::int64_t>& dirty(Scope scope) { return scope == Scope::radiomap ? dirty_radiomaps_ : dirty_maps_; }
-    // The current snapshot; throws store::NotFound for an unknown id.
+    // The snapshot a query may be answered from without rebuilding, else null.
+    std::shared_ptr<const Snapshot> servable(Scope scope, std::int64_t id);
+    // The newest snapshot after building one; throws store::NotFound for an unknown id.
     std::shared_ptr<const Snapshot> rebuild(Scope scope, std::int64_t id);
     // The settings every radio map of these RPs stores alike, else empty.
     std::string common_settings(const std::vector<store::StoredRp>& stored);
-    void mark_dirty(Scope scope, std::int64_t id);
-    void mark_all_dirty();
+    void mark_dirty(Scope scope, std::int64_t id, bool sync = false);
+    // An index (every index) is stale; with `sync`, queries rebuild it whatever its size.
+    void mark_all_dirty(bool sync = false);
     void refresher();
     // Marks what a committed write touched as stale.
     void on_change(const store::Change& change);
 
     store::Store& store_;
     Prepare prepare_;
+    Options options_;
     std::size_t subscription_ = 0;
-    std::mutex mu_;  // guards the tables below, never held while building
+    mutable std::mutex mu_;  // guards the tables below, never held while building
     Table radiomaps_, maps_;
-    std::unordered_set<std::int64_t> dirty_radiomaps_, dirty_maps_;
+    std::size_t background_rebuilds_ = 0;
+    std::mutex query_build_mu_;  // one query-thread rebuild at a time (see lookup)
     std::condition_variable wake_;
     bool stopping_ = false;
-    std::mutex build_mu_;  // one rebuild at a time, so the newest snapshot is published last
     std::thread worker_;
 };
 

@@ -2,8 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace locus::tracks {
+
+namespace {
+
+// Degrees in [0, 360), as the step headings are answered.
+double wrap_deg(double deg) {
+    const double d = std::fmod(deg, 360.0);
+    return d < 0.0 ? (d + 360.0 < 360.0 ? d + 360.0 : 0.0) : d;
+}
+
+}  // namespace
 
 Eigen::Matrix2d fix_covariance(double accuracy_m) {
     const double s = std::max(accuracy_m, 0.5);  // a fix claiming centimetres would freeze the cloud
@@ -89,6 +100,9 @@ Fix ThinFusion::fused(double t, std::optional<double> heading_deg) const {
     f.floor_id = floor_id_;
     f.heading_deg = heading_deg;
     if (ekf_) {
+        // ekf_ranging estimates the compass's bias β and turns each step by it (counter-clockwise):
+        // the heading walked is the step's less β, clockwise. The other methods answer it raw.
+        if (heading_deg) f.heading_deg = wrap_deg(*heading_deg - ekf_->heading_bias_rad() * 180.0 / std::numbers::pi);
         const Point p = ekf_->position();
         f.x = p.x;
         f.y = p.y;

@@ -115,7 +115,7 @@ private:
     std::optional<fusion::RangingEkf> ekf_;
     std::shared_ptr<const FloorAnchors> anchors_;
     std::int64_t floor_id_ = 0;
-    std::optional<double> heading_deg_;
+    std::optional<double> heading_deg_;  // the last step's as sent (resumed: the stored fix's), uncorrected
     std::optional<double> done_t_;  // the latest t run so far
 };
 

@@ -10,14 +10,15 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "sse_listener.hpp"
+#include "unix_time.hpp"
 
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
+using locus::testing::unix_now;
 using nlohmann::json;
 
 namespace {
-
-double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 int get_status(const ServerProcess& s, const std::string& path, const std::string& api_key) {
     httplib::Client c("127.0.0.1", s.port());
@@ -47,51 +48,10 @@ void post_fix(const ServerProcess& s, const Track& t, double time, std::int64_t 
     ASSERT_EQ(r->status, 200) << r->body;
 }
 
-// Reads a positions stream on its own thread, keeping each event's name and data.
-struct Listener {
-    std::mutex mu;
-    std::vector<std::pair<std::string, json>> events;
-    std::atomic<bool> stop{false};
-    std::thread thread;
-
-    Listener(int port, const std::string& path, const std::string& api_key) {
-        thread = std::thread([this, port, path, api_key] {
-            httplib::Client c("127.0.0.1", port);
-            c.set_read_timeout(10, 0);
-            std::string buf;
-            c.Get(path.c_str(), httplib::Headers{{"Authorization", "Bearer " + api_key}}, [&](const char* data, std::size_t n) {
-                buf.append(data, n);
-                for (std::size_t end; (end = buf.find("\n\n")) != std::string::npos; buf.erase(0, end + 2)) {
-                    const std::string event = buf.substr(0, end);
-                    const auto d = event.find("\ndata: ");
-                    if (!event.starts_with("event: ") || d == std::string::npos) continue;
-                    std::lock_guard lock(mu);
-                    events.emplace_back(event.substr(7, d - 7), json::parse(event.substr(d + 7)));
-                }
-                return !stop.load();
-            });
-        });
-    }
-    ~Listener() {
-        stop = true;
-        thread.join();
-    }
-    std::vector<std::pair<std::string, json>> seen() {
-        std::lock_guard lock(mu);
-        return events;
-    }
-    // Waits up to `seconds` for the n-th event; answers it, or null.
-    std::optional<std::pair<std::string, json>> wait_for(std::size_t n, double seconds) {
-        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        while (std::chrono::steady_clock::now() < until) {
-            {
-                std::lock_guard lock(mu);
-                if (events.size() >= n) return events[n - 1];
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        }
-        return std::nullopt;
-    }
+// A positions stream read with the API key.
+struct Listener : locus::testing::SseListener {
+    Listener(int port, const std::string& path, const std::string& api_key)
+        : SseListener(port, path, httplib::Headers{{"Authorization", "Bearer " + api_key}}) {}
 };
 
 }  // namespace

@@ -15,18 +15,19 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "sse_listener.hpp"
 #include "test_database.hpp"
 #include "track_call.hpp"
+#include "unix_time.hpp"
 
 using locus::testing::body_of;
 using locus::testing::SameDatabase;
 using locus::testing::ServerProcess;
 using locus::testing::track_call;
+using locus::testing::unix_now;
 using nlohmann::json;
 
 namespace {
-
-double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 struct Track {
     std::int64_t id = 0;
@@ -46,57 +47,10 @@ void post_fixes(const ServerProcess& s, const Track& t, const json& fixes) {
     ASSERT_EQ(r.status, 200) << r.raw;
 }
 
-// Reads a server-sent event stream on its own thread, keeping each event's name and data.
-struct Listener {
-    std::mutex mu;
-    std::vector<std::pair<std::string, json>> events;
-    std::atomic<bool> stop{false}, closed{false};
-    std::thread thread;
-
-    Listener(int port, const std::string& path, const std::string& track_token) {
-        thread = std::thread([this, port, path, track_token] {
-            httplib::Client c("127.0.0.1", port);
-            c.set_read_timeout(10, 0);
-            httplib::Headers h;
-            if (!track_token.empty()) h.emplace("X-Track-Token", track_token);
-            std::string buf;
-            c.Get(path.c_str(), h, [&](const char* data, std::size_t n) {
-                buf.append(data, n);
-                for (std::size_t end; (end = buf.find("\n\n")) != std::string::npos; buf.erase(0, end + 2)) {
-                    const std::string event = buf.substr(0, end);
-                    const auto d = event.find("\ndata: ");
-                    if (!event.starts_with("event: ") || d == std::string::npos) continue;  // a heartbeat
-                    std::lock_guard lock(mu);
-                    events.emplace_back(event.substr(7, d - 7), json::parse(event.substr(d + 7)));
-                }
-                return !stop.load();
-            });
-            closed = true;
-        });
-    }
-    ~Listener() {
-        stop = true;
-        thread.join();
-    }
-    std::vector<std::pair<std::string, json>> seen() {
-        std::lock_guard lock(mu);
-        return events;
-    }
-    // Polls up to `seconds` for at least n events; answers whether they came.
-    bool wait_for(std::size_t n, double seconds) {
-        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        while (seen().size() < n && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        return seen().size() >= n;
-    }
-    bool ended(double seconds) {
-        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        const auto has_end = [this] {
-            const auto e = seen();
-            return !e.empty() && e.back().first == "end";
-        };
-        while (!has_end() && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        return has_end();
-    }
+// A stream read with the track's token (none: the positions stream, open on a keyless server).
+struct Listener : locus::testing::SseListener {
+    Listener(int port, const std::string& path, const std::string& track_token)
+        : SseListener(port, path, track_token.empty() ? httplib::Headers{} : httplib::Headers{{"X-Track-Token", track_token}}) {}
 };
 
 std::vector<double> fix_times(const std::vector<std::pair<std::string, json>>& events) {
@@ -105,6 +59,28 @@ std::vector<double> fix_times(const std::vector<std::pair<std::string, json>>& e
         if (name == "fix") out.push_back(data.at("t").get<double>());
     return out;
 }
+
+Track open_with_fix(const ServerProcess& a, const locus::testing::Hierarchy& h, const std::string& label, double t) {
+    const Track out = open_track(a, h.map, label);
+    post_fixes(a, out, json::array({fix(t, h.floor, 0)}));
+    return out;
+}
+
+// On A: a hierarchy and a track `label` with one fix `age_s` ago; on B: the track's stream and
+// the map's positions stream, opened after that fix.
+struct Followed {
+    locus::testing::Hierarchy h;
+    double t0;
+    Track t;
+    Listener track_stream, map_stream;
+
+    Followed(const ServerProcess& a, const ServerProcess& b, const std::string& label, double age_s)
+        : h(locus::testing::make_hierarchy(a)),
+          t0(unix_now() - age_s),
+          t(open_with_fix(a, h, label, t0)),
+          track_stream(b.port(), t.path("/events"), t.token),
+          map_stream(b.port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "") {}
+};
 
 struct ReplicaEvents : ::testing::Test {
     void SetUp() override {
@@ -123,55 +99,50 @@ struct ReplicaEvents : ::testing::Test {
 }  // namespace
 
 TEST_F(ReplicaEvents, FixesPostedOnOneServerReachTheOthersStreamsInOrderOnceEach) {
-    const auto h = locus::testing::make_hierarchy(*a);
-    const double t0 = unix_now() - 60;
-    const Track t = open_track(*a, h.map, "ann");
-    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
-    Listener track_stream(b->port(), t.path("/events"), t.token);
-    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
-    ASSERT_TRUE(track_stream.wait_for(1, 2.0));
-    ASSERT_TRUE(map_stream.wait_for(1, 2.0));
-    EXPECT_EQ(map_stream.seen()[0].second.at("fix").at("x"), 0.0);
+    Followed f(*a, *b, "ann", 60);
+    ASSERT_TRUE(f.track_stream.wait_for(1, 2.0));
+    ASSERT_TRUE(f.map_stream.wait_for(1, 2.0));
+    EXPECT_EQ(f.map_stream.seen()[0].second.at("fix").at("x"), 0.0);
 
     // One fix at a time, each seen on B within a second; then a batch of three.
-    std::vector<double> want = {t0};
+    std::vector<double> want = {f.t0};
     for (int i = 1; i <= 4; ++i) {
         const auto posted = std::chrono::steady_clock::now();
-        post_fixes(*a, t, json::array({fix(t0 + i, h.floor, i)}));
-        want.push_back(t0 + i);
-        ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0)) << "fix " << i << " did not reach B's track stream";
-        ASSERT_TRUE(map_stream.wait_for(1 + static_cast<std::size_t>(i), 1.0)) << "fix " << i << " did not reach B's positions stream";
+        post_fixes(*a, f.t, json::array({fix(f.t0 + i, f.h.floor, i)}));
+        want.push_back(f.t0 + i);
+        ASSERT_TRUE(f.track_stream.wait_for(want.size(), 1.0)) << "fix " << i << " did not reach B's track stream";
+        ASSERT_TRUE(f.map_stream.wait_for(1 + static_cast<std::size_t>(i), 1.0)) << "fix " << i << " did not reach B's positions stream";
         EXPECT_LT(std::chrono::steady_clock::now() - posted, std::chrono::seconds(1));
-        const auto last = map_stream.seen().back();
+        const auto last = f.map_stream.seen().back();
         EXPECT_EQ(last.first, "position");
-        EXPECT_EQ(last.second.at("track_id"), t.id);
+        EXPECT_EQ(last.second.at("track_id"), f.t.id);
         EXPECT_EQ(last.second.at("label"), "ann");
         EXPECT_EQ(last.second.at("fix").at("x").get<double>(), i);
     }
-    post_fixes(*a, t, json::array({fix(t0 + 5, h.floor, 5), fix(t0 + 6, h.floor, 6), fix(t0 + 7, h.floor, 7)}));
-    for (int i = 5; i <= 7; ++i) want.push_back(t0 + i);
-    ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0));
-    ASSERT_TRUE(map_stream.wait_for(6, 1.0));
+    post_fixes(*a, f.t, json::array({fix(f.t0 + 5, f.h.floor, 5), fix(f.t0 + 6, f.h.floor, 6), fix(f.t0 + 7, f.h.floor, 7)}));
+    for (int i = 5; i <= 7; ++i) want.push_back(f.t0 + i);
+    ASSERT_TRUE(f.track_stream.wait_for(want.size(), 1.0));
+    ASSERT_TRUE(f.map_stream.wait_for(6, 1.0));
     // A retry of fixes already stored (on either server) is no event anywhere.
-    post_fixes(*b, t, json::array({fix(t0 + 7, h.floor, 7)}));
-    post_fixes(*a, t, json::array({fix(t0 + 6, h.floor, 6)}));
+    post_fixes(*b, f.t, json::array({fix(f.t0 + 7, f.h.floor, 7)}));
+    post_fixes(*a, f.t, json::array({fix(f.t0 + 6, f.h.floor, 6)}));
     std::this_thread::sleep_for(std::chrono::milliseconds(600));  // heartbeats only: nothing repeated
-    EXPECT_EQ(fix_times(track_stream.seen()), want);
-    EXPECT_EQ(map_stream.seen().size(), 6u);
-    EXPECT_EQ(map_stream.seen().back().second.at("fix").at("x"), 7.0);
+    EXPECT_EQ(fix_times(f.track_stream.seen()), want);
+    EXPECT_EQ(f.map_stream.seen().size(), 6u);
+    EXPECT_EQ(f.map_stream.seen().back().second.at("fix").at("x"), 7.0);
     // A fix posted to B itself still comes once.
-    post_fixes(*b, t, json::array({fix(t0 + 8, h.floor, 8)}));
-    want.push_back(t0 + 8);
-    ASSERT_TRUE(track_stream.wait_for(want.size(), 1.0));
+    post_fixes(*b, f.t, json::array({fix(f.t0 + 8, f.h.floor, 8)}));
+    want.push_back(f.t0 + 8);
+    ASSERT_TRUE(f.track_stream.wait_for(want.size(), 1.0));
 
     // Closed on A: B's track stream ends as on a local close, and the track leaves B's map stream.
-    ASSERT_EQ(track_call(*a, "POST", t.path("/close"), {t.token}, "{}").status, 200);
-    EXPECT_TRUE(track_stream.ended(1.0)) << "B's track stream did not end when A closed the track";
-    ASSERT_TRUE(map_stream.wait_for(8, 1.0));
-    EXPECT_EQ(map_stream.seen().back().first, "leave");
-    EXPECT_EQ(map_stream.seen().back().second.at("track_id"), t.id);
-    EXPECT_TRUE(map_stream.seen().back().second.at("floor_id").is_null());
-    EXPECT_EQ(fix_times(track_stream.seen()), want);
+    ASSERT_EQ(track_call(*a, "POST", f.t.path("/close"), {f.t.token}, "{}").status, 200);
+    EXPECT_TRUE(f.track_stream.ended(1.0)) << "B's track stream did not end when A closed the track";
+    ASSERT_TRUE(f.map_stream.wait_for(8, 1.0));
+    EXPECT_EQ(f.map_stream.seen().back().first, "leave");
+    EXPECT_EQ(f.map_stream.seen().back().second.at("track_id"), f.t.id);
+    EXPECT_TRUE(f.map_stream.seen().back().second.at("floor_id").is_null());
+    EXPECT_EQ(fix_times(f.track_stream.seen()), want);
 }
 
 TEST_F(ReplicaEvents, ATrackOpenedOnOneServerAppearsOnTheOthersPositionsStream) {
@@ -216,21 +187,16 @@ TEST_F(ReplicaEvents, RevokingAShareOrDeletingOnOneServerEndsTheOthersStreams) {
 // A track fix written with no notification (as if it were lost): the change counter moves, B
 // hears "everything changed" and its streams read again what they follow.
 TEST_F(ReplicaEvents, AFixWhoseNotificationNeverCameIsCaughtUp) {
-    const auto h = locus::testing::make_hierarchy(*a);
-    const double t0 = unix_now() - 30;
-    const Track t = open_track(*a, h.map, "dan");
-    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
-    Listener track_stream(b->port(), t.path("/events"), t.token);
-    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
-    ASSERT_TRUE(track_stream.wait_for(1, 2.0));
-    ASSERT_TRUE(map_stream.wait_for(1, 2.0));
+    Followed f(*a, *b, "dan", 30);
+    ASSERT_TRUE(f.track_stream.wait_for(1, 2.0));
+    ASSERT_TRUE(f.map_stream.wait_for(1, 2.0));
     locus::testing::database_exec(a->db(), "BEGIN; INSERT INTO track_fixes (track_id, t, floor_id, x, y, accuracy_m) VALUES (" +
-                                               std::to_string(t.id) + ", " + std::to_string(t0 + 1) + ", " + std::to_string(h.floor) +
+                                               std::to_string(f.t.id) + ", " + std::to_string(f.t0 + 1) + ", " + std::to_string(f.h.floor) +
                                                ", 9, 1, 1.5); UPDATE change_counter SET version = version + 1; COMMIT");
-    ASSERT_TRUE(track_stream.wait_for(2, 2.0)) << "B's track stream never caught up";
-    EXPECT_EQ(track_stream.seen()[1].second.at("x"), 9.0);
-    ASSERT_TRUE(map_stream.wait_for(2, 2.0)) << "B's positions stream never caught up";
-    EXPECT_EQ(map_stream.seen()[1].second.at("fix").at("x"), 9.0);
+    ASSERT_TRUE(f.track_stream.wait_for(2, 2.0)) << "B's track stream never caught up";
+    EXPECT_EQ(f.track_stream.seen()[1].second.at("x"), 9.0);
+    ASSERT_TRUE(f.map_stream.wait_for(2, 2.0)) << "B's positions stream never caught up";
+    EXPECT_EQ(f.map_stream.seen()[1].second.at("fix").at("x"), 9.0);
 }
 
 // A lost locus_tracks notification: the servers' listener connections are ended

@@ -25,18 +25,18 @@
 #include "locus/ranging/path_loss.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "server_process.hpp"
+#include "unix_time.hpp"
 
 using locus::Point;
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
+using locus::testing::unix_now;
 using nlohmann::json;
 namespace fusion = locus::fusion;
 namespace ranging = locus::ranging;
 
 namespace {
-
-double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 constexpr double kPhoneHeight = 1.2;  // the server's default: a transmitter's z is measured against it
 
@@ -129,6 +129,19 @@ Walk make_walk(double t0) {
     return w;
 }
 
+// A filter's answers to the inputs of one request in the server's order (by t, a radio fix
+// before a step of equal t).
+template <class Filter>
+std::vector<json> in_server_order(Filter& f, const std::vector<json>& steps, const std::vector<json>& scans) {
+    std::vector<json> out;
+    std::size_t i = 0, j = 0;
+    while (i < steps.size() || j < scans.size()) {
+        if (j < scans.size() && (i >= steps.size() || scans[j]["t"].get<double>() <= steps[i]["t"].get<double>())) out.push_back(f.scan(scans[j++]));
+        else out.push_back(f.step(steps[i++]));
+    }
+    return out;
+}
+
 // What the server does, in-process: each scan ranged (in the order its readings came, as the
 // server's query keeps them), client-lib's Kalman filter started at the first fix with the
 // fix's own σ, steps as control input.
@@ -136,10 +149,20 @@ struct Expected {
     fusion::RangingKalmanConfig config;
     bool multilateration = false;
     std::optional<fusion::KalmanFilter> kf;
+    json heading_deg = nullptr;  // the last step's, answered raw
 
     json fused(double t) const {
         const Point p = kf->position();
-        return {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(kf->covariance().trace() / 2.0)}};
+        json f = {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(kf->covariance().trace() / 2.0)}};
+        if (!heading_deg.is_null()) f["heading_deg"] = heading_deg;
+        return f;
+    }
+    // A server resuming the track starts the filter at its latest stored fix, σ its accuracy.
+    void resume(const json& latest) {
+        fusion::KalmanConfig c = config.kalman;
+        c.initial_sigma_m = latest["accuracy_m"].get<double>();
+        kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
+        heading_deg = latest.value("heading_deg", json());
     }
     json scan(const json& s) {
         std::vector<ranging::Heard> heard;
@@ -160,19 +183,11 @@ struct Expected {
         return fused(s["t"].get<double>());
     }
     json step(const json& s) {
+        heading_deg = s["heading_deg"];
         kf->predict(locus::pdr::step({0.0, 0.0}, s["length_m"].get<double>(), s["heading_deg"].get<double>() * std::numbers::pi / 180.0));
         return fused(s["t"].get<double>());
     }
-    // The inputs of one request in the server's order (by t, a radio fix before a step of equal t).
-    std::vector<json> run(std::vector<json> steps, std::vector<json> scans) {
-        std::vector<json> out;
-        std::size_t i = 0, j = 0;
-        while (i < steps.size() || j < scans.size()) {
-            if (j < scans.size() && (i >= steps.size() || scans[j]["t"].get<double>() <= steps[i]["t"].get<double>())) out.push_back(scan(scans[j++]));
-            else out.push_back(step(steps[i++]));
-        }
-        return out;
-    }
+    std::vector<json> run(const std::vector<json>& steps, const std::vector<json>& scans) { return in_server_order(*this, steps, scans); }
 };
 
 // ekf_ranging in-process: fusion::RangingEkf over the map's transmitters (ids as the server keys
@@ -181,6 +196,7 @@ struct Expected {
 struct ExpectedEkf {
     fusion::RangingEkfConfig config;
     std::optional<fusion::RangingEkf> ekf;
+    std::optional<double> heading_deg;  // the last step's; answered less the filter's heading bias
 
     static std::vector<fusion::RangingAnchor> anchors() {
         std::vector<fusion::RangingAnchor> out;
@@ -192,9 +208,16 @@ struct ExpectedEkf {
         c.initial_sigma_m = sigma;
         ekf.emplace(at, anchors(), c);
     }
+    void resume(const json& latest) {
+        start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>());
+        if (latest.contains("heading_deg")) heading_deg = latest["heading_deg"].get<double>();
+    }
     json fused(double t) const {
         const Point p = ekf->position();
-        return {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(ekf->position_covariance().trace() / 2.0)}};
+        json f = {{"t", t}, {"x", p.x}, {"y", p.y}, {"accuracy_m", std::sqrt(ekf->position_covariance().trace() / 2.0)}};
+        // The bias turns the steps counter-clockwise; headings are clockwise.
+        if (heading_deg) f["heading_deg"] = *heading_deg - ekf->heading_bias_rad() * 180.0 / std::numbers::pi;
+        return f;
     }
     json scan(const json& s) {
         const double t = s["t"].get<double>();
@@ -217,19 +240,12 @@ struct ExpectedEkf {
         return fused(t);
     }
     json step(const json& s) {
-        const double heading = s["heading_deg"].get<double>() * std::numbers::pi / 180.0;
+        heading_deg = s["heading_deg"].get<double>();
+        const double heading = *heading_deg * std::numbers::pi / 180.0;
         ekf->predict(locus::pdr::step({0.0, 0.0}, s["length_m"].get<double>(), heading), s["t"].get<double>());
         return fused(s["t"].get<double>());
     }
-    std::vector<json> run(std::vector<json> steps, std::vector<json> scans) {
-        std::vector<json> out;
-        std::size_t i = 0, j = 0;
-        while (i < steps.size() || j < scans.size()) {
-            if (j < scans.size() && (i >= steps.size() || scans[j]["t"].get<double>() <= steps[i]["t"].get<double>())) out.push_back(scan(scans[j++]));
-            else out.push_back(step(steps[i++]));
-        }
-        return out;
-    }
+    std::vector<json> run(const std::vector<json>& steps, const std::vector<json>& scans) { return in_server_order(*this, steps, scans); }
 };
 
 void expect_same(const json& got, const std::vector<json>& expected) {
@@ -239,6 +255,13 @@ void expect_same(const json& got, const std::vector<json>& expected) {
         EXPECT_NEAR(got[i]["x"].get<double>(), expected[i]["x"].get<double>(), 1e-9) << i;
         EXPECT_NEAR(got[i]["y"].get<double>(), expected[i]["y"].get<double>(), 1e-9) << i;
         EXPECT_NEAR(got[i]["accuracy_m"].get<double>(), expected[i]["accuracy_m"].get<double>(), 1e-9) << i;
+        ASSERT_EQ(got[i].contains("heading_deg"), expected[i].contains("heading_deg")) << i << ": " << got[i].dump();
+        if (expected[i].contains("heading_deg")) {  // as angles: the server answers in [0, 360)
+            const double h = got[i]["heading_deg"].get<double>();
+            EXPECT_GE(h, 0.0) << i;
+            EXPECT_LT(h, 360.0) << i;
+            EXPECT_NEAR(std::remainder(h - expected[i]["heading_deg"].get<double>(), 360.0), 0.0, 1e-9) << i;
+        }
     }
 }
 
@@ -258,6 +281,66 @@ json body(const std::vector<json>& steps, const std::vector<json>& scans) {
 
 std::size_t stored_fixes(const ServerProcess& s, const Track& t) {
     return body_of(call(s, "GET", t.self(), t.token))["fixes"].get<std::size_t>();
+}
+
+// The walk posted to `t` in two requests split at `mid`: each answer's fused fixes are `e`'s
+// (client-lib in-process) on the same inputs, and the first gives a scan fix a scan, on `floor`.
+struct TwoAnswers {
+    json first, rest;
+    std::vector<json> expected_rest;
+};
+
+template <class Filter>
+TwoAnswers post_in_two(const ServerProcess& s, const Track& t, const Walk& w, double mid, std::int64_t floor, Filter& e) {
+    TwoAnswers out;
+    const auto first_steps = slice(w.steps, w.t0, mid), first_scans = slice(w.scans, w.t0, mid);
+    out.first = body_of(call(s, "POST", t.steps(), t.token, body(first_steps, first_scans).dump()));
+    expect_same(out.first["fused"], e.run(first_steps, first_scans));
+    EXPECT_EQ(out.first["scan_fixes"].size(), first_scans.size());
+    for (const auto& f : out.first["scan_fixes"]) EXPECT_EQ(f["floor_id"], floor);
+    const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
+    out.rest = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    out.expected_rest = e.run(rest_steps, rest_scans);
+    expect_same(out.rest["fused"], out.expected_rest);
+    return out;
+}
+
+// What the resume tests share: on `s`, the hierarchy with the transmitters, a track of `fusion`
+// (and `options`), and the walk's steps and scans before t0 + `mid_s` posted to it.
+struct HalfWalked {
+    locus::testing::Hierarchy h;
+    Walk w;
+    Track t;
+    double mid = 0;
+};
+
+HalfWalked walk_half(const ServerProcess& s, const std::string& fusion, const json& options, double mid_s) {
+    HalfWalked hw{locus::testing::make_hierarchy(s), make_walk(std::floor(unix_now()) - 60), {}, 0};
+    add_transmitters(s, hw.h.floor);
+    hw.t = open_track(s, hw.h.map, fusion, options);
+    hw.mid = hw.w.t0 + mid_s;
+    const auto& w = hw.w;
+    body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(slice(w.steps, w.t0, hw.mid), slice(w.scans, w.t0, hw.mid)).dump()));
+    return hw;
+}
+
+// Restarts `s`, checks the track kept its fusion and options, and returns its latest stored fix.
+json restart(ServerProcess& s, const HalfWalked& hw, const std::string& fusion, const json& options) {
+    s.stop();
+    s.start();
+    const json info = body_of(call(s, "GET", hw.t.self(), hw.t.token));
+    EXPECT_EQ(info["fusion"], fusion);
+    EXPECT_EQ(info["fusion_options"], options);
+    return info["latest"];
+}
+
+// On `other` (sharing the database): the latest stored fix, the last step's (t0 + 10), then the
+// answer to the rest of the walk posted there.
+std::pair<json, json> finish_on(const ServerProcess& other, const HalfWalked& hw) {
+    const json latest = body_of(call(other, "GET", hw.t.self(), hw.t.token))["latest"];
+    EXPECT_EQ(latest["t"].get<double>(), hw.w.t0 + 10);
+    const auto rest_steps = slice(hw.w.steps, hw.mid, 1e300), rest_scans = slice(hw.w.scans, hw.mid, 1e300);
+    return {latest, body_of(call(other, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()))};
 }
 
 }  // namespace
@@ -289,15 +372,8 @@ TEST(ServerTracksRanging, KalmanTracksFuseScansAsClientLibDoes) {
         if (!c.options.is_null()) EXPECT_EQ(info["fusion_options"], c.options);
         else EXPECT_FALSE(info.contains("fusion_options"));
         Expected e{c.config, c.multilateration, std::nullopt};
-        const auto first_steps = slice(w.steps, w.t0, mid), first_scans = slice(w.scans, w.t0, mid);
-        const json a = body_of(call(s, "POST", t.steps(), t.token, body(first_steps, first_scans).dump()));
-        expect_same(a["fused"], e.run(first_steps, first_scans));
-        ASSERT_EQ(a["scan_fixes"].size(), first_scans.size());
-        EXPECT_EQ(a["scan_fixes"][0]["floor_id"], h.floor);
+        const auto [a, b, expected_rest] = post_in_two(s, t, w, mid, h.floor, e);
         const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-        const json b = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
-        const auto expected_rest = e.run(rest_steps, rest_scans);
-        expect_same(b["fused"], expected_rest);
         EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
         const json latest = b["latest"];
         EXPECT_NEAR(latest["x"].get<double>(), expected_rest.back()["x"].get<double>(), 1e-9);
@@ -344,15 +420,8 @@ TEST(ServerTracksRanging, EkfTrackFusesReadingsAsClientLibDoes) {
     e.config.step_lead_s = 0.0;
     e.config.reading_sigma_db = 3.0;
     json all = json::array();
-    const auto first_steps = slice(w.steps, w.t0, mid), first_scans = slice(w.scans, w.t0, mid);
-    const json a = body_of(call(s, "POST", t.steps(), t.token, body(first_steps, first_scans).dump()));
-    expect_same(a["fused"], e.run(first_steps, first_scans));
-    ASSERT_EQ(a["scan_fixes"].size(), first_scans.size());
-    EXPECT_EQ(a["scan_fixes"][0]["floor_id"], h.floor);
+    const auto [a, b, expected_rest] = post_in_two(s, t, w, mid, h.floor, e);
     const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-    const json b = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
-    const auto expected_rest = e.run(rest_steps, rest_scans);
-    expect_same(b["fused"], expected_rest);
     for (const auto& f : a["fused"]) all.push_back(f);
     for (const auto& f : b["fused"]) all.push_back(f);
     EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
@@ -564,32 +633,20 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
 // options.
 TEST(ServerTracksRanging, ARestartResumesAtTheLatestStoredFix) {
     ServerProcess s({"--quiet"});
-    const auto h = locus::testing::make_hierarchy(s);
-    add_transmitters(s, h.floor);
-    const Walk w = make_walk(std::floor(unix_now()) - 60);
     const json options = {{"r_floor_m", 0.7}, {"q_sigma_per_m", 0.4}};
-    const Track t = open_track(s, h.map, "kalman_ranging", options);
-    const double mid = w.t0 + 8.2;
-    ASSERT_EQ(call(s, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
-    s.stop();
-    s.start();
-    const json info = body_of(call(s, "GET", t.self(), t.token));
-    EXPECT_EQ(info["fusion"], "kalman_ranging");
-    EXPECT_EQ(info["fusion_options"], options);
-    const json latest = info["latest"];
-    const auto rest_steps = slice(w.steps, latest["t"].get<double>() - 2.5, 1e300);  // the first ones were run: skipped
-    const auto rest_scans = slice(w.scans, mid, 1e300);
-    const json got = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const HalfWalked hw = walk_half(s, "kalman_ranging", options, 8.2);
+    const json latest = restart(s, hw, "kalman_ranging", options);
+    const auto rest_steps = slice(hw.w.steps, latest["t"].get<double>() - 2.5, 1e300);  // the first ones were run: skipped
+    const auto rest_scans = slice(hw.w.scans, hw.mid, 1e300);
+    const json got = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()));
 
     auto config = fusion::ranging_kalman_config();
     config.r_floor_m = 0.7;
     config.kalman.step_sigma_per_m = 0.4;
     Expected e{config, true, std::nullopt};
-    fusion::KalmanConfig c = config.kalman;
-    c.initial_sigma_m = latest["accuracy_m"].get<double>();
-    e.kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
-    expect_same(got["fused"], e.run(slice(rest_steps, mid, 1e300), rest_scans));
-    EXPECT_EQ(got["fused"][0]["floor_id"], h.floor);
+    e.resume(latest);
+    expect_same(got["fused"], e.run(slice(rest_steps, hw.mid, 1e300), rest_scans));
+    EXPECT_EQ(got["fused"][0]["floor_id"], hw.h.floor);
 }
 
 // ekf_ranging after a restart: resumed at the latest stored fix (σ its accuracy_m, the offset
@@ -597,33 +654,23 @@ TEST(ServerTracksRanging, ARestartResumesAtTheLatestStoredFix) {
 // request after it holds steps alone; then scans' readings update it as before.
 TEST(ServerTracksRanging, ARestartResumesAnEkfTrackAtTheLatestStoredFix) {
     ServerProcess s({"--quiet"});
-    const auto h = locus::testing::make_hierarchy(s);
-    add_transmitters(s, h.floor);
-    const Walk w = make_walk(std::floor(unix_now()) - 60);
     const json options = {{"q_sigma_per_m", 0.2}, {"huber_k", 2.0}};
-    const Track t = open_track(s, h.map, "ekf_ranging", options);
-    const double mid = w.t0 + 8.2;
-    ASSERT_EQ(call(s, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
-    s.stop();
-    s.start();
-    const json info = body_of(call(s, "GET", t.self(), t.token));
-    EXPECT_EQ(info["fusion"], "ekf_ranging");
-    EXPECT_EQ(info["fusion_options"], options);
-    const json latest = info["latest"];
+    const HalfWalked hw = walk_half(s, "ekf_ranging", options, 8.2);
+    const json latest = restart(s, hw, "ekf_ranging", options);
     ExpectedEkf e;
     e.config.step_sigma_per_m = 0.2;
     e.config.huber_k = 2.0;
-    e.start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>());
+    e.resume(latest);
     // Steps alone first (the earliest were run before the restart: skipped), then the rest.
-    const auto more_steps = slice(w.steps, latest["t"].get<double>() - 2.5, mid + 3);
-    const json got_steps = body_of(call(s, "POST", t.steps(), t.token, body(more_steps, {}).dump()));
-    expect_same(got_steps["fused"], e.run(slice(more_steps, mid, 1e300), {}));
-    const auto rest_steps = slice(w.steps, mid + 3, 1e300), rest_scans = slice(w.scans, mid + 3, 1e300);
-    const json got = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const auto more_steps = slice(hw.w.steps, latest["t"].get<double>() - 2.5, hw.mid + 3);
+    const json got_steps = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(more_steps, {}).dump()));
+    expect_same(got_steps["fused"], e.run(slice(more_steps, hw.mid, 1e300), {}));
+    const auto rest_steps = slice(hw.w.steps, hw.mid + 3, 1e300), rest_scans = slice(hw.w.scans, hw.mid + 3, 1e300);
+    const json got = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()));
     const auto expected = e.run(rest_steps, rest_scans);
     expect_same(got["fused"], expected);
-    EXPECT_EQ(got["fused"][0]["floor_id"], h.floor);
-    EXPECT_LT(std::hypot(expected.back()["x"].get<double>() - w.end.x, expected.back()["y"].get<double>() - w.end.y), 1.5);
+    EXPECT_EQ(got["fused"][0]["floor_id"], hw.h.floor);
+    EXPECT_LT(std::hypot(expected.back()["x"].get<double>() - hw.w.end.x, expected.back()["y"].get<double>() - hw.w.end.y), 1.5);
 }
 
 // Two servers sharing a PostgreSQL database: a Kalman track's requests alternate between them,
@@ -633,22 +680,12 @@ TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesTheTrack) {
     if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
     ServerProcess a({"--quiet"});
     ServerProcess b({"--quiet"}, locus::testing::SameDatabase{a.db()});
-    const auto h = locus::testing::make_hierarchy(a);
-    add_transmitters(a, h.floor);
-    const Walk w = make_walk(std::floor(unix_now()) - 60);
-    const Track t = open_track(a, h.map, "kalman_seed");
-    const double mid = w.t0 + 10.2;
-    ASSERT_EQ(call(a, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
-    const json latest = body_of(call(b, "GET", t.self(), t.token))["latest"];
-    ASSERT_EQ(latest["t"].get<double>(), w.t0 + 10);
-    const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-    const json got = body_of(call(b, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const HalfWalked hw = walk_half(a, "kalman_seed", nullptr, 10.2);
+    const auto [latest, got] = finish_on(b, hw);
     Expected e{fusion::seed004_kalman_config(), false, std::nullopt};
-    fusion::KalmanConfig c = e.config.kalman;
-    c.initial_sigma_m = latest["accuracy_m"].get<double>();
-    e.kf.emplace(Point{latest["x"].get<double>(), latest["y"].get<double>()}, c);
-    expect_same(got["fused"], e.run(rest_steps, rest_scans));
-    EXPECT_EQ(body_of(call(a, "GET", t.self(), t.token))["fixes"].get<std::size_t>(), w.steps.size() + w.scans.size());
+    e.resume(latest);
+    expect_same(got["fused"], e.run(slice(hw.w.steps, hw.mid, 1e300), slice(hw.w.scans, hw.mid, 1e300)));
+    EXPECT_EQ(stored_fixes(a, hw.t), hw.w.steps.size() + hw.w.scans.size());
 }
 
 // ekf_ranging across two servers sharing a PostgreSQL database: the second resumes at the
@@ -657,19 +694,11 @@ TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesAnEkfTrack) {
     if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
     ServerProcess a({"--quiet"});
     ServerProcess b({"--quiet"}, locus::testing::SameDatabase{a.db()});
-    const auto h = locus::testing::make_hierarchy(a);
-    add_transmitters(a, h.floor);
-    const Walk w = make_walk(std::floor(unix_now()) - 60);
-    const Track t = open_track(a, h.map, "ekf_ranging", {{"step_lead_s", 0.0}});
-    const double mid = w.t0 + 10.2;
-    ASSERT_EQ(call(a, "POST", t.steps(), t.token, body(slice(w.steps, w.t0, mid), slice(w.scans, w.t0, mid)).dump()).status, 200);
-    const json latest = body_of(call(b, "GET", t.self(), t.token))["latest"];
-    ASSERT_EQ(latest["t"].get<double>(), w.t0 + 10);
-    const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-    const json got = body_of(call(b, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const HalfWalked hw = walk_half(a, "ekf_ranging", {{"step_lead_s", 0.0}}, 10.2);
+    const auto [latest, got] = finish_on(b, hw);
     ExpectedEkf e;
     e.config.step_lead_s = 0.0;
-    e.start({latest["x"].get<double>(), latest["y"].get<double>()}, latest["accuracy_m"].get<double>());
-    expect_same(got["fused"], e.run(rest_steps, rest_scans));
-    EXPECT_EQ(body_of(call(a, "GET", t.self(), t.token))["fixes"].get<std::size_t>(), w.steps.size() + w.scans.size());
+    e.resume(latest);
+    expect_same(got["fused"], e.run(slice(hw.w.steps, hw.mid, 1e300), slice(hw.w.scans, hw.mid, 1e300)));
+    EXPECT_EQ(stored_fixes(a, hw.t), hw.w.steps.size() + hw.w.scans.size());
 }

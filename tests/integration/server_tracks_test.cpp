@@ -21,17 +21,17 @@
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
 #include "track_call.hpp"
+#include "unix_time.hpp"
 
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using locus::testing::track_call;
 using locus::testing::with_api_key;
+using locus::testing::unix_now;
 using nlohmann::json;
 
 namespace {
-
-double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 struct Track {
     std::int64_t id = 0;

@@ -6,6 +6,8 @@
 // count and each AP's count, mean and variance must equal what the acknowledged uploads give
 // applied one after another (means to 1e-9: Welford in another order differs in the last
 // bits only). Prints one JSON object; exits non-zero on a mismatch or a failed request.
+// --radiomap ID adds the --rps RPs to that existing radio map instead (still new, so the check
+// stays exact): uploads to a big map, as surveyors extending it, while localize is measured.
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -30,6 +32,7 @@ struct Args {
     int clients = 4;
     int rps = 4;
     double seconds = 10.0;
+    std::int64_t radiomap = 0;  // 0: a map of its own
 };
 
 // Sums of what the acknowledged uploads sent to one AP of one RP (integers: exact).
@@ -50,15 +53,20 @@ int rss_of(long long n, int ap) { return ap == 0 ? -40 - static_cast<int>(n % 37
 void run(const Args& a) {
     httplib::Client setup(a.servers.front());
     const std::string tag = std::to_string(std::chrono::system_clock::now().time_since_epoch().count());
-    const auto map = created(setup, "/v1/maps", {{"name", "bench uploads " + tag}});
-    const auto building = created(setup, "/v1/maps/" + std::to_string(map) + "/buildings", {{"name", "B"}});
-    const auto floor = created(setup, "/v1/buildings/" + std::to_string(building) + "/floors",
-                               {{"name", "F"}, {"level", 0}, {"width", 50.0}, {"height", 50.0}});
-    const auto radiomap = created(setup, "/v1/floors/" + std::to_string(floor) + "/radiomaps", {{"name", "R"}});
+    json map = nullptr;
+    std::int64_t radiomap = a.radiomap;
+    if (radiomap == 0) {
+        const auto m = created(setup, "/v1/maps", {{"name", "bench uploads " + tag}});
+        const auto building = created(setup, "/v1/maps/" + std::to_string(m) + "/buildings", {{"name", "B"}});
+        const auto floor = created(setup, "/v1/buildings/" + std::to_string(building) + "/floors",
+                                   {{"name", "F"}, {"level", 0}, {"width", 50.0}, {"height", 50.0}});
+        radiomap = created(setup, "/v1/floors/" + std::to_string(floor) + "/radiomaps", {{"name", "R"}});
+        map = m;
+    }
     std::vector<std::int64_t> rps;
     for (int i = 0; i < a.rps; ++i)
         rps.push_back(created(setup, "/v1/radiomaps/" + std::to_string(radiomap) + "/rps",
-                              {{"name", "rp" + std::to_string(i)}, {"x", 1.0 + i}, {"y", 1.0}}));
+                              {{"name", "bench uploads " + tag + " rp" + std::to_string(i)}, {"x", 1.0 + i % 40}, {"y", 1.0 + i / 40}}));
 
     std::mutex mu;
     std::map<std::pair<std::int64_t, int>, Sums> expected;  // (rp, ap) -> sums
@@ -133,7 +141,8 @@ void run(const Args& a) {
                       {"failed", failed.load()},
                       {"exact", mismatches.empty()},
                       {"mismatches", mismatches},
-                      {"map_id", map}}
+                      {"map_id", map},
+                      {"radiomap_id", radiomap}}
                      .dump()
               << "\n";
     if (!mismatches.empty()) throw CommandError("stored statistics differ from the acknowledged uploads");
@@ -150,5 +159,6 @@ LOCUS_COMMAND("bench-uploads", [](CLI::App& app) {
     cmd->add_option("--clients", args->clients, "keep-alive clients per server")->capture_default_str()->check(CLI::Range(1, 256));
     cmd->add_option("--rps", args->rps, "RPs the uploads share")->capture_default_str()->check(CLI::Range(1, 10000));
     cmd->add_option("--seconds", args->seconds, "how long to upload")->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+    cmd->add_option("--radiomap", args->radiomap, "add the RPs to this existing radio map (default: a new map)")->check(CLI::PositiveNumber);
     cmd->callback([args] { run(*args); });
 });
