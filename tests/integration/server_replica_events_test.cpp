@@ -294,3 +294,27 @@ TEST_F(ReplicaEvents, TheOthersFixCountFollowsRemotePostsOnceEach) {
     EXPECT_EQ(fix_times(stream.seen()), (std::vector<double>{t0, t0 + 1, t0 + 2, t0 + 3}));
     EXPECT_EQ(body_of(track_call(*b, "GET", t.path(), {t.token})).at("fixes"), 4);
 }
+
+// A fault on B's tracks connection alone (the listeners stay up, so no "everything changed"):
+// every other backend of the database is ended, then A stores a fix. B's refresh of it fails on
+// the dead connection; it is retried (and the connection made again) rather than dropped.
+TEST_F(ReplicaEvents, ARefreshThatFailsOnTheTracksConnectionIsRetried) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const double t0 = unix_now() - 30;
+    const Track t = open_track(*a, h.map, "ida");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
+    Listener stream(b->port(), t.path("/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+    locus::testing::database_exec(a->db(), "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE pid <> pg_backend_pid() AND "
+                                           "datname = current_database() AND query NOT LIKE 'LISTEN %' AND "
+                                           "query <> 'SELECT version FROM change_counter WHERE id = 1'");
+    // A's own connections went too: its post is retried until stored.
+    int status = 0;
+    for (int i = 0; i < 30 && status != 200; ++i) {
+        if (i > 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        status = track_call(*a, "POST", t.path("/fixes"), {t.token}, json{{"fixes", json::array({fix(t0 + 1, h.floor, 5)})}}.dump()).status;
+    }
+    ASSERT_EQ(status, 200);
+    ASSERT_TRUE(stream.wait_for(2, 3.0)) << "B dropped the fix its failed refresh was reading";
+    EXPECT_EQ(stream.seen()[1].second.at("x"), 5.0);
+}
