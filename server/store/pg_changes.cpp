@@ -142,7 +142,8 @@ void ChangeWatcher::run() {
                         continue;
                     }
                     if (tracks) {  // not counted (announce_tracks): no version to follow
-                        if (note.origin != origin_) apply_(note.changes);
+                        if (note.everything) apply_(everything);  // too many tracks for one payload
+                        else if (note.origin != origin_) apply_(note.changes);
                         continue;
                     }
                     const bool gap = note.version > seen + 1;

@@ -38,7 +38,9 @@ class Db;
 std::string announcement(Db& db, const std::string& origin, const std::vector<Change>& changes);
 // Live tracks' writes (tracks::Service, on its own connection) are announced on a channel of
 // their own, locus_tracks, without the counter: bumping its one row would make every fix post
-// of every server wait for the one before it to commit. Nothing is invalidated by them, only
+// wait on the row lock of the one before it. (Their commits are serialized all the same:
+// PostgreSQL commits NOTIFY-sending transactions one at a time cluster-wide, a lock taken in
+// PreCommit_Notify; measured in docs/deploy.md "Live tracks".) Nothing is invalidated by them, only
 // event streams woken, so a notification lost with its connection is made good by the
 // "everything changed" the watcher hands on when it reconnects.
 void announce_tracks(Db& db, const std::string& origin, const std::vector<Change>& changes);

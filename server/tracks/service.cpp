@@ -255,6 +255,10 @@ TrackInfo Service::insert_track(std::int64_t map_id, const std::string& label, F
 
 void Service::refresh(std::int64_t id) {
     std::lock_guard db_lock(db_mu_);
+    // Every read below from one snapshot (REPEATABLE READ on PostgreSQL): a fix committing
+    // between two of them would otherwise leave the latest fix read stale while "the fixes
+    // since" already held it, and the next refresh would append it a second time.
+    store::Transaction snapshot(db_, store::Transaction::Mode::read);
     store::Stmt q(db_, "SELECT map_id, label, token_hash, state, created_at, last_fix_at, ended_at, fusion, fusion_options FROM tracks WHERE id = ?");
     q.bind(1, id);
     if (!q.step()) {
@@ -318,14 +322,20 @@ void Service::refresh(std::int64_t id) {
             std::reverse(fresh.begin(), fresh.end());
         }
     }
-    store::Stmt count(db_, "SELECT count(*) FROM track_fixes WHERE track_id = ?");
-    count.bind(1, id);
-    count.step();
-    row.fixes = static_cast<std::size_t>(count.int64(0));
+    // The count is kept by adding what is new (a count(*) would read every fix of the track on
+    // each remote fix); counted only for a track new here, or when more came than were read.
+    std::optional<std::size_t> counted;
+    if (!known || fresh.size() >= options_.event_buffer) {
+        store::Stmt count(db_, "SELECT count(*) FROM track_fixes WHERE track_id = ?");
+        count.bind(1, id);
+        count.step();
+        counted = static_cast<std::size_t>(count.int64(0));
+    }
     std::map<std::int64_t, std::string> shares;
     store::Stmt sh(db_, "SELECT id, token_hash FROM track_shares WHERE track_id = ?");
     sh.bind(1, id);
     while (sh.step()) shares[sh.int64(0)] = sh.blob(1);
+    snapshot.commit();
 
     std::lock_guard lock(mu_);
     auto& slot = tracks_[id];
@@ -343,7 +353,16 @@ void Service::refresh(std::int64_t id) {
     }
     const bool was_live = known && t.info.state == State::live;
     const bool revoked = std::any_of(t.shares.begin(), t.shares.end(), [&](const auto& s) { return !shares.contains(s.first); });
+    // Only fixes past the latest held now are new: a fix is never given to a stream twice.
+    if (known && t.info.latest) {
+        const double held = t.info.latest->t;
+        std::erase_if(fresh, [held](const Fix& f) { return f.t <= held; });
+    }
+    const std::size_t fixes_before = known ? t.info.fixes : 0;
+    const auto latest_before = known ? t.info.latest : std::nullopt;
     t.info = row;
+    t.info.fixes = counted ? *counted : fixes_before + fresh.size();
+    if (latest_before && (!t.info.latest || t.info.latest->t < latest_before->t)) t.info.latest = latest_before;
     t.token_hash = hash;
     t.shares = std::move(shares);
     for (const auto& f : fresh) {
@@ -383,6 +402,11 @@ void Service::on_track_change(std::int64_t id, std::optional<std::int64_t> map_i
         cares = it->second->streams > 0 || watched(it->second->info.map_id);
     // Any other track is read again when a request for it comes (authorize).
     if (!cares) return;
+    queue_refresh(id);
+}
+
+void Service::queue_refresh(std::int64_t id) {
+    if (origin_.empty()) return;  // one server: nothing changes behind its back
     if (queued_.insert(id).second) to_refresh_.push_back(id);
     refresh_cv_.notify_one();
 }
@@ -400,7 +424,10 @@ void Service::catch_up_map(std::int64_t map_id) {
         for (const auto& [id, t] : tracks_)
             if (t->info.map_id == map_id && t->info.state == State::live) ids.insert(id);
     }
-    for (const auto id : ids) refresh(id);
+    for (const auto id : ids) {
+        if (stopping()) return;  // a slow PostgreSQL must not hold shutdown back
+        refresh(id);
+    }
 }
 
 void Service::catch_up() {
@@ -412,31 +439,60 @@ void Service::catch_up() {
         for (const auto& [map_id, n] : map_streams_)
             if (n > 0) maps.push_back(map_id);
     }
-    for (const auto id : ids) refresh(id);
+    for (const auto id : ids) {
+        if (stopping()) return;
+        refresh(id);
+    }
     for (const auto map_id : maps) catch_up_map(map_id);
 }
 
+bool Service::stopping() const {
+    std::lock_guard lock(mu_);
+    return stopping_;
+}
+
 void Service::refresher() {
+    // After a storage fault the failed work is queued again and retried after a pause, 0.1 s
+    // doubling to at most 5 s while faults go on: a fault on this connection alone (the
+    // watcher's still up) brings no "everything changed" to make good what was dropped.
+    double retry_s = 0;
     std::unique_lock lock(mu_);
     while (!stopping_) {
-        refresh_cv_.wait(lock, [this] { return stopping_ || catch_up_ || !to_refresh_.empty(); });
+        if (retry_s > 0) refresh_cv_.wait_for(lock, std::chrono::duration<double>(retry_s), [this] { return stopping_; });
+        else refresh_cv_.wait(lock, [this] { return stopping_ || catch_up_ || !to_refresh_.empty() || !maps_to_catch_up_.empty(); });
         if (stopping_) break;
         const bool all = std::exchange(catch_up_, false);
-        std::deque<std::int64_t> ids;
-        ids.swap(to_refresh_);
+        const auto ids = std::exchange(to_refresh_, {});
         queued_.clear();
+        const auto maps = std::exchange(maps_to_catch_up_, {});
         lock.unlock();
-        // A storage fault loses nothing for good: the watcher's reconnect sends "everything
-        // changed", which catches up again.
-        try {
-            if (all) catch_up();
-        } catch (const std::exception&) {
-        }
-        for (const auto id : ids) try {
+        bool all_failed = false;
+        std::vector<std::int64_t> failed_maps, failed_ids;
+        if (all) try {
+                catch_up();
+            } catch (const std::exception&) {
+                all_failed = true;
+            }
+        for (const auto map_id : maps) try {
+                catch_up_map(map_id);
+            } catch (const std::exception&) {
+                failed_maps.push_back(map_id);
+            }
+        for (const auto id : ids) {
+            if (stopping()) break;
+            try {
                 refresh(id);
             } catch (const std::exception&) {
+                failed_ids.push_back(id);
             }
+        }
         lock.lock();
+        if (all_failed) catch_up_ = true;
+        maps_to_catch_up_.insert(failed_maps.begin(), failed_maps.end());
+        for (const auto id : failed_ids)
+            if (queued_.insert(id).second) to_refresh_.push_back(id);
+        const bool failed = all_failed || !failed_maps.empty() || !failed_ids.empty();
+        retry_s = failed ? std::clamp(retry_s * 2, 0.1, 5.0) : 0;
     }
 }
 
@@ -707,6 +763,9 @@ std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std
     std::unique_ptr<Stream> s(new Stream(*this, track));
     if (shared) s->share_hash_ = token_hash(token);
     s->seen_ = track->seq;
+    // authorize() read the database before this stream was counted: another server's change
+    // notified in between found no stream caring and was dropped. Read again now it counts.
+    queue_refresh(id);
     return s;
 }
 
@@ -722,7 +781,9 @@ Events Service::next_events(Stream& s) {
     };
     if (!s.started_) {
         s.started_ = true;
+        // The latest fix stands for any stored since the stream opened: none is given twice.
         if (t.info.latest) out.fixes.push_back(*t.info.latest);
+        s.seen_ = t.seq;
     } else {
         t.changed.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s),
                            [&] { return t.seq > s.seen_ || t.info.state != State::live || stopping_ || revoked(); });
@@ -751,10 +812,15 @@ std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id
         ++streams_;
         ++map_streams_[map_id];
         s.reset(new MapStream(*this, map_id, floor_id));
+        // Other servers' tracks on the map, as the database holds them now, read on
+        // refresher_'s thread: a request thread neither waits for their round trips nor fails
+        // when PostgreSQL is away (retried there). Each arrives as a position; their later
+        // changes come on the feed (on_track_change).
+        if (!origin_.empty()) {
+            maps_to_catch_up_.insert(map_id);
+            refresh_cv_.notify_one();
+        }
     }
-    // Other servers' tracks on the map, as the database holds them now, for the first answer;
-    // their later changes arrive on the feed (on_track_change).
-    if (!origin_.empty()) catch_up_map(map_id);
     return s;
 }
 
@@ -814,6 +880,7 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         }
     }
     store::Transaction tx(db_);
+    std::vector<std::int64_t> ended_elsewhere;
     if (db_.is_postgres()) {
         // Another server sharing the database may have stored fixes this one has not seen:
         // a track is closed only when the database says it has been quiet too.
@@ -821,7 +888,12 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         for (const auto& tr : to_close) {
             store::Stmt last(db_, "SELECT last_fix_at FROM tracks WHERE id = ? AND state = 'live'");
             last.bind(1, tr->info.id);
-            if (!last.step()) continue;
+            if (!last.step()) {
+                // Closed, deleted or evicted on another server whose notification never came:
+                // read again (refresher_), so it ends here too and its streams with it.
+                ended_elsewhere.push_back(tr->info.id);
+                continue;
+            }
             const double at = last.real(0);
             if (at + options_.ttl_s < t) {
                 quiet.push_back(tr);
@@ -856,6 +928,7 @@ std::vector<std::int64_t> Service::sweep_tracks() {
     tx.commit();
 
     std::lock_guard lock(mu_);
+    for (const auto id : ended_elsewhere) queue_refresh(id);
     for (const auto& tr : to_close) {
         tr->info.state = State::closed;
         tr->info.ended_at = t;

@@ -234,11 +234,14 @@ private:
     // Another server's change (the feed, on the watcher thread): whether this server's streams
     // care, then refreshing on refresher_'s thread, so the watcher never waits for db_mu_.
     void on_track_change(std::int64_t id, std::optional<std::int64_t> map_id);
+    // Under mu_: `id` read again on refresher_'s thread (each id once while queued); nothing on one server.
+    void queue_refresh(std::int64_t id);
     // Every track a stream here follows, and every live track of a map a positions stream here
     // follows, read again: after "everything changed" (a missed notification, a reconnect).
     void catch_up();
     void catch_up_map(std::int64_t map_id);  // the live tracks of one map
     void refresher();
+    bool stopping() const;  // takes mu_
 
     store::Store& store_;
     Options options_;
@@ -270,6 +273,7 @@ private:
     std::deque<std::int64_t> to_refresh_;
     std::unordered_set<std::int64_t> queued_;
     bool catch_up_ = false;
+    std::unordered_set<std::int64_t> maps_to_catch_up_;  // new positions streams' maps
     std::condition_variable refresh_cv_;
     std::thread refresher_;
 };

@@ -199,6 +199,29 @@ TEST_F(ReplicaEvents, AFixWhoseNotificationNeverCameIsCaughtUp) {
     EXPECT_EQ(f.map_stream.seen()[1].second.at("fix").at("x"), 9.0);
 }
 
+// A lost locus_tracks notification: the servers' listener connections are ended
+// (pg_terminate_backend on every backend whose last statement was the watcher's LISTEN or counter
+// read) and a fix is written raw while they are down, with no NOTIFY and no counter move. Only
+// B's reconnect ("everything changed") can bring it: B's streams catch up after it.
+TEST_F(ReplicaEvents, AFixWrittenWhileTheListenerWasDownIsCaughtUpAtReconnect) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const double t0 = unix_now() - 30;
+    const Track t = open_track(*a, h.map, "hal");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
+    Listener track_stream(b->port(), t.path("/events"), t.token);
+    Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
+    ASSERT_TRUE(track_stream.wait_for(1, 2.0));
+    ASSERT_TRUE(map_stream.wait_for(1, 2.0));
+    locus::testing::database_exec(a->db(), "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE pid <> pg_backend_pid() AND "
+                                           "(query LIKE 'LISTEN %' OR query = 'SELECT version FROM change_counter WHERE id = 1')");
+    locus::testing::database_exec(a->db(), "INSERT INTO track_fixes (track_id, t, floor_id, x, y, accuracy_m) VALUES (" + std::to_string(t.id) +
+                                               ", " + std::to_string(t0 + 1) + ", " + std::to_string(h.floor) + ", 7, 1, 1.5)");
+    ASSERT_TRUE(track_stream.wait_for(2, 4.0)) << "B's track stream never caught up after its listener reconnected";
+    EXPECT_EQ(track_stream.seen()[1].second.at("x"), 7.0);
+    ASSERT_TRUE(map_stream.wait_for(2, 2.0)) << "B's positions stream never caught up after its listener reconnected";
+    EXPECT_EQ(map_stream.seen()[1].second.at("fix").at("x"), 7.0);
+}
+
 // Steps fused on A reach B's stream as A stored them, and A's filter goes on as on one server.
 TEST_F(ReplicaEvents, AThinClientsStepsTrackFusesAsOnOneServer) {
     const double t0 = unix_now() - 30;
@@ -236,4 +259,62 @@ TEST_F(ReplicaEvents, AThinClientsStepsTrackFusesAsOnOneServer) {
         for (const auto& f : r.at("fused")) alone.push_back(f);
     }
     EXPECT_EQ(fused, alone) << "B's streaming changed what A fused";
+}
+
+// A track closed on another server whose notification never came (a raw UPDATE: no NOTIFY, no
+// counter): B's sweep, finding it quiet past its TTL but no longer live in the database, reads it
+// again, so B's stream of it ends instead of staying open forever.
+TEST_F(ReplicaEvents, ATrackClosedElsewhereUnnotifiedEndsAtTheSweep) {
+    ServerProcess quick({"--quiet", "--track-heartbeat", "0.2", "--track-ttl", "1"}, SameDatabase{a->db()});
+    const auto h = locus::testing::make_hierarchy(*a);
+    const Track t = open_track(*a, h.map, "fay");
+    post_fixes(*a, t, json::array({fix(unix_now() - 5, h.floor, 0)}));
+    Listener stream(quick.port(), t.path("/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+    locus::testing::database_exec(a->db(), "UPDATE tracks SET state = 'closed', ended_at = " + std::to_string(unix_now()) +
+                                               " WHERE id = " + std::to_string(t.id));
+    EXPECT_TRUE(stream.ended(3.0)) << "the stream of a track closed elsewhere, unnotified, never ended";
+    EXPECT_EQ(body_of(track_call(quick, "GET", t.path(), {t.token})).at("state"), "closed");
+}
+
+// B keeps a followed track's fix count by adding what its refreshes find new: fixes posted on A
+// in several requests, one a retry of a stored t, are counted once each on B however many
+// refreshes (notifications, requests) read them.
+TEST_F(ReplicaEvents, TheOthersFixCountFollowsRemotePostsOnceEach) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const double t0 = unix_now() - 60;
+    const Track t = open_track(*a, h.map, "gil");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
+    Listener stream(b->port(), t.path("/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+    post_fixes(*a, t, json::array({fix(t0 + 1, h.floor, 1), fix(t0 + 2, h.floor, 2)}));
+    EXPECT_EQ(body_of(track_call(*b, "GET", t.path(), {t.token})).at("fixes"), 3);
+    post_fixes(*a, t, json::array({fix(t0 + 2, h.floor, 2), fix(t0 + 3, h.floor, 3)}));
+    ASSERT_TRUE(stream.wait_for(4, 2.0));
+    EXPECT_EQ(fix_times(stream.seen()), (std::vector<double>{t0, t0 + 1, t0 + 2, t0 + 3}));
+    EXPECT_EQ(body_of(track_call(*b, "GET", t.path(), {t.token})).at("fixes"), 4);
+}
+
+// A fault on B's tracks connection alone (the listeners stay up, so no "everything changed"):
+// every other backend of the database is ended, then A stores a fix. B's refresh of it fails on
+// the dead connection; it is retried (and the connection made again) rather than dropped.
+TEST_F(ReplicaEvents, ARefreshThatFailsOnTheTracksConnectionIsRetried) {
+    const auto h = locus::testing::make_hierarchy(*a);
+    const double t0 = unix_now() - 30;
+    const Track t = open_track(*a, h.map, "ida");
+    post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
+    Listener stream(b->port(), t.path("/events"), t.token);
+    ASSERT_TRUE(stream.wait_for(1, 2.0));
+    locus::testing::database_exec(a->db(), "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE pid <> pg_backend_pid() AND "
+                                           "datname = current_database() AND query NOT LIKE 'LISTEN %' AND "
+                                           "query <> 'SELECT version FROM change_counter WHERE id = 1'");
+    // A's own connections went too: its post is retried until stored.
+    int status = 0;
+    for (int i = 0; i < 30 && status != 200; ++i) {
+        if (i > 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        status = track_call(*a, "POST", t.path("/fixes"), {t.token}, json{{"fixes", json::array({fix(t0 + 1, h.floor, 5)})}}.dump()).status;
+    }
+    ASSERT_EQ(status, 200);
+    ASSERT_TRUE(stream.wait_for(2, 3.0)) << "B dropped the fix its failed refresh was reading";
+    EXPECT_EQ(stream.seen()[1].second.at("x"), 5.0);
 }
