@@ -19,7 +19,7 @@ fi
 
 packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev libsqlite3-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libutf8proc-dev libopencv-imgproc-dev libpng-dev
-          libjpeg-dev libssl-dev libjs-leaflet libpq-dev postgresql)
+          libjpeg-dev libssl-dev zlib1g-dev libjs-leaflet libpq-dev postgresql)
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! command -v npm >/dev/null 2>&1 && packages+=(nodejs npm)
 # The web viewer's browser test (tests/browser/): a real headless Chromium driven by Selenium.
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(chromium chromium-driver python3-selenium)

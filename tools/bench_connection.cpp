@@ -1,5 +1,6 @@
 #include "bench_connection.hpp"
 
+#include <arpa/inet.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -38,8 +39,8 @@ std::string_view trim_blanks(std::string_view v) {
 }  // namespace
 
 std::string http_request(const std::string& method, const std::string& path, const std::string& host_port,
-                         const std::string& body) {
-    std::string r = method + " " + path + " HTTP/1.1\r\nHost: " + host_port + "\r\n";
+                         const std::string& body, const std::string& extra_headers) {
+    std::string r = method + " " + path + " HTTP/1.1\r\nHost: " + host_port + "\r\n" + extra_headers;
     if (!body.empty() || method == "POST")
         r += "Content-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) + "\r\n";
     return r + "\r\n" + body;
@@ -47,7 +48,7 @@ std::string http_request(const std::string& method, const std::string& path, con
 
 BenchConnection::~BenchConnection() { close(); }
 
-int open_socket(const std::string& host, int port) {
+int open_socket(const std::string& host, int port, const std::string& source) {
     addrinfo hints{};
     hints.ai_family = AF_UNSPEC;
     hints.ai_socktype = SOCK_STREAM;
@@ -62,6 +63,16 @@ int open_socket(const std::string& host, int port) {
         const timeval timeout{10, 0};
         ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
         ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof timeout);
+        if (!source.empty()) {
+            sockaddr_in local{};
+            local.sin_family = AF_INET;
+            if (a->ai_family != AF_INET || ::inet_pton(AF_INET, source.c_str(), &local.sin_addr) != 1 ||
+                ::bind(fd, reinterpret_cast<const sockaddr*>(&local), sizeof local) != 0) {
+                ::close(fd);
+                fd = -1;
+                continue;
+            }
+        }
         if (::connect(fd, a->ai_addr, a->ai_addrlen) != 0) {
             ::close(fd);
             fd = -1;
@@ -77,7 +88,7 @@ int open_socket(const std::string& host, int port) {
 
 bool BenchConnection::open() {
     close();
-    fd_ = open_socket(host_, port_);
+    fd_ = open_socket(host_, port_, source_);
     buffer_.clear();
     return fd_ >= 0;
 }
@@ -87,7 +98,7 @@ void BenchConnection::close() {
     fd_ = -1;
 }
 
-std::optional<int> BenchConnection::round_trip(const std::string& request) {
+std::optional<int> BenchConnection::round_trip(const std::string& request, std::string* body) {
     if (fd_ < 0 && !open()) return std::nullopt;
     for (std::size_t sent = 0; sent < request.size();) {
         const ssize_t n = ::send(fd_, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
@@ -98,12 +109,12 @@ std::optional<int> BenchConnection::round_trip(const std::string& request) {
         }
         sent += static_cast<std::size_t>(n);
     }
-    auto status = read_answer();
+    auto status = read_answer(body);
     if (!status) close();
     return status;
 }
 
-std::optional<int> BenchConnection::read_answer() {
+std::optional<int> BenchConnection::read_answer(std::string* body) {
     char chunk[16384];
     const auto receive = [&]() -> bool {
         for (;;) {
@@ -148,6 +159,7 @@ std::optional<int> BenchConnection::read_answer() {
     const std::size_t total = head_end + 4 + length.value_or(0);
     while (buffer_.size() < total)
         if (!receive()) return std::nullopt;
+    if (body) body->assign(buffer_, head_end + 4, length.value_or(0));
     buffer_.erase(0, total);
     if (close_after) close();
     return status;

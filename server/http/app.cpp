@@ -81,7 +81,7 @@ void App::respond(const httplib::Request& req, httplib::Response& res,
 }
 
 void App::guarded(const httplib::Request& req, httplib::Response& res, const std::function<void()>& body) {
-    if (auto refusal = Front::body_over_limit(req)) {
+    if (auto refusal = Front::finish_body(req)) {
         write_error(res, refusal->status, refusal->code, refusal->message);
         return;
     }

@@ -52,8 +52,8 @@ public:
         AppOptions options);
     Front& server() { return server_; }
 
-    // Runs a handler body, turning every failure into the JSON error shape (and a chunked body
-    // found over the limit once read into 413).
+    // Runs a handler body, turning every failure into the JSON error shape; first the body is
+    // finished (Front::finish_body: decoded, and 413 when over the limit once read).
     static void respond(const httplib::Request& req, httplib::Response& res,
                         const std::function<std::pair<int, nlohmann::json>()>& body);
     // The same guard for a handler that writes its own answer into `res`.

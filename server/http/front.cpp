@@ -85,6 +85,15 @@ bool all_digits(const std::string& s) {
 
 bool has_body_method(const std::string& method) { return method == "POST" || method == "PUT" || method == "PATCH"; }
 
+Refusal unsupported_coding(const RequestFraming& f) {
+    const std::string sent = f.content_encoding.size() > 64 ? f.content_encoding.substr(0, 64) + "..." : f.content_encoding;
+    if (!f.codings_allowed)
+        return {415, "unsupported_encoding",
+                "this route takes its body without a Content-Encoding (got '" + sent + "')"};
+    return {415, "unsupported_encoding",
+            "Content-Encoding '" + sent + "' is not accepted: send the body as is, or with one of gzip, deflate"};
+}
+
 // After refusing or breaking off a request, the client may still be sending. Closing with
 // unread bytes makes the kernel answer with RST, which can destroy our answer before the
 // client reads it; so stop writing, read and drop what comes for a moment, then close.
@@ -211,9 +220,26 @@ void Front::limit_writes(Clock::time_point until) {
     if (current_framing && current_framing->stream) current_framing->stream->limit_writes(until);
 }
 
-std::optional<Refusal> Front::body_over_limit(const httplib::Request& req) {
-    const RequestFraming* f = current_framing;
-    if (f && f->chunked && req.body.size() > f->max_body_bytes) return body_too_large(f->max_body_bytes);
+std::optional<Refusal> Front::finish_body(const httplib::Request& req) {
+    RequestFraming* f = current_framing;
+    if (!f) return std::nullopt;
+    if (f->chunked && req.body.size() > f->max_body_bytes) return body_too_large(f->max_body_bytes);
+    if (f->content_encoding.empty() || f->request != &req) return std::nullopt;
+    const auto coding = parse_body_coding(f->content_encoding);
+    if (!coding) return unsupported_coding(*f);  // refusal() answered it before the body; kept for safety
+    DecodedBody decoded = decode_body(req.body, *coding, f->max_body_bytes);
+    f->content_encoding.clear();  // decoded once, even if a handler asks again
+    if (decoded.status == DecodedBody::Status::too_large) {
+        f->request->body.clear();
+        return Refusal{413, "payload_too_large",
+                       "the request body, once decoded, is larger than the server accepts (" +
+                           std::to_string(f->max_body_bytes) + " bytes)"};
+    }
+    if (decoded.status == DecodedBody::Status::corrupt)
+        return Refusal{400, "bad_encoding", "the body does not decode as its Content-Encoding says: " + decoded.problem};
+    // The connection owns the request object; handlers are given it const, so the decoded
+    // body replaces the encoded one here, before any handler reads it.
+    f->request->body = std::move(decoded.body);
     return std::nullopt;
 }
 
@@ -262,11 +288,15 @@ std::optional<Refusal> Front::refusal(const httplib::Request& req) const {
     if (f->other_coding || (!f->content_length && !f->chunked))
         return Refusal{411, "length_required", "a " + req.method + " needs a Content-Length (or a chunked body)"};
     if (const auto limit = body_limit(req); f->content_length && *f->content_length > limit) return body_too_large(limit);
+    if (!f->content_encoding.empty()) {
+        const auto coding = parse_body_coding(f->content_encoding);
+        if (!coding || (*coding != BodyCoding::identity && !f->codings_allowed)) return unsupported_coding(*f);
+    }
     return std::nullopt;
 }
 
-void Front::allow_body(const std::string& method, const std::string& path_regex, std::uint64_t bytes) {
-    route_body_limits_.push_back({method, std::regex(path_regex), bytes});
+void Front::allow_body(const std::string& method, const std::string& path_regex, std::uint64_t bytes, bool codings) {
+    route_body_limits_.push_back({method, std::regex(path_regex), bytes, codings});
     // cpp-httplib's own check comes after ours (refusal, body_over_limit): it must let the
     // largest allowed body through.
     std::uint64_t largest = options_.max_body_bytes;
@@ -274,17 +304,32 @@ void Front::allow_body(const std::string& method, const std::string& path_regex,
     set_payload_max_length(largest);
 }
 
-std::uint64_t Front::body_limit(const httplib::Request& req) const {
+const Front::RouteBodyLimit* Front::route_limit(const httplib::Request& req) const {
     for (const auto& l : route_body_limits_)
-        if (req.method == l.method && std::regex_match(req.path, l.path)) return l.bytes;
-    return options_.max_body_bytes;
+        if (req.method == l.method && std::regex_match(req.path, l.path)) return &l;
+    return nullptr;
+}
+
+std::uint64_t Front::body_limit(const httplib::Request& req) const {
+    const RouteBodyLimit* l = route_limit(req);
+    return l ? l->bytes : options_.max_body_bytes;
 }
 
 void Front::start_request(httplib::Request& req, RequestFraming& framing, ConnectionStream& stream) const {
     framing.parsed = true;
     framing.head_end = stream.consumed();
     framing.head_problem = head_problem(stream.head());  // before begin_body, which keeps the head
-    framing.max_body_bytes = body_limit(req);
+    const RouteBodyLimit* route = route_limit(req);
+    framing.max_body_bytes = route ? route->bytes : options_.max_body_bytes;
+    framing.codings_allowed = !route || route->codings;
+    framing.request = &req;
+    // Taken off before cpp-httplib reads the body, which it would otherwise inflate into
+    // memory with no bound; finish_body decodes it under the limit.
+    const std::size_t encodings = req.get_header_value_count("Content-Encoding");
+    for (std::size_t i = 0; i < encodings; ++i)
+        framing.content_encoding += (i ? ", " : "") + req.get_header_value("Content-Encoding", i);
+    if (encodings > 0 && framing.content_encoding.empty()) framing.content_encoding = " ";  // present but blank
+    req.headers.erase("Content-Encoding");
     framing.content_length_headers = req.get_header_value_count("Content-Length");
     for (std::size_t i = 0; i < framing.content_length_headers; ++i) {
         const std::string value = req.get_header_value("Content-Length", i);

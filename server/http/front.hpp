@@ -14,6 +14,9 @@
 // - Framing checks before any body is read (refusal()): one decimal Content-Length, no
 //   Content-Length together with Transfer-Encoding, only `chunked` as a coding, no body on
 //   GET/HEAD/OPTIONS, nothing over --max-body-bytes (or a route's own limit, allow_body). A chunked body is counted on the wire.
+// - Bodies limited by their decoded size: a Content-Encoding is taken off before cpp-httplib
+//   reads the body (it would inflate it without a bound), refused with 415 where the route
+//   takes none, and decoded under the route's limit once read (body_coding.hpp): 413 past it.
 // - Head lines cpp-httplib's parser would skip or misread (a bare LF, space before a colon,
 //   a folded line) are refused: a skipped Content-Length would leave a body to be read as
 //   the next request.
@@ -34,6 +37,8 @@
 #include <regex>
 #include <string>
 #include <vector>
+
+#include "http/body_coding.hpp"
 
 namespace locus::http {
 
@@ -62,7 +67,10 @@ struct RequestFraming {
     bool valid_content_length = true;            // every Content-Length was one decimal number
     bool chunked = false;
     bool other_coding = false;                   // a Transfer-Encoding other than one `chunked`
-    std::uint64_t max_body_bytes = 0;
+    std::uint64_t max_body_bytes = 0;            // on the wire, and once decoded
+    std::string content_encoding;                // as sent (several joined by ", "); taken off the request
+    bool codings_allowed = true;                 // the route takes gzip and deflate (allow_body)
+    httplib::Request* request = nullptr;         // the request being read, whose body finish_body decodes
     std::uint64_t head_end = 0;                  // stream position where the body starts
     bool close = false;                          // end the connection after this answer
     ConnectionStream* stream = nullptr;
@@ -96,8 +104,10 @@ public:
     const FrontOptions& options() const { return options_; }
     // A route that takes a larger body than --max-body-bytes (a plan image): a request whose
     // method and path (a full regex match) fit is allowed `bytes` instead, and nothing else
-    // is. Called while routes are added, before serving.
-    void allow_body(const std::string& method, const std::string& path_regex, std::uint64_t bytes);
+    // is. `codings`: whether the body may come gzip- or deflate-encoded (false: 415 for any
+    // Content-Encoding; a route without an entry takes them). Called while routes are added,
+    // before serving.
+    void allow_body(const std::string& method, const std::string& path_regex, std::uint64_t bytes, bool codings = true);
     std::size_t open_connections() const { return open_.load(); }
 
     // Why the request now being read must be refused before its body is read, if it must.
@@ -109,8 +119,10 @@ public:
     static void close_after(httplib::Response& res);
     // No write of the answer now being served waits past `until` (ConnectionStream::limit_writes).
     static void limit_writes(std::chrono::steady_clock::time_point until);
-    // A chunked body, once read, over --max-body-bytes (its length was not known before).
-    static std::optional<Refusal> body_over_limit(const httplib::Request& req);
+    // Once the body is read, before a handler sees it: a chunked body over its limit (its
+    // length was not known before), then an encoded body decoded in place of the one read,
+    // 413 if its decoded size is over the limit and 400 if it does not decode.
+    static std::optional<Refusal> finish_body(const httplib::Request& req);
     // Called for every answer >= 400: when the connection layer cut the body or head short,
     // turns cpp-httplib's bare 400 into 413, 408 or 431, and ends the connection when its
     // place in the stream is lost.
@@ -127,7 +139,9 @@ private:
         std::string method;
         std::regex path;
         std::uint64_t bytes;
+        bool codings;
     };
+    const RouteBodyLimit* route_limit(const httplib::Request& req) const;
     std::vector<RouteBodyLimit> route_body_limits_;
 
     FrontOptions options_;

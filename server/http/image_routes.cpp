@@ -139,7 +139,7 @@ bool client_has(const httplib::Request& req, const std::string& etag) {
 void App::install_image_routes() {
     const std::string path = R"(/v1/floors/(\d+)/image)";
     // An image may be larger than any JSON body: this route alone takes up to 20 MiB.
-    server_.allow_body("PUT", path, kMaxImageBytes);
+    server_.allow_body("PUT", path, kMaxImageBytes, false);  // a PNG or JPEG is compressed already
 
     server_.Put(path, [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {

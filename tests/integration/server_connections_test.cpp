@@ -21,19 +21,6 @@ using namespace std::chrono_literals;
 
 namespace {
 
-std::string chunked_post(const std::string& path, const std::string& body, std::size_t chunk_size,
-                         const std::string& extra_headers = {}) {
-    std::string out = "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n" +
-                      "Transfer-Encoding: chunked\r\n" + extra_headers + "\r\n";
-    for (std::size_t i = 0; i < body.size(); i += chunk_size) {
-        const std::string piece = body.substr(i, chunk_size);
-        char size[32];
-        std::snprintf(size, sizeof size, "%zx\r\n", piece.size());
-        out += size + piece + "\r\n";
-    }
-    return out + "0\r\n\r\n";
-}
-
 json map_count(const ServerProcess& s) { return s.get("/v1/maps").body.at("total"); }
 
 }  // namespace
@@ -103,7 +90,7 @@ TEST(Connections, AChunkedBodyCannotPassTheBodyLimit) {
     ServerProcess s({"--max-body-bytes", "4096"});
     const std::string big = R"({"name":"big","description":")" + std::string(20000, 'x') + R"("})";
     RawConnection c(s.port());
-    ASSERT_TRUE(c.send(chunked_post("/v1/maps", big, 1000)));
+    ASSERT_TRUE(c.send(locus::testing::raw_chunked_post("/v1/maps", big, 1000)));
     const auto a = c.read_answer();
     ASSERT_TRUE(a);
     EXPECT_EQ(a->status, 413) << a->body;
@@ -114,7 +101,7 @@ TEST(Connections, AChunkedBodyCannotPassTheBodyLimit) {
     // Far past the limit, reading stops on the wire (twice the limit and 64 KiB at most).
     RawConnection huge(s.port());
     const std::string very_big = R"({"name":"huge","description":")" + std::string(400000, 'x') + R"("})";
-    huge.send(chunked_post("/v1/maps", very_big, 4000));
+    huge.send(locus::testing::raw_chunked_post("/v1/maps", very_big, 4000));
     const auto refused = huge.read_answer();
     ASSERT_TRUE(refused);
     EXPECT_EQ(refused->status, 413) << refused->body;
@@ -122,7 +109,7 @@ TEST(Connections, AChunkedBodyCannotPassTheBodyLimit) {
     // Within the limit, chunked is fine; the connection then closes (a chunked body's end is
     // cpp-httplib's to find, and it can be fooled), so the next request goes on a new one.
     RawConnection ok(s.port());
-    ASSERT_TRUE(ok.send(chunked_post("/v1/maps", R"({"name":"small"})", 5)));
+    ASSERT_TRUE(ok.send(locus::testing::raw_chunked_post("/v1/maps", R"({"name":"small"})", 5)));
     const auto created = ok.read_answer();
     ASSERT_TRUE(created);
     EXPECT_EQ(created->status, 201) << created->body;
@@ -149,7 +136,7 @@ TEST(Connections, AChunkedBodyIsMeasuredDecoded) {
     ServerProcess s({"--max-body-bytes", "4096"});
     const std::string padded = R"({"name":"tiny chunks",)" + std::string(1400, ' ') + R"("description":"x"})";
     RawConnection c(s.port());
-    ASSERT_TRUE(c.send(chunked_post("/v1/maps", padded, 1)));  // ~9 kB on the wire, 1.4 kB of body
+    ASSERT_TRUE(c.send(locus::testing::raw_chunked_post("/v1/maps", padded, 1)));  // ~9 kB on the wire, 1.4 kB of body
     const auto a = c.read_answer();
     ASSERT_TRUE(a);
     EXPECT_EQ(a->status, 201) << a->body;

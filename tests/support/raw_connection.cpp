@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 
 namespace locus::testing {
 
@@ -111,6 +112,19 @@ std::string raw_get(const std::string& path, const std::string& extra_headers) {
 std::string raw_post(const std::string& path, const std::string& body, const std::string& extra_headers) {
     return "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: " +
            std::to_string(body.size()) + "\r\n" + extra_headers + "\r\n" + body;
+}
+
+std::string raw_chunked_post(const std::string& path, const std::string& body, std::size_t chunk_size,
+                             const std::string& extra_headers) {
+    std::string out = "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n" +
+                      "Transfer-Encoding: chunked\r\n" + extra_headers + "\r\n";
+    for (std::size_t i = 0; i < body.size(); i += chunk_size) {
+        const std::string piece = body.substr(i, chunk_size);
+        char size[32];
+        std::snprintf(size, sizeof size, "%zx\r\n", piece.size());
+        out += size + piece + "\r\n";
+    }
+    return out + "0\r\n\r\n";
 }
 
 }  // namespace locus::testing

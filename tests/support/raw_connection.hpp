@@ -3,6 +3,7 @@
 // exactly the bytes given (pipelined requests, trickled heads, lying framing) and reads the
 // answers back one by one, so what the server does with each byte can be checked.
 #include <chrono>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -48,5 +49,8 @@ private:
 std::string raw_get(const std::string& path, const std::string& extra_headers = {});
 // A POST with a Content-Length body.
 std::string raw_post(const std::string& path, const std::string& body, const std::string& extra_headers = {});
+// A POST with a chunked body, cut into chunks of `chunk_size` bytes.
+std::string raw_chunked_post(const std::string& path, const std::string& body, std::size_t chunk_size,
+                             const std::string& extra_headers = {});
 
 }  // namespace locus::testing

@@ -1,0 +1,306 @@
+// `locus bench abuse`: can one hostile client without the API key take a running server on
+// loopback away from its phones? For --seconds, from one source address (--hostile-address,
+// 127.0.0.2 by default), it runs at once:
+// - bombs: localize and scan-upload bodies that are small compressed and huge decoded
+//   (gzip of 512 MiB of whitespace, about 500 KB), and bodies in a coding the server does not
+//   take (br);
+// - a track flood: opening tracks back to back and keeping each alive with a fix;
+// - a stream flood: event streams on its tracks, held open;
+// - a route flood: route, search and map-wide localize requests back to back.
+// Meanwhile --phones well-behaved phones, each from its own address (127.0.0.3 and up), open a
+// track, then once per --phone-interval localize a scan and post the fix to their track.
+//
+// Prints one JSON object: what the phones saw (localize latency, refused track opens and
+// fixes) and what the hostile client got (answers by status), with the server's peak resident
+// memory above idle when --server-pid names it. Exits non-zero if a phone was refused or the
+// hostile client ever got a 5xx. Loopback only; bounded in time (≤ 120 s) and connections.
+// The setup reads (the radio map, its RPs) send --api-key; the phones and the hostile client
+// never do.
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "bench_connection.hpp"
+#include "bench_load.hpp"
+#include "command_registry.hpp"
+#include "compressed_body.hpp"
+#include "survey_connect.hpp"
+
+namespace {
+
+using namespace locus;
+using namespace locus::tools;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+struct Args {
+    ServerArgs server;
+    std::int64_t map = 0, radiomap = 0;
+    int phones = 100;
+    double seconds = 20.0, phone_interval = 1.0;
+    std::string hostile_address = "127.0.0.2";
+    int server_pid = 0;
+    int max_streams = 200;  // streams the hostile client tries to hold at once
+};
+
+// Answers by status, counted from several threads.
+class StatusCounts {
+public:
+    void add(std::optional<int> status) {
+        std::lock_guard lock(mu_);
+        ++counts_[status ? std::to_string(*status) : "no_answer"];
+    }
+    json to_json() const {
+        std::lock_guard lock(mu_);
+        return counts_;
+    }
+    bool any_server_error() const {
+        std::lock_guard lock(mu_);
+        return std::any_of(counts_.begin(), counts_.end(), [](const auto& c) { return c.first[0] == '5'; });
+    }
+
+private:
+    mutable std::mutex mu_;
+    std::map<std::string, int> counts_;
+};
+
+long long proc_status_kb(int pid, const char* field) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind(field, 0) == 0) return std::stoll(line.substr(std::string(field).size()));
+    return -1;
+}
+
+// "127.0.0.3" + i: the i-th phone's own loopback address.
+std::string phone_address(int i) {
+    const int n = 3 + i;
+    return "127.0." + std::to_string(n / 256) + "." + std::to_string(n % 256);
+}
+
+struct OpenedTrack {
+    std::string id, token;
+};
+
+std::optional<OpenedTrack> open_track(BenchConnection& c, const std::string& request) {
+    std::string body;
+    const auto status = c.round_trip(request, &body);
+    if (status != 201) return std::nullopt;
+    const json j = json::parse(body, nullptr, false);
+    if (!j.is_object() || !j.contains("id") || !j.contains("token")) return std::nullopt;
+    return OpenedTrack{std::to_string(j["id"].get<long long>()), j["token"].get<std::string>()};
+}
+
+std::string fix_request(const OpenedTrack& t, std::int64_t floor_id, double x, double y, const std::string& host_port) {
+    const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    const json body = {{"fixes", json::array({{{"t", now}, {"floor_id", floor_id}, {"x", x}, {"y", y}, {"accuracy_m", 3.0}}})}};
+    return http_request("POST", "/v1/tracks/" + t.id + "/fixes", host_port, body.dump(), "X-Track-Token: " + t.token + "\r\n");
+}
+
+// An event stream held open: the head is read for its status, the rest left in the socket.
+struct HeldStream {
+    int fd = -1;
+    ~HeldStream() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+std::optional<int> open_stream(const Target& target, const std::string& source, const std::string& path, HeldStream& held) {
+    held.fd = open_socket(target.host, target.port, source);
+    if (held.fd < 0) return std::nullopt;
+    const std::string request = http_request("GET", path, target.host_port);
+    if (::send(held.fd, request.data(), request.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(request.size())) return std::nullopt;
+    std::string head;
+    char c[4096];
+    while (head.find("\r\n\r\n") == std::string::npos && head.size() < 65536) {
+        pollfd p{held.fd, POLLIN, 0};
+        if (::poll(&p, 1, 10'000) <= 0) return std::nullopt;
+        const ssize_t n = ::recv(held.fd, c, sizeof c, 0);
+        if (n <= 0) break;
+        head.append(c, static_cast<std::size_t>(n));
+    }
+    if (!head.starts_with("HTTP/1.1 ") || head.size() < 12) return std::nullopt;
+    return std::stoi(head.substr(9, 3));
+}
+
+void run(const Args& a) {
+    const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
+    if (!a.hostile_address.starts_with("127.") || a.hostile_address == "127.0.0.1")
+        throw CommandError("--hostile-address must be a loopback address other than 127.0.0.1 (e.g. 127.0.0.2)");
+    api::Client setup(a.server.client_options());
+    const std::int64_t floor_id = setup.radiomap(a.radiomap).floor_id;
+    const auto bodies = localize_bodies(a.server, a.radiomap, "", "wknn");
+    const std::string hp = target.host_port;
+    const std::string localize_path = "/v1/radiomaps/" + std::to_string(a.radiomap) + "/localize";
+    const std::string map_path = "/v1/maps/" + std::to_string(a.map);
+    const std::string open_request = http_request("POST", "/v1/tracks", hp, json{{"map_id", a.map}}.dump());
+
+    const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
+    const auto t0 = Clock::now();
+    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
+    auto running = [&] { return Clock::now() < deadline; };
+
+    // The hostile client.
+    StatusCounts bombs, tracks, streams, expensive;
+    std::vector<std::thread> hostile;
+    hostile.emplace_back([&] {
+        const std::string prefix = R"({"algorithm":"wknn","scans":[[{"bssid":"00:00:00:00:00:01","rss":-50}]],"pad":")";
+        const std::string bomb = compress_stream(prefix, ' ', 512u << 20, "\"}");
+        const std::string localize_bomb =
+            http_request("POST", localize_path, hp, bomb, "Content-Encoding: gzip\r\n");
+        const std::string brotli = http_request("POST", localize_path, hp, bodies.front(), "Content-Encoding: br\r\n");
+        BenchConnection c(target.host, target.port, a.hostile_address);
+        for (std::size_t i = 0; running(); ++i) bombs.add(c.round_trip(i % 2 ? brotli : localize_bomb));
+    });
+    std::mutex held_mu;
+    std::vector<OpenedTrack> held;
+    hostile.emplace_back([&] {
+        BenchConnection c(target.host, target.port, a.hostile_address);
+        auto last_refresh = Clock::now();
+        while (running()) {
+            std::string body;
+            const auto status = c.round_trip(open_request, &body);
+            tracks.add(status);
+            if (status == 201) {
+                const json j = json::parse(body, nullptr, false);
+                std::lock_guard lock(held_mu);
+                held.push_back({std::to_string(j["id"].get<long long>()), j["token"].get<std::string>()});
+            }
+            if (Clock::now() - last_refresh > std::chrono::seconds(5)) {  // one fix each keeps them alive
+                last_refresh = Clock::now();
+                std::vector<OpenedTrack> copy;
+                {
+                    std::lock_guard lock(held_mu);
+                    copy = held;
+                }
+                for (const auto& t : copy)
+                    if (running()) tracks.add(c.round_trip(fix_request(t, floor_id, 1.0, 1.0, hp)));
+            }
+        }
+    });
+    hostile.emplace_back([&] {
+        std::vector<std::unique_ptr<HeldStream>> open;
+        for (std::size_t i = 0; running(); ++i) {
+            OpenedTrack t;
+            {
+                std::lock_guard lock(held_mu);
+                if (!held.empty()) t = held[i % held.size()];
+            }
+            if (t.id.empty() || open.size() >= static_cast<std::size_t>(a.max_streams)) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(50));
+                continue;
+            }
+            auto s = std::make_unique<HeldStream>();
+            const auto status = open_stream(target, a.hostile_address, "/v1/tracks/" + t.id + "/events?token=" + t.token, *s);
+            streams.add(status);
+            if (status == 200) open.push_back(std::move(s));
+        }
+    });
+    for (int k = 0; k < 2; ++k)
+        hostile.emplace_back([&, k] {
+            const std::string route = http_request(
+                "POST", map_path + "/route", hp,
+                json{{"from", {{"floor_id", floor_id}, {"x", 1.0}, {"y", 1.0}}}, {"to", {{"floor_id", floor_id}, {"x", 20.0}, {"y", 10.0}}}}.dump());
+            const std::string search = http_request("GET", map_path + "/search?q=room&limit=50", hp);
+            const std::string map_localize = http_request("POST", map_path + "/localize", hp, bodies.front());
+            BenchConnection c(target.host, target.port, a.hostile_address);
+            for (std::size_t i = static_cast<std::size_t>(k); running(); ++i)
+                expensive.add(c.round_trip(i % 3 == 0 ? route : i % 3 == 1 ? search : map_localize));
+        });
+
+    // The phones.
+    std::vector<std::vector<double>> localize_ms(static_cast<std::size_t>(a.phones));
+    std::atomic<int> opens_ok{0}, opens_refused{0}, fixes_ok{0}, fixes_refused{0}, localize_errors{0};
+    std::vector<std::thread> phones;
+    for (int p = 0; p < a.phones; ++p)
+        phones.emplace_back([&, p] {
+            BenchConnection c(target.host, target.port, phone_address(p));
+            // Spread over the first interval, as phones arrive.
+            std::this_thread::sleep_for(std::chrono::duration<double>(a.phone_interval * p / std::max(1, a.phones)));
+            const auto track = open_track(c, open_request);
+            if (!track) {
+                ++opens_refused;
+                return;
+            }
+            ++opens_ok;
+            auto next = Clock::now();
+            for (std::size_t i = static_cast<std::size_t>(p); running(); i += static_cast<std::size_t>(a.phones)) {
+                const auto s = Clock::now();
+                std::string body;
+                const auto status = c.round_trip(http_request("POST", localize_path, hp, bodies[i % bodies.size()]), &body);
+                if (status != 200) {
+                    ++localize_errors;
+                } else {
+                    localize_ms[static_cast<std::size_t>(p)].push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
+                    const json fix = json::parse(body, nullptr, false);
+                    const auto posted = c.round_trip(fix_request(*track, floor_id, fix.value("x", 0.0), fix.value("y", 0.0), hp));
+                    (posted == 200 || posted == 201 ? fixes_ok : fixes_refused)++;
+                }
+                next += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.phone_interval));
+                std::this_thread::sleep_until(std::min(next, deadline));
+            }
+        });
+    for (auto& t : phones) t.join();
+    for (auto& t : hostile) t.join();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+
+    std::vector<double> all;
+    for (auto& v : localize_ms) all.insert(all.end(), v.begin(), v.end());
+    json localize = latency_percentiles(all);
+    localize["max_ms"] = all.empty() ? 0.0 : all.back();
+    localize["requests"] = all.size() + static_cast<std::size_t>(localize_errors.load());
+    localize["errors"] = localize_errors.load();
+    json out = {{"seconds", elapsed},
+                {"phones",
+                 {{"n", a.phones},
+                  {"localize", localize},
+                  {"track_opens", {{"ok", opens_ok.load()}, {"refused", opens_refused.load()}}},
+                  {"fixes", {{"ok", fixes_ok.load()}, {"refused", fixes_refused.load()}}}}},
+                {"hostile",
+                 {{"address", a.hostile_address},
+                  {"bombs", bombs.to_json()},
+                  {"tracks", tracks.to_json()},
+                  {"streams", streams.to_json()},
+                  {"expensive", expensive.to_json()}}}};
+    if (a.server_pid) {
+        const long long peak = proc_status_kb(a.server_pid, "VmHWM:");
+        out["server"] = {{"rss_idle_mb", idle_rss_kb / 1024.0}, {"peak_mb", peak / 1024.0}, {"peak_above_idle_mb", (peak - idle_rss_kb) / 1024.0}};
+    }
+    std::cout << out.dump() << "\n";
+    const bool hostile_5xx = bombs.any_server_error() || tracks.any_server_error() || streams.any_server_error() ||
+                             expensive.any_server_error();
+    const int refused = opens_refused + fixes_refused + localize_errors;
+    if (refused > 0 || hostile_5xx)
+        throw CommandError(std::to_string(refused) + " phone requests refused" +
+                           (hostile_5xx ? "; the hostile client got a 5xx" : ""));
+}
+
+}  // namespace
+
+LOCUS_COMMAND("bench-abuse", [](CLI::App& app) {
+    auto& bench = locus::tools::group(app, "bench", "Measure a running server");
+    auto* cmd = bench.add_subcommand("abuse", "One hostile client without the API key against well-behaved phones, on loopback");
+    auto args = std::make_shared<Args>();
+    args->server.add_to(*cmd);
+    cmd->add_option("--map", args->map, "the map the phones open tracks on")->required();
+    cmd->add_option("--radiomap", args->radiomap, "a radio map of that map, which the phones localize against")->required();
+    cmd->add_option("--phones", args->phones, "well-behaved phones, each from its own loopback address")->capture_default_str()->check(CLI::Range(1, 1000));
+    cmd->add_option("--seconds", args->seconds, "how long the run lasts")->capture_default_str()->check(CLI::Range(1.0, 120.0));
+    cmd->add_option("--phone-interval", args->phone_interval, "seconds between a phone's localize + fix")->capture_default_str()->check(CLI::Range(0.05, 60.0));
+    cmd->add_option("--hostile-address", args->hostile_address, "the hostile client's loopback source address")->capture_default_str();
+    cmd->add_option("--hostile-streams", args->max_streams, "event streams the hostile client tries to hold")->capture_default_str()->check(CLI::Range(1, 2000));
+    cmd->add_option("--server-pid", args->server_pid, "the server's process id, to report its peak resident memory (/proc)")->check(CLI::PositiveNumber);
+    cmd->callback([args] { run(*args); });
+});
