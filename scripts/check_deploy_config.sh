@@ -5,7 +5,12 @@
 #    names exist only inside compose's network);
 #  - docker/compose.yaml parses, its replicated profile has postgres, the replicas and nginx,
 #    every replica runs on PostgreSQL and is in nginx's upstream list (and nothing else is),
-#    and every file it mounts exists.
+#    and every file it mounts exists;
+#  - docker/Dockerfile installs what the build needs: one of its stages every package that
+#    scripts/setup.sh installs for the server (all but postgresql, which only the tests use), and
+#    its runtime stage, for every shared library the built locus-server and locus load, the
+#    package that holds it or a listed package that depends on it (when the build is there:
+#    readelf and dpkg on this machine, no docker).
 # Needs nginx (Debian nginx-light) and python3-yaml; scripts/setup.sh installs both with
 # LOCUS_DEVTOOLS=1. Takes well under a second.
 set -euo pipefail
@@ -64,4 +69,49 @@ for name, s in services.items():
         if src.startswith("./") and not os.path.exists(os.path.join("docker", src)):
             fail(f"service '{name}' mounts {src}, which does not exist")
 PY
-echo "check_deploy_config: nginx.conf (single, replicated) and compose.yaml ok" >&2
+python3 - "${LOCUS_BUILD_DIR:-build}/bin" <<'PY'
+import os, re, subprocess, sys
+
+def fail(msg):
+    sys.exit("check_deploy_config: docker/Dockerfile: " + msg)
+
+setup = open("scripts/setup.sh").read()
+m = re.search(r"^packages=\(([^)]*)\)", setup, re.M) or fail("cannot find packages=(...) in scripts/setup.sh")
+needed = set(m.group(1).split()) - {"postgresql"}
+docker = open("docker/Dockerfile").read().replace("\\\n", " ")
+stages = re.split(r"^FROM ", docker, flags=re.M)[1:]
+if len(stages) != 2:
+    fail(f"expected a build stage and a runtime stage, found {len(stages)}")
+def installed(stage):
+    pkgs = set()
+    for cmd in re.findall(r"apt-get install ([^&\n]*)", stage):
+        pkgs |= {w for w in cmd.split() if not w.startswith("-")}
+    return pkgs
+build, runtime = installed(stages[0]), installed(stages[1])
+missing = sorted(needed - build - runtime)
+if missing:
+    fail("neither stage installs " + ", ".join(missing) + " (scripts/setup.sh does)")
+
+bindir = sys.argv[1]
+binaries = [os.path.join(bindir, b) for b in ("locus-server", "locus")]
+if not all(os.path.exists(b) for b in binaries):
+    print(f"check_deploy_config: no build in {bindir}: the runtime stage's libraries were not checked", file=sys.stderr)
+    sys.exit(0)
+base = {"libc6", "libstdc++6", "libgcc-s1"}  # in debian:12-slim
+depends = set()
+for p in runtime:
+    out = subprocess.run(["dpkg", "-s", p], capture_output=True, text=True).stdout
+    for line in out.splitlines():
+        if line.startswith(("Depends:", "Pre-Depends:")):
+            depends |= {d.strip().split()[0].split(":")[0] for d in line.split(":", 1)[1].replace("|", ",").split(",") if d.strip()}
+for b in binaries:
+    dyn = subprocess.run(["readelf", "-d", b], capture_output=True, text=True, check=True).stdout
+    for lib in re.findall(r"\(NEEDED\).*\[(.+)\]", dyn):
+        owner = subprocess.run(["dpkg", "-S", "*/" + lib], capture_output=True, text=True).stdout
+        pkgs = {line.split(":")[0] for line in owner.splitlines() if line}
+        if not pkgs:
+            fail(f"{os.path.basename(b)} loads {lib}, which no installed package holds")
+        if not pkgs & (runtime | base | depends):
+            fail(f"{os.path.basename(b)} loads {lib} (package {', '.join(sorted(pkgs))}), which the runtime stage does not install")
+PY
+echo "check_deploy_config: nginx.conf (single, replicated), compose.yaml and the Dockerfile's packages ok" >&2

@@ -17,6 +17,7 @@
 #include "http/store_json.hpp"
 #include "localize/service.hpp"
 #include "routing/service.hpp"
+#include "startup/checks.hpp"
 #include "store/migrations.hpp"
 #include "tracks/service.hpp"
 
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
     CLI::App cli{"locus-server: the Locus radio-map and localization service"};
     std::string db_path = "locus.db", host = "127.0.0.1", api_key;
     int port = 8080;
-    bool demo = false, quiet = false;
+    bool demo = false, quiet = false, allow_open_writes = false;
     locus::http::FrontOptions front;
     int threads = static_cast<int>(front.min_threads);
     double keep_alive_s = 10, header_s = 10, read_s = 10;
@@ -43,6 +44,8 @@ int main(int argc, char** argv) {
     cli.add_option("--host", host, "address to listen on")->capture_default_str();
     cli.add_option("--port", port, "port to listen on (0: any free port)")->capture_default_str()->check(CLI::Range(0, 65535));
     cli.add_option("--api-key", api_key, "require 'Authorization: Bearer KEY' for writes")->envname("LOCUS_API_KEY");
+    cli.add_flag("--allow-open-writes", allow_open_writes,
+                 "listen beyond loopback without --api-key (writes then open to the network)");
     cli.add_flag("--demo", demo, "create the demo map when the database holds no map");
     cli.add_option("--max-body-bytes", front.max_body_bytes, "largest request body accepted (a chunked body: on the wire)")
         ->capture_default_str()->check(CLI::PositiveNumber);
@@ -111,6 +114,12 @@ int main(int argc, char** argv) {
     front.header_timeout = ms(header_s);
     front.read_timeout = ms(read_s);
 
+    for (const auto& problem : {locus::startup::open_writes_problem(host, !api_key.empty(), allow_open_writes),
+                                locus::startup::database_path_problem(db_path)})
+        if (problem) {
+            log_event({{"event", "error"}, {"message", *problem}});
+            return 2;
+        }
     try {
         const auto opened = locus::store::open(db_path);
         auto& store = *opened;
@@ -139,7 +148,7 @@ int main(int argc, char** argv) {
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);
         if (bound < 0) {
-            log_event({{"event", "error"}, {"message", listen_error}});
+            log_event({{"event", "error"}, {"message", locus::startup::listen_problem(listen_error)}});
             return 1;
         }
         std::thread signal_waiter([&server, &tracks, signals] {

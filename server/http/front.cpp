@@ -310,6 +310,10 @@ const Front::RouteBodyLimit* Front::route_limit(const httplib::Request& req) con
     return nullptr;
 }
 
+void Front::allow_no_body(const std::string& method, const std::string& path_regex) {
+    optional_bodies_.emplace_back(method, std::regex(path_regex));
+}
+
 std::uint64_t Front::body_limit(const httplib::Request& req) const {
     const RouteBodyLimit* l = route_limit(req);
     return l ? l->bytes : options_.max_body_bytes;
@@ -330,6 +334,10 @@ void Front::start_request(httplib::Request& req, RequestFraming& framing, Connec
         framing.content_encoding += (i ? ", " : "") + req.get_header_value("Content-Encoding", i);
     if (encodings > 0 && framing.content_encoding.empty()) framing.content_encoding = " ";  // present but blank
     req.headers.erase("Content-Encoding");
+    if (has_body_method(req.method) && !req.has_header("Content-Length") && !req.has_header("Transfer-Encoding") &&
+        std::any_of(optional_bodies_.begin(), optional_bodies_.end(),
+                    [&](const auto& r) { return r.first == req.method && std::regex_match(req.path, r.second); }))
+        req.headers.emplace("Content-Length", "0");  // cpp-httplib then reads no body
     framing.content_length_headers = req.get_header_value_count("Content-Length");
     for (std::size_t i = 0; i < framing.content_length_headers; ++i) {
         const std::string value = req.get_header_value("Content-Length", i);

@@ -13,7 +13,8 @@
 //   a cap on requests per connection.
 // - Framing checks before any body is read (refusal()): one decimal Content-Length, no
 //   Content-Length together with Transfer-Encoding, only `chunked` as a coding, no body on
-//   GET/HEAD/OPTIONS, nothing over --max-body-bytes (or a route's own limit, allow_body). A chunked body is counted on the wire.
+//   GET/HEAD/OPTIONS (no length on a route whose body is optional, allow_no_body: an empty
+//   body), nothing over --max-body-bytes (or a route's own limit, allow_body). A chunked body is counted on the wire.
 // - Bodies limited by their decoded size: a Content-Encoding is taken off before cpp-httplib
 //   reads the body (it would inflate it without a bound), refused with 415 where the route
 //   takes none, and decoded under the route's limit once read (body_coding.hpp): 413 past it.
@@ -36,6 +37,7 @@
 #include <optional>
 #include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "http/body_coding.hpp"
@@ -108,6 +110,10 @@ public:
     // Content-Encoding; a route without an entry takes them). Called while routes are added,
     // before serving.
     void allow_body(const std::string& method, const std::string& path_regex, std::uint64_t bytes, bool codings = true);
+    // A route whose body is optional (an action such as closing a track): a request with
+    // neither Content-Length nor a chunked body has an empty body, as RFC 9112 §6.3 says,
+    // instead of 411 (`curl -X POST` sends no length). Called while routes are added.
+    void allow_no_body(const std::string& method, const std::string& path_regex);
     std::size_t open_connections() const { return open_.load(); }
 
     // Why the request now being read must be refused before its body is read, if it must.
@@ -143,6 +149,7 @@ private:
     };
     const RouteBodyLimit* route_limit(const httplib::Request& req) const;
     std::vector<RouteBodyLimit> route_body_limits_;
+    std::vector<std::pair<std::string, std::regex>> optional_bodies_;
 
     FrontOptions options_;
     std::atomic<std::size_t> open_{0};

@@ -404,6 +404,9 @@ void App::install_track_routes() {
         });
     });
 
+    // Actions whose body is optional: `curl -X POST` with no body gets no 411.
+    server_.allow_no_body("POST", R"(/v1/tracks/(\d+)/close)");
+    server_.allow_no_body("POST", R"(/v1/tracks/(\d+)/shares)");
     server_.Post(R"(/v1/tracks/(\d+)/close)", [&svc](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");

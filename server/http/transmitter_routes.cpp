@@ -37,6 +37,7 @@ store::Record naming_duplicates(const store::Fields& f, F&& write) {
 }  // namespace
 
 void App::install_transmitter_routes() {
+    server_.allow_no_body("POST", R"(/v1/floors/(\d+)/transmitters/fit)");  // ?apply=true alone
     install_transmitter_fit(server_, store_);
     install_radiomap_generate(server_, store_);
     server_.Post(R"(/v1/floors/(\d+)/transmitters)", [this](const httplib::Request& req, httplib::Response& res) {

@@ -133,6 +133,7 @@ void App::install_tune_routes() {
         });
     });
 
+    server_.allow_no_body("POST", R"(/v1/radiomaps/(\d+)/tune)");  // the defaults
     server_.Post(R"(/v1/radiomaps/(\d+)/tune)", [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "radiomap");
