@@ -1,10 +1,11 @@
 // The GetSensorData / IPIN logfile reader (datasets/ipin_log.*).
 //
 // Checks: parse_log() throws nothing but LogError, whose line is one the input has; what it
-// returns holds only finite numbers, normalised non-empty BSSIDs and MACs, WiFi scans that are
-// non-empty, within 0.5 s and without a BSSID twice, App timestamps that never go back within
-// a tag, and a truncated last line only when the input does not end with a newline. The same
-// input with CRLF line ends reads the same.
+// returns holds only finite numbers (timestamps within ±1e10 s), normalised non-empty BSSIDs
+// and MACs, WiFi scans that are non-empty, within 0.5 s and without a BSSID twice, App
+// timestamps that never go back within a tag, and a truncated last line only when the input
+// does not end with a newline; the IMU conversion is in time order. The same input with CRLF
+// line ends reads the same.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -72,7 +73,8 @@ void check(std::string_view text, const Result& r) {
     for (const auto* v : {&log.acce, &log.gyro, &log.magn}) {
         in_order(*v, text);
         for (const auto& s : *v) {
-            finite(s.app_s, text), finite(s.sensor_s, text), finite(s.v.x, text), finite(s.v.y, text), finite(s.v.z, text);
+            finite(s.v.x, text), finite(s.v.y, text), finite(s.v.z, text);
+            if (!(std::abs(s.app_s) <= 1e10 && std::abs(s.sensor_s) <= 1e10)) fail("a timestamp beyond ±1e10 s", text);
         }
     }
     for (const auto* v : {&log.pres, &log.ligh, &log.prox, &log.humi, &log.temp}) {

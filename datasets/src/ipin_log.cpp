@@ -18,6 +18,10 @@ namespace {
 
 // A scan's lines carry one AppTimestamp in the IPIN 2023 files; the README allows ~0.5 s.
 constexpr double kScanWindowS = 0.5;
+// Timestamps are seconds since the app started, of phone uptime or of the Unix epoch (GNSS):
+// all far below 1e10 s (year 2286). Past it a double's resolution nears what the step
+// detector's 100 Hz grid can step over, so a larger value is an error, not a time.
+constexpr double kMaxTimestampS = 1e10;
 
 // Thrown inside a line, turned into a LogError with the file and line by the caller.
 struct Bad {
@@ -124,6 +128,12 @@ void read_header(std::string_view line, Header& h) {
     if (h.app_version.empty()) header_value(line, "Version ", h.app_version);
 }
 
+double timestamp(std::string_view raw, const char* what) {
+    const double t = number(raw, what);
+    if (std::abs(t) > kMaxTimestampS) throw Bad{std::string(what) + " is outside ±1e10 s: " + shown(raw)};
+    return t;
+}
+
 class Parser {
 public:
     Parser(Log& log) : log_(log) {}
@@ -164,7 +174,7 @@ public:
 private:
     // The shared App clock: set as the app receives each sample and written in that order.
     double app(std::string_view raw) {
-        const double t = number(raw, "AppTimestamp");
+        const double t = timestamp(raw, "AppTimestamp");
         if (t < last_app_)
             throw Bad{"AppTimestamp goes back in time (" + std::string(trim(raw)) + " s after " + std::to_string(last_app_) +
                       " s): the app writes one clock in order"};
@@ -176,7 +186,7 @@ private:
         expect(f_, 7, format);
         Triad s;
         s.app_s = app(f_[1]);
-        s.sensor_s = number(f_[2], "SensorTimestamp");
+        s.sensor_s = timestamp(f_[2], "SensorTimestamp");
         s.v = {number(f_[3], "x"), number(f_[4], "y"), number(f_[5], "z")};
         s.accuracy = small_int(f_[6], "accuracy");
         out.push_back(s);
@@ -186,7 +196,7 @@ private:
         expect(f_, 5, format);
         Scalar s;
         s.app_s = app(f_[1]);
-        s.sensor_s = number(f_[2], "SensorTimestamp");
+        s.sensor_s = timestamp(f_[2], "SensorTimestamp");
         s.value = number(f_[3], "value");
         s.accuracy = small_int(f_[4], "accuracy");
         out.push_back(s);
@@ -196,7 +206,7 @@ private:
         expect(f_, 10, "App;Sensor;pitch;roll;yaw;q2;q3;q4;accuracy");
         Ahrs s;
         s.app_s = app(f_[1]);
-        s.sensor_s = number(f_[2], "SensorTimestamp");
+        s.sensor_s = timestamp(f_[2], "SensorTimestamp");
         s.pitch_deg = number(f_[3], "pitch");
         s.roll_deg = number(f_[4], "roll");
         s.yaw_deg = number(f_[5], "yaw");
@@ -221,7 +231,7 @@ private:
         expect(f_, 11, "App;Sensor;lat;lon;altitude;bearing;accuracy;speed;sats in view;sats in use");
         Gnss s;
         s.app_s = app(f_[1]);
-        s.sensor_s = number(f_[2], "SensorTimestamp");
+        s.sensor_s = timestamp(f_[2], "SensorTimestamp");
         s.lat_deg = number(f_[3], "latitude");
         s.lon_deg = number(f_[4], "longitude");
         if (std::abs(s.lat_deg) > 90.0 || std::abs(s.lon_deg) > 180.0) throw Bad{"latitude or longitude out of range"};
@@ -242,7 +252,7 @@ private:
         Wifi w;
         w.line = line_no;
         w.app_s = app(f_[1]);
-        w.sensor_s = number(f_[2], "SensorTimestamp");
+        w.sensor_s = timestamp(f_[2], "SensorTimestamp");
         w.ssid = joined(f_, 3, n - 3);
         w.bssid = mac(f_[n - 3], "BSSID");
         w.frequency_mhz = small_int(f_[n - 2], "frequency");
@@ -316,7 +326,7 @@ private:
         expect(f_, 22, "App;Sensor;counter;acc xyz;gyro xyz;mag xyz;roll;pitch;yaw;quat 1-4;pressure;temperature");
         ExternalImu s;
         s.app_s = app(f_[1]);
-        s.sensor_s = number(f_[2], "SensorTimestamp");
+        s.sensor_s = timestamp(f_[2], "SensorTimestamp");
         s.counter = integer(f_[3], "counter");
         s.acc = {number(f_[4], "acc x"), number(f_[5], "acc y"), number(f_[6], "acc z")};
         s.gyro = {number(f_[7], "gyro x"), number(f_[8], "gyro y"), number(f_[9], "gyro z")};

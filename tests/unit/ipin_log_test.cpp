@@ -257,6 +257,8 @@ TEST(IpinLog, MalformedLinesNameFileAndLine) {
         {"ACCE\n", "without fields"},
         {"ACCE;0.5;3;0;0;9.8;3\n", "AppTimestamp goes back in time"},
         {"ACCE;;3;0;0;9.8;3\n", "AppTimestamp is not a number"},
+        {"ACCE;2;1e17;0;0;9.8;3\n", "SensorTimestamp is outside ±1e10 s"},
+        {"GNSS;1e300;3;49.4;11.1;346;0;9;0.1;22;19\n", "AppTimestamp is outside ±1e10 s"},
     };
     for (const auto& c : cases) {
         const auto f = failure_of(ok + c.line, "dir/T01.txt");
