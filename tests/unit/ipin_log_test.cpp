@@ -546,6 +546,16 @@ TEST(IpinLogData, ReadsTheIpin2023WalksAsTheReadmeDescribes) {
         EXPECT_LE(median(sizes), 25.0);
         all_sizes.insert(all_sizes.end(), sizes.begin(), sizes.end());
 
+        // GNSS: the sensor timestamp is the fix's UTC time, 14–15 June 2023.
+        for (const auto& g : log.gnss) {
+            EXPECT_GE(g.sensor_s, 1686700800.0);  // 2023-06-14T00:00Z
+            EXPECT_LT(g.sensor_s, 1686873600.0);  // 2023-06-16T00:00Z
+        }
+        // SOUN at 2 Hz (App clock: the line has no sensor timestamp).
+        std::vector<double> sound_gaps;
+        for (std::size_t i = 1; i < log.soun.size(); ++i) sound_gaps.push_back(log.soun[i].app_s - log.soun[i - 1].app_s);
+        EXPECT_NEAR(median(sound_gaps), 0.5, 0.1);
+
         // BLE4: only the 6 competition beacons, MAC BE:AC:20:23:00:0n, major 1, minor n.
         for (const auto& b : log.ble4) {
             EXPECT_EQ(b.major, 1);
