@@ -529,8 +529,8 @@ TEST(IpinLogData, ReadsTheIpin2023WalksAsTheReadmeDescribes) {
             if (i > 0) gaps.push_back(log.wifi[i].app_s - log.wifi[i - 1].app_s);
             sizes.push_back(static_cast<double>(log.wifi[i].readings.size()));
             for (const auto& r : log.wifi[i].readings) {
-                // The README writes them 20:23:00:00:00:xx; past 99 APs the numbering runs
-                // on into the fifth group (20:23:00:00:01:88).
+                // The README writes them 20:23:00:00:00:xx; the files' numbers run over the
+                // last two groups (20:23:00:00:01:88).
                 EXPECT_EQ(r.bssid.str().rfind("20:23:00:00:0", 0), 0u) << r.bssid.str();
                 EXPECT_EQ(r.ssid.rfind("SSID2023_", 0), 0u) << r.ssid;
                 EXPECT_TRUE((r.frequency_mhz >= 2400 && r.frequency_mhz < 2500) ||
