@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <set>
+#include <vector>
 
 #include "http/api_error.hpp"
 
@@ -110,20 +111,33 @@ store::Fields validated_fields(const store::Kind& kind, const json& body, bool c
     store::Fields out;
     std::set<std::string, std::less<>> known{"id"};
     if (!kind.parent_column.empty()) known.emplace(kind.parent_column);
+    // Every missing field is named in one answer, so a client (or a person with curl) fixes
+    // them all at once: "missing fields 'level', 'width' and 'height'".
+    if (create) {
+        std::vector<std::string> missing;
+        for (const auto& f : kind.fields) {
+            const auto it = body.find(f.name);
+            if (f.writable && f.required && it == body.end()) missing.emplace_back(f.name);
+        }
+        if (kind.has_rects && !body.contains("rects")) missing.emplace_back("rects");
+        if (missing.size() == 1) throw invalid_field("missing field '" + missing.front() + "'");
+        if (!missing.empty()) {
+            std::string names;
+            for (std::size_t i = 0; i < missing.size(); ++i)
+                names += (i == 0 ? "" : i + 1 == missing.size() ? " and " : ", ") + ("'" + missing[i] + "'");
+            throw invalid_field("missing fields " + names);
+        }
+    }
     for (const auto& f : kind.fields) {
         known.emplace(f.name);
         if (!f.writable) continue;  // shown in answers, so clients may echo it back
         const auto it = body.find(f.name);
-        if (it == body.end() || (it->is_null() && !f.required && !create)) {
-            if (create && f.required) throw invalid_field("missing field '" + std::string(f.name) + "'");
-            continue;
-        }
+        if (it == body.end() || (it->is_null() && !f.required && !create)) continue;
         out.values[std::string(f.name)] = check_field(f, *it, "");
     }
     if (kind.has_rects) {
         known.emplace("rects");
         if (body.contains("rects")) out.rects = check_rects(body.at("rects"), create);
-        else if (create) throw invalid_field("missing field 'rects'");
     }
     for (const auto& [key, value] : body.items())
         if (!known.count(key)) throw invalid_field("unknown field '" + key + "' for a " + std::string(kind.singular));

@@ -345,3 +345,14 @@ TEST(ServerAuth, KeyCanComeFromTheEnvironment) {
     s.set_api_key("from-env");
     EXPECT_EQ(s.post("/v1/maps", {{"name", "M"}}).status, 201);
 }
+
+TEST_F(BadInput, EveryMissingFieldIsNamedAtOnce) {
+    const auto r = s.post(floors, json::object());
+    expect_error(r, 422, "invalid_field", "empty floor");
+    EXPECT_EQ(r.body["error"]["message"], "missing fields 'name', 'level', 'width' and 'height'") << r.raw;
+    const auto one = s.post(floors, {{"name", "F"}, {"level", 1}, {"width", 10}});
+    EXPECT_EQ(one.body["error"]["message"], "missing field 'height'") << one.raw;
+    const auto poi = s.post("/v1/floors/" + std::to_string(h.floor) + "/pois", {{"name", "P"}});
+    EXPECT_EQ(poi.body["error"]["message"], "missing fields 'x' and 'y'") << poi.raw;
+    EXPECT_EQ(body_of(s.get(floors)).at("total"), 1);
+}

@@ -14,6 +14,7 @@
 #include "locus/plan/geojson.hpp"
 #include "locus/imaging/plan_from_image.hpp"
 #include "locus/plan/check.hpp"
+#include "plan_remap.hpp"
 #include "survey_connect.hpp"
 
 namespace {
@@ -93,10 +94,33 @@ struct ImportArgs {
     std::int64_t floor = 0;
 };
 
+// The ids the target floor has, for remap_plan.
+FloorIds floor_ids(locus::api::Client& client, std::int64_t floor_id) {
+    FloorIds ids;
+    ids.floor_id = floor_id;
+    const auto floor = client.floor(floor_id);
+    for (const auto& r : client.rooms(floor_id)) ids.rooms.insert(r.id);
+    for (const auto& p : client.pois(floor_id)) ids.pois.insert(p.id);
+    const auto map_id = client.get("/v1/buildings/" + std::to_string(floor.building_id)).at("map_id").get<std::int64_t>();
+    for (const auto& b : client.buildings(map_id))
+        for (const auto& f : client.floors(b.id)) ids.map_floors.insert(f.id);
+    return ids;
+}
+
 void import_plan(const ImportArgs& a) {
     json doc;
-    const auto plan = read_plan_file(a.file, doc);
+    auto plan = read_plan_file(a.file, doc);
     locus::api::Client client(a.server.client_options());
+    // A plan exported from another floor links that floor's rooms and POIs: dropped, so the
+    // rooms are matched by name here instead.
+    const RemapReport remap = remap_plan(plan, floor_ids(client, a.floor));
+    if (remap.changed()) {
+        std::cerr << a.file << ": made for another floor: " << remap.room_links_dropped << " room links and "
+                  << remap.poi_links_dropped << " POI links dropped (rooms are matched by name on floor " << a.floor
+                  << ", or made)";
+        for (const auto& l : remap.floor_links_dropped) std::cerr << "; dropped the link of " << l << " (not another floor of this map)";
+        std::cerr << "\n";
+    }
     json stored;
     try {
         stored = client.put("/v1/floors/" + std::to_string(a.floor) + "/plan", locus::plan::to_geojson(plan));

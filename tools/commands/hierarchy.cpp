@@ -1,0 +1,96 @@
+// `locus map create`, `locus building create`, `locus floor create`: a building of your own
+// from scratch (docs/your-building.md), without writing JSON by hand. Each prints the created
+// object as the server answers it (one JSON line, with its `id`). What is missing is said all
+// at once, before anything is sent.
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "command_registry.hpp"
+#include "survey_connect.hpp"
+
+namespace {
+
+using namespace locus::tools;
+using nlohmann::json;
+
+struct Args {
+    ServerArgs server;
+    std::int64_t parent = 0;
+    std::string name, description;
+    int level = 0;
+    std::optional<double> width, height, north_offset_deg;
+};
+
+// "--width and --height are required" for every option still unset.
+void require(const std::vector<std::pair<const char*, bool>>& options) {
+    std::vector<std::string> missing;
+    for (const auto& [name, given] : options)
+        if (!given) missing.emplace_back(name);
+    if (missing.empty()) return;
+    std::string list;
+    for (std::size_t i = 0; i < missing.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == missing.size() ? " and " : ", ") + missing[i];
+    throw CommandError(list + (missing.size() == 1 ? " is" : " are") + " required", 2);
+}
+
+void create(const Args& a, const std::string& path, json body) {
+    locus::api::Client client(a.server.client_options());
+    if (!a.description.empty()) body["description"] = a.description;
+    std::cout << client.post(path, body).dump() << "\n";
+}
+
+CLI::App* subcommand(CLI::App& app, const char* group, const char* what, std::shared_ptr<Args>& args) {
+    auto& g = locus::tools::group(app, group, std::string("Create and list ") + group + "s");
+    auto* cmd = g.add_subcommand("create", what);
+    args = std::make_shared<Args>();
+    args->server.add_to(*cmd);
+    cmd->add_option("--name", args->name, "its name (unique among its siblings)");
+    return cmd;
+}
+
+}  // namespace
+
+LOCUS_COMMAND("map-create", [](CLI::App& app) {
+    std::shared_ptr<Args> args;
+    auto* cmd = subcommand(app, "map", "Create a map (a site: one or more buildings)", args);
+    cmd->add_option("--description", args->description, "what it is");
+    cmd->callback([args] {
+        require({{"--name", !args->name.empty()}});
+        create(*args, "/v1/maps", {{"name", args->name}});
+    });
+});
+
+LOCUS_COMMAND("building-create", [](CLI::App& app) {
+    std::shared_ptr<Args> args;
+    auto* cmd = subcommand(app, "building", "Create a building of a map", args);
+    cmd->add_option("--map", args->parent, "the map's id");
+    cmd->add_option("--description", args->description, "what it is");
+    cmd->callback([args] {
+        require({{"--map", args->parent > 0}, {"--name", !args->name.empty()}});
+        create(*args, "/v1/maps/" + std::to_string(args->parent) + "/buildings", {{"name", args->name}});
+    });
+});
+
+LOCUS_COMMAND("floor-create", [](CLI::App& app) {
+    std::shared_ptr<Args> args;
+    auto* cmd = subcommand(app, "floor", "Create a floor of a building: a rectangle of --width × --height metres", args);
+    cmd->add_option("--building", args->parent, "the building's id");
+    cmd->add_option("--level", args->level, "its level (0 the ground floor, -1 below it)")->capture_default_str();
+    cmd->add_option("--width", args->width, "metres along x (east-west on a plan drawn north up)")->check(CLI::PositiveNumber);
+    cmd->add_option("--height", args->height, "metres along y")->check(CLI::PositiveNumber);
+    cmd->add_option("--north-offset", args->north_offset_deg,
+                    "degrees from the floor's +y axis to magnetic north, for step headings (docs/pdr.md)")
+        ->check(CLI::Range(-360.0, 360.0));
+    cmd->callback([args] {
+        require({{"--building", args->parent > 0}, {"--name", !args->name.empty()}, {"--width", args->width.has_value()},
+                 {"--height", args->height.has_value()}});
+        json body = {{"name", args->name}, {"level", args->level}, {"width", *args->width}, {"height", *args->height}};
+        if (args->north_offset_deg) body["north_offset_deg"] = *args->north_offset_deg;
+        create(*args, "/v1/buildings/" + std::to_string(args->parent) + "/floors", body);
+    });
+});
