@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "http/api_error.hpp"
+#include "locus/geo/georeference.hpp"
 
 namespace locus::http {
 
@@ -63,6 +64,7 @@ store::Value check_field(const store::Field& f, const json& v, const std::string
                 throw invalid_field("'" + name + "' is out of range [" + (f.min ? std::to_string(*f.min) : "-inf") +
                                     ", " + (f.max ? std::to_string(*f.max) : "inf") + "]");
             if (f.type == store::FieldType::Integer) return *as_integer(v);
+            if (f.angle) return geo::normalise_bearing(d);
             return d;
         }
     }
@@ -90,6 +92,31 @@ std::vector<Rect> check_rects(const json& v, bool create) {
         out.push_back({xmin, ymin, xmax, ymax});
     }
     return out;
+}
+
+// A group of fields given as one object (store::Field::group): null clears every member (a
+// create may send it too, meaning none), an object must hold every member and nothing else.
+void check_group(const store::Kind& kind, std::string_view group, const json& v, store::Fields& out) {
+    const std::string name(group);
+    if (v.is_null()) {
+        for (const auto& f : kind.fields)
+            if (f.group == group) out.values[std::string(f.name)] = std::monostate{};
+        return;
+    }
+    if (!v.is_object()) throw invalid_field("'" + name + "' must be an object or null");
+    for (const auto& [key, value] : v.items()) {
+        bool known = false;
+        for (const auto& f : kind.fields) known = known || (f.group == group && f.key == key);
+        if (!known) throw invalid_field("unknown field '" + name + "." + key + "'");
+    }
+    for (const auto& f : kind.fields) {
+        if (f.group != group) continue;
+        const auto it = v.find(f.key);
+        if (it == v.end() || it->is_null()) throw invalid_field("missing field '" + name + "." + std::string(f.key) + "'");
+        store::Field member = f;
+        member.name = f.key;
+        out.values[std::string(f.name)] = check_field(member, *it, name);
+    }
 }
 
 }  // namespace
@@ -129,6 +156,10 @@ store::Fields validated_fields(const store::Kind& kind, const json& body, bool c
         }
     }
     for (const auto& f : kind.fields) {
+        if (!f.group.empty()) {
+            if (known.emplace(f.group).second && body.contains(f.group)) check_group(kind, f.group, body.at(f.group), out);
+            continue;
+        }
         known.emplace(f.name);
         if (!f.writable) continue;  // shown in answers, so clients may echo it back
         const auto it = body.find(f.name);
