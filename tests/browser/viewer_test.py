@@ -486,6 +486,46 @@ def key_checks(driver, server):
     check(not errors, f"no console errors but the refused write {errors}")
 
 
+def create_checks(driver, server):
+    """A map, a building and a floor of one's own, made in the viewer and shown at once."""
+    from selenium.webdriver.common.by import By
+    driver.get(server.url + "/")
+    wait(driver, "return document.body.dataset.floorReady === 'true'", "the viewer loaded")
+    maps_before = server.api("/v1/maps")["total"]
+    def submit(form, values):
+        for field, value in values.items():
+            el = driver.find_element(By.ID, field)
+            el.clear()
+            el.send_keys(value)
+        driver.find_element(By.CSS_SELECTOR, f"#{form} button[type=submit]").click()
+    submit("new-map", {"new-map-name": "Viewer-made map"})
+    wait(driver, "const s = document.getElementById('map-select'); return s.options[s.selectedIndex]?.text === 'Viewer-made map'",
+         "the new map chosen")
+    check(server.api("/v1/maps")["total"] == maps_before + 1, "the map created on the server")
+    submit("new-building", {"new-building-name": "Annex"})
+    wait(driver, "const s = document.getElementById('building-select'); return s.options[s.selectedIndex]?.text === 'Annex'",
+         "the new building chosen")
+    submit("new-floor", {"new-floor-name": "Ground", "new-floor-level": "0", "new-floor-width": "12.3456789",
+                         "new-floor-height": "8"})
+    wait(driver, "const s = document.getElementById('floor-select'); return s.options[s.selectedIndex]?.text === 'Ground (level 0)'"
+         " && document.body.dataset.floorReady === 'true'", "the new floor drawn")
+    status = driver.find_element(By.ID, "status").text
+    check("12.35 m × 8 m" in status, f"the floor's size rounded for people: {status!r}")
+    map_id = driver.execute_script("return window.locusViewer.state.mapId")
+    buildings = server.api(f"/v1/maps/{map_id}/buildings")["items"]
+    check([b["name"] for b in buildings] == ["Annex"], f"the building created in the new map: {buildings}")
+    floors = server.api(f"/v1/buildings/{buildings[0]['id']}/floors")["items"]
+    check(len(floors) == 1 and floors[0]["width"] == 12.3456789, f"the floor created as typed: {floors}")
+    # A refused create says why and changes nothing.
+    submit("new-map", {"new-map-name": "Viewer-made map"})
+    wait(driver, "return document.getElementById('status').textContent.startsWith('Error:')", "the duplicate refused")
+    check(server.api("/v1/maps")["total"] == maps_before + 1, "a refused create writes nothing")
+    # A floor without a plan answers 404 to it, as a floor without an image does to its placement.
+    errors = errors_in_log(driver, expected=["/v1/maps - Failed to load resource: the server responded with a status of 409",
+                                             "/plan - Failed to load resource: the server responded with a status of 404"])
+    check(not errors, f"no console errors but the refused duplicate {errors}")
+
+
 def phone_checks(driver, server):
     from selenium.webdriver.common.by import By
     # A phone's screen, as DevTools' device mode sets it (a headless window is at least 500 px wide).
@@ -533,6 +573,7 @@ def main():
         desktop_checks(driver, server)
         live_checks(driver, server)
         quality_checks(driver, server)
+        create_checks(driver, server)
         driver.quit()
         driver = start_browser(390, 844)
         phone_checks(driver, server)

@@ -7,6 +7,7 @@ import { RoutePanel } from './route.js';
 import { SurveyPlanner } from './survey.js';
 import { followFloor } from './live.js';
 import { QualityLayer } from './quality.js';
+import { installCreatePanel } from './create.js';
 
 const L = window.L;
 const $ = (id) => document.getElementById(id);
@@ -38,6 +39,7 @@ const radio = new RadioLayer(map, { details: $('rp-details'), apSelect: $('ap-se
 
 const viewer = {
   mapId: () => state.mapId,
+  buildingId: () => Number($('building-select').value) || null,
   floorId: () => (state.floor ? state.floor.id : null),
   floor: () => state.floor,
   rooms: () => state.rooms,
@@ -141,8 +143,11 @@ async function selectFloor(id) {
     window.locusViewer.lastFloorMs = performance.now() - started;
     document.body.dataset.floorReady = 'true';
   });
-  status(`${viewer.floorName(floor.id)}: ${floor.width} m × ${floor.height} m${placement ? ', plan image' : ''}${plan ? ', plan' : ''}.`);
+  status(`${viewer.floorName(floor.id)}: ${metres(floor.width)} m × ${metres(floor.height)} m${placement ? ', plan image' : ''}${plan ? ', plan' : ''}.`);
 }
+
+// Sizes for people: 105.29699999839067 reads 105.3.
+const metres = (v) => Number(v.toFixed(2));
 
 function applyRadioLayers() {
   radio.showHeat($('ap-select').value);
@@ -187,6 +192,23 @@ $('panel-toggle').addEventListener('click', () => {
   const open = document.body.classList.toggle('panel-closed') === false;
   $('panel-toggle').setAttribute('aria-expanded', String(open));
   setTimeout(() => map.invalidateSize(), 0);
+});
+
+// After a create, the pickers are read again and the new item chosen.
+installCreatePanel(viewer, {
+  mapCreated: guard(async (id) => {
+    state.maps = await listAll('/v1/maps');
+    fill($('map-select'), state.maps, (m) => m.name);
+    await selectMap(id);
+  }),
+  buildingCreated: guard(async (id) => {
+    await selectMap(state.mapId);
+    await selectBuilding(id);
+  }),
+  floorCreated: guard(async (buildingId, floorId) => {
+    await selectMap(state.mapId);
+    await selectBuilding(buildingId, floorId);
+  }),
 });
 
 // A handle for tests and the first-paint script: the layers, read-only use.
