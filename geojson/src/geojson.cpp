@@ -148,6 +148,8 @@ Plan parse_features(const json& doc) {
         for (const char* m : kPlanMetaMembers) ok = ok || key == m;
         if (!ok) throw GeoJsonError("unknown field '" + key + "'");
     }
+    if (const auto crs = doc.find("crs"); crs != doc.end() && !(crs->is_string() && *crs == "locus:floor-metres"))
+        throw GeoJsonError("'crs' must be \"locus:floor-metres\" (a plan in WGS84 is PUT with ?crs=wgs84)");
     const auto it = doc.find("features");
     if (it == doc.end() || !it->is_array() || it->size() > kMaxFeatures)
         throw GeoJsonError("'features' must be an array of at most 100000 features");

@@ -5,6 +5,8 @@
 #include "http/plan_json.hpp"
 #include "http/plan_put.hpp"
 #include "http/validation.hpp"
+#include "locus/plan/geojson.hpp"
+#include "locus/plan/wgs84.hpp"
 
 namespace locus::http {
 
@@ -29,6 +31,35 @@ std::string feature_label(const json& doc, const store::PlanFeatureRefused& e) {
     return e.feature;
 }
 
+// The form a plan is asked for or sent in: ?crs=wgs84 (RFC 7946), else floor metres.
+bool wants_wgs84(const httplib::Request& req) {
+    if (!req.has_param("crs")) return false;
+    const std::string crs = req.get_param_value("crs");
+    if (crs == "wgs84") return true;
+    if (crs == "floor-metres") return false;
+    throw invalid_query("'crs' must be wgs84 or floor-metres");
+}
+
+const geo::FloorToEarth& georeferenced(FloorGeoCache& geo, std::int64_t floor_id, std::shared_ptr<const geo::FloorToEarth>& keep) {
+    keep = geo.of_floor(floor_id);
+    if (!keep)
+        throw ApiError(422, "not_georeferenced",
+                       "floor " + std::to_string(floor_id) + " has no georeference: PATCH /v1/floors/" + std::to_string(floor_id) +
+                           " with geo {lat, lon, x, y, bearing_deg}, or POST its control points to …/georeference");
+    return *keep;
+}
+
+// The stored plan as answered: in floor metres, saying so, or in WGS84.
+json plan_answer(const store::StoredPlan& stored, bool wgs84, FloorGeoCache& geo, std::int64_t floor_id) {
+    json out = plan_json(stored);
+    if (!wgs84) {
+        out["crs"] = plan::kFloorMetresCrs;
+        return out;
+    }
+    std::shared_ptr<const geo::FloorToEarth> keep;
+    return plan::plan_to_wgs84(out, georeferenced(geo, floor_id, keep));
+}
+
 }  // namespace
 
 void App::install_plan_routes() {
@@ -36,18 +67,31 @@ void App::install_plan_routes() {
     server_.Get(path, [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
+            const bool wgs84 = wants_wgs84(req);
             const auto stored = store_.plan_of_floor(floor_id);
             if (!stored) throw ApiError(404, "not_found", "floor " + std::to_string(floor_id) + " has no plan");
-            return std::pair{200, plan_json(*stored)};
+            return std::pair{200, plan_answer(*stored, wgs84, geo_, floor_id)};
         });
     });
     server_.Put(path, [this](const httplib::Request& req, httplib::Response& res) {
         respond(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
-            const json doc = parse_object(req.body);
+            json doc = parse_object(req.body);
+            const auto crs = plan::crs_of(doc);
+            if (crs == plan::DocumentCrs::unknown)
+                throw invalid_field("'crs' must be \"locus:floor-metres\", or absent (send ?crs=wgs84 for RFC 7946 positions)");
+            const bool wgs84 = wants_wgs84(req) || crs == plan::DocumentCrs::wgs84;
+            if (wgs84) {
+                std::shared_ptr<const geo::FloorToEarth> keep;
+                try {
+                    doc = plan::plan_from_wgs84(doc, georeferenced(geo_, floor_id, keep));
+                } catch (const plan::GeoJsonError& e) {
+                    throw ApiError(422, "invalid_plan", e.what());
+                }
+            }
             const plan::Plan plan = parse_plan(doc);
             try {
-                return std::pair{200, plan_json(put_checked_plan(store_, floor_id, plan))};
+                return std::pair{200, plan_answer(put_checked_plan(store_, floor_id, plan), wgs84, geo_, floor_id)};
             } catch (const store::PlanFeatureRefused& e) {
                 throw ApiError(422, "invalid_plan", feature_label(doc, e) + ": " + e.what());
             }

@@ -113,7 +113,13 @@ void import_plan(const ImportArgs& a) {
     locus::api::Client client(a.server.client_options());
     // A plan exported from another floor links that floor's rooms and POIs: dropped, so the
     // rooms are matched by name here instead.
-    const RemapReport remap = remap_plan(plan, floor_ids(client, a.floor));
+    RemapReport remap;
+    try {
+        remap = remap_plan(plan, floor_ids(client, a.floor));
+    } catch (const locus::api::ApiError& e) {
+        throw CommandError("the server refused the plan of floor " + std::to_string(a.floor) + " (" + e.code() + "): " +
+                           e.what());
+    }
     if (remap.changed()) {
         std::cerr << a.file << ": made for another floor: " << remap.room_links_dropped << " room links and "
                   << remap.poi_links_dropped << " POI links dropped (rooms are matched by name on floor " << a.floor

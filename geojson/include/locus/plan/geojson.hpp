@@ -24,7 +24,8 @@ struct GeoJsonError : std::invalid_argument {
 
 // Members a stored plan carries beside "features" (the server writes them on GET), accepted
 // and ignored on reading so that what was read can be written back.
-inline constexpr const char* kPlanMetaMembers[] = {"floor_id", "version", "updated_at", "bbox"};
+// `crs`, when present, must name floor metres (wgs84.hpp converts the other form first).
+inline constexpr const char* kPlanMetaMembers[] = {"floor_id", "version", "updated_at", "bbox", "crs"};
 
 // Reads and checks the document's form (types, finite coordinates within ±1e5 m, closed
 // rings, sizes, unique connector ids); throws GeoJsonError naming the offending feature. The
