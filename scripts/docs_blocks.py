@@ -32,7 +32,7 @@ background) is killed with its process group when it ends.
 Output checks: a comment line `# -> {...}` (continued by `#     ...` lines) after a command
 lists keys the answer has; each `"key":` named there must appear in the block's stdout.
 
-Prints one line per failing block with its output, then a summary per file: runnable blocks
+Prints one line per block run (a failing one with its output), then a summary per file: runnable blocks
 (passed), marked blocks per reason. Exits 1 if any runnable block failed.
 """
 
