@@ -20,7 +20,7 @@ A skip marker without a reason, or an unknown docs-test marker, fails the block.
 
 How a block runs: bash with `set -euo pipefail` (any failing command fails the block; curl
 answering an HTTP error counts as failing: --fail-with-body is added unless it has -f), a time
-limit (--timeout, 30 s), a clean environment (HOME, LANG=C.UTF-8, TMPDIR, LOCUS_REPO=the
+limit (--timeout, 60 s), a clean environment (HOME, LANG=C.UTF-8, TMPDIR, LOCUS_REPO=the
 repository root) whose PATH starts with BUILD/bin, so `locus` and `locus-server` resolve as
 they do after `cmake --install` (which puts them in /usr/local/bin). The working directory is a
 fresh temporary directory that mirrors the repository root: each top-level entry of the
@@ -220,7 +220,7 @@ def main():
     ap.add_argument("--build-dir", required=True, help="the build directory (its bin/ holds locus, locus-server)")
     ap.add_argument("--repo", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     ap.add_argument("--only", help="FILE or FILE:LINE (the fence's line)")
-    ap.add_argument("--timeout", type=int, default=30, help="seconds per block")
+    ap.add_argument("--timeout", type=int, default=60, help="seconds per block")
     ap.add_argument("--list", action="store_true", help="list the blocks and their marks, run nothing")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args()
