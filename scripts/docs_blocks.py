@@ -18,6 +18,10 @@ before its fence (blank lines skipped) is a marker:
 
 A skip marker without a reason, or an unknown docs-test marker, fails the block.
 
+A page that is one walk-through (docs/your-building.md) says `<!-- docs-test: session -->` on a
+line of its own: its runnable blocks then run in order as one script, in one directory, so a
+later block uses what an earlier one set (it is reported as one block, at its first fence).
+
 How a block runs: bash with `set -euo pipefail` (any failing command fails the block; curl
 answering an HTTP error counts as failing: --fail-with-body is added unless it has -f), a time
 limit (--timeout, 60 s), a clean environment (HOME, LANG=C.UTF-8, TMPDIR, LOCUS_REPO=the
@@ -52,6 +56,7 @@ import time
 FENCE_OPEN = re.compile(r"^(\s*)```(\w*)\s*$")
 FENCE_CLOSE = re.compile(r"^\s*```\s*$")
 MARKER = re.compile(r"^\s*<!--\s*docs-test:\s*(skip|demo-server)\s*(?:\((.*)\))?\s*-->\s*$")
+SESSION = re.compile(r"^\s*<!--\s*docs-test:\s*session\s*-->\s*$")
 SHELLS = {"sh", "bash", "shell"}
 # curl -s exits 0 on an HTTP error: in a block an error answer fails the block (unless the block
 # already chose -f / --fail itself).
@@ -91,7 +96,9 @@ def blocks_of(path, rel):
         while j >= 0 and not lines[j].strip():
             j -= 1
         mk = MARKER.match(lines[j]) if j >= 0 else None
-        if mk:
+        if j >= 0 and SESSION.match(lines[j]):
+            pass  # the page's session marker, not this block's
+        elif mk:
             mode = mk.group(1)
             reason = (mk.group(2) or "").strip()
             if mode == "skip" and not reason:
@@ -99,6 +106,11 @@ def blocks_of(path, rel):
         elif j >= 0 and "docs-test" in lines[j]:
             mode, reason = "bad", "unknown marker: " + lines[j].strip()
         out.append(Block(rel, start + 1, "\n".join(body) + "\n", mode, reason))
+    if any(SESSION.match(l) for l in lines):
+        runnable = [b for b in out if b.mode == "run"]
+        if runnable:
+            text = "".join("# --- %s:%d\n%s" % (rel, b.line, b.text) for b in runnable)
+            out = [b for b in out if b.mode != "run"] + [Block(rel, runnable[0].line, text, "run", "")]
     return out
 
 
