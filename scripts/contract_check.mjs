@@ -220,6 +220,26 @@ async function run() {
   await patch(`/v1/floors/${floor}`, { north_offset_deg: null }, { expect: 200 });
   await patch(`/v1/floors/${floor}`, { level: 2000 }, { expect: 422, invalid: true });
   await patch(`/v1/floors/${floor}`, { name: 'Basement' }, { expect: 409 });
+  // Floors on Earth (docs/geo.md): set, cleared, refused, fitted from control points. The floor
+  // stays georeferenced, so the localize, track and route answers below carry lat/lon.
+  await patch(`/v1/floors/${floor}`, { geo: { lat: 49.46115181, lon: 11.11114911, x: 15, y: 7.5, bearing_deg: -20.736 }, elevation_m: 0 }, { expect: 200 });
+  await patch(`/v1/floors/${floor2}`, { geo: null, elevation_m: -3.5 }, { expect: 200 });
+  await patch(`/v1/floors/${floor}`, { geo: { lat: 91, lon: 11, x: 0, y: 0, bearing_deg: 0 } }, { expect: 422, invalid: true });
+  await patch(`/v1/floors/${floor}`, { geo: { lat: 49.46, lon: 11.11, x: 0, y: 0 } }, { expect: 422, invalid: true });
+  await patch(`/v1/floors/${floor}`, { elevation_m: 20000 }, { expect: 422, invalid: true });
+  const control = [
+    { x: 0, y: 0, lat: 49.4610374, lon: 11.1109761 },
+    { x: 30, y: 0, lat: 49.4609839, lon: 11.1113633 },
+    { x: 30, y: 15, lat: 49.4611101, lon: 11.1114342 },
+  ];
+  await post(`/v1/floors/${floor}/georeference?dry_run=true`, { points: control }, { expect: 200 });
+  await post(`/v1/floors/${floor}/georeference`, { points: control }, { expect: 200 });
+  await post(`/v1/floors/${floor}/georeference`, { points: control.slice(0, 2) }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/georeference`, { points: [control[0], { ...control[1], lat: 95 }, control[2]] }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/georeference`, { points: [control[0], { ...control[1], z: 1 }, control[2]] }, { expect: 422, invalid: true });
+  await post(`/v1/floors/${floor}/georeference`, { points: [{ x: 0, y: 0, lat: 49.46, lon: 11.11 }, { x: 10, y: 0, lat: 49.46, lon: 11.1101 }, { x: 20, y: 0, lat: 49.46, lon: 11.1102 }] }, { expect: 422 });
+  await post(`/v1/floors/${floor}/georeference?dry_run=maybe`, { points: control }, { expect: 400, invalid: true });
+  await post(`/v1/floors/${UNKNOWN}/georeference`, { points: control }, { expect: 404 });
 
   // Rooms
   const room = idOf(await post(`/v1/floors/${floor}/rooms`, { name: 'Lobby', rects: [{ xmin: 0, ymin: 0, xmax: 15, ymax: 15 }] }, { expect: 201 }), 'a room');

@@ -132,6 +132,7 @@ App::App(store::Store& store, localize::Service& localizer, routing::Service& ro
     install_health();
     install_localize();
     install_crud();
+    install_geo_routes();
     install_radiomap_routes();
     install_plan_routes();
     install_route_routes();

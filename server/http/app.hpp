@@ -13,6 +13,7 @@
 #include <unordered_set>
 
 #include "directory/service.hpp"
+#include "http/floor_geo.hpp"
 #include "http/front.hpp"
 #include "http/slots.hpp"
 #include "http/static_files.hpp"
@@ -66,6 +67,7 @@ private:
     bool refuse_before_body(const httplib::Request& req, httplib::Response& res) const;
     void install_localize();         // localize_routes.cpp
     void install_crud();             // crud_routes.cpp
+    void install_geo_routes();       // geo_routes.cpp
     void install_radiomap_routes();  // radiomap_routes.cpp
     void install_plan_routes();      // plan_routes.cpp
     void install_route_routes();     // route_routes.cpp
@@ -85,6 +87,7 @@ private:
     routing::Service& router_;
     directory::Service& directory_;
     TransmitterCache transmitters_{store_};  // for the ranging localize
+    FloorGeoCache geo_{store_};  // lat/lon in the answers of georeferenced floors
     AppOptions options_;
     Slots export_slots_{options_.max_exports};
     Front server_;

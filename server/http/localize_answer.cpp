@@ -55,7 +55,7 @@ Writer& candidate_tail(Writer& w, long long floor_id, long long building_id) {
 }
 }  // namespace
 
-std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& request) {
+std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& request, FloorGeoCache* geo) {
     // answer() runs on the HTTP worker thread that handles the request: that thread is the
     // matcher's caller, so it owns the workspace, warm for every request it serves.
     thread_local match::Workspace workspace;
@@ -71,6 +71,10 @@ std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& re
     w.out.reserve(256 + 160 * result->candidates.size());
     w.raw("{");
     w.key("x").number(result->at.x).key("y").number(result->at.y);
+    if (const auto earth = geo ? geo->of_floor(result->floor_id) : nullptr) {
+        const auto p = earth->to_geodetic(result->at);
+        w.key("lat").number(p.lat).key("lon").number(p.lon);
+    }
     w.key("floor_id").integer(result->floor_id).key("building_id").integer(result->building_id);
     w.key("room");
     if (room) w.raw("{").key("id").integer(room->id).key("name").text(room->name).raw("}");

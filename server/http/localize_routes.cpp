@@ -27,7 +27,7 @@ void App::install_localize() {
                              const auto request = parse_localize_request(req.body);
                              // Moved in: set_content would copy the answer. As set_content
                              // does, any earlier Content-Type goes.
-                             res.body = answer(*localizer_.lookup(scope, id), request);
+                             res.body = answer(*localizer_.lookup(scope, id), request, &geo_);
                              res.headers.erase("Content-Type");
                              res.set_header("Content-Type", "application/json");
                          });

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "http/api_error.hpp"
+#include "http/floor_geo.hpp"
 #include "http/transmitter_fields.hpp"
 #include "http/validation.hpp"
 #include "store/kinds.hpp"
@@ -175,7 +176,7 @@ std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool ma
     const Room* room = room_at(rooms, fix->at);
     json room_json = nullptr;
     if (room) room_json = {{"id", room->id}, {"name", room->name}};
-    const json out = {{"x", fix->at.x},
+    json out = {{"x", fix->at.x},
                       {"y", fix->at.y},
                       {"floor_id", floor_id},
                       {"building_id", floor.parent_id.value()},
@@ -188,6 +189,10 @@ std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool ma
                       {"transmitters_heard", count},
                       {"transmitters_used", fix->used},
                       {"residual", fix->rms_residual}};
+    if (const auto g = georeference_of(floor)) {
+        const geo::FloorToEarth earth(*g);
+        add_lat_lon(out, &earth, fix->at);
+    }
     return out.dump();
 }
 

@@ -3,10 +3,13 @@
 // (track_routes.cpp) answers the walk between them in the same form.
 #include <nlohmann/json.hpp>
 
+#include "http/floor_geo.hpp"
 #include "locus/plan/route.hpp"
 
 namespace locus::http {
 
-nlohmann::json route_json(const plan::Route& r);
+// On a georeferenced floor "from" and "to" carry "lat"/"lon", and a leg "path_lat_lon", its
+// path's points as [lat, lon] (docs/geo.md).
+nlohmann::json route_json(const plan::Route& r, FloorGeoCache& geo);
 
 }  // namespace locus::http

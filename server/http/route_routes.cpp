@@ -43,10 +43,17 @@ std::int64_t positive_id(const json& j, const char* field, const std::string& wh
 
 }  // namespace
 
-json route_json(const plan::Route& r) {
+json route_json(const plan::Route& r, FloorGeoCache& geo) {
     json legs = json::array(), transfers = json::array(), steps = json::array(), features = json::array();
     for (const auto& leg : r.legs) {
         legs.push_back({{"floor_id", leg.floor_id}, {"level", leg.level}, {"length_m", leg.length_m}, {"path", positions_json(leg.path)}});
+        if (const auto earth = geo.of_floor(leg.floor_id)) {
+            json& lat_lon = legs.back()["path_lat_lon"] = json::array();
+            for (const Point p : leg.path) {
+                const auto g = earth->to_geodetic(p);
+                lat_lon.push_back({g.lat, g.lon});
+            }
+        }
         features.push_back({{"type", "Feature"},
                             {"geometry", {{"type", "LineString"}, {"coordinates", positions_json(leg.path)}}},
                             {"properties", {{"floor_id", leg.floor_id}, {"level", leg.level}, {"length_m", leg.length_m}}}});
@@ -64,10 +71,14 @@ json route_json(const plan::Route& r) {
         }
         steps.push_back(std::move(step));
     }
+    json from = {{"floor_id", r.legs.front().floor_id}, {"x", r.start.x}, {"y", r.start.y}};
+    json to = {{"floor_id", r.legs.back().floor_id}, {"x", r.end.x}, {"y", r.end.y}};
+    add_lat_lon(from, geo.of_floor(r.legs.front().floor_id).get(), r.start);
+    add_lat_lon(to, geo.of_floor(r.legs.back().floor_id).get(), r.end);
     return {{"length_m", r.length_m},
             {"time_s", r.time_s},
-            {"from", {{"floor_id", r.legs.front().floor_id}, {"x", r.start.x}, {"y", r.start.y}}},
-            {"to", {{"floor_id", r.legs.back().floor_id}, {"x", r.end.x}, {"y", r.end.y}}},
+            {"from", std::move(from)},
+            {"to", std::move(to)},
             {"legs", legs},
             {"transfers", transfers},
             {"steps", steps},
@@ -151,7 +162,7 @@ void App::install_route_routes() {
             const plan::Route r = plan::route(*building, from, to, options, scratch);
             if (r.status != plan::RouteStatus::ok)
                 throw ApiError(422, "no_route", plan::to_string(r.status));
-            return std::pair{200, route_json(r)};
+            return std::pair{200, route_json(r, geo_)};
         });
     });
 }

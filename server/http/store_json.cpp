@@ -61,6 +61,22 @@ store::Fields fields_at(const store::Kind& kind, const json& level, const std::s
     }
 }
 
+// The members of a group (store::Field::group) leave the answer as columns and come back as
+// the group's object, or as null unless every one of them is set.
+void fold_groups(const store::Kind& kind, json& out) {
+    for (const auto& f : kind.fields) {
+        if (f.group.empty()) continue;
+        json member = nullptr;
+        if (const auto it = out.find(std::string(f.name)); it != out.end()) {
+            member = std::move(*it);
+            out.erase(it);
+        }
+        json& group = out.emplace(std::string(f.group), json::object()).first.value();
+        if (group.is_object() && !member.is_null()) group[std::string(f.key)] = std::move(member);
+        else group = nullptr;
+    }
+}
+
 }  // namespace
 
 json record_json(const store::Kind& kind, const store::Record& record) {
@@ -68,6 +84,7 @@ json record_json(const store::Kind& kind, const store::Record& record) {
     out["id"] = record.id;
     if (!kind.parent_column.empty()) out[std::string(kind.parent_column)] = record.parent_id.value_or(0);
     for (const auto& [name, value] : record.fields.values) out[name] = value_json(value);
+    fold_groups(kind, out);
     if (kind.has_rects) out["rects"] = rects_json(record.fields.rects.value_or(std::vector<Rect>{}));
     return out;
 }

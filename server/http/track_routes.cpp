@@ -45,13 +45,14 @@ namespace {
 constexpr std::size_t kMaxFixesPerRequest = 1000;
 constexpr double kFutureSlackS = 60;  // a phone's clock may run this far ahead of the server's
 
-json fix_json(const tracks::Fix& f) {
+json fix_json(const tracks::Fix& f, FloorGeoCache& geo) {
     json j = {{"t", f.t}, {"floor_id", f.floor_id}, {"x", f.x}, {"y", f.y}, {"accuracy_m", f.accuracy_m}};
     if (f.heading_deg) j["heading_deg"] = *f.heading_deg;
+    add_lat_lon(j, geo.of_floor(f.floor_id).get(), {f.x, f.y});  // when the floor is georeferenced
     return j;
 }
 
-json track_json(const tracks::TrackInfo& t) {
+json track_json(const tracks::TrackInfo& t, FloorGeoCache& geo) {
     json j = {{"id", t.id},
               {"map_id", t.map_id},
               {"label", t.label},
@@ -61,7 +62,7 @@ json track_json(const tracks::TrackInfo& t) {
               {"fixes", t.fixes},
               {"fusion", tracks::fusion_method_name(t.fusion)}};
     if (!t.fusion_options.empty()) j["fusion_options"] = tracks::fusion_options_json(t.fusion_options);
-    if (t.latest) j["latest"] = fix_json(*t.latest);  // absent before the first fix
+    if (t.latest) j["latest"] = fix_json(*t.latest, geo);  // absent before the first fix
     if (t.ended_at) j["ended_at"] = *t.ended_at;
     return j;
 }
@@ -291,8 +292,9 @@ void begin_event_stream(httplib::Response& res, httplib::ContentProviderWithoutL
 
 void App::install_track_routes() {
     tracks::Service& svc = *options_.tracks;
+    FloorGeoCache& geo = geo_;
 
-    server_.Post("/v1/tracks", [&svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Post("/v1/tracks", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const json body = parse_object(req.body);
             only_fields(body, {"map_id", "label", "fusion", "fusion_options"}, "");
@@ -315,7 +317,7 @@ void App::install_track_routes() {
             } catch (const store::NotFound& e) {
                 throw invalid_field(std::string("'map_id': ") + e.what());
             }
-            json out = track_json(o.info);
+            json out = track_json(o.info, geo);
             out["token"] = o.token;
             out["ttl_s"] = svc.options().ttl_s;
             out["retention_s"] = svc.options().retention_s;
@@ -323,7 +325,7 @@ void App::install_track_routes() {
         });
     });
 
-    server_.Post(R"(/v1/tracks/(\d+)/fixes)", [&svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Post(R"(/v1/tracks/(\d+)/fixes)", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             if (svc.authorize(id, token_of(req)) != tracks::Access::owner)
@@ -333,14 +335,14 @@ void App::install_track_routes() {
                 throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
             const auto posted = svc.post(id, fixes);
             json out = {{"stored", posted.stored}, {"duplicates", posted.duplicates}};
-            if (posted.latest) out["latest"] = fix_json(*posted.latest);
+            if (posted.latest) out["latest"] = fix_json(*posted.latest, geo);
             return std::pair{200, out};
         });
     });
 
     // Thin clients: raw PDR steps, radio fixes and scans in, the particle filter's fixes out (and
     // stored). A scan is localized as the map's localize endpoint would, and is the filter's fix.
-    server_.Post(R"(/v1/tracks/(\d+)/steps)", [this, &svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Post(R"(/v1/tracks/(\d+)/steps)", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             if (svc.authorize(id, token_of(req)) != tracks::Access::owner)
@@ -378,7 +380,7 @@ void App::install_track_routes() {
                         radio.emplace_back(scan_fix(*snapshot, sc.t, sc.readings, sc.where));
                     else
                         radio.push_back(ranged_scan_fix(*known, track.fusion, sc.t, sc.readings, sc.where));
-                    if (!radio.back().unplaced) scan_fixes.push_back(fix_json(radio.back()));
+                    if (!radio.back().unplaced) scan_fixes.push_back(fix_json(radio.back(), geo));
                 }
                 std::stable_sort(radio.begin(), radio.end(), [](const tracks::Fix& a, const tracks::Fix& b) { return a.t < b.t; });
             }
@@ -396,20 +398,20 @@ void App::install_track_routes() {
                 throw ApiError(422, "cannot_fuse", e.what());
             }
             json fused = json::array();
-            for (const auto& f : done.second) fused.push_back(fix_json(f));
+            for (const auto& f : done.second) fused.push_back(fix_json(f, geo));
             json out = {{"stored", done.first.stored}, {"duplicates", done.first.duplicates}, {"fused", fused}};
             if (!scans.empty()) out["scan_fixes"] = std::move(scan_fixes);
-            if (done.first.latest) out["latest"] = fix_json(*done.first.latest);
+            if (done.first.latest) out["latest"] = fix_json(*done.first.latest, geo);
             return std::pair{200, out};
         });
     });
 
-    server_.Post(R"(/v1/tracks/(\d+)/close)", [&svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Post(R"(/v1/tracks/(\d+)/close)", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             if (svc.authorize(id, token_of(req)) != tracks::Access::owner)
                 throw ApiError(403, "forbidden", "only the track's owner closes it");
-            return std::pair{200, track_json(svc.close(id))};
+            return std::pair{200, track_json(svc.close(id), geo)};
         });
     });
 
@@ -423,21 +425,21 @@ void App::install_track_routes() {
         });
     });
 
-    server_.Get(R"(/v1/tracks/(\d+))", [&svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/tracks/(\d+))", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             svc.authorize(id, token_of(req));
             std::size_t limit = 100;
             if (req.has_param("limit")) limit = static_cast<std::size_t>(parse_query_integer(req.get_param_value("limit"), "limit", 0, 1000));
-            json out = track_json(svc.info(id));
+            json out = track_json(svc.info(id), geo);
             json trail = json::array();
-            for (const auto& f : svc.trail(id, limit)) trail.push_back(fix_json(f));
+            for (const auto& f : svc.trail(id, limit)) trail.push_back(fix_json(f, geo));
             out["trail"] = std::move(trail);
             return std::pair{200, out};
         });
     });
 
-    server_.Get(R"(/v1/tracks/(\d+)/events)", [&svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/tracks/(\d+)/events)", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
         std::shared_ptr<tracks::Service::Stream> stream;
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
@@ -445,10 +447,10 @@ void App::install_track_routes() {
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error
-        begin_event_stream(res, [&svc, stream](std::size_t, httplib::DataSink& sink) {
+        begin_event_stream(res, [&svc, &geo, stream](std::size_t, httplib::DataSink& sink) {
             const auto events = svc.next_events(*stream);
             std::string out;
-            for (const auto& f : events.fixes) out += sse_event("fix", fix_json(f));
+            for (const auto& f : events.fixes) out += sse_event("fix", fix_json(f, geo));
             if (events.fixes.empty() && !events.ended) out = ": heartbeat\n\n";
             if (events.ended) out += sse_event("end", json{{"reason", "the track is no longer live, or the server is stopping"}});
             if (!sink.write(out.data(), out.size())) return false;
@@ -479,7 +481,7 @@ void App::install_track_routes() {
         });
     });
 
-    server_.Get(R"(/v1/tracks/(\d+)/relative/(\d+))", [this, &svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/tracks/(\d+)/relative/(\d+))", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto a_id = parse_id(req.matches[1].str(), "track");
             const auto b_id = parse_id(req.matches[2].str(), "track");
@@ -497,8 +499,8 @@ void App::install_track_routes() {
             const double now = tracks::Service::now();
             double bearing = std::atan2(dx, dy) * 180.0 / std::numbers::pi;  // clockwise from +y, as headings
             if (bearing < 0) bearing += 360.0;
-            json out = {{"from", {{"track_id", a_id}, {"fix", fix_json(fa)}, {"age_s", now - fa.t}}},
-                        {"to", {{"track_id", b_id}, {"fix", fix_json(fb)}, {"age_s", now - fb.t}}},
+            json out = {{"from", {{"track_id", a_id}, {"fix", fix_json(fa, geo)}, {"age_s", now - fa.t}}},
+                        {"to", {{"track_id", b_id}, {"fix", fix_json(fb, geo)}, {"age_s", now - fb.t}}},
                         {"straight_distance_m", std::hypot(dx, dy)},
                         {"bearing_deg", bearing},
                         {"floor_difference", level(fb.floor_id) - level(fa.floor_id)}};
@@ -518,7 +520,7 @@ void App::install_track_routes() {
                 const plan::Route r = plan::route(*building, {fa.floor_id, {fa.x, fa.y}}, {fb.floor_id, {fb.x, fb.y}}, {}, scratch);
                 if (r.status == plan::RouteStatus::ok) {
                     out["walking_distance_m"] = r.length_m;
-                    out["route"] = route_json(r);
+                    out["route"] = route_json(r, geo);
                 } else {
                     out["walking_problem"] = plan::to_string(r.status);
                 }
@@ -545,13 +547,13 @@ void App::install_track_routes() {
         return std::pair{map_id, floor};
     };
 
-    server_.Get(R"(/v1/maps/(\d+)/positions)", [positions_scope, &svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/maps/(\d+)/positions)", [positions_scope, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto [map_id, floor] = positions_scope(req, res);
             const double now = tracks::Service::now();
             json positions = json::array();
             for (const auto& t : svc.live_on_map(map_id, floor))
-                positions.push_back({{"track_id", t.id}, {"label", t.label}, {"fix", fix_json(*t.latest)}, {"age_s", now - t.latest->t}});
+                positions.push_back({{"track_id", t.id}, {"label", t.label}, {"fix", fix_json(*t.latest, geo)}, {"age_s", now - t.latest->t}});
             return std::pair{200, json{{"map_id", map_id}, {"positions", positions}}};
         });
     });
@@ -559,7 +561,7 @@ void App::install_track_routes() {
     // The live layer's stream: `position` {track_id, label, fix} for each new latest fix on the
     // map (or floor_id), `leave` {track_id, floor_id|null} when a shown track goes to another
     // floor (its floor) or ends (null). The first events are every live track's position.
-    server_.Get(R"(/v1/maps/(\d+)/positions/events)", [positions_scope, &svc](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/maps/(\d+)/positions/events)", [positions_scope, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
         std::shared_ptr<tracks::Service::MapStream> stream;
         respond_track(req, res, [&] {
             const auto scope = positions_scope(req, res);
@@ -567,12 +569,12 @@ void App::install_track_routes() {
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error
-        begin_event_stream(res, [&svc, stream](std::size_t, httplib::DataSink& sink) {
+        begin_event_stream(res, [&svc, &geo, stream](std::size_t, httplib::DataSink& sink) {
             const auto batch = svc.next_map_events(*stream);
             std::string out;
             for (const auto& e : batch.events) {
                 if (e.kind == tracks::MapEvent::Kind::position) {
-                    out += sse_event("position", json{{"track_id", e.track_id}, {"label", e.label}, {"fix", fix_json(*e.fix)}});
+                    out += sse_event("position", json{{"track_id", e.track_id}, {"label", e.label}, {"fix", fix_json(*e.fix, geo)}});
                 } else {
                     json floor = nullptr;
                     if (e.fix) floor = e.fix->floor_id;

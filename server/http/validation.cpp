@@ -9,6 +9,7 @@
 #include <set>
 
 #include "http/api_error.hpp"
+#include "locus/geo/georeference.hpp"
 
 namespace locus::http {
 
@@ -62,6 +63,7 @@ store::Value check_field(const store::Field& f, const json& v, const std::string
                 throw invalid_field("'" + name + "' is out of range [" + (f.min ? std::to_string(*f.min) : "-inf") +
                                     ", " + (f.max ? std::to_string(*f.max) : "inf") + "]");
             if (f.type == store::FieldType::Integer) return *as_integer(v);
+            if (f.angle) return geo::normalise_bearing(d);
             return d;
         }
     }
@@ -91,6 +93,31 @@ std::vector<Rect> check_rects(const json& v, bool create) {
     return out;
 }
 
+// A group of fields given as one object (store::Field::group): null clears every member (a
+// create may send it too, meaning none), an object must hold every member and nothing else.
+void check_group(const store::Kind& kind, std::string_view group, const json& v, store::Fields& out) {
+    const std::string name(group);
+    if (v.is_null()) {
+        for (const auto& f : kind.fields)
+            if (f.group == group) out.values[std::string(f.name)] = std::monostate{};
+        return;
+    }
+    if (!v.is_object()) throw invalid_field("'" + name + "' must be an object or null");
+    for (const auto& [key, value] : v.items()) {
+        bool known = false;
+        for (const auto& f : kind.fields) known = known || (f.group == group && f.key == key);
+        if (!known) throw invalid_field("unknown field '" + name + "." + key + "'");
+    }
+    for (const auto& f : kind.fields) {
+        if (f.group != group) continue;
+        const auto it = v.find(f.key);
+        if (it == v.end() || it->is_null()) throw invalid_field("missing field '" + name + "." + std::string(f.key) + "'");
+        store::Field member = f;
+        member.name = f.key;
+        out.values[std::string(f.name)] = check_field(member, *it, name);
+    }
+}
+
 }  // namespace
 
 void reject_nul(std::string_view body) {
@@ -111,6 +138,10 @@ store::Fields validated_fields(const store::Kind& kind, const json& body, bool c
     std::set<std::string, std::less<>> known{"id"};
     if (!kind.parent_column.empty()) known.emplace(kind.parent_column);
     for (const auto& f : kind.fields) {
+        if (!f.group.empty()) {
+            if (known.emplace(f.group).second && body.contains(f.group)) check_group(kind, f.group, body.at(f.group), out);
+            continue;
+        }
         known.emplace(f.name);
         if (!f.writable) continue;  // shown in answers, so clients may echo it back
         const auto it = body.find(f.name);

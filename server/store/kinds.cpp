@@ -12,6 +12,10 @@ Field description_field() { return {.name = "description", .type = FieldType::Te
 Field coordinate(std::string_view n) {
     return {.name = n, .type = FieldType::Real, .required = true, .min = -kMaxCoordinate, .max = kMaxCoordinate};
 }
+// A member of a floor's georeference (schema/014_floor_geo.sql, docs/geo.md).
+Field geo(std::string_view column, std::string_view key, double min, double max, bool angle = false) {
+    return {.name = column, .type = FieldType::Real, .min = min, .max = max, .group = "geo", .key = key, .angle = angle};
+}
 }  // namespace
 
 const std::vector<Kind>& kinds() {
@@ -26,7 +30,14 @@ const std::vector<Kind>& kinds() {
           {.name = "level", .type = FieldType::Integer, .required = true, .min = -1000, .max = 1000},
           {.name = "width", .type = FieldType::Real, .required = true, .max = kMaxCoordinate, .positive = true},
           {.name = "height", .type = FieldType::Real, .required = true, .max = kMaxCoordinate, .positive = true},
-          {.name = "north_offset_deg", .type = FieldType::Real, .min = -360, .max = 360}}},
+          {.name = "north_offset_deg", .type = FieldType::Real, .min = -360, .max = 360},
+          // Height of the floor above the building's reference, for barometric floor changes.
+          {.name = "elevation_m", .type = FieldType::Real, .min = -1000, .max = 10000},
+          geo("geo_lat", "lat", -90, 90),
+          geo("geo_lon", "lon", -180, 180),
+          geo("geo_x", "x", -kMaxCoordinate, kMaxCoordinate),
+          geo("geo_y", "y", -kMaxCoordinate, kMaxCoordinate),
+          geo("geo_bearing_deg", "bearing_deg", -360, 360, true)}},
         {"rooms", "room", "floor_id", "floors", {name_field()}, true},
         {"pois",
          "poi",

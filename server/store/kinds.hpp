@@ -21,6 +21,13 @@ struct Field {
     std::optional<double> max = std::nullopt;
     bool positive = false;  // numbers must be > 0
     std::size_t max_length = 256;  // for text
+    // Non-empty: the column is one member of a JSON object field of that name, shown there as
+    // `key` (floors' "geo": {lat, lon, x, y, bearing_deg}). A group's members are given
+    // together (all of them, as one object) or cleared together (null), and read back as the
+    // object, or null while unset.
+    std::string_view group = {};
+    std::string_view key = {};
+    bool angle = false;  // degrees, stored brought into [0, 360)
 };
 
 struct Kind {

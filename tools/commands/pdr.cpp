@@ -1,5 +1,6 @@
 // `locus pdr ...`: step counting on accelerometer logs, the Oxford evaluation and tuning, and
-// dead-reckoned tracks from full IMU logs (formats in docs/pdr.md).
+// dead-reckoned tracks from full IMU logs (formats in docs/pdr.md). `steps` and `track` also
+// take GetSensorData / IPIN logfiles (docs/ipin.md), told apart by their first line.
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -13,6 +14,7 @@
 #include <thread>
 
 #include "command_registry.hpp"
+#include "datasets/ipin_log.hpp"
 #include "datasets/pdr_logs.hpp"
 #include "datasets/pdr_oxford.hpp"
 #include "locus/pdr/pipeline.hpp"
@@ -163,16 +165,24 @@ void print_table(const EvalSummary& s, std::ostream& out) {
 }
 
 void install_steps(CLI::App& pdr) {
-    auto* cmd = pdr.add_subcommand("steps", "Count steps in an accelerometer log (Oxford format or CSV t,ax,ay,az)");
+    auto* cmd = pdr.add_subcommand("steps", "Count steps in an accelerometer log (Oxford format, CSV t,ax,ay,az or an IPIN logfile)");
     auto file = std::make_shared<std::string>();
     auto opts = std::make_shared<DetectorOptions>();
     auto times = std::make_shared<bool>(false);
-    cmd->add_option("FILE", *file, "accelerometer log")->required();
+    cmd->add_option("FILE", *file, "accelerometer log, or a GetSensorData / IPIN logfile")->required();
     cmd->add_flag("--times", *times, "also list the step times (s)");
     opts->add(cmd);
     cmd->callback([=] {
         guarded([&] {
-            const auto samples = read_accel_log(*file);
+            std::optional<ipin::Log> log;
+            std::vector<AccelSample> samples;
+            if (ipin::file_looks_like_log(*file)) {
+                log = ipin::read_log(*file);
+                samples = ipin::accel_samples(*log);
+                if (samples.empty()) throw CommandError(*file + ": no ACCE lines");
+            } else {
+                samples = read_accel_log(*file);
+            }
             pdr::StepDetector d(opts->get());
             json step_times = json::array();
             for (const auto& s : samples)
@@ -180,6 +190,19 @@ void install_steps(CLI::App& pdr) {
             while (auto e = d.poll()) step_times.push_back(e->t_s);
             json j{{"steps", d.steps()},
                    {"duration_s", samples.size() < 2 ? 0.0 : samples.back().t_s - samples.front().t_s}};
+            if (log) {
+                // Times are on the log's App clock (the ACCE sensor clock moved onto it), as the
+                // POSI lines are: the steps between the first and last landmark are the walk's,
+                // without the calibration phase's waving before it.
+                j["format"] = "ipin";
+                if (!log->posi.empty()) {
+                    const double from = log->posi.front().app_s, to = log->posi.back().app_s;
+                    long walk_steps = 0;
+                    for (const auto& t : step_times) walk_steps += t.get<double>() >= from && t.get<double>() <= to;
+                    j["posi_span_s"] = to - from;
+                    j["steps_in_posi_span"] = walk_steps;
+                }
+            }
             if (*times) j["step_times_s"] = step_times;
             std::cout << j.dump() << "\n";
             return 0;
@@ -270,7 +293,7 @@ void install_track(CLI::App& pdr) {
         DetectorOptions det;
     };
     auto a = std::make_shared<Args>();
-    cmd->add_option("FILE", a->file, "IMU log")->required();
+    cmd->add_option("FILE", a->file, "IMU log, or a GetSensorData / IPIN logfile")->required();
     cmd->add_option("--format", a->format, "csv or geojson")->check(CLI::IsMember({"csv", "geojson"}))->capture_default_str();
     cmd->add_option("--start-x", a->x, "start x, m")->capture_default_str();
     cmd->add_option("--start-y", a->y, "start y, m")->capture_default_str();
@@ -291,7 +314,13 @@ void install_track(CLI::App& pdr) {
     a->det.add(cmd);
     cmd->callback([a] {
         guarded([&] {
-            const auto log = read_imu_log(a->file);
+            std::vector<ImuSample> log;
+            if (ipin::file_looks_like_log(a->file)) {
+                log = ipin::imu_samples(ipin::read_log(a->file));
+                if (log.empty()) throw CommandError(a->file + ": no ACCE, GYRO or MAGN lines");
+            } else {
+                log = read_imu_log(a->file);
+            }
             std::optional<FloorPlan> plan;
             double north = 0.0;
             if (!a->floor_file.empty()) plan = read_floor_plan(a->floor_file, a->building, a->floor, north);

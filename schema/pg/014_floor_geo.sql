@@ -1,0 +1,7 @@
+-- Locus schema v14, PostgreSQL: as ../014_floor_geo.sql, in PostgreSQL's type names.
+ALTER TABLE floors ADD COLUMN elevation_m DOUBLE PRECISION;
+ALTER TABLE floors ADD COLUMN geo_lat DOUBLE PRECISION;
+ALTER TABLE floors ADD COLUMN geo_lon DOUBLE PRECISION;
+ALTER TABLE floors ADD COLUMN geo_x DOUBLE PRECISION;
+ALTER TABLE floors ADD COLUMN geo_y DOUBLE PRECISION;
+ALTER TABLE floors ADD COLUMN geo_bearing_deg DOUBLE PRECISION;
