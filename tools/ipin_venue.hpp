@@ -35,19 +35,6 @@ struct FloorSpec {
 // Floors 0, -1, -2 in that order.
 const std::vector<FloorSpec>& venue_floors();
 
-// One row of supplementary/BLE_Locations.csv: `bleID,Lat,Lon,floor` ("BLE1",49.46…,11.11…,00).
-struct Beacon {
-    std::string name;  // "BLE1"
-    int number = 0;    // n of "BLEn": MAC BE:AC:20:23:00:0n, major 1, minor n
-    double lat = 0.0, lon = 0.0;
-    int floor = 0;
-    long line = 0;
-};
-// Throws std::runtime_error "FILE:LINE: message" on the first bad line (a header other than
-// bleID,Lat,Lon,floor, a wrong cell count, a name not BLE<n>, a bad number, a floor the venue
-// lacks, a name given twice). Cost O(text).
-std::vector<Beacon> parse_ble_locations(std::string_view text, const std::string& file);
-
 // "be:ac:20:23:00:0n" (two hex digits for n up to 255).
 std::string beacon_mac(int number);
 

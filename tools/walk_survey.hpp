@@ -14,16 +14,11 @@
 #include <nlohmann/json.hpp>
 
 #include "datasets/ipin_log.hpp"
+#include "datasets/walk_files.hpp"
 #include "locus/survey/walk.hpp"
 #include "survey_upload.hpp"
 
 namespace locus::tools {
-
-// A landmarks file: a header `t,floor,x,y` (any column order, more columns ignored), then one
-// landmark per line: time (s, the logger's AppTimestamp clock), floor number (as the radio map
-// mapping names floors), x, y (metres in that floor's frame). Lines must be in time order.
-// Throws std::runtime_error "FILE:LINE: message" on the first bad line; blank lines skipped.
-std::vector<survey::Landmark> parse_landmarks_csv(std::string_view text, const std::string& file);
 
 // The log's POSI lines as landmarks, each through `to_floor(floor, lat, lon)`, which answers
 // the floor-frame position or nullopt when that floor is not mapped (the landmark is then

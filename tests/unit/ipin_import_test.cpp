@@ -9,6 +9,7 @@
 #include "ipin_eval.hpp"
 #include "ipin_venue.hpp"
 #include "locus/metrics.hpp"
+#include "datasets/walk_files.hpp"
 #include "walk_survey.hpp"
 
 using namespace locus;
@@ -28,7 +29,7 @@ std::string message_of(const std::function<void()>& f) {
 }  // namespace
 
 TEST(IpinImport, ReadsTheBeaconsFile) {
-    const auto b = ipin::parse_ble_locations(
+    const auto b = datasets::parse_ipin_beacons(
         "bleID,Lat,Lon,floor\n\"BLE1\",49.46129,11.11120,00\r\n\"BLE3\",49.46130,11.11152,-2\n", "B.csv");
     ASSERT_EQ(b.size(), 2u);
     EXPECT_EQ(b[0].name, "BLE1");
@@ -41,34 +42,34 @@ TEST(IpinImport, ReadsTheBeaconsFile) {
 }
 
 TEST(IpinImport, BeaconsFileErrorsNameFileAndLine) {
-    EXPECT_EQ(message_of([] { ipin::parse_ble_locations("id,Lat,Lon,floor\n", "B.csv"); }),
+    EXPECT_EQ(message_of([] { datasets::parse_ipin_beacons("id,Lat,Lon,floor\n", "B.csv"); }),
               "B.csv:1: the header must be bleID,Lat,Lon,floor");
-    EXPECT_EQ(message_of([] { ipin::parse_ble_locations("bleID,Lat,Lon,floor\n\"BLE1\",49.4,11.1,0\n\"BLE2\",x,11.1,0\n", "B.csv"); }),
+    EXPECT_EQ(message_of([] { datasets::parse_ipin_beacons("bleID,Lat,Lon,floor\n\"BLE1\",49.4,11.1,0\n\"BLE2\",x,11.1,0\n", "B.csv"); }),
               "B.csv:3: 'Lat' is not a latitude: 'x'");
-    EXPECT_EQ(message_of([] { ipin::parse_ble_locations("bleID,Lat,Lon,floor\n\"BLE1\",49.4,11.1\n", "B.csv"); }),
+    EXPECT_EQ(message_of([] { datasets::parse_ipin_beacons("bleID,Lat,Lon,floor\n\"BLE1\",49.4,11.1\n", "B.csv"); }),
               "B.csv:2: 3 cells, expected 4 (bleID,Lat,Lon,floor)");
-    EXPECT_EQ(message_of([] { ipin::parse_ble_locations("bleID,Lat,Lon,floor\n\"BLE1\",49.4,11.1,3\n", "B.csv"); }),
-              "B.csv:2: floor 3 is not one of the venue's (0, -1, -2)");
-    EXPECT_EQ(message_of([] { ipin::parse_ble_locations("bleID,Lat,Lon,floor\nBLE1,49.4,11.1,0\nBLE1,49.4,11.1,0\n", "B.csv"); }),
+    EXPECT_EQ(message_of([] { datasets::parse_ipin_beacons("bleID,Lat,Lon,floor\n\"BLE1\",49.4,11.1,0.5\n", "B.csv"); }),
+              "B.csv:2: 'floor' is not a whole number: '0.5'");
+    EXPECT_EQ(message_of([] { datasets::parse_ipin_beacons("bleID,Lat,Lon,floor\nBLE1,49.4,11.1,0\nBLE1,49.4,11.1,0\n", "B.csv"); }),
               "B.csv:3: 'BLE1' is given twice");
-    EXPECT_EQ(message_of([] { ipin::parse_ble_locations("", "B.csv"); }), "B.csv: empty (no bleID,Lat,Lon,floor header)");
+    EXPECT_EQ(message_of([] { datasets::parse_ipin_beacons("", "B.csv"); }), "B.csv: empty (no bleID,Lat,Lon,floor header)");
 }
 
 TEST(IpinImport, LandmarksCsv) {
-    const auto l = parse_landmarks_csv("x,y,t,floor\n1,2,10.5,0\n\n3,4,12,-2\n", "L.csv");
+    const auto l = datasets::parse_landmarks_csv("x,y,t,floor\n1,2,10.5,0\n\n3,4,12,-2\n", "L.csv");
     ASSERT_EQ(l.size(), 2u);
     EXPECT_DOUBLE_EQ(l[0].t, 10.5);
     EXPECT_DOUBLE_EQ(l[0].at.x, 1.0);
     EXPECT_DOUBLE_EQ(l[0].at.y, 2.0);
     EXPECT_EQ(l[1].floor, -2);
-    EXPECT_EQ(message_of([] { parse_landmarks_csv("t,floor,x\n", "L.csv"); }), "L.csv:1: the header must name the columns t, floor, x and y");
-    EXPECT_EQ(message_of([] { parse_landmarks_csv("t,floor,x,y\n1,0,1,1\n2,0,nan,1\n", "L.csv"); }),
+    EXPECT_EQ(message_of([] { datasets::parse_landmarks_csv("t,floor,x\n", "L.csv"); }), "L.csv:1: the header must name the columns t, floor, x and y");
+    EXPECT_EQ(message_of([] { datasets::parse_landmarks_csv("t,floor,x,y\n1,0,1,1\n2,0,nan,1\n", "L.csv"); }),
               "L.csv:3: 'x' is not a finite number: 'nan'");
-    EXPECT_EQ(message_of([] { parse_landmarks_csv("t,floor,x,y\n5,0,1,1\n4,0,1,1\n", "L.csv"); }),
+    EXPECT_EQ(message_of([] { datasets::parse_landmarks_csv("t,floor,x,y\n5,0,1,1\n4,0,1,1\n", "L.csv"); }),
               "L.csv:3: landmarks must be in time order (t goes back)");
-    EXPECT_EQ(message_of([] { parse_landmarks_csv("t,floor,x,y\n5,0.5,1,1\n", "L.csv"); }),
+    EXPECT_EQ(message_of([] { datasets::parse_landmarks_csv("t,floor,x,y\n5,0.5,1,1\n", "L.csv"); }),
               "L.csv:2: 'floor' must be a whole number within ±1000");
-    EXPECT_EQ(message_of([] { parse_landmarks_csv("t,floor,x,y\n5,0,1\n", "L.csv"); }), "L.csv:2: 3 cells, the header has 4");
+    EXPECT_EQ(message_of([] { datasets::parse_landmarks_csv("t,floor,x,y\n5,0,1\n", "L.csv"); }), "L.csv:2: 3 cells, the header has 4");
 }
 
 TEST(IpinImport, VenueFrameIsEastNorthAboutTheOrigin) {

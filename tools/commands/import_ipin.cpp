@@ -22,6 +22,7 @@
 
 #include "command_registry.hpp"
 #include "datasets/ipin_log.hpp"
+#include "datasets/walk_files.hpp"
 #include "ipin_venue.hpp"
 #include "survey_connect.hpp"
 #include "survey_upload.hpp"
@@ -61,14 +62,19 @@ void run(const Args& a) {
     if (!fs::is_directory(dir, ec)) throw CommandError("'" + a.dir + "' is not a folder");
     const std::string ble_path = (dir / "supplementary" / "BLE_Locations.csv").string();
     if (!fs::is_regular_file(ble_path, ec)) throw CommandError("'" + ble_path + "' is missing: is '" + a.dir + "' the IPIN 2023 folder?");
-    std::vector<ipin::Beacon> beacons;
+    std::vector<datasets::IpinBeacon> beacons;
     std::vector<std::string> files;
     try {
-        beacons = ipin::parse_ble_locations(read_file(ble_path), ble_path);
+        beacons = datasets::parse_ipin_beacons(read_file(ble_path), ble_path);
         files = ipin::trial_files(a.dir, a.trials);
     } catch (const std::runtime_error& e) {
         throw CommandError(std::string(e.what()) + "; nothing imported");
     }
+    const auto& venue = ipin::venue_floors();
+    for (const auto& b : beacons)
+        if (std::none_of(venue.begin(), venue.end(), [&](const ipin::FloorSpec& f) { return f.level == b.floor; }))
+            throw CommandError(ble_path + ":" + std::to_string(b.line) + ": floor " + std::to_string(b.floor) +
+                               " is not one of the venue's (0, -1, -2); nothing imported");
     if (files.empty()) throw CommandError("no file of '" + (dir / "trials").string() + "' matches --trials");
 
     const geo::FloorToEarth frame(ipin::venue_georeference());

@@ -122,7 +122,7 @@ void run(const Args& a) {
         if (!a.landmarks.empty()) {
             const std::string csv = read_file(a.landmarks);
             try {
-                w.landmarks = parse_landmarks_csv(csv, a.landmarks);
+                w.landmarks = datasets::parse_landmarks_csv(csv, a.landmarks);
             } catch (const std::runtime_error& e) {
                 throw CommandError(std::string(e.what()) + "; nothing uploaded");
             }
