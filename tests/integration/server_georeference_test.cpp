@@ -224,6 +224,24 @@ TEST(ServerGeoreference, LocalizeTrackAndRouteAnswersCarryLatLon) {
     ASSERT_FALSE(read.at("trail").empty());
     EXPECT_LT(metres_off(read.at("trail")[0], 70, 5), 0.03) << read.dump();
     EXPECT_LT(metres_off(read.at("latest"), 70, 5), 0.03);
+    const json positions = body_of(s.get("/v1/maps/" + std::to_string(v.h.map) + "/positions"));
+    ASSERT_EQ(positions.at("positions").size(), 1u) << positions.dump();
+    EXPECT_LT(metres_off(positions.at("positions")[0].at("fix"), 70, 5), 0.03) << positions.dump();
+
+    // Ranging: four transmitters in the hall's corners, heard as a log-distance model (tx_power
+    // −40 dBm at 1 m, exponent 2) predicts at (30, 20).
+    const double corners[4][2] = {{2, 2}, {98, 2}, {98, 48}, {2, 48}};
+    json heard = json::array();
+    for (int i = 0; i < 4; ++i) {
+        const std::string bssid = "02:00:00:00:00:0" + std::to_string(i + 1);
+        body_of(s.post(v.floor_path + "/transmitters", {{"type", "wifi"}, {"bssid", bssid}, {"x", corners[i][0]}, {"y", corners[i][1]},
+                                                        {"tx_power", -40.0}, {"path_loss_exponent", 2.0}}),
+                201);
+        heard.push_back({{"bssid", bssid}, {"rss", -40.0 - 20.0 * std::log10(std::hypot(30 - corners[i][0], 20 - corners[i][1]))}});
+    }
+    const json ranged = body_of(s.post(by_radiomap, {{"algorithm", "multilateration"}, {"measurements", heard}}));
+    EXPECT_NEAR(ranged.at("x").get<double>(), 30.0, 0.05) << ranged.dump();
+    EXPECT_LT(metres_off(ranged, ranged.at("x").get<double>(), ranged.at("y").get<double>()), 0.03) << ranged.dump();
 
     // A route over the hall's plan: both ends and every point of the leg.
     using locus::testing::feature;

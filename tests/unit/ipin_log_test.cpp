@@ -529,8 +529,8 @@ TEST(IpinLogData, ReadsTheIpin2023WalksAsTheReadmeDescribes) {
             if (i > 0) gaps.push_back(log.wifi[i].app_s - log.wifi[i - 1].app_s);
             sizes.push_back(static_cast<double>(log.wifi[i].readings.size()));
             for (const auto& r : log.wifi[i].readings) {
-                // The README writes them 20:23:00:00:00:xx; past 99 APs the numbering runs
-                // on into the fifth group (20:23:00:00:01:88).
+                // The README writes them 20:23:00:00:00:xx; the files' numbers run over the
+                // last two groups (20:23:00:00:01:88).
                 EXPECT_EQ(r.bssid.str().rfind("20:23:00:00:0", 0), 0u) << r.bssid.str();
                 EXPECT_EQ(r.ssid.rfind("SSID2023_", 0), 0u) << r.ssid;
                 EXPECT_TRUE((r.frequency_mhz >= 2400 && r.frequency_mhz < 2500) ||
@@ -545,6 +545,16 @@ TEST(IpinLogData, ReadsTheIpin2023WalksAsTheReadmeDescribes) {
         EXPECT_GE(median(sizes), 5.0);
         EXPECT_LE(median(sizes), 25.0);
         all_sizes.insert(all_sizes.end(), sizes.begin(), sizes.end());
+
+        // GNSS: the sensor timestamp is the fix's UTC time, 14–15 June 2023.
+        for (const auto& g : log.gnss) {
+            EXPECT_GE(g.sensor_s, 1686700800.0);  // 2023-06-14T00:00Z
+            EXPECT_LT(g.sensor_s, 1686873600.0);  // 2023-06-16T00:00Z
+        }
+        // SOUN at 2 Hz (App clock: the line has no sensor timestamp).
+        std::vector<double> sound_gaps;
+        for (std::size_t i = 1; i < log.soun.size(); ++i) sound_gaps.push_back(log.soun[i].app_s - log.soun[i - 1].app_s);
+        EXPECT_NEAR(median(sound_gaps), 0.5, 0.1);
 
         // BLE4: only the 6 competition beacons, MAC BE:AC:20:23:00:0n, major 1, minor n.
         for (const auto& b : log.ble4) {
