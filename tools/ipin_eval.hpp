@@ -1,6 +1,6 @@
 #pragma once
 // The IPIN competitions' scoring of a walk (../shared/data/ipin2023/README.md "How the
-// competition scores a walk"; docs/ipin.md), for `locus eval ipin`: at each ground-truth
+// competition scores a walk"; docs/ipin-import.md), for `locus eval ipin`: at each ground-truth
 // instant the most recent estimate stamped at most `lag_s` after it counts; its error is the
 // horizontal distance plus `floor_penalty_m` per floor of difference; a walk's (or a pool's)
 // score is the 75th percentile of its errors (metrics::percentile_hazen). Pure; O(n log n).

@@ -23,7 +23,7 @@ geo::Georeference venue_georeference() {
 const std::vector<FloorSpec>& venue_floors() {
     // 0.66 hPa between floors 0 and -2 is about 5.7 m (the README), 8.6 m per hPa; the
     // mezzanine's pressure is 0.37 hPa lower than floor 0's, and pressure falls with height,
-    // so it is about 3.2 m above floor 0 (docs/ipin.md discusses the sign).
+    // so it is about 3.2 m above floor 0 (docs/ipin-import.md discusses the sign).
     static const std::vector<FloorSpec> floors = {
         {0, "Floor 0", 0.0}, {-1, "Floor -1 (mezzanine)", 3.2}, {-2, "Floor -2", -5.7}};
     return floors;

@@ -1,6 +1,6 @@
 #pragma once
 // The IPIN 2023 Track 3 venue as `locus import ipin` and `locus eval ipin` lay it out
-// (docs/ipin.md "Importing the competition folder"): one building "100", floors 0, -1, -2
+// (docs/ipin-import.md): one building "100", floors 0, -1, -2
 // sharing one frame, georeferenced from the data set's local frame, and the competition's
 // beacons file.
 #include <optional>
@@ -30,7 +30,7 @@ geo::Georeference venue_georeference();
 struct FloorSpec {
     int level;             // the POSI floor id, also the floor's level
     const char* name;
-    double elevation_m;    // above floor 0 (docs/ipin.md: from the README's pressure steps)
+    double elevation_m;    // above floor 0 (docs/ipin-import.md: from the README's pressure steps)
 };
 // Floors 0, -1, -2 in that order.
 const std::vector<FloorSpec>& venue_floors();

@@ -1,6 +1,6 @@
 // `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|all] [--train GLOB]
 // [--server URL --map ID] [--json]`: WiFi-only positioning of the IPIN 2023 walks scored as
-// the competition scores them (tools/ipin_eval.hpp, docs/ipin.md). Each held-out walk's WiFi
+// the competition scores them (tools/ipin_eval.hpp, docs/ipin-import.md). Each held-out walk's WiFi
 // scans are localized one by one (an estimate stamped at the scan's AppTimestamp); at each POSI
 // instant the latest estimate at most 0.01 s after it counts; error = horizontal metres + 15 m
 // per floor of difference; p75 as MATLAB's quantile. Also reported ("scans"): each scan's
@@ -221,7 +221,7 @@ void run(const Args& a) {
 
 LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     auto& eval = locus::tools::group(app, "eval", "Measure the matchers on real data sets");
-    auto* cmd = eval.add_subcommand("ipin", "Score WiFi positioning of IPIN 2023 walks as the competition does (docs/ipin.md)");
+    auto* cmd = eval.add_subcommand("ipin", "Score WiFi positioning of IPIN 2023 walks as the competition does (docs/ipin-import.md)");
     auto a = std::make_shared<Args>();
     a->server.add_to(*cmd, false);
     cmd->add_option("DIR", a->dir, "the data set folder (with trials/)")->required();

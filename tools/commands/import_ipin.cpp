@@ -1,5 +1,5 @@
 // `locus import ipin DIR --server URL [--map NAME] [--trials GLOB] [--cell M]`: the IPIN 2023
-// Track 3 folder (trials/ and supplementary/, docs/ipin.md) into a map through the public API:
+// Track 3 folder (trials/ and supplementary/, docs/ipin-import.md) into a map through the public API:
 // building "100", floors 0, -1, -2 (level = the POSI floor id) in one frame georeferenced from
 // the data set's local frame (tools/ipin_venue.hpp), the six competition beacons as
 // transmitters, and per floor the radio map "IPIN 2023 walking survey" made from the selected
@@ -247,7 +247,7 @@ void run(const Args& a) {
 
 LOCUS_COMMAND("import-ipin", [](CLI::App& app) {
     auto& import = locus::tools::group(app, "import", "Import radio maps from other systems' data through the server API");
-    auto* cmd = import.add_subcommand("ipin", "Import the IPIN 2023 Track 3 folder: venue, beacons, walking-survey radio maps (docs/ipin.md)");
+    auto* cmd = import.add_subcommand("ipin", "Import the IPIN 2023 Track 3 folder: venue, beacons, walking-survey radio maps (docs/ipin-import.md)");
     auto args = std::make_shared<Args>();
     args->server.add_to(*cmd);
     cmd->add_option("DIR", args->dir, "the data set folder (with trials/ and supplementary/)")->required();

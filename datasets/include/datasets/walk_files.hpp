@@ -1,5 +1,5 @@
 #pragma once
-// The small CSV files of a walking survey (docs/survey.md "Walking surveys", docs/ipin.md):
+// The small CSV files of a walking survey (docs/survey.md "Walking surveys", docs/ipin-import.md):
 // a landmarks file for loggers without POSI lines, and the IPIN 2023 competition's beacon
 // positions. Pure text parsing, O(text); the first bad line throws std::runtime_error
 // "FILE:LINE: message", nothing is skipped silently (blank lines aside).
