@@ -80,7 +80,9 @@ std::vector<RpJob> walk_jobs(const Walk& walk, const std::map<int, std::int64_t>
         std::snprintf(number, sizeof number, "%03zu", k + 1);
         RpJob job;
         job.radiomap_id = radiomap_of_floor.at(b.floor);
-        job.name = walk.stem + " " + cell + "m #" + number;
+        // The content hash keeps two different files of one name (say, two folders' T01 walks
+        // imported into one map) from merging into each other's RPs.
+        job.name = walk.stem + " " + cell + "m #" + number + " " + walk.content.substr(0, 8);
         job.at = b.at;
         for (auto m : b.members) job.scans.push_back(walk.scans[mapped[m].scan]);
         job.upload_id = upload_id;

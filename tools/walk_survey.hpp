@@ -30,7 +30,7 @@ std::vector<survey::Landmark> landmarks_of_posi(const datasets::ipin::Log& log, 
 // One walk to upload: its scans (WiFi, in time order) and its landmarks.
 struct Walk {
     std::string source;   // file named in messages
-    std::string stem;     // names its RPs: "<stem> <cell>m #<k>"
+    std::string stem;     // names its RPs: "<stem> <cell>m #<k> <first 8 hex digits of content>"
     std::string content;  // content fingerprint of the file(s): makes the upload ids
     std::vector<survey::Landmark> landmarks;
     std::vector<double> scan_times;

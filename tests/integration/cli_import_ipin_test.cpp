@@ -31,9 +31,12 @@ std::vector<json> items(const ServerProcess& s, const std::string& path) {
     return body_of(s.get(path + (path.find('?') == std::string::npos ? "?limit=1000" : "&limit=1000")))["items"].get<std::vector<json>>();
 }
 
+// RP names end in the walk file's content hash: "<stem> <cell>m #<k> <8 hex digits>".
 json by_name(const std::vector<json>& rows, const std::string& name) {
-    for (const auto& r : rows)
-        if (r["name"] == name) return r;
+    for (const auto& r : rows) {
+        const std::string n = r["name"].get<std::string>();
+        if (n == name || (n.size() == name.size() + 9 && n.compare(0, name.size() + 1, name + " ") == 0)) return r;
+    }
     ADD_FAILURE() << "no row named '" << name << "'";
     return json::object();
 }
