@@ -119,3 +119,38 @@ TEST(IpinEval, LatestEstimateAtMostALagAfterTheInstant) {
     const auto f = ipin::figures(r);
     EXPECT_DOUBLE_EQ(f["p75_m"].get<double>(), 23.75);  // Hazen over {1, 5, 30}: index 0.75·3 − 0.5 = 1.75 → 5 + 0.75·25
 }
+
+TEST(WalkJobs, BinsBecomeNamedRpsOnTheirFloorsRadioMap) {
+    Walk w;
+    w.source = "walk.txt";
+    w.stem = "walk";
+    w.content = "0123456789abcdef";
+    // Floor 0 from (0,0) to (10,0) over 10 s, then floor 1 (not mapped) from t = 20.
+    w.landmarks = {{0, 0, {0, 0}}, {10, 0, {10, 0}}, {20, 1, {10, 0}}, {30, 1, {10, 10}}};
+    for (double t : {-1.0, 1.0, 3.0, 9.0, 15.0, 25.0}) {
+        w.scan_times.push_back(t);
+        w.scans.push_back({Reading{"wifi", Bssid("aa:bb:cc:dd:ee:ff"), -50.0 - t}});
+    }
+    WalkCounts counts;
+    const auto jobs = walk_jobs(w, {{0, 7}}, 5.0, counts);
+    EXPECT_EQ(counts.scans, 6u);
+    EXPECT_EQ(counts.before_first, 1u);
+    EXPECT_EQ(counts.floor_change, 1u);    // t = 15, on the stairs
+    EXPECT_EQ(counts.unmapped_floor, 1u);  // t = 25, floor 1
+    EXPECT_EQ(counts.placed, 3u);
+    // Path 1 and 3 m share a bin; 9 m starts the next.
+    ASSERT_EQ(jobs.size(), 2u);
+    EXPECT_EQ(jobs[0].name, "walk 5m #001 01234567");
+    EXPECT_EQ(jobs[1].name, "walk 5m #002 01234567");
+    EXPECT_EQ(jobs[0].radiomap_id, 7);
+    ASSERT_TRUE(jobs[0].at);
+    EXPECT_DOUBLE_EQ(jobs[0].at->x, 2.0);
+    EXPECT_DOUBLE_EQ(jobs[0].at->y, 0.0);
+    ASSERT_EQ(jobs[0].scans.size(), 2u);
+    EXPECT_DOUBLE_EQ(jobs[0].scans[1][0].rss, -53.0);  // the t = 3 s scan
+    EXPECT_EQ(jobs[0].upload_id, "walk-0123456789abcdef-5");
+    EXPECT_EQ(jobs[0].source, "walk.txt");
+    EXPECT_EQ(counts.rps_per_floor.at(0), 2u);
+    EXPECT_EQ(cell_text(2.5), "2.5");
+    EXPECT_EQ(cell_text(0), "0");
+}
