@@ -21,6 +21,16 @@ double percentile_nearest_rank(std::span<const double> sorted, double p) {
     return sorted[std::min(std::max<std::size_t>(rank, 1), sorted.size()) - 1];
 }
 
+double percentile_hazen(std::span<const double> sorted, double p) {
+    if (sorted.empty()) return std::numeric_limits<double>::quiet_NaN();
+    const double n = static_cast<double>(sorted.size());
+    const double pos = p * n - 0.5;  // 0-based fractional index
+    if (pos <= 0.0) return sorted.front();
+    if (pos >= n - 1.0) return sorted.back();
+    const auto lo = static_cast<std::size_t>(std::floor(pos));
+    return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[lo + 1] - sorted[lo]);
+}
+
 double mean(std::span<const double> values) {
     if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
     double sum = 0.0;

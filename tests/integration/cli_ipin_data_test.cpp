@@ -1,0 +1,58 @@
+// `locus import ipin` and `locus eval ipin` on a slice of the real IPIN 2023 folder
+// (LOCUS_DATA_DIR/ipin2023; skipped when absent): the stairs walk T52 and route T01's first
+// repetition make the map, T01's second repetition is scored against it. What is checked is
+// what the data set's README states (six beacons, 12 POSI on T52 over floors 0 and -2, a
+// stairs span with no position), and that a same-phone repetition of a mapped route is
+// placed within a few metres.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "server_process.hpp"
+
+using locus::testing::body_of;
+using locus::testing::run_command;
+using locus::testing::ServerProcess;
+using nlohmann::json;
+
+namespace {
+
+const std::string kCli = LOCUS_CLI_BIN;
+const std::string kDir = LOCUS_DATA_DIR "/ipin2023";
+
+}  // namespace
+
+TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
+    if (!std::filesystem::exists(kDir + "/trials") || !std::filesystem::exists(kDir + "/supplementary/BLE_Locations.csv"))
+        GTEST_SKIP() << kDir << " not found: the shared data folder is absent";
+    ServerProcess server{{"--quiet"}};
+    const auto r = run_command({kCli, "import", "ipin", kDir, "--server", server.url(), "--trials", "*Trial52_repetition01.txt",
+                                "--trials", "*Trial01_repetition01.txt", "--no-progress"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json out = json::parse(r.out);
+    EXPECT_EQ(out["trials"], 2);
+    EXPECT_EQ(out["transmitters"]["created"], 6);
+    // T52 goes down and up the stairs five times: scans on the stairs have no position.
+    EXPECT_GT(out["walk"]["skipped_floor_change"].get<int>(), 0);
+    // Every file starts with a minute of calibration before its first POSI.
+    EXPECT_GT(out["walk"]["skipped_before_first"].get<int>(), 10);
+    EXPECT_GT(out["walk"]["floors"]["0"]["rps"].get<int>(), 5);
+    EXPECT_GT(out["walk"]["floors"]["-2"]["rps"].get<int>(), 5);
+    EXPECT_EQ(out["upload"]["failed"], 0);
+    const auto map_id = out["map_id"].get<std::int64_t>();
+
+    const auto ev = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+                                 "*Trial01_repetition02.txt", "--train", "*Trial01_repetition01.txt", "--method", "all", "--json"});
+    ASSERT_EQ(ev.status, 0) << ev.err;
+    const json e = json::parse(ev.out);
+    ASSERT_EQ(e["trials"].size(), 1u);
+    EXPECT_EQ(e["trials"][0]["phone"], "SM-A520F");  // the README's table: T01 repetition 02 is the A5
+    for (const char* m : {"wifi", "yardstick"}) {
+        const json& f = e["pooled"][m];
+        EXPECT_GE(f["n"].get<int>(), 10) << m;  // 10–26 POSI points per walk
+        EXPECT_EQ(f["unscored"], 0) << m;
+        // Same phone, same route, map from one walk: within 15 m at p75 (one floor's penalty).
+        EXPECT_LT(f["p75_m"].get<double>(), 15.0) << m;
+    }
+}

@@ -1,0 +1,236 @@
+// `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|all] [--train GLOB]
+// [--server URL --map ID] [--json]`: WiFi-only positioning of the IPIN 2023 walks scored as
+// the competition scores them (tools/ipin_eval.hpp, docs/ipin-import.md). Each held-out walk's WiFi
+// scans are localized one by one (an estimate stamped at the scan's AppTimestamp); at each POSI
+// instant the latest estimate at most 0.01 s after it counts; error = horizontal metres + 15 m
+// per floor of difference; p75 as MATLAB's quantile. Also reported ("scans"): each scan's
+// answer against its interpolated position (locus/survey/walk.hpp).
+//
+// Methods: `yardstick`, kNN k = 3 over the raw scans of the --train walks (one RP per scan,
+// placed by the walking survey), powed representation (β = e), Sørensen distance, floor by
+// vote (Torres-Sospedra et al. 2015, as in tools/fingerprint_eval.hpp); `wifi`, the server's
+// answer to POST /v1/maps/{id}/localize with the scan and nothing else.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <numbers>
+
+#include <nlohmann/json.hpp>
+
+#include "command_registry.hpp"
+#include "datasets/ipin_log.hpp"
+#include "ipin_eval.hpp"
+#include "ipin_venue.hpp"
+#include "locus/match/localize.hpp"
+#include "survey_connect.hpp"
+#include "walk_survey.hpp"
+
+namespace {
+
+using namespace locus;
+using namespace locus::tools;
+using nlohmann::json;
+
+struct Args {
+    ServerArgs server;
+    std::string dir;
+    std::vector<std::string> trials;
+    std::vector<std::string> train;
+    std::string method = "all";
+    std::int64_t map = 0;
+    bool json_out = false;
+};
+
+struct LoadedWalk {
+    std::string label, phone;
+    Walk walk;
+    std::vector<ipin::Fix> truth;  // POSI instants on the venue's floors
+};
+
+std::vector<LoadedWalk> load(const std::string& dir, const std::vector<std::string>& globs) {
+    std::vector<std::string> files;
+    try {
+        files = ipin::trial_files(dir, globs);
+    } catch (const std::runtime_error& e) {
+        throw CommandError(e.what());
+    }
+    if (files.empty()) throw CommandError("no file of '" + dir + "/trials' matches the globs given");
+    const geo::FloorToEarth frame(ipin::venue_georeference());
+    std::vector<LoadedWalk> out;
+    for (const auto& path : files) {
+        datasets::ipin::Log log;
+        try {
+            log = datasets::ipin::read_log(path);
+        } catch (const datasets::ipin::LogError& e) {
+            throw CommandError(e.what());
+        }
+        LoadedWalk w;
+        w.label = ipin::trial_label(path);
+        w.phone = log.header.model;
+        w.walk.source = path;
+        w.walk.stem = w.label;
+        std::size_t dropped = 0;
+        w.walk.landmarks = landmarks_of_posi(
+            log, [&](int, double lat, double lon) -> std::optional<Point> { return frame.to_floor({lat, lon}); }, dropped);
+        for (const auto& l : w.walk.landmarks) w.truth.push_back({l.t, l.floor, l.at});
+        add_wifi_scans(log, w.walk);
+        out.push_back(std::move(w));
+    }
+    return out;
+}
+
+// Where each scan of a walk is, by the walking survey; nullopt where it is not placed.
+std::vector<std::optional<ipin::Fix>> scan_truth(const Walk& w) {
+    std::vector<std::optional<ipin::Fix>> out(w.scans.size());
+    if (w.landmarks.empty()) return out;
+    const auto placed = survey::place_scans(w.landmarks, w.scan_times);
+    for (const auto& p : placed.placed) out[p.scan] = ipin::Fix{p.t, p.where.floor, p.where.at};
+    return out;
+}
+
+// The yardstick's index over the training walks' placed scans, one RP per scan.
+struct Yardstick {
+    match::Index index;
+    match::Options options;
+};
+
+Yardstick yardstick(const std::vector<LoadedWalk>& train) {
+    std::vector<match::IndexedRp> rps;
+    double min_rss = 0.0;
+    for (const auto& lw : train) {
+        const auto truth = scan_truth(lw.walk);
+        for (std::size_t i = 0; i < truth.size(); ++i) {
+            if (!truth[i]) continue;
+            match::IndexedRp r;
+            r.rp.id = static_cast<long long>(rps.size() + 1);
+            r.rp.name = lw.label + " scan " + std::to_string(i);
+            r.rp.at = truth[i]->at;
+            r.rp.scans = 1;
+            r.rp.measurements = aggregate_scans({lw.walk.scans[i]});
+            for (const auto& m : lw.walk.scans[i]) min_rss = std::min(min_rss, m.rss);
+            r.floor_id = truth[i]->floor;
+            r.building_id = 100;
+            rps.push_back(std::move(r));
+        }
+    }
+    if (rps.empty()) throw CommandError("the --train walks have no placed scan");
+    match::IndexParams params;
+    params.powed_beta = std::numbers::e;
+    params.missing_rss = min_rss - 1.0;  // one below the weakest reading: every reading counts as heard
+    Yardstick y{match::Index::build(rps, params), {}};
+    y.options.k = 3;
+    y.options.representation = match::Representation::powed;
+    y.options.distance = match::Distance::sorensen;
+    y.options.position_on_voted_floor = false;
+    return y;
+}
+
+void run(const Args& a) {
+    const bool want_yardstick = a.method == "yardstick" || a.method == "all";
+    const bool want_wifi = a.method == "wifi" || a.method == "all";
+    if (want_yardstick && a.train.empty()) throw CommandError("--method " + a.method + " needs --train GLOB (the yardstick's walks)");
+    if (want_wifi && a.map <= 0) throw CommandError("--method " + a.method + " needs --map ID (and --server URL)");
+    const auto test = load(a.dir, a.trials);
+    std::optional<Yardstick> ys;
+    if (want_yardstick) ys = yardstick(load(a.dir, a.train));
+
+    std::optional<api::Client> client;
+    std::map<long long, int> level_of_floor;
+    if (want_wifi) {
+        client.emplace(a.server.client_options());
+        for (const auto& b : client->buildings(a.map))
+            for (const auto& f : client->floors(b.id)) level_of_floor[f.id] = f.level;
+        if (level_of_floor.empty()) throw CommandError("map " + std::to_string(a.map) + " has no floor");
+    }
+    std::vector<std::string> methods;
+    if (want_yardstick) methods.push_back("yardstick");
+    if (want_wifi) methods.push_back("wifi");
+
+    std::map<std::string, ipin::Errors> pooled, pooled_scans;
+    std::map<std::string, std::size_t> unanswered;
+    json trials = json::array();
+    match::Workspace workspace;
+    for (const auto& lw : test) {
+        std::cerr << "evaluating " << lw.label << " (" << lw.phone << ", " << lw.walk.scans.size() << " scans)\n";
+        const auto truth_of_scan = scan_truth(lw.walk);
+        json row = {{"trial", lw.label}, {"phone", lw.phone}, {"methods", json::object()}};
+        for (const auto& m : methods) {
+            std::vector<ipin::Fix> estimates, scan_est, scan_truths;
+            for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
+                std::optional<ipin::Fix> e;
+                if (m == "yardstick") {
+                    const auto r = match::localize(ys->index, match::Query::from_scans({lw.walk.scans[i]}), match::Algorithm::knn,
+                                                   ys->options, workspace);
+                    if (r) e = ipin::Fix{lw.walk.scan_times[i], static_cast<int>(r->floor_id), r->at};
+                } else {
+                    api::LocalizeRequest req;
+                    req.scans = {lw.walk.scans[i]};
+                    try {
+                        const auto r = client->localize_map(a.map, req);
+                        const auto it = level_of_floor.find(r.floor_id);
+                        if (it != level_of_floor.end()) e = ipin::Fix{lw.walk.scan_times[i], it->second, r.at};
+                    } catch (const api::ApiError& err) {
+                        if (err.status() / 100 != 4) throw;  // 4xx: no answer for this scan (e.g. no AP known)
+                    }
+                }
+                if (!e) {
+                    ++unanswered[m];
+                    continue;
+                }
+                estimates.push_back(*e);
+                if (truth_of_scan[i]) {
+                    scan_est.push_back(*e);
+                    scan_truths.push_back(*truth_of_scan[i]);
+                }
+            }
+            const auto at_posi = ipin::score_instants(estimates, lw.truth);
+            const auto at_scans = ipin::score_pairs(scan_est, scan_truths);
+            ipin::pool(pooled[m], at_posi);
+            ipin::pool(pooled_scans[m], at_scans);
+            json f = ipin::figures(at_posi);
+            f["scans"] = ipin::figures(at_scans);
+            row["methods"][m] = f;
+        }
+        trials.push_back(row);
+    }
+    json out = {{"default", methods.back()}, {"pooled", json::object()}, {"trials", trials}};
+    for (const auto& m : methods) {
+        json f = ipin::figures(pooled[m]);
+        f["scans"] = ipin::figures(pooled_scans[m]);
+        f["unanswered_scans"] = unanswered[m];
+        out["pooled"][m] = f;
+    }
+    if (a.json_out) {
+        std::cout << out.dump() << "\n";
+        return;
+    }
+    std::printf("%-10s %-9s %9s %9s %7s %6s %12s\n", "trial", "phone", "method", "p75_m", "mean_m", "floor", "scans_p75_m");
+    auto line = [](const std::string& t, const std::string& p, const std::string& m, const json& f) {
+        auto num = [](const json& v) { return v.is_number() ? v.get<double>() : NAN; };
+        std::printf("%-10s %-9s %9s %9.2f %7.2f %6.2f %12.2f\n", t.c_str(), p.c_str(), m.c_str(), num(f["p75_m"]),
+                    num(f["mean_m"]), num(f["floor_hit_rate"]), num(f["scans"]["p75_m"]));
+    };
+    for (const auto& r : trials)
+        for (const auto& m : methods) line(r["trial"], r["phone"], m, r["methods"][m]);
+    for (const auto& m : methods) line("pooled", "", m, out["pooled"][m]);
+}
+
+}  // namespace
+
+LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
+    auto& eval = locus::tools::group(app, "eval", "Measure the matchers on real data sets");
+    auto* cmd = eval.add_subcommand("ipin", "Score WiFi positioning of IPIN 2023 walks as the competition does (docs/ipin-import.md)");
+    auto a = std::make_shared<Args>();
+    a->server.add_to(*cmd, false);
+    cmd->add_option("DIR", a->dir, "the data set folder (with trials/)")->required();
+    cmd->add_option("--trials", a->trials, "held-out walks: globs on the file names of DIR/trials (repeat: any matches)")->required();
+    cmd->add_option("--train", a->train, "the yardstick's walks (a glob, as --trials)");
+    cmd->add_option("--method", a->method, "yardstick, wifi (the server's answer) or all")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"yardstick", "wifi", "all"}));
+    cmd->add_option("--map", a->map, "map id (for wifi)");
+    cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");
+    cmd->callback([a] { run(*a); });
+});
