@@ -85,8 +85,10 @@ void BM_WalkFilterFix(benchmark::State& state) {
 }
 BENCHMARK(BM_WalkFilterFix)->Arg(2000)->Unit(benchmark::kMicrosecond);
 
-// The estimate after a step: the weighted mean (arg 1 = 0) or the mode within 3 m that real
-// walks use (arg 1 = 3; WalkFilterConfig::real_walks()), on a cloud spread by walking with fixes.
+// Reading the estimate after a step: the weighted mean (arg 1 = 0) or the mode within 3 m that
+// real walks use (arg 1 = 3; WalkFilterConfig::real_walks()), on a cloud spread by walking with
+// fixes. The filter works the estimate out once per step and fix (its cost is in
+// BM_WalkFilterStep and BM_WalkFilterFix), so this is the read alone.
 void BM_WalkFilterEstimate(benchmark::State& state) {
     if (!putmc_floor()) return state.SkipWithError("no PUTMC data");
     fusion::WalkFilterConfig cfg;

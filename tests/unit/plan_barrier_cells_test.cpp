@@ -77,7 +77,7 @@ TEST(BarrierCells, AShortMoveThroughAThinWallIsCaught) {
     EXPECT_TRUE(cells.crosses({9.999, 6.0}, {10.001, 6.001}));
     EXPECT_FALSE(cells.crosses({9.85, 4.0}, {10.15, 4.0}));  // through the door
     EXPECT_FALSE(cells.crosses({2.0, 2.0}, {2.0, 2.0}));
-    EXPECT_GT(cells.memory_bytes(), cells.entries() * sizeof(std::uint32_t));
+    EXPECT_GT(cells.memory_bytes(), cells.entries() * sizeof(Segment));
 }
 
 TEST(PlanWalkable, CellTestsAgreeWithTestingEveryPolygonAndWall) {

@@ -35,12 +35,11 @@ public:
     // Whether some barrier is within d of p (d at most margin()); p off the grid: any barrier
     // within d, tested against all of them.
     bool near(Point p, double d) const;
-    // The barriers cell `cell` lists (indices as in WalkGrid::buckets).
-    const std::uint32_t* begin(int cell) const { return index_.data() + first_[static_cast<std::size_t>(cell)]; }
-    const std::uint32_t* end(int cell) const { return index_.data() + first_[static_cast<std::size_t>(cell) + 1]; }
-    const Segment& barrier(std::uint32_t i) const { return barriers_[i]; }
+    // The barriers cell `cell` lists (copies, so a cell's walls are read from one place).
+    const Segment* begin(int cell) const { return listed_.data() + first_[static_cast<std::size_t>(cell)]; }
+    const Segment* end(int cell) const { return listed_.data() + first_[static_cast<std::size_t>(cell) + 1]; }
     std::size_t barrier_count() const { return barriers_.size(); }
-    std::size_t entries() const { return index_.size(); }  // Σ over cells of the barriers listed
+    std::size_t entries() const { return listed_.size(); }  // Σ over cells of the barriers listed
     std::size_t memory_bytes() const;
 
 private:
@@ -51,8 +50,8 @@ private:
     int cols_ = 0, rows_ = 0;
     double margin_ = 0.0;
     std::vector<Segment> barriers_;     // walls then jambs
-    std::vector<std::uint32_t> first_;  // per cell, where its list starts in index_; one more at the end
-    std::vector<std::uint32_t> index_;
+    std::vector<std::uint32_t> first_;  // per cell, where its list starts in listed_; one more at the end
+    std::vector<Segment> listed_;
     std::vector<std::uint32_t> outer_;  // barriers reaching off the grid, which no cell lists there
 };
 
