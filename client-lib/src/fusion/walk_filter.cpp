@@ -96,7 +96,7 @@ double WalkFilter::snapped(double heading) const {
     constexpr double kQuarter = kPi / 2;
     const double axis_heading = kQuarter - *axis_;
     double d = heading - axis_heading;
-    d -= kQuarter * round_near(d / kQuarter);
+    d -= kQuarter * round_near(d * (1.0 / kQuarter));
     return std::abs(d) < config_.snap_rad ? heading - d : heading;
 }
 
@@ -118,7 +118,7 @@ void sin_cos(double a, double& s, double& c) {
         s = std::sin(a), c = std::cos(a);
         return;
     }
-    const double k = round_near(a / kQuarter);
+    const double k = round_near(a * (1.0 / kQuarter));
     const double r = a - k * kQuarter, r2 = r * r;
     const double sr = r * (1.0 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880)))));
     const double cr = 1.0 + r2 * (-0.5 + r2 * (1.0 / 24 + r2 * (-1.0 / 720 + r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800)))));
