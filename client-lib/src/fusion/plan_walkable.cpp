@@ -41,6 +41,7 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
     // more than kClearCap from every barrier.
     const double half_diagonal = grid_.options.cell * std::sqrt(0.5) + 1e-6;
     clear_.assign(static_cast<std::size_t>(grid_.cell_count()), static_cast<float>(kClearCap - half_diagonal));
+    centre_clear_.assign(static_cast<std::size_t>(grid_.cell_count()), static_cast<float>(kClearCap - 1e-6));
     const auto clamp_col = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - grid_.origin.x) / grid_.options.cell)), 0, grid_.cols - 1); };
     const auto clamp_row = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - grid_.origin.y) / grid_.options.cell)), 0, grid_.rows - 1); };
     for (std::size_t i = 0; i < grid_.walls.size() + grid_.jambs.size(); ++i) {
@@ -48,7 +49,10 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
         for (int r = clamp_row(std::min(s.a.y, s.b.y) - kClearCap); r <= clamp_row(std::max(s.a.y, s.b.y) + kClearCap); ++r)
             for (int c = clamp_col(std::min(s.a.x, s.b.x) - kClearCap); c <= clamp_col(std::max(s.a.x, s.b.x) + kClearCap); ++c) {
                 const int cell = r * grid_.cols + c;
-                const double d = distance_to_segment(grid_.centre(cell), s.a, s.b) - half_diagonal;
+                const double centre_d = distance_to_segment(grid_.centre(cell), s.a, s.b);
+                const double d = centre_d - half_diagonal;
+                float& at_centre = centre_clear_[static_cast<std::size_t>(cell)];
+                at_centre = std::min(at_centre, static_cast<float>(std::max(0.0, centre_d - 1e-6)));
                 float& slot = clear_[static_cast<std::size_t>(cell)];
                 slot = std::min(slot, static_cast<float>(std::max(0.0, d)));
             }
@@ -147,7 +151,7 @@ bool PlanWalkable::in_spaces_mixed(Point p, int cell) const {
 
 std::size_t PlanWalkable::memory_bytes() const {
     std::size_t n = sizeof(*this) + cells_.memory_bytes() - sizeof(cells_);
-    n += clear_.capacity() * sizeof(float) + space_kind_.capacity() + space_bounds_.capacity() * sizeof(locus::plan::Bounds);
+    n += (clear_.capacity() + centre_clear_.capacity()) * sizeof(float) + space_kind_.capacity() + space_bounds_.capacity() * sizeof(locus::plan::Bounds);
     n += ring_first_.capacity() * sizeof(std::uint32_t) + ring_edges_.capacity() * sizeof(RingEdge);
     n += grid_.flags.capacity() + grid_.moves.capacity() + grid_.space.capacity() * sizeof(std::int32_t);
     n += (grid_.walls.capacity() + grid_.jambs.capacity()) * sizeof(Segment) + grid_.connector_cell.capacity() * sizeof(std::int32_t);

@@ -19,6 +19,7 @@
 // tested only against the barriers listed in the cells it passes (plan::BarrierCells). Both
 // answers are exactly those of testing every wall. Built once per plan: a floor's tracks share
 // one (Walkable holds it by shared_ptr); memory_bytes() says what it holds.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -59,6 +60,9 @@ public:
         const double dx = to.x - from.x, dy = to.y - from.y, d2 = dx * dx + dy * dy;
         const double c = clear_at(at_from), both = c + clear_at(at_to);
         if (c * c > d2 || both * both > d2) return true;
+        // The same with each end's own bound (its cell centre's clearance less its distance
+        // from the centre), tighter than the cell's by half a diagonal at most.
+        if (at_from >= 0 && at_to >= 0 && point_clear(from, at_from) + point_clear(to, at_to) > std::sqrt(d2)) return true;
         return !cells_.crosses(from, to);
     }
     // The plan's corridor axis (corridor_axis in walk_filter.hpp), worked out once.
@@ -112,7 +116,24 @@ private:
     bool inside_at(Point p, int cell) const {
         if (!in_spaces_at(p, cell)) return false;
         if (clear_at(cell) > kWallMargin) return true;
+        // p's own bound: its cell centre's clearance less its distance from the centre.
+        const double r = cell < 0 ? 0.0 : centre_clear_[static_cast<std::size_t>(cell)] - kWallMargin;
+        if (r > 0.0) {
+            const Point c = centre_of(p);
+            if ((p.x - c.x) * (p.x - c.x) + (p.y - c.y) * (p.y - c.y) < r * r) return true;
+        }
         return !cells_.near(p, kWallMargin);
+    }
+    // The centre of p's cell (cell_of(p) ≥ 0), without the integer division of grid_.centre.
+    Point centre_of(Point p) const {
+        const double fc = (p.x - grid_.origin.x) * inv_cell_, fr = (p.y - grid_.origin.y) * inv_cell_;
+        return {grid_.origin.x + (static_cast<int>(fc) + 0.5) * grid_.options.cell, grid_.origin.y + (static_cast<int>(fr) + 0.5) * grid_.options.cell};
+    }
+    // A lower bound of p's distance to the nearest barrier, p in cell `cell` (≥ 0): the
+    // centre's less |p − centre| (the triangle inequality; negative near a wall).
+    double point_clear(Point p, int cell) const {
+        const Point c = centre_of(p);
+        return centre_clear_[static_cast<std::size_t>(cell)] - std::sqrt((p.x - c.x) * (p.x - c.x) + (p.y - c.y) * (p.y - c.y));
     }
     bool in_spaces_exact(Point p) const;  // the polygon tests
     static constexpr double kClearCap = 3.0;  // metres: longer than any step
@@ -130,6 +151,7 @@ private:
     locus::plan::WalkGrid grid_;
     double inv_cell_ = 1.0;
     std::vector<float> clear_;  // per cell: clearance_at's bound, capped at kClearCap
+    std::vector<float> centre_clear_;  // per cell: its centre's distance to the nearest barrier (less a µm), capped
     std::vector<std::uint8_t> space_kind_;  // per cell: SpaceKind
     std::vector<std::uint32_t> ring_first_;  // per kMixed cell, where its edges start in ring_edges_ (one more at the end)
     std::vector<RingEdge> ring_edges_;       // by cell, then by space
