@@ -111,7 +111,9 @@ private:
     void estimate();  // position() and spread() of the cloud as it now is
 
     std::optional<Walkable> map_;
-    const PlanWalkable* plan_ = nullptr;  // map_'s floor plan, when it has one
+    // map_'s floor plan, when it has one: the shared object map_'s shared_ptr keeps alive, so a
+    // copied filter's pointer stays valid (the copy holds the same shared_ptr).
+    const PlanWalkable* plan_ = nullptr;
     std::optional<double> axis_;
     std::optional<std::pair<double, double>> hint_;  // offset, mirror
     WalkFilterConfig config_;
