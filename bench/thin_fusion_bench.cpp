@@ -1,7 +1,9 @@
 // A thin client's POST /v1/tracks/{id}/steps as the server fuses it (tracks::ThinFusion, no
 // HTTP): the copy of the track's filter a request runs on, then a typical batch (4 steps and
 // the radio fix of one ~4 s WiFi scan), with walk_pf (the default) and the particle filter, on
-// the PUTMC floor's plan made from its drawing; walk_pf also without a plan. Skipped when the
+// the PUTMC floor's plan made from its drawing; walk_pf also without a plan. Counters: the
+// bytes one live track's filter holds (track_bytes) and those of the floor's shared plan
+// structures (floor_bytes: PlanWalkable, built once per plan version). Skipped when the
 // shared data folder is absent. And a Kalman track's request (kalman_seed, kalman_ranging,
 // ekf_ranging): its scan of six transmitters ranged (trilateration, multilateration) and fused
 // with 4 steps (ekf_ranging: the scan's six readings are its measurements).
@@ -72,6 +74,9 @@ void BM_ThinFusionRequest(benchmark::State& state) {
         track = std::move(next);
         t += 4;
     }
+    // What one live track holds, and (on the plan) what the floor's tracks share.
+    state.counters["track_bytes"] = static_cast<double>(track->memory_bytes());
+    if (plan) state.counters["floor_bytes"] = static_cast<double>(plan->floor_plan->memory_bytes());
 }
 BENCHMARK(BM_ThinFusionRequest)->Args({0, 1})->Args({1, 1})->Args({0, 0})->Unit(benchmark::kMicrosecond);
 

@@ -1,6 +1,7 @@
 // The real-walk particle filter (fusion::WalkFilter) per PDR step and per fix, on the PUTMC
 // floor's plan made from its drawing (as `locus import putmc` puts it), by particle count; and
-// without a plan. Skipped when the shared data folder is absent.
+// without a plan; and building the plan's map-matching structures. Skipped when the shared
+// data folder is absent.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -53,8 +54,26 @@ void BM_WalkFilterStep(benchmark::State& state) {
         }
     }
     state.counters["particles"] = static_cast<double>(state.range(0));
+    state.counters["filter_bytes"] = static_cast<double>(pf.memory_bytes());
+    if (map) state.counters["floor_bytes"] = static_cast<double>(map->floor_plan->memory_bytes());
 }
 BENCHMARK(BM_WalkFilterStep)->ArgsProduct({{500, 2000, 8000}, {0, 1}})->Unit(benchmark::kMicrosecond);
+
+// Building the floor's map-matching structures from its plan (the walk grid, clearances, the
+// per-cell barrier lists): once per plan version, shared by every track on the floor.
+void BM_PlanWalkableBuild(benchmark::State& state) {
+    if (!putmc_floor()) return state.SkipWithError("no PUTMC data");
+    const locus::plan::Plan& plan = putmc_floor()->floor_plan->plan();
+    std::size_t bytes = 0;
+    for (auto _ : state) {
+        const fusion::PlanWalkable w(plan);
+        bytes = w.memory_bytes();
+        benchmark::DoNotOptimize(bytes);
+    }
+    state.counters["floor_bytes"] = static_cast<double>(bytes);
+    state.counters["walls"] = static_cast<double>(plan.walls.size());
+}
+BENCHMARK(BM_PlanWalkableBuild)->Unit(benchmark::kMillisecond);
 
 void BM_WalkFilterFix(benchmark::State& state) {
     if (!putmc_floor()) return state.SkipWithError("no PUTMC data");
@@ -66,8 +85,10 @@ void BM_WalkFilterFix(benchmark::State& state) {
 }
 BENCHMARK(BM_WalkFilterFix)->Arg(2000)->Unit(benchmark::kMicrosecond);
 
-// The estimate after a step: the weighted mean (arg 1 = 0) or the mode within 3 m that real
-// walks use (arg 1 = 3; WalkFilterConfig::real_walks()), on a cloud spread by walking with fixes.
+// Reading the estimate after a step: the weighted mean (arg 1 = 0) or the mode within 3 m that
+// real walks use (arg 1 = 3; WalkFilterConfig::real_walks()), on a cloud spread by walking with
+// fixes. The filter works the estimate out once per step and fix (its cost is in
+// BM_WalkFilterStep and BM_WalkFilterFix), so this is the read alone.
 void BM_WalkFilterEstimate(benchmark::State& state) {
     if (!putmc_floor()) return state.SkipWithError("no PUTMC data");
     fusion::WalkFilterConfig cfg;

@@ -94,6 +94,13 @@ void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resume
     floor_id_ = r.floor_id;
 }
 
+std::size_t ThinFusion::memory_bytes() const {
+    std::size_t n = sizeof(*this);
+    if (walk_) n += walk_->memory_bytes() - sizeof(fusion::WalkFilter);
+    if (filter_) n += filter_->particles().capacity() * sizeof(filter_->particles().front());
+    return n;
+}
+
 Fix ThinFusion::fused(double t, std::optional<double> heading_deg) const {
     Fix f;
     f.t = t;

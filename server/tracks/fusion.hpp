@@ -13,6 +13,7 @@
 // scan hearing one or two still counts once the filter runs). One filter per track, started at
 // its first radio fix and restarted at a radio fix on another floor (steps alone never change
 // floor), seeded with the track's id so a track's fused fixes are reproducible.
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -85,6 +86,8 @@ public:
     void set_anchors(std::shared_ptr<const FloorAnchors> anchors) { anchors_ = std::move(anchors); }
     // The latest t this filter has run (nullopt before its first input).
     std::optional<double> done_t() const { return done_t_; }
+    // Bytes this track's filter holds (not the floor's plan, which the floor's tracks share).
+    std::size_t memory_bytes() const;
     // Starts the filter at a fix the track already stored (its latest), as if it were a radio
     // fix, and counts inputs up to its t as run: for a track whose filter this server does not
     // hold (a restart, or a request that reached another server sharing the database).

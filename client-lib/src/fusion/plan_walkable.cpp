@@ -1,5 +1,7 @@
 #include "locus/fusion/plan_walkable.hpp"
 
+#include "locus/fusion/walk_filter.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -30,6 +32,7 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
     locus::plan::GridOptions options;
     options.clearance = kWallMargin;
     grid_ = locus::plan::build_walk_grid(plan_, options);
+    inv_cell_ = 1.0 / grid_.options.cell;
     for (const auto& s : plan_.spaces) space_bounds_.push_back(locus::plan::bounds_of(s.shape.outer));
     // Distance from each cell to the nearest barrier, up to kClearCap: where it exceeds a
     // move's length the move cannot cross one, and most moves are made away from walls.
@@ -38,6 +41,7 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
     // more than kClearCap from every barrier.
     const double half_diagonal = grid_.options.cell * std::sqrt(0.5) + 1e-6;
     clear_.assign(static_cast<std::size_t>(grid_.cell_count()), static_cast<float>(kClearCap - half_diagonal));
+    centre_clear_.assign(static_cast<std::size_t>(grid_.cell_count()), static_cast<float>(kClearCap - 1e-6));
     const auto clamp_col = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - grid_.origin.x) / grid_.options.cell)), 0, grid_.cols - 1); };
     const auto clamp_row = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - grid_.origin.y) / grid_.options.cell)), 0, grid_.rows - 1); };
     for (std::size_t i = 0; i < grid_.walls.size() + grid_.jambs.size(); ++i) {
@@ -45,23 +49,72 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
         for (int r = clamp_row(std::min(s.a.y, s.b.y) - kClearCap); r <= clamp_row(std::max(s.a.y, s.b.y) + kClearCap); ++r)
             for (int c = clamp_col(std::min(s.a.x, s.b.x) - kClearCap); c <= clamp_col(std::max(s.a.x, s.b.x) + kClearCap); ++c) {
                 const int cell = r * grid_.cols + c;
-                const double d = distance_to_segment(grid_.centre(cell), s.a, s.b) - half_diagonal;
+                const double centre_d = distance_to_segment(grid_.centre(cell), s.a, s.b);
+                const double d = centre_d - half_diagonal;
+                float& at_centre = centre_clear_[static_cast<std::size_t>(cell)];
+                at_centre = std::min(at_centre, static_cast<float>(std::max(0.0, centre_d - 1e-6)));
                 float& slot = clear_[static_cast<std::size_t>(cell)];
                 slot = std::min(slot, static_cast<float>(std::max(0.0, d)));
             }
     }
+    // Which cells a space's ring passes (every cell whose centre is within half a diagonal of
+    // it, and a µm more): only there does "in the spaces" change within the cell. Those cells
+    // list the edges that pass them.
+    const std::size_t cell_count = static_cast<std::size_t>(grid_.cell_count());
+    space_kind_.assign(cell_count, kIn);
+    std::vector<std::vector<RingEdge>> edges_of(cell_count);
+    for (std::size_t si = 0; si < plan_.spaces.size(); ++si) {
+        const auto mark = [&](const locus::plan::Ring& ring) {
+            for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
+                const Point a = ring[i], b = ring[i + 1];
+                for (int r = clamp_row(std::min(a.y, b.y) - half_diagonal); r <= clamp_row(std::max(a.y, b.y) + half_diagonal); ++r)
+                    for (int c = clamp_col(std::min(a.x, b.x) - half_diagonal); c <= clamp_col(std::max(a.x, b.x) + half_diagonal); ++c) {
+                        const int cell = r * grid_.cols + c;
+                        const double d = distance_to_segment(grid_.centre(cell), a, b);
+                        if (d > half_diagonal) continue;
+                        auto& kind = space_kind_[static_cast<std::size_t>(cell)];
+                        kind = d < 1e-9 || kind == kExact ? kExact : kMixed;
+                        edges_of[static_cast<std::size_t>(cell)].push_back({{a, b}, static_cast<std::uint32_t>(si), false});
+                    }
+            }
+        };
+        mark(plan_.spaces[si].shape.outer);
+        for (const auto& h : plan_.spaces[si].shape.holes) mark(h);
+    }
+    ring_first_.assign(cell_count + 1, 0);
+    for (std::size_t c = 0; c < cell_count; ++c) {
+        auto& kind = space_kind_[c];
+        const Point centre = grid_.centre(static_cast<int>(c));
+        if (kind == kIn) {
+            kind = in_spaces_exact(centre) ? kIn : kOut;
+        } else if (kind == kMixed) {
+            auto& edges = edges_of[c];
+            std::stable_sort(edges.begin(), edges.end(), [](const RingEdge& a, const RingEdge& b) { return a.space < b.space; });
+            // A space no ring of which passes the cell, holding its centre, holds all of it.
+            bool held = false;
+            for (std::size_t si = 0; si < plan_.spaces.size() && !held; ++si) {
+                if (!space_bounds_[si].contains(centre)) continue;
+                const bool passes = std::any_of(edges.begin(), edges.end(), [&](const RingEdge& e) { return e.space == si; });
+                held = !passes && locus::plan::polygon_contains(plan_.spaces[si].shape, centre);
+            }
+            if (held) {
+                kind = kIn;
+            } else {
+                for (auto& e : edges) e.centre_in = locus::plan::polygon_contains(plan_.spaces[e.space].shape, centre);
+                ring_edges_.insert(ring_edges_.end(), edges.begin(), edges.end());
+            }
+        }
+        ring_first_[c + 1] = static_cast<std::uint32_t>(ring_edges_.size());
+    }
+    cells_ = locus::plan::BarrierCells(grid_, kWallMargin);
+    axis_ = corridor_axis(plan_);
 }
 
 const Segment& PlanWalkable::barrier(std::uint32_t i) const {
     return i < grid_.walls.size() ? grid_.walls[i] : grid_.jambs[i - grid_.walls.size()];
 }
 
-double PlanWalkable::clearance_at(Point p) const {
-    const int cell = grid_.cell_at(p);
-    return cell < 0 ? 0.0 : clear_[static_cast<std::size_t>(cell)];
-}
-
-bool PlanWalkable::in_spaces(Point p) const {
+bool PlanWalkable::in_spaces_exact(Point p) const {
     // The grid knows the space at the cell's centre: nearly always the one p is in.
     if (const int cell = grid_.cell_at(p); cell >= 0) {
         const std::int32_t first = grid_.space[static_cast<std::size_t>(cell)];
@@ -72,22 +125,47 @@ bool PlanWalkable::in_spaces(Point p) const {
     return false;
 }
 
-bool PlanWalkable::inside(Point p) const {
-    if (!in_spaces(p)) return false;
-    if (clearance_at(p) > kWallMargin) return true;
-    // barriers_near reaches at least bucket_m / 2 ≥ 1 m, far past the margin.
-    for (std::uint32_t i : grid_.barriers_near(p, p)) {
-        const Segment& s = barrier(i);
-        if (distance_to_segment(p, s.a, s.b) <= kWallMargin) return false;
+bool PlanWalkable::in_spaces_mixed(Point p, int cell) const {
+    const Point c = grid_.centre(cell);
+    const auto orient = [](Point a, Point b, Point q) {
+        const double v = (b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x);
+        return v > 0.0 ? 1 : v < 0.0 ? -1 : 0;
+    };
+    const RingEdge* e = ring_edges_.data() + ring_first_[static_cast<std::size_t>(cell)];
+    const RingEdge* end = ring_edges_.data() + ring_first_[static_cast<std::size_t>(cell) + 1];
+    while (e != end) {
+        const std::uint32_t space = e->space;
+        const bool centre_in = e->centre_in;
+        bool odd = false;
+        for (; e != end && e->space == space; ++e) {
+            const int o1 = orient(e->edge.a, e->edge.b, c), o2 = orient(e->edge.a, e->edge.b, p);
+            const int o3 = orient(c, p, e->edge.a), o4 = orient(c, p, e->edge.b);
+            // p on an edge, or the segment through a vertex or along an edge: the polygon test.
+            if (o2 == 0 || o3 == 0 || o4 == 0 || o1 == 0) return in_spaces_exact(p);
+            if (o1 != o2 && o3 != o4) odd = !odd;
+        }
+        if (centre_in != odd) return true;
     }
-    return true;
+    return false;
 }
 
-bool PlanWalkable::can_move(Point from, Point to) const {
-    if (!inside(to)) return false;
-    if (!in_spaces(from)) return true;
-    if (clearance_at(from) > distance(from, to)) return true;
-    return !grid_.crosses_barrier(from, to);
+std::size_t PlanWalkable::memory_bytes() const {
+    std::size_t n = sizeof(*this) + cells_.memory_bytes() - sizeof(cells_);
+    n += (clear_.capacity() + centre_clear_.capacity()) * sizeof(float) + space_kind_.capacity() + space_bounds_.capacity() * sizeof(locus::plan::Bounds);
+    n += ring_first_.capacity() * sizeof(std::uint32_t) + ring_edges_.capacity() * sizeof(RingEdge);
+    n += grid_.flags.capacity() + grid_.moves.capacity() + grid_.space.capacity() * sizeof(std::int32_t);
+    n += (grid_.walls.capacity() + grid_.jambs.capacity()) * sizeof(Segment) + grid_.connector_cell.capacity() * sizeof(std::int32_t);
+    n += grid_.buckets.capacity() * sizeof(std::vector<std::uint32_t>);
+    for (const auto& b : grid_.buckets) n += b.capacity() * sizeof(std::uint32_t);
+    // The plan itself: its points dominate.
+    const auto ring_bytes = [](const locus::plan::Ring& r) { return r.capacity() * sizeof(Point); };
+    for (const auto& sp : plan_.spaces) {
+        n += sizeof(sp) + ring_bytes(sp.shape.outer) + sp.name.capacity();
+        for (const auto& h : sp.shape.holes) n += sizeof(h) + ring_bytes(h);
+    }
+    for (const auto& w : plan_.walls) n += sizeof(w) + w.line.capacity() * sizeof(Point);
+    n += plan_.doors.capacity() * sizeof(locus::plan::Door) + plan_.connectors.capacity() * sizeof(locus::plan::Connector);
+    return n;
 }
 
 Point PlanWalkable::snap(Point p, std::optional<Point> toward) const {

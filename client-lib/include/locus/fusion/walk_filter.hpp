@@ -10,12 +10,21 @@
 // that axis (people walk along corridors, not at the compass's 20° to them). Walls block
 // moves as in ParticleFilter. A share of the particles is re-drawn around every fix with
 // fresh φ, s and c, so a cloud that settled on a wrong hypothesis can always recover.
+//
+// Cost, n particles: a step is O(n) and, on a floor plan, independent of how many walls it
+// has (PlanWalkable::can_move: cell lookups, segment tests only against the walls in the cells
+// a move passes); a fix O(n) (the likelihoods, systematic resampling, the fresh particles);
+// the estimate (position(), spread()) is worked out once per step or fix, O(n) per mean-shift
+// iteration, and only read after. The particles are stored as arrays of floats (21 bytes
+// each: memory_bytes()), and the random numbers come from FastRandom, seeded with
+// config.seed, so a filter's output is reproducible from its seed and inputs.
 #include <Eigen/Dense>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
-#include <random>
 #include <vector>
 
+#include "locus/fusion/fast_random.hpp"
 #include "locus/fusion/walkable.hpp"
 
 namespace locus::fusion {
@@ -77,7 +86,7 @@ public:
     // map: walls and spaces (may be empty: then moves are free and headings are not snapped).
     explicit WalkFilter(std::optional<Walkable> map, const WalkFilterConfig& config = {});
 
-    bool started() const { return !particles_.empty(); }
+    bool started() const { return !x_.empty(); }
     // A step in the compass frame (ignored before the first fix).
     void step(double length_m, double azimuth_rad);
     void fix(Point at, const Eigen::Matrix2d& cov);
@@ -86,29 +95,35 @@ public:
 
     // The weighted mean, or the cloud's mode when estimate_radius_m > 0 (the real-walk preset);
     // only meaningful once started().
-    Point position() const;
+    Point position() const { return estimate_; }
     // How far the cloud is spread: the weighted RMS distance of the particles from position(),
     // an honest accuracy for the estimate (0 before the first fix).
-    double spread() const;
+    double spread() const { return spread_; }
+    // What the filter holds: itself and its particles (not the shared floor plan).
+    std::size_t memory_bytes() const;
 
 private:
-    struct P {
-        Point at;
-        double offset = 0.0;
-        double mirror = 1.0;
-        double scale = 1.0;
-        double weight = 1.0;
-    };
-    P fresh(Point around, double sigma);
+    void fresh(std::size_t i, Point around, double sigma);  // particle i drawn anew
     double snapped(double heading) const;
+    bool can_move(Point from, Point to) const;
+    bool inside(Point p) const;
     void resample();
+    void estimate();  // position() and spread() of the cloud as it now is
 
     std::optional<Walkable> map_;
+    // map_'s floor plan, when it has one: the shared object map_'s shared_ptr keeps alive, so a
+    // copied filter's pointer stays valid (the copy holds the same shared_ptr).
+    const PlanWalkable* plan_ = nullptr;
     std::optional<double> axis_;
     std::optional<std::pair<double, double>> hint_;  // offset, mirror
     WalkFilterConfig config_;
-    std::mt19937_64 rng_;
-    std::vector<P> particles_;
+    FastRandom rng_;
+    // The particles, one array per field: position, φ, s (±1), c and weight (mean 1 after each
+    // step and fix, so a long run of blocked steps cannot underflow them).
+    std::vector<float> x_, y_, offset_, scale_, weight_;
+    std::vector<std::int8_t> mirror_;
+    Point estimate_;
+    double spread_ = 0.0;
 };
 
 }  // namespace locus::fusion
