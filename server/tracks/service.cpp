@@ -18,6 +18,7 @@ struct Service::Track {
     std::deque<std::pair<std::uint64_t, Fix>> recent;
     std::condition_variable changed;  // waited on with mu_
     std::size_t streams = 0;          // event streams open on it
+    std::string client;               // who opened it here (max_live_tracks_per_client); empty: exempt, or opened elsewhere
 };
 
 const char* state_name(State s) {
@@ -186,7 +187,8 @@ std::vector<std::shared_ptr<Service::Track>> Service::evictable(std::size_t n) c
     return out;
 }
 
-Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options) {
+Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options,
+                     const std::optional<std::string>& client) {
     (void)store_.get(store::kind("maps"), map_id);  // NotFound for an unknown map
     Opened out;
     out.token = new_token("trk_");
@@ -200,6 +202,21 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
             const auto live = std::count_if(tracks_.begin(), tracks_.end(), [](const auto& kv) { return kv.second->info.state == State::live; });
             if (static_cast<std::size_t>(live) >= options_.max_live_tracks)
                 throw Refused(Reason::busy, "the server follows " + std::to_string(live) + " live tracks, its most; try again later");
+            if (client) {
+                // The client's next track frees when its idlest one reaches --track-ttl without a fix.
+                std::size_t held = 0;
+                double frees_at = 0;
+                for (const auto& [tid, tr] : tracks_) {
+                    if (tr->info.state != State::live || tr->client != *client) continue;
+                    const double expires = tr->info.last_fix_at + options_.ttl_s;
+                    frees_at = held++ == 0 ? expires : std::min(frees_at, expires);
+                }
+                if (held >= options_.max_live_tracks_per_client)
+                    throw Refused(Reason::client_live_tracks,
+                                  "this client holds " + std::to_string(held) + " live tracks, its most (--client-live-tracks " +
+                                      std::to_string(options_.max_live_tracks_per_client) + "); close one first",
+                                  std::max(1.0, frees_at - t));
+            }
             // Closed tracks and tombstones give way to a live one: an anonymous loop of opens
             // and deletes (or closes) must not refuse everyone else's opens for a retention period.
             if (tracks_.size() >= options_.max_tracks) {
@@ -211,6 +228,10 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
             }
         }
         out.info = insert_track(map_id, label, fusion, options, hash, t, evicted);
+        if (client) {
+            std::lock_guard lock(mu_);
+            if (const auto it = tracks_.find(out.info.id); it != tracks_.end()) it->second->client = *client;
+        }
     }
     // With no other lock held: post_raw takes fusion_mu_ first. Only when something was
     // evicted: fusion_mu_ is held through a whole filter run, which an open need not wait for.
@@ -743,13 +764,30 @@ void Service::revoke_share(std::int64_t id, std::int64_t share_id) {
     track->changed.notify_all();  // its open streams end now
 }
 
+void Service::count_client_stream(const std::optional<std::string>& client) {
+    if (!client) return;
+    const auto it = client_streams_.find(*client);
+    const std::size_t held = it == client_streams_.end() ? 0 : it->second;
+    if (held >= options_.max_streams_per_client)
+        throw Refused(Reason::client_streams, "this client has " + std::to_string(held) + " event streams open, its most (--client-streams " +
+                                                  std::to_string(options_.max_streams_per_client) + "); close one first");
+    ++client_streams_[*client];
+}
+
+void Service::uncount_client_stream(const std::optional<std::string>& client) {
+    if (!client) return;
+    const auto it = client_streams_.find(*client);
+    if (it != client_streams_.end() && --it->second == 0) client_streams_.erase(it);
+}
+
 Service::Stream::~Stream() {
     std::lock_guard lock(service_.mu_);
     --service_.streams_;
     --track_->streams;
+    service_.uncount_client_stream(client_);
 }
 
-std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std::string& token) {
+std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std::string& token, const std::optional<std::string>& client) {
     const bool shared = authorize(id, token) == Access::share;
     std::lock_guard lock(mu_);
     auto track = find(id);
@@ -758,9 +796,11 @@ std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std
     if (track->streams >= options_.max_streams_per_track)
         throw Refused(Reason::too_many_streams, "track " + std::to_string(id) + " has " + std::to_string(track->streams) +
                                                     " event streams open, its most; close one first");
+    count_client_stream(client);
     ++streams_;
     ++track->streams;
     std::unique_ptr<Stream> s(new Stream(*this, track));
+    s->client_ = client;
     if (shared) s->share_hash_ = token_hash(token);
     s->seen_ = track->seq;
     // authorize() read the database before this stream was counted: another server's change
@@ -801,17 +841,21 @@ Service::MapStream::~MapStream() {
     --service_.streams_;
     if (const auto it = service_.map_streams_.find(map_id_); it != service_.map_streams_.end() && --it->second == 0)
         service_.map_streams_.erase(it);
+    service_.uncount_client_stream(client_);
 }
 
-std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id) {
+std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id,
+                                                             const std::optional<std::string>& client) {
     std::unique_ptr<MapStream> s;
     {
         std::lock_guard lock(mu_);
         if (streams_ >= options_.max_streams)
             throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
+        count_client_stream(client);
         ++streams_;
         ++map_streams_[map_id];
         s.reset(new MapStream(*this, map_id, floor_id));
+        s->client_ = client;
         // Other servers' tracks on the map, as the database holds them now, read on
         // refresher_'s thread: a request thread neither waits for their round trips nor fails
         // when PostgreSQL is away (retried there). Each arrives as a position; their later
