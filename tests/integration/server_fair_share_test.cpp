@@ -172,8 +172,11 @@ TEST(ServerFairShare, ExpensiveRoutesShareOneRate) {
     const long retry = retry_after(s, "GET", search, nullptr, {});
     EXPECT_GE(retry, 19);
     EXPECT_LE(retry, 20);
-    // Other routes are not limited, nor is another client.
+    // Other routes are not limited (the radio map's own localize, the load generator's, neither),
+    // nor is another client.
     EXPECT_EQ(call(s, "GET", map).status, 200);
+    EXPECT_NE(call(s, "POST", "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize", scan).status, 429);
+    EXPECT_NE(call(s, "GET", map + "/positions").status, 429);
     EXPECT_NE(call(s, "GET", search, nullptr, {kSecond}).status, 429);
     EXPECT_NE(call(s, "GET", quality, nullptr, {kSecond}).status, 429);
 }
