@@ -22,6 +22,7 @@
 #include "routing/service.hpp"
 #include "store/migrations.hpp"
 #include "tracks/service.hpp"
+#include "tracks/token.hpp"
 
 namespace {
 void log_event(const nlohmann::json& event) {
@@ -147,6 +148,9 @@ int main(int argc, char** argv) {
     front.header_timeout = ms(header_s);
     front.read_timeout = ms(read_s);
     fair.trusted_proxies = locus::http::parse_trusted_proxies(trusted_proxies);
+    // Replicas with one API key hash a client's address alike, so they count its live tracks
+    // together in the database; the key itself is not in it (schema/014_track_client.sql).
+    if (!api_key.empty()) tracks_options.client_key = locus::tracks::token_hash("locus client hash\n" + api_key);
 
     try {
         const auto opened = locus::store::open(db_path);

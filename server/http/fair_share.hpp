@@ -8,7 +8,8 @@
 // anonymous reads (POST /v1/maps/{id}/route, GET /v1/maps/{id}/search, POST /v1/maps/{id}/localize,
 // GET /v1/radiomaps/{id}/quality; one bucket for the four, --client-rate/--client-burst).
 // What a client holds (live tracks, event streams) is counted where it is held, by the tracks
-// service (tracks::Options); the routes ask client() for the key it counts under.
+// service (tracks::Options; live tracks in the database, as a keyed hash); the routes ask
+// client() for the key it counts under.
 //
 // A request carrying the server's API key is the operator's and is exempt from all of these.
 //

@@ -18,7 +18,6 @@ struct Service::Track {
     std::deque<std::pair<std::uint64_t, Fix>> recent;
     std::condition_variable changed;  // waited on with mu_
     std::size_t streams = 0;          // event streams open on it
-    std::string client;               // who opened it here (max_live_tracks_per_client); empty: exempt, or opened elsewhere
 };
 
 const char* state_name(State s) {
@@ -57,6 +56,7 @@ double Service::now() {
 
 Service::Service(store::Store& store, Options options)
     : store_(store), options_(options), db_(store.connection()), origin_(store.change_origin()) {
+    if (options_.client_key.empty()) options_.client_key = token_hash(new_token("key_"));
     load();
     subscription_ = store_.subscribe([this](const store::Change& c) {
         if (c.kind == &store::track_kind()) {
@@ -202,21 +202,6 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
             const auto live = std::count_if(tracks_.begin(), tracks_.end(), [](const auto& kv) { return kv.second->info.state == State::live; });
             if (static_cast<std::size_t>(live) >= options_.max_live_tracks)
                 throw Refused(Reason::busy, "the server follows " + std::to_string(live) + " live tracks, its most; try again later");
-            if (client) {
-                // The client's next track frees when its idlest one reaches --track-ttl without a fix.
-                std::size_t held = 0;
-                double frees_at = 0;
-                for (const auto& [tid, tr] : tracks_) {
-                    if (tr->info.state != State::live || tr->client != *client) continue;
-                    const double expires = tr->info.last_fix_at + options_.ttl_s;
-                    frees_at = held++ == 0 ? expires : std::min(frees_at, expires);
-                }
-                if (held >= options_.max_live_tracks_per_client)
-                    throw Refused(Reason::client_live_tracks,
-                                  "this client holds " + std::to_string(held) + " live tracks, its most (--client-live-tracks " +
-                                      std::to_string(options_.max_live_tracks_per_client) + "); close one first",
-                                  std::max(1.0, frees_at - t));
-            }
             // Closed tracks and tombstones give way to a live one: an anonymous loop of opens
             // and deletes (or closes) must not refuse everyone else's opens for a retention period.
             if (tracks_.size() >= options_.max_tracks) {
@@ -227,11 +212,7 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
                                                                " live tracks, as many as it holds at all (--max-tracks); try again later");
             }
         }
-        out.info = insert_track(map_id, label, fusion, options, hash, t, evicted);
-        if (client) {
-            std::lock_guard lock(mu_);
-            if (const auto it = tracks_.find(out.info.id); it != tracks_.end()) it->second->client = *client;
-        }
+        out.info = insert_track(map_id, label, fusion, options, hash, t, evicted, client ? keyed_hash(options_.client_key, *client) : "");
     }
     // With no other lock held: post_raw takes fusion_mu_ first. Only when something was
     // evicted: fusion_mu_ is held through a whole filter run, which an open need not wait for.
@@ -243,15 +224,32 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
 }
 
 TrackInfo Service::insert_track(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options,
-                                const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted) {
+                                const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted,
+                                const std::string& client_hash) {
     store::Transaction tx(db_);
+    if (!client_hash.empty()) {
+        // Replicas count in one order: two opens of one client on two servers cannot both
+        // see room for one more. Any constant: the lock only serializes these counts.
+        if (db_.is_postgres()) db_.exec("SELECT pg_advisory_xact_lock(7343469)");
+        // A live track past --track-ttl that no sweeper closed yet (its server died) holds nothing.
+        store::Stmt q(db_, "SELECT count(*), min(last_fix_at) FROM tracks WHERE client_hash = ? AND state = 'live' AND last_fix_at >= ?");
+        q.bind_blob(1, client_hash).bind(2, t - options_.ttl_s);
+        q.step();
+        const auto held = static_cast<std::size_t>(q.int64(0));
+        // The client's next track frees when its quietest one reaches --track-ttl without a fix.
+        if (held >= options_.max_live_tracks_per_client)
+            throw Refused(Reason::client_live_tracks,
+                          "this client holds " + std::to_string(held) + " live tracks, its most (--client-live-tracks " +
+                              std::to_string(options_.max_live_tracks_per_client) + "); close one first",
+                          std::max(1.0, q.real(1) + options_.ttl_s - t));
+    }
     for (const auto& tr : evicted) {
         store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, tr->info.id).run();
         store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, tr->info.id).run();
         store::Stmt(db_, "DELETE FROM tracks WHERE id = ?").bind(1, tr->info.id).run();
     }
-    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at, fusion, fusion_options) "
-                         "VALUES (?, ?, ?, 'live', ?, ?, ?, ?)");
+    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at, fusion, fusion_options, client_hash) "
+                         "VALUES (?, ?, ?, 'live', ?, ?, ?, ?, ?)");
     ins.bind(1, map_id);
     if (label.empty()) ins.bind_null(2);
     else ins.bind(2, std::string_view(label));
@@ -259,6 +257,8 @@ TrackInfo Service::insert_track(std::int64_t map_id, const std::string& label, F
     const std::string options_text = fusion_options_text(options);
     if (options_text.empty()) ins.bind_null(7);
     else ins.bind(7, std::string_view(options_text));
+    if (client_hash.empty()) ins.bind_null(8);
+    else ins.bind_blob(8, client_hash);
     ins.run();
     const std::int64_t id = db_.last_insert_id();
     tx.commit();
@@ -664,7 +664,7 @@ TrackInfo Service::close(std::int64_t id) {
         if (track->info.state != State::live) return track->info;  // closing twice is closing once
     }
     store::Transaction tx(db_);
-    store::Stmt up(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?");
+    store::Stmt up(db_, "UPDATE tracks SET state = 'closed', ended_at = ?, client_hash = NULL WHERE id = ?");
     up.bind(1, t).bind(2, id).run();
     announce({{id, map_id}});
     tx.commit();
@@ -689,7 +689,10 @@ void Service::remove(std::int64_t id) {
     store::Transaction tx(db_);
     store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, id).run();
     store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, id).run();
-    store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ? WHERE id = ?").bind(1, t).bind(2, id).run();
+    store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ?, client_hash = NULL WHERE id = ?")
+        .bind(1, t)
+        .bind(2, id)
+        .run();
     announce({{id, map_id}});
     tx.commit();
     std::lock_guard lock(mu_);
@@ -949,7 +952,7 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         to_close = std::move(quiet);
     }
     for (const auto& tr : to_close)
-        store::Stmt(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?").bind(1, t).bind(2, tr->info.id).run();
+        store::Stmt(db_, "UPDATE tracks SET state = 'closed', ended_at = ?, client_hash = NULL WHERE id = ?").bind(1, t).bind(2, tr->info.id).run();
     for (const auto& tr : to_purge) {
         store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, tr->info.id).run();
         store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, tr->info.id).run();

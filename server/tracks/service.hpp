@@ -42,10 +42,14 @@ struct Options {
     std::size_t max_streams_per_track = 10;  // so one owner (or its shares) cannot take every slot
     std::size_t max_live_tracks = 10'000;
     // What one client (one address, http/client_address.hpp) may hold of the two caps above,
-    // so it cannot fill them for everyone (docs/deploy.md "Per-client limits"). Counted by
-    // this process: live tracks opened here by the client, and its streams open here.
+    // so it cannot fill them for everyone (docs/deploy.md "Per-client limits"). Live tracks
+    // are counted in the database (its keyed hash, schema/014_track_client.sql: across
+    // replicas and restarts that share `client_key`); streams by this process.
     std::size_t max_live_tracks_per_client = 100;
     std::size_t max_streams_per_client = 10;
+    // The key of the clients' hashes: derived from the API key, so replicas share it and the
+    // database alone does not give it; empty: a random key for this process.
+    std::string client_key;
     // Tracks held at all: live, closed within the retention period, and the tombstones of
     // deleted or expired ones (kept one more retention period). Bounds what a loop of
     // anonymous open/close (or open/delete) can make the server hold. Only live tracks fill
@@ -233,8 +237,11 @@ private:
     void map_deleted(std::int64_t map_id);
     std::shared_ptr<Track> find(std::int64_t id) const;  // under mu_; Refused(forbidden) for no such track
     // Under db_mu_: open()'s writes, in one transaction: the evicted tracks go, the new one is stored.
+    // `client_hash`: the opener's keyed hash, counted against max_live_tracks_per_client in the
+    // same transaction (Refused(client_live_tracks), nothing written); empty: exempt.
     TrackInfo insert_track(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options,
-                           const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted);
+                           const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted,
+                           const std::string& client_hash);
     void load();
     // PostgreSQL, several servers: the track as the database holds it now (another server may
     // have opened it, stored its fixes, shared or closed it); its streams and its map's streams

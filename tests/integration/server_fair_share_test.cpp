@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -15,6 +17,7 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 #include "sse_listener.hpp"
+#include "test_database.hpp"
 #include "unix_time.hpp"
 
 using locus::testing::Response;
@@ -91,6 +94,50 @@ TEST(ServerFairShare, OneClientHoldsAtMostItsLiveTracks) {
     ASSERT_EQ(closed.status, 200) << closed.raw;
     EXPECT_EQ(open_track(s, h.map).status, 201);
     EXPECT_EQ(open_track(s, h.map).status, 429);
+}
+
+// The count is the database's (a keyed hash of the address, never the address): a restart
+// forgets nothing, and replicas sharing one PostgreSQL and one API key count together.
+TEST(ServerFairShare, TheLiveTrackCountOutlivesARestart) {
+    ServerProcess s({"--quiet", "--api-key", "s3cret", "--client-live-tracks", "2", "--track-ttl", "600"});
+    s.set_api_key("s3cret");
+    const auto h = locus::testing::make_hierarchy(s);
+    const Response first = open_track(s, h.map);
+    ASSERT_EQ(first.status, 201) << first.raw;
+    ASSERT_EQ(open_track(s, h.map).status, 201);
+    s.stop();
+    s.start();
+    expect_limited(open_track(s, h.map), "too_many_live_tracks", "--client-live-tracks 2", "after a restart");
+    EXPECT_EQ(open_track(s, h.map, {kSecond}).status, 201);
+    const Response closed = call(s, "POST", "/v1/tracks/" + id_of(first) + "/close", nullptr, {"127.0.0.1", {{"X-Track-Token", token_of(first)}}});
+    ASSERT_EQ(closed.status, 200) << closed.raw;
+    EXPECT_EQ(open_track(s, h.map).status, 201);
+    if (s.db_path().empty()) return;  // PostgreSQL: no file to read
+    // The file holds no address, only the hash, and only for live tracks.
+    s.stop();
+    std::ifstream in(s.db_path(), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(bytes.find("127.0.0.1"), std::string::npos);
+    EXPECT_EQ(bytes.find("127.0.0.2"), std::string::npos);
+}
+
+TEST(ServerFairShare, ReplicasCountAClientsLiveTracksTogether) {
+    if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
+    const std::vector<std::string> args = {"--quiet", "--api-key", "s3cret", "--client-live-tracks", "3", "--track-ttl", "600"};
+    ServerProcess a(args);
+    a.set_api_key("s3cret");
+    const auto h = locus::testing::make_hierarchy(a);
+    ServerProcess b(args, locus::testing::SameDatabase{a.db()});
+    ASSERT_EQ(open_track(a, h.map).status, 201);
+    ASSERT_EQ(open_track(b, h.map).status, 201);
+    const Response third = open_track(a, h.map);
+    ASSERT_EQ(third.status, 201) << third.raw;
+    expect_limited(open_track(b, h.map), "too_many_live_tracks", "--client-live-tracks 3", "a fourth, on the other replica");
+    expect_limited(open_track(a, h.map), "too_many_live_tracks", "--client-live-tracks 3", "a fourth, on the first");
+    EXPECT_EQ(open_track(b, h.map, {kSecond}).status, 201);
+    // Closed on one replica, its slot is free on the other.
+    ASSERT_EQ(call(a, "POST", "/v1/tracks/" + id_of(third) + "/close", nullptr, {"127.0.0.1", {{"X-Track-Token", token_of(third)}}}).status, 200);
+    EXPECT_EQ(open_track(b, h.map).status, 201);
 }
 
 // A server-wide cap below the per-client one is met first, with its own answer.
