@@ -28,14 +28,15 @@ struct InProcessServer {
     std::thread thread;
     int port = 0;
 
-    // `db`: a SQLite file or a PostgreSQL URL.
-    explicit InProcessServer(const std::string& db, const tracks::Options& track_options = {}) {
+    // `db`: a SQLite file or a PostgreSQL URL. `api_key`: as --api-key (a benchmark sending it
+    // is exempt from the per-client limits, http/fair_share.hpp).
+    explicit InProcessServer(const std::string& db, const tracks::Options& track_options = {}, const std::string& api_key = "") {
         store = std::make_unique<store::SqlStore>(db);
         localizer = std::make_unique<localize::Service>(*store, http::prepare_answers);
         router = std::make_unique<routing::Service>(*store);
         directory = std::make_unique<directory::Service>(*store);
         tracks = std::make_unique<tracks::Service>(*store, track_options);
-        app = std::make_unique<http::App>(*store, *localizer, *router, *directory, http::AppOptions{"", false, http::FrontOptions{}, {}, tracks.get()});
+        app = std::make_unique<http::App>(*store, *localizer, *router, *directory, http::AppOptions{api_key, false, http::FrontOptions{}, {}, tracks.get()});
         std::string error;
         port = app->server().bind("127.0.0.1", 0, error);
         if (port < 0) throw std::runtime_error(error);

@@ -6,6 +6,8 @@
 //   build/bin/track_load_bench                                   # 1,000 tracks, 10 s
 //   LOCUS_TRACK_LOAD_SECONDS=60 build/bin/track_load_bench       # the issue's 60 s
 // (LOCUS_TRACK_LOAD_TRACKS changes N.) Also BM_PostOneFix: one fix through HTTP, serially.
+// Every client sends the server's API key: one address opening a thousand tracks and fifty
+// streams is far past the per-client limits (docs/deploy.md), which the key is exempt from.
 #include <benchmark/benchmark.h>
 #include <httplib.h>
 #include <unistd.h>
@@ -62,6 +64,8 @@ struct TempDir {
     ~TempDir() { std::filesystem::remove_all(path); }
 };
 
+constexpr const char* kApiKey = "track-load-bench";
+
 tracks::Options track_options() {
     tracks::Options o;
     o.max_live_tracks = 100'000;
@@ -72,12 +76,13 @@ tracks::Options track_options() {
 // a map of one floor.
 struct Server {
     TempDir dir;
-    bench::InProcessServer in{(dir.path / "bench.db").string(), track_options()};
+    bench::InProcessServer in{(dir.path / "bench.db").string(), track_options(), kApiKey};
     int port = in.port;
     std::int64_t floor = 0, map = 0;
 
     Server() {
         httplib::Client c("127.0.0.1", port);
+        c.set_bearer_token_auth(kApiKey);
         map = json::parse(c.Post("/v1/maps", R"({"name": "Load"})", "application/json")->body)["id"];
         const auto b = json::parse(c.Post("/v1/maps/" + std::to_string(map) + "/buildings", R"({"name": "Mall"})", "application/json")->body)["id"].get<std::int64_t>();
         floor = json::parse(c.Post("/v1/buildings/" + std::to_string(b) + "/floors",
@@ -109,6 +114,7 @@ void BM_TrackLoad(benchmark::State& state) {
         std::vector<OpenTrack> tracks;
         {
             httplib::Client c("127.0.0.1", server.port);
+            c.set_bearer_token_auth(kApiKey);
             for (int i = 0; i < n_tracks; ++i) tracks.push_back(open(c, server.map));
         }
         const long rss_before = rss_kib();
@@ -121,6 +127,7 @@ void BM_TrackLoad(benchmark::State& state) {
         for (int i = 0; i < listeners; ++i)
             listener_threads.emplace_back([&, i] {
                 httplib::Client c("127.0.0.1", server.port);
+                c.set_bearer_token_auth(kApiKey);
                 c.set_read_timeout(30, 0);
                 std::string carry;
                 bool counted = false;
@@ -147,6 +154,7 @@ void BM_TrackLoad(benchmark::State& state) {
         for (int p = 0; p < kPosters; ++p)
             posters.emplace_back([&, p] {
                 httplib::Client c("127.0.0.1", server.port);
+                c.set_bearer_token_auth(kApiKey);
                 c.set_keep_alive(true);
                 c.set_tcp_nodelay(true);  // headers and body are two writes: no Nagle wait between them
                 for (int s = 0; s < seconds; ++s) {
@@ -168,6 +176,7 @@ void BM_TrackLoad(benchmark::State& state) {
         // Closing ends each listener's stream; every fix must have been seen by then.
         {
             httplib::Client c("127.0.0.1", server.port);
+            c.set_bearer_token_auth(kApiKey);
             for (int i = 0; i < listeners; ++i)
                 c.Post("/v1/tracks/" + std::to_string(tracks[i].id) + "/close", httplib::Headers{{"X-Track-Token", tracks[i].token}}, "{}",
                        "application/json");
@@ -198,6 +207,7 @@ BENCHMARK(BM_TrackLoad)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 void BM_PostOneFix(benchmark::State& state) {
     Server server;
     httplib::Client c("127.0.0.1", server.port);
+    c.set_bearer_token_auth(kApiKey);
     c.set_keep_alive(true);
     c.set_tcp_nodelay(true);
     const OpenTrack t = open(c, server.map);

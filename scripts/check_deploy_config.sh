@@ -11,6 +11,10 @@
 #    its runtime stage, for every shared library the built locus-server and locus load, the
 #    package that holds it or a listed package that depends on it (when the build is there:
 #    readelf and dpkg on this machine, no docker).
+#  - every locus-server behind nginx (the replicas; `locus` behind the `proxy` profile's nginx)
+#    names that nginx's fixed address with --trusted-proxy, so the per-client limits see each
+#    phone's own address (docs/deploy.md "Per-client limits"), and nginx's address lies outside
+#    the range Docker hands out.
 # Needs nginx (Debian nginx-light) and python3-yaml; scripts/setup.sh installs both with
 # LOCUS_DEVTOOLS=1. Takes well under a second.
 set -euo pipefail
@@ -62,6 +66,31 @@ with open("docker/nginx-upstream-replicated.conf") as f:
     upstream = set(re.findall(r"^\s*server\s+([A-Za-z0-9_.-]+):", f.read(), re.M))
 if upstream != set(replicas):
     fail(f"nginx-upstream-replicated.conf lists {sorted(upstream)}, the profile's replicas are {replicas}")
+
+def nginx_address(name):
+    nets = services[name].get("networks") or {}
+    addr = ((nets.get("default") or {}) if isinstance(nets, dict) else {}).get("ipv4_address")
+    if not addr:
+        fail(f"service '{name}' (nginx) has no fixed ipv4_address on the default network")
+    return addr
+
+def trusted(argv):
+    return [argv[i + 1] for i, a in enumerate(argv) if a == "--trusted-proxy" and i + 1 < len(argv)]
+
+import ipaddress
+ipam = ((compose.get("networks") or {}).get("default") or {}).get("ipam", {}).get("config") or [{}]
+dynamic = ipam[0].get("ip_range")
+if not dynamic:
+    fail("networks.default has no ipam ip_range: nginx's fixed address could be handed to another container")
+front_of = {"nginx": replicas, "proxy": ["locus"]}
+for proxy_name, behind in front_of.items():
+    addr = nginx_address(proxy_name)
+    if ipaddress.ip_address(addr) in ipaddress.ip_network(dynamic):
+        fail(f"nginx '{proxy_name}' address {addr} is inside ip_range {dynamic}, which Docker hands out")
+    for n in behind:
+        argv = (services[n].get("entrypoint") or []) + (services[n].get("command") or [])
+        if addr not in ",".join(trusted(argv)).split(","):
+            fail(f"service '{n}' sits behind nginx '{proxy_name}' ({addr}) but does not pass --trusted-proxy {addr}")
 
 for name, s in services.items():
     for v in s.get("volumes") or []:

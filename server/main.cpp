@@ -6,13 +6,16 @@
 #include <nlohmann/json.hpp>
 #include <pthread.h>
 #include <chrono>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "directory/service.hpp"
 #include "http/app.hpp"
 #include "http/json_text.hpp"
 #include "http/localize_answer.hpp"
 #include "http/bundle_plans.hpp"
+#include "http/client_address.hpp"
 #include "http/static_files.hpp"
 #include "http/store_json.hpp"
 #include "localize/service.hpp"
@@ -20,6 +23,7 @@
 #include "startup/checks.hpp"
 #include "store/migrations.hpp"
 #include "tracks/service.hpp"
+#include "tracks/token.hpp"
 
 namespace {
 void log_event(const nlohmann::json& event) {
@@ -91,6 +95,39 @@ int main(int argc, char** argv) {
     cli.add_option("--max-streams-per-track", tracks_options.max_streams_per_track,
                    "open event streams on one track; past it, 429 too_many_streams")
         ->capture_default_str()->check(CLI::Range(1, 100000));
+    // Per-client shares of the limits above (docs/deploy.md "Per-client limits"); a request with
+    // the API key is exempt. Where a per-client cap is above its server-wide one, the
+    // server-wide cap is met first.
+    locus::http::FairShareOptions fair;
+    std::vector<std::string> trusted_proxies;
+    cli.add_option("--client-live-tracks", tracks_options.max_live_tracks_per_client,
+                   "live tracks one client (address) holds at once; past it, opening one answers 429 too_many_live_tracks")
+        ->capture_default_str()->check(CLI::Range(1, 10000000));
+    cli.add_option("--client-streams", tracks_options.max_streams_per_client,
+                   "event streams (track and positions) one client holds open; past it, 429 too_many_client_streams")
+        ->capture_default_str()->check(CLI::Range(1, 100000));
+    cli.add_option("--client-track-opens", fair.track_open_rate,
+                   "tracks one client may open a second, on average (POST /v1/tracks); past it, 429 rate_limited")
+        ->capture_default_str()->check(CLI::Range(0.0001, 1e6));
+    cli.add_option("--client-track-open-burst", fair.track_open_burst, "tracks one client may open at once before --client-track-opens applies")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+    cli.add_option("--client-rate", fair.route_rate,
+                   "route, search, map localize and radio map quality requests one client may send a second, on average; past it, "
+                   "429 rate_limited")
+        ->capture_default_str()->check(CLI::Range(0.0001, 1e6));
+    cli.add_option("--client-burst", fair.route_burst, "such requests one client may send at once before --client-rate applies")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+    cli.add_option("--trusted-proxy", trusted_proxies,
+                   "a reverse proxy's address or CIDR range (repeatable, or comma-separated): from it, the client is the "
+                   "right-most X-Forwarded-For entry that is not a trusted proxy; without one, X-Forwarded-For is ignored")
+        ->check([](const std::string& value) {
+            try {
+                (void)locus::http::parse_trusted_proxies({value});
+                return std::string();
+            } catch (const std::invalid_argument& e) {
+                return std::string(e.what());
+            }
+        });
     std::string web_root = locus::http::default_web_root(), leaflet_root = locus::http::default_leaflet_root;
     cli.add_option("--web-root", web_root, "the web viewer's files, served at / (empty: no viewer)")->capture_default_str();
     cli.add_option("--leaflet-root", leaflet_root, "Leaflet's files (Debian's libjs-leaflet), served at /vendor/leaflet/")
@@ -113,6 +150,10 @@ int main(int argc, char** argv) {
     front.keep_alive_timeout = ms(keep_alive_s);
     front.header_timeout = ms(header_s);
     front.read_timeout = ms(read_s);
+    fair.trusted_proxies = locus::http::parse_trusted_proxies(trusted_proxies);
+    // Replicas with one API key hash a client's address alike, so they count its live tracks
+    // together in the database; the key itself is not in it (schema/015_track_client.sql).
+    if (!api_key.empty()) tracks_options.client_key = locus::tracks::token_hash("locus client hash\n" + api_key);
 
     for (const auto& problem : {locus::startup::open_writes_problem(host, !api_key.empty(), allow_open_writes),
                                 locus::startup::database_path_problem(db_path)})
@@ -143,7 +184,7 @@ int main(int argc, char** argv) {
         locus::directory::Service directory(store);
         locus::tracks::Service tracks(store, tracks_options);
         locus::http::App app(store, localizer, router, directory,
-                             {api_key, !quiet, front, {web_root, leaflet_root}, &tracks, max_exports, ms(export_timeout_s)});
+                             {api_key, !quiet, front, {web_root, leaflet_root}, &tracks, max_exports, ms(export_timeout_s), fair});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(host, port, listen_error);
@@ -159,7 +200,7 @@ int main(int argc, char** argv) {
             server.shut_down();
         });
         log_event({{"event", "listening"}, {"host", host}, {"port", bound}, {"db", store.location()}, {"auth", !api_key.empty()},
-                   {"max_connections", server.options().max_connections}});
+                   {"max_connections", server.options().max_connections}, {"trusted_proxies", fair.trusted_proxies.size()}});
         const bool ok = server.serve();
         if (!ok && server.is_running()) log_event({{"event", "error"}, {"message", "listen failed"}});
         // Wake the signal thread if listen ended for another reason.

@@ -164,9 +164,10 @@ bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res
 void App::install_middleware() {
     // Before any body is read: bad framing, then the API key. Also asked for a request that
     // says `Expect: 100-continue`, so such a client is refused before it sends its body.
+    // Then, once the request may go on, its client's share (fair_share.hpp).
     server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-        return refuse_before_body(req, res) ? httplib::Server::HandlerResponse::Handled
-                                            : httplib::Server::HandlerResponse::Unhandled;
+        return refuse_before_body(req, res) || fair_share_.refuse(req, res) ? httplib::Server::HandlerResponse::Handled
+                                                                            : httplib::Server::HandlerResponse::Unhandled;
     });
     server_.set_expect_100_continue_handler([this](const httplib::Request& req, httplib::Response& res) {
         return refuse_before_body(req, res) ? res.status : 100;

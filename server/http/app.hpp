@@ -14,6 +14,7 @@
 
 #include "directory/service.hpp"
 #include "http/floor_geo.hpp"
+#include "http/fair_share.hpp"
 #include "http/front.hpp"
 #include "http/slots.hpp"
 #include "http/static_files.hpp"
@@ -41,6 +42,7 @@ struct AppOptions {
     // reads), and how long one may take before it is cut (radiomap_routes.cpp).
     std::size_t max_exports = 2;
     std::chrono::milliseconds export_timeout{600'000};
+    FairShareOptions fair{};  // per-client rates (fair_share.hpp); requests with the API key are exempt
 };
 
 class App {
@@ -90,6 +92,7 @@ private:
     FloorGeoCache geo_{store_};  // lat/lon in the answers of georeferenced floors
     AppOptions options_;
     Slots export_slots_{options_.max_exports};
+    FairShare fair_share_{options_.fair, options_.api_key};
     Front server_;
 };
 

@@ -76,6 +76,8 @@ ApiError api_error_of(const tracks::Refused& e) {
         case tracks::Reason::full: return {409, "track_full", e.what()};
         case tracks::Reason::too_many_tracks: return {503, "too_many_tracks", e.what()};
         case tracks::Reason::too_many_streams: return {429, "too_many_streams", e.what()};
+        case tracks::Reason::client_live_tracks: return {429, "too_many_live_tracks", e.what()};
+        case tracks::Reason::client_streams: return {429, "too_many_client_streams", e.what()};
     }
     return {500, "internal", e.what()};
 }
@@ -89,6 +91,11 @@ void respond_track(const httplib::Request& req, httplib::Response& res, const st
             if (e.reason == tracks::Reason::busy || e.reason == tracks::Reason::too_many_streams) res.set_header("Retry-After", "1");
             // Every slot is a live track's: they free as tracks close, no use retrying at once.
             if (e.reason == tracks::Reason::too_many_tracks) res.set_header("Retry-After", "60");
+            // The client's own track that goes quiet first closes at --track-ttl; a stream of its
+            // own frees only when it closes one, so it is told to look again in a while.
+            if (e.reason == tracks::Reason::client_live_tracks)
+                res.set_header("Retry-After", std::to_string(static_cast<long long>(std::ceil(e.retry_after_s))));
+            if (e.reason == tracks::Reason::client_streams) res.set_header("Retry-After", "10");
             throw api_error_of(e);
         }
     });
@@ -294,7 +301,7 @@ void App::install_track_routes() {
     tracks::Service& svc = *options_.tracks;
     FloorGeoCache& geo = geo_;
 
-    server_.Post("/v1/tracks", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Post("/v1/tracks", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const json body = parse_object(req.body);
             only_fields(body, {"map_id", "label", "fusion", "fusion_options"}, "");
@@ -313,7 +320,7 @@ void App::install_track_routes() {
             const auto fusion_options = parse_fusion_options(body, fusion);
             tracks::Opened o;
             try {
-                o = svc.open(m->get<std::int64_t>(), label, fusion, fusion_options);
+                o = svc.open(m->get<std::int64_t>(), label, fusion, fusion_options, fair_share_.client(req));
             } catch (const store::NotFound& e) {
                 throw invalid_field(std::string("'map_id': ") + e.what());
             }
@@ -442,11 +449,11 @@ void App::install_track_routes() {
         });
     });
 
-    server_.Get(R"(/v1/tracks/(\d+)/events)", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/tracks/(\d+)/events)", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
         std::shared_ptr<tracks::Service::Stream> stream;
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
-            stream = svc.open_stream(id, token_of(req));
+            stream = svc.open_stream(id, token_of(req), fair_share_.client(req));
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error
@@ -564,11 +571,11 @@ void App::install_track_routes() {
     // The live layer's stream: `position` {track_id, label, fix} for each new latest fix on the
     // map (or floor_id), `leave` {track_id, floor_id|null} when a shown track goes to another
     // floor (its floor) or ends (null). The first events are every live track's position.
-    server_.Get(R"(/v1/maps/(\d+)/positions/events)", [positions_scope, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/maps/(\d+)/positions/events)", [this, positions_scope, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
         std::shared_ptr<tracks::Service::MapStream> stream;
         respond_track(req, res, [&] {
             const auto scope = positions_scope(req, res);
-            stream = svc.open_map_stream(scope.first, scope.second);
+            stream = svc.open_map_stream(scope.first, scope.second, fair_share_.client(req));
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error

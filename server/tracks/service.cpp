@@ -56,6 +56,7 @@ double Service::now() {
 
 Service::Service(store::Store& store, Options options)
     : store_(store), options_(options), db_(store.connection()), origin_(store.change_origin()) {
+    if (options_.client_key.empty()) options_.client_key = token_hash(new_token("key_"));
     load();
     subscription_ = store_.subscribe([this](const store::Change& c) {
         if (c.kind == &store::track_kind()) {
@@ -186,7 +187,8 @@ std::vector<std::shared_ptr<Service::Track>> Service::evictable(std::size_t n) c
     return out;
 }
 
-Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options) {
+Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options,
+                     const std::optional<std::string>& client) {
     (void)store_.get(store::kind("maps"), map_id);  // NotFound for an unknown map
     Opened out;
     out.token = new_token("trk_");
@@ -210,7 +212,7 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
                                                                " live tracks, as many as it holds at all (--max-tracks); try again later");
             }
         }
-        out.info = insert_track(map_id, label, fusion, options, hash, t, evicted);
+        out.info = insert_track(map_id, label, fusion, options, hash, t, evicted, client ? keyed_hash(options_.client_key, *client) : "");
     }
     // With no other lock held: post_raw takes fusion_mu_ first. Only when something was
     // evicted: fusion_mu_ is held through a whole filter run, which an open need not wait for.
@@ -222,15 +224,32 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
 }
 
 TrackInfo Service::insert_track(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options,
-                                const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted) {
+                                const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted,
+                                const std::string& client_hash) {
     store::Transaction tx(db_);
+    if (!client_hash.empty()) {
+        // Replicas count in one order: two opens of one client on two servers cannot both
+        // see room for one more. Any constant: the lock only serializes these counts.
+        if (db_.is_postgres()) db_.exec("SELECT pg_advisory_xact_lock(7343469)");
+        // A live track past --track-ttl that no sweeper closed yet (its server died) holds nothing.
+        store::Stmt q(db_, "SELECT count(*), min(last_fix_at) FROM tracks WHERE client_hash = ? AND state = 'live' AND last_fix_at >= ?");
+        q.bind_blob(1, client_hash).bind(2, t - options_.ttl_s);
+        q.step();
+        const auto held = static_cast<std::size_t>(q.int64(0));
+        // The client's next track frees when its quietest one reaches --track-ttl without a fix.
+        if (held >= options_.max_live_tracks_per_client)
+            throw Refused(Reason::client_live_tracks,
+                          "this client holds " + std::to_string(held) + " live tracks, its most (--client-live-tracks " +
+                              std::to_string(options_.max_live_tracks_per_client) + "); close one first",
+                          std::max(1.0, q.real(1) + options_.ttl_s - t));
+    }
     for (const auto& tr : evicted) {
         store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, tr->info.id).run();
         store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, tr->info.id).run();
         store::Stmt(db_, "DELETE FROM tracks WHERE id = ?").bind(1, tr->info.id).run();
     }
-    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at, fusion, fusion_options) "
-                         "VALUES (?, ?, ?, 'live', ?, ?, ?, ?)");
+    store::Stmt ins(db_, "INSERT INTO tracks (map_id, label, token_hash, state, created_at, last_fix_at, fusion, fusion_options, client_hash) "
+                         "VALUES (?, ?, ?, 'live', ?, ?, ?, ?, ?)");
     ins.bind(1, map_id);
     if (label.empty()) ins.bind_null(2);
     else ins.bind(2, std::string_view(label));
@@ -238,6 +257,8 @@ TrackInfo Service::insert_track(std::int64_t map_id, const std::string& label, F
     const std::string options_text = fusion_options_text(options);
     if (options_text.empty()) ins.bind_null(7);
     else ins.bind(7, std::string_view(options_text));
+    if (client_hash.empty()) ins.bind_null(8);
+    else ins.bind_blob(8, client_hash);
     ins.run();
     const std::int64_t id = db_.last_insert_id();
     tx.commit();
@@ -643,7 +664,7 @@ TrackInfo Service::close(std::int64_t id) {
         if (track->info.state != State::live) return track->info;  // closing twice is closing once
     }
     store::Transaction tx(db_);
-    store::Stmt up(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?");
+    store::Stmt up(db_, "UPDATE tracks SET state = 'closed', ended_at = ?, client_hash = NULL WHERE id = ?");
     up.bind(1, t).bind(2, id).run();
     announce({{id, map_id}});
     tx.commit();
@@ -668,7 +689,10 @@ void Service::remove(std::int64_t id) {
     store::Transaction tx(db_);
     store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, id).run();
     store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, id).run();
-    store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ? WHERE id = ?").bind(1, t).bind(2, id).run();
+    store::Stmt(db_, "UPDATE tracks SET state = 'gone', map_id = NULL, label = NULL, ended_at = ?, client_hash = NULL WHERE id = ?")
+        .bind(1, t)
+        .bind(2, id)
+        .run();
     announce({{id, map_id}});
     tx.commit();
     std::lock_guard lock(mu_);
@@ -743,13 +767,30 @@ void Service::revoke_share(std::int64_t id, std::int64_t share_id) {
     track->changed.notify_all();  // its open streams end now
 }
 
+void Service::count_client_stream(const std::optional<std::string>& client) {
+    if (!client) return;
+    const auto it = client_streams_.find(*client);
+    const std::size_t held = it == client_streams_.end() ? 0 : it->second;
+    if (held >= options_.max_streams_per_client)
+        throw Refused(Reason::client_streams, "this client has " + std::to_string(held) + " event streams open, its most (--client-streams " +
+                                                  std::to_string(options_.max_streams_per_client) + "); close one first");
+    ++client_streams_[*client];
+}
+
+void Service::uncount_client_stream(const std::optional<std::string>& client) {
+    if (!client) return;
+    const auto it = client_streams_.find(*client);
+    if (it != client_streams_.end() && --it->second == 0) client_streams_.erase(it);
+}
+
 Service::Stream::~Stream() {
     std::lock_guard lock(service_.mu_);
     --service_.streams_;
     --track_->streams;
+    service_.uncount_client_stream(client_);
 }
 
-std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std::string& token) {
+std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std::string& token, const std::optional<std::string>& client) {
     const bool shared = authorize(id, token) == Access::share;
     std::lock_guard lock(mu_);
     auto track = find(id);
@@ -758,9 +799,11 @@ std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std
     if (track->streams >= options_.max_streams_per_track)
         throw Refused(Reason::too_many_streams, "track " + std::to_string(id) + " has " + std::to_string(track->streams) +
                                                     " event streams open, its most; close one first");
+    count_client_stream(client);
     ++streams_;
     ++track->streams;
     std::unique_ptr<Stream> s(new Stream(*this, track));
+    s->client_ = client;
     if (shared) s->share_hash_ = token_hash(token);
     s->seen_ = track->seq;
     // authorize() read the database before this stream was counted: another server's change
@@ -801,17 +844,21 @@ Service::MapStream::~MapStream() {
     --service_.streams_;
     if (const auto it = service_.map_streams_.find(map_id_); it != service_.map_streams_.end() && --it->second == 0)
         service_.map_streams_.erase(it);
+    service_.uncount_client_stream(client_);
 }
 
-std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id) {
+std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id,
+                                                             const std::optional<std::string>& client) {
     std::unique_ptr<MapStream> s;
     {
         std::lock_guard lock(mu_);
         if (streams_ >= options_.max_streams)
             throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
+        count_client_stream(client);
         ++streams_;
         ++map_streams_[map_id];
         s.reset(new MapStream(*this, map_id, floor_id));
+        s->client_ = client;
         // Other servers' tracks on the map, as the database holds them now, read on
         // refresher_'s thread: a request thread neither waits for their round trips nor fails
         // when PostgreSQL is away (retried there). Each arrives as a position; their later
@@ -905,7 +952,7 @@ std::vector<std::int64_t> Service::sweep_tracks() {
         to_close = std::move(quiet);
     }
     for (const auto& tr : to_close)
-        store::Stmt(db_, "UPDATE tracks SET state = 'closed', ended_at = ? WHERE id = ?").bind(1, t).bind(2, tr->info.id).run();
+        store::Stmt(db_, "UPDATE tracks SET state = 'closed', ended_at = ?, client_hash = NULL WHERE id = ?").bind(1, t).bind(2, tr->info.id).run();
     for (const auto& tr : to_purge) {
         store::Stmt(db_, "DELETE FROM track_fixes WHERE track_id = ?").bind(1, tr->info.id).run();
         store::Stmt(db_, "DELETE FROM track_shares WHERE track_id = ?").bind(1, tr->info.id).run();

@@ -41,6 +41,15 @@ struct Options {
     std::size_t max_streams = 100;      // open event streams, all tracks together
     std::size_t max_streams_per_track = 10;  // so one owner (or its shares) cannot take every slot
     std::size_t max_live_tracks = 10'000;
+    // What one client (one address, http/client_address.hpp) may hold of the two caps above,
+    // so it cannot fill them for everyone (docs/deploy.md "Per-client limits"). Live tracks
+    // are counted in the database (its keyed hash, schema/015_track_client.sql: across
+    // replicas and restarts that share `client_key`); streams by this process.
+    std::size_t max_live_tracks_per_client = 100;
+    std::size_t max_streams_per_client = 10;
+    // The key of the clients' hashes: derived from the API key, so replicas share it and the
+    // database alone does not give it; empty: a random key for this process.
+    std::string client_key;
     // Tracks held at all: live, closed within the retention period, and the tombstones of
     // deleted or expired ones (kept one more retention period). Bounds what a loop of
     // anonymous open/close (or open/delete) can make the server hold. Only live tracks fill
@@ -54,11 +63,13 @@ struct Options {
 
 // Why a request on a track is refused; the HTTP layer gives each its status.
 // busy: the server's shared limits (streams, live tracks); too_many_tracks: every track slot
-// is held by a live track; too_many_streams: this track's own stream limit.
-enum class Reason { forbidden, gone, closed, busy, full, too_many_tracks, too_many_streams };
+// is held by a live track; too_many_streams: this track's own stream limit;
+// client_live_tracks, client_streams: one client's share of the shared limits.
+enum class Reason { forbidden, gone, closed, busy, full, too_many_tracks, too_many_streams, client_live_tracks, client_streams };
 struct Refused : std::runtime_error {
     Reason reason;
-    Refused(Reason r, const std::string& what) : std::runtime_error(what), reason(r) {}
+    double retry_after_s = 0;  // when known: seconds until the refusal may be lifted
+    Refused(Reason r, const std::string& what, double retry_after = 0) : std::runtime_error(what), reason(r), retry_after_s(retry_after) {}
 };
 
 enum class Access { owner, share };
@@ -130,9 +141,11 @@ public:
     void stop();
 
     // A new live track on an existing map (store::NotFound otherwise).
-    // `options` must be validated against kFusionOptions for `fusion`.
+    // `options` must be validated against kFusionOptions for `fusion`. `client`: who opens it,
+    // counted against max_live_tracks_per_client (Refused(client_live_tracks)) after the
+    // server-wide cap; none: exempt (the operator's API key).
     Opened open(std::int64_t map_id, const std::string& label, FusionMethod fusion = FusionMethod::walk_pf,
-                const FusionOptions& options = {});
+                const FusionOptions& options = {}, const std::optional<std::string>& client = std::nullopt);
     // What `token` may do with track `id`. An unknown track and a wrong token are refused alike
     // (forbidden), so a token says nothing about tracks it does not open; the owner of a track
     // that went is told so (gone). On PostgreSQL the track is first read again from the
@@ -173,12 +186,14 @@ public:
         Service& service_;
         std::shared_ptr<Track> track_;
         std::optional<std::string> share_hash_;  // read with a share: the stream ends when it is revoked
+        std::optional<std::string> client_;      // counted in client_streams_
         std::uint64_t seen_ = 0;
         bool started_ = false;
     };
-    // Refused(busy) past max_streams.
+    // Refused(busy) past max_streams, then Refused(client_streams) past the client's
+    // max_streams_per_client (track and map streams together; no client: exempt).
     // The token is authorised as by authorize(); a stream opened with a share ends when the share is revoked.
-    std::unique_ptr<Stream> open_stream(std::int64_t id, const std::string& token);
+    std::unique_ptr<Stream> open_stream(std::int64_t id, const std::string& token, const std::optional<std::string>& client = std::nullopt);
     // The first call answers the latest fix; each later one waits up to heartbeat_s for more.
     Events next_events(Stream& stream);
 
@@ -195,10 +210,12 @@ public:
         std::int64_t map_id_;
         std::optional<std::int64_t> floor_id_;
         std::unordered_set<std::int64_t> shown_;  // tracks whose last position this stream wrote
+        std::optional<std::string> client_;       // counted in client_streams_
         std::uint64_t seen_ = 0;
         bool started_ = false;
     };
-    std::unique_ptr<MapStream> open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id);
+    std::unique_ptr<MapStream> open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id,
+                                               const std::optional<std::string>& client = std::nullopt);
     // The first call answers every live track's latest fix; each later one waits up to heartbeat_s for changes.
     MapEvents next_map_events(MapStream& stream);
 
@@ -220,8 +237,11 @@ private:
     void map_deleted(std::int64_t map_id);
     std::shared_ptr<Track> find(std::int64_t id) const;  // under mu_; Refused(forbidden) for no such track
     // Under db_mu_: open()'s writes, in one transaction: the evicted tracks go, the new one is stored.
+    // `client_hash`: the opener's keyed hash, counted against max_live_tracks_per_client in the
+    // same transaction (Refused(client_live_tracks), nothing written); empty: exempt.
     TrackInfo insert_track(std::int64_t map_id, const std::string& label, FusionMethod fusion, const FusionOptions& options,
-                           const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted);
+                           const std::string& hash, double t, const std::vector<std::shared_ptr<Track>>& evicted,
+                           const std::string& client_hash);
     void load();
     // PostgreSQL, several servers: the track as the database holds it now (another server may
     // have opened it, stored its fixes, shared or closed it); its streams and its map's streams
@@ -251,6 +271,12 @@ private:
     std::unordered_map<std::int64_t, std::shared_ptr<Track>> tracks_;
     std::unordered_map<std::int64_t, std::unordered_set<std::int64_t>> floors_of_map_;  // floors seen on each map
     std::size_t streams_ = 0;
+    // Under mu_: streams open per client; a client with none has no entry, so this holds at
+    // most max_streams entries.
+    std::unordered_map<std::string, std::size_t> client_streams_;
+    // Under mu_: one more stream for `client` (none: exempt), Refused(client_streams) at its cap.
+    void count_client_stream(const std::optional<std::string>& client);
+    void uncount_client_stream(const std::optional<std::string>& client);
     struct MapChange {
         std::uint64_t seq;
         std::int64_t map_id, track_id;

@@ -1,6 +1,7 @@
 #include "tracks/token.hpp"
 
 #include <openssl/evp.h>
+#include <openssl/hmac.h>
 #include <openssl/rand.h>
 
 #include <stdexcept>
@@ -24,6 +25,15 @@ std::string token_hash(std::string_view token) {
     unsigned int length = 0;
     if (EVP_Digest(token.data(), token.size(), digest, &length, EVP_sha256(), nullptr) != 1)
         throw std::runtime_error("SHA-256 failed");
+    return std::string(reinterpret_cast<const char*>(digest), length);
+}
+
+std::string keyed_hash(std::string_view key, std::string_view text) {
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int length = 0;
+    if (!HMAC(EVP_sha256(), key.data(), static_cast<int>(key.size()), reinterpret_cast<const unsigned char*>(text.data()), text.size(),
+              digest, &length))
+        throw std::runtime_error("HMAC-SHA256 failed");
     return std::string(reinterpret_cast<const char*>(digest), length);
 }
 

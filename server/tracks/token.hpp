@@ -9,6 +9,9 @@ namespace locus::tracks {
 std::string new_token(std::string_view prefix);
 // The 32 raw bytes of SHA-256(token): what the database and the server's memory keep.
 std::string token_hash(std::string_view token);
+// HMAC-SHA256 of `text` under `key` (32 raw bytes): a client's address as the database keeps
+// it (schema/015_track_client.sql), which cannot be turned back without the key.
+std::string keyed_hash(std::string_view key, std::string_view text);
 // Equal hashes, in time independent of where they differ.
 bool same_hash(std::string_view a, std::string_view b);
 

@@ -24,11 +24,12 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 
 free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 
-# A replica on a free port (0), with a short heartbeat so the stream check takes a second.
+# A replica on a free port (0), with a short heartbeat so the stream check takes a second,
+# trusting nginx (on loopback here) for X-Forwarded-For as docker/compose.yaml does.
 # Sets port and pid (no command substitution: the server would hold its pipe open).
 start_replica() {
   local name=$1
-  "$server_bin" --db "$tmp/$name.db" --host 127.0.0.1 --port 0 --demo --track-heartbeat 0.2 >/dev/null 2>"$tmp/$name.log" &
+  "$server_bin" --db "$tmp/$name.db" --host 127.0.0.1 --port 0 --demo --track-heartbeat 0.2 --trusted-proxy 127.0.0.1 >/dev/null 2>"$tmp/$name.log" &
   pid=$!
   pids+=("$pid")
   for _ in $(seq 100); do

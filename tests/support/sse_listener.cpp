@@ -16,9 +16,10 @@ bool poll(double seconds, Done done) {
 
 }  // namespace
 
-SseListener::SseListener(int port, const std::string& path, const httplib::Headers& headers) {
-    thread_ = std::thread([this, port, path, headers] {
+SseListener::SseListener(int port, const std::string& path, const httplib::Headers& headers, const std::string& source) {
+    thread_ = std::thread([this, port, path, headers, source] {
         httplib::Client c("127.0.0.1", port);
+        if (!source.empty()) c.set_interface(source);
         c.set_read_timeout(10, 0);
         std::string buf;
         c.Get(path.c_str(), headers, [&](const char* data, std::size_t n) {

@@ -19,7 +19,8 @@ class SseListener {
 public:
     using Event = std::pair<std::string, nlohmann::json>;
 
-    SseListener(int port, const std::string& path, const httplib::Headers& headers = {});
+    // `source`: the local address to connect from (127.0.0.2: a second client), else any.
+    SseListener(int port, const std::string& path, const httplib::Headers& headers = {}, const std::string& source = "");
     ~SseListener();
     SseListener(const SseListener&) = delete;
     SseListener& operator=(const SseListener&) = delete;
