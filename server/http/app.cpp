@@ -165,12 +165,20 @@ void App::install_middleware() {
     // Before any body is read: bad framing, then the API key. Also asked for a request that
     // says `Expect: 100-continue`, so such a client is refused before it sends its body.
     // Then, once the request may go on, its client's share (fair_share.hpp).
-    server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-        return refuse_before_body(req, res) || fair_share_.refuse(req, res) ? httplib::Server::HandlerResponse::Handled
-                                                                            : httplib::Server::HandlerResponse::Unhandled;
+    // The share is taken once per request: by the 100-continue handler when the client waits
+    // for it (so a client over its rate is refused before it sends its body), else here.
+    const auto refuse_share = [this](const httplib::Request& req, httplib::Response& res) {
+        RequestFraming* f = Front::current();
+        if (f && f->share_taken) return false;
+        if (f) f->share_taken = true;
+        return fair_share_.refuse(req, res);
+    };
+    server_.set_pre_routing_handler([this, refuse_share](const httplib::Request& req, httplib::Response& res) {
+        return refuse_before_body(req, res) || refuse_share(req, res) ? httplib::Server::HandlerResponse::Handled
+                                                                      : httplib::Server::HandlerResponse::Unhandled;
     });
-    server_.set_expect_100_continue_handler([this](const httplib::Request& req, httplib::Response& res) {
-        return refuse_before_body(req, res) ? res.status : 100;
+    server_.set_expect_100_continue_handler([this, refuse_share](const httplib::Request& req, httplib::Response& res) {
+        return refuse_before_body(req, res) || refuse_share(req, res) ? res.status : 100;
     });
 
     // Called for every answer >= 400. httplib answers some failures itself (unknown route, a

@@ -75,6 +75,7 @@ struct RequestFraming {
     httplib::Request* request = nullptr;         // the request being read, whose body finish_body decodes
     std::uint64_t head_end = 0;                  // stream position where the body starts
     bool close = false;                          // end the connection after this answer
+    bool share_taken = false;                    // the client's fair share was charged (app.cpp)
     ConnectionStream* stream = nullptr;
 
     // A Content-Length body not read to its end: its rest would be taken for a next request.

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hierarchy.hpp"
+#include "raw_connection.hpp"
 #include "server_process.hpp"
 #include "sse_listener.hpp"
 #include "test_database.hpp"
@@ -318,4 +319,29 @@ TEST(ServerFairShare, BadFlagValuesAreRefusedAtStart) {
         EXPECT_EQ((r.err + r.out).find("\"listening\""), std::string::npos) << "it started: " << r.err;
     }
     std::filesystem::remove_all(dir);
+}
+
+// A client that waits for 100 Continue is charged once, and refused before it sends its body.
+TEST(ServerFairShare, AClientWaitingForContinueIsChargedOnceAndRefusedFirst) {
+    ServerProcess s({"--quiet", "--client-track-opens", "0.01", "--client-track-open-burst", "2"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string body = json{{"map_id", h.map}}.dump();
+    const std::string head = "POST /v1/tracks HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: " +
+                             std::to_string(body.size()) + "\r\nExpect: 100-continue\r\n\r\n";
+    for (int i = 0; i < 2; ++i) {
+        locus::testing::RawConnection c(s.port());
+        ASSERT_TRUE(c.send(head));
+        const auto go = c.read_answer();
+        ASSERT_TRUE(go.has_value());
+        EXPECT_EQ(go->status, 100) << "open " << i;
+        ASSERT_TRUE(c.send(body));
+        const auto opened = c.read_answer();
+        ASSERT_TRUE(opened.has_value());
+        EXPECT_EQ(opened->status, 201) << "open " << i << " (charged twice?): " << opened->body;
+    }
+    locus::testing::RawConnection c(s.port());
+    ASSERT_TRUE(c.send(head));
+    const auto refused = c.read_answer();
+    ASSERT_TRUE(refused.has_value());
+    EXPECT_EQ(refused->status, 429) << "the third is refused before its body: " << refused->body;
 }
