@@ -19,8 +19,9 @@ fi
 
 packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev libsqlite3-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libutf8proc-dev libopencv-imgproc-dev libpng-dev
-          libjpeg-dev libssl-dev zlib1g-dev libjs-leaflet libpq-dev postgresql
-          python3 curl jq)  # the last three: the docs' shell blocks, run by scripts/docs_blocks.py
+          libjpeg-dev libssl-dev zlib1g-dev libjs-leaflet libpq-dev postgresql)
+# The docs' shell blocks (scripts/docs_blocks.py, a test): Python, and the curl they use.
+[ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(python3 curl)
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! command -v npm >/dev/null 2>&1 && packages+=(nodejs npm)
 # The web viewer's browser test (tests/browser/): a real headless Chromium driven by Selenium.
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(chromium chromium-driver python3-selenium)
