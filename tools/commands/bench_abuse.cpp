@@ -147,6 +147,12 @@ void run(const Args& a) {
     const std::string map_path = "/v1/maps/" + std::to_string(a.map);
     const std::string open_request = http_request("POST", "/v1/tracks", hp, json{{"map_id", a.map}}.dump());
 
+    // The bombs are made before the clock starts (compressing 512 MiB takes a second or two).
+    const std::string prefix = R"({"algorithm":"wknn","scans":[[{"bssid":"00:00:00:00:00:01","rss":-50}]],"pad":")";
+    const std::string localize_bomb =
+        http_request("POST", localize_path, hp, compress_stream(prefix, ' ', 512u << 20, "\"}"), "Content-Encoding: gzip\r\n");
+    const std::string brotli = http_request("POST", localize_path, hp, bodies.front(), "Content-Encoding: br\r\n");
+
     const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
     const auto t0 = Clock::now();
     const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
@@ -156,11 +162,6 @@ void run(const Args& a) {
     StatusCounts bombs, tracks, streams, expensive;
     std::vector<std::thread> hostile;
     hostile.emplace_back([&] {
-        const std::string prefix = R"({"algorithm":"wknn","scans":[[{"bssid":"00:00:00:00:00:01","rss":-50}]],"pad":")";
-        const std::string bomb = compress_stream(prefix, ' ', 512u << 20, "\"}");
-        const std::string localize_bomb =
-            http_request("POST", localize_path, hp, bomb, "Content-Encoding: gzip\r\n");
-        const std::string brotli = http_request("POST", localize_path, hp, bodies.front(), "Content-Encoding: br\r\n");
         BenchConnection c(target.host, target.port, a.hostile_address);
         for (std::size_t i = 0; running(); ++i) bombs.add(c.round_trip(i % 2 ? brotli : localize_bomb));
     });
