@@ -38,5 +38,9 @@ TEST(BenchAbuse, TheHostileClientIsRefusedAndThePhonesAreNot) {
     for (const char* kind : {"bombs", "tracks", "streams", "expensive"})
         for (const auto& [status, n] : hostile.at(kind).items()) EXPECT_NE(status[0], '5') << kind << ": " << n << " × " << status;
     // Bombs are decoded up to the 8 MiB limit only: the peak stays far from their 512 MiB.
+    // Under AddressSanitizer every freed buffer waits in its quarantine (256 MB by default), so
+    // the peak there measures ASan, not the server; the plain build holds the bound.
+#ifndef LOCUS_SANITIZED
     EXPECT_LT(out.at("server").at("peak_above_idle_mb").get<double>(), 256.0) << out.dump();
+#endif
 }

@@ -319,7 +319,8 @@ TEST(ServerGeoreference, BadGeoIsRefusedNamingTheFieldAndStoresNothing) {
     const std::string floors = "/v1/buildings/" + std::to_string(v.h.building) + "/floors";
     json bad_create = {{"name", "Ghost"}, {"level", 3}, {"width", 1.0}, {"height", 1.0}, {"geo", with("lat", 95).at("geo")}};
     EXPECT_NE(refused(s.post(floors, bad_create)).find("geo.lat"), std::string::npos);
-    for (const auto& f : body_of(s.get(floors)).at("items")) EXPECT_NE(f.at("name"), "Ghost");
+    const json listed = body_of(s.get(floors));
+    for (const auto& f : listed.at("items")) EXPECT_NE(f.at("name"), "Ghost");
 
     EXPECT_EQ(body_of(s.get(v.floor_path)), stored);  // not renamed, geo and elevation as they were
 }
