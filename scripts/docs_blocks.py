@@ -18,6 +18,10 @@ before its fence (blank lines skipped) is a marker:
 
 A skip marker without a reason, or an unknown docs-test marker, fails the block.
 
+--no-benchmarks (a build configured with -DLOCUS_BENCHMARKS=OFF, as the sanitized one is): a
+block that runs a Google Benchmark program (build/bin/*_bench) is counted as marked, with the
+reason "benchmarks not built", instead of failing for want of the program.
+
 A page that is one walk-through (docs/your-building.md) says `<!-- docs-test: session -->` on a
 line of its own: its runnable blocks then run in order as one script, in one directory, so a
 later block uses what an earlier one set (it is reported as one block, at its first fence).
@@ -55,6 +59,7 @@ import time
 
 FENCE_OPEN = re.compile(r"^(\s*)```(\w*)\s*$")
 FENCE_CLOSE = re.compile(r"^\s*```\s*$")
+BENCH_PROGRAM = re.compile(r"\bbuild/bin/\w+_bench\b")
 MARKER = re.compile(r"^\s*<!--\s*docs-test:\s*(skip|demo-server)\s*(?:\((.*)\))?\s*-->\s*$")
 SESSION = re.compile(r"^\s*<!--\s*docs-test:\s*session\s*-->\s*$")
 SHELLS = {"sh", "bash", "shell"}
@@ -234,6 +239,8 @@ def main():
     ap.add_argument("--only", help="FILE or FILE:LINE (the fence's line)")
     ap.add_argument("--timeout", type=int, default=60, help="seconds per block")
     ap.add_argument("--list", action="store_true", help="list the blocks and their marks, run nothing")
+    ap.add_argument("--no-benchmarks", action="store_true",
+                    help="the build has no bench/ programs: blocks that run one are not run")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args()
     repo = os.path.abspath(args.repo)
@@ -249,6 +256,11 @@ def main():
     if args.only:
         f, _, line = args.only.partition(":")
         blocks = [b for b in blocks if b.path == f and (not line or b.line == int(line))]
+
+    if args.no_benchmarks:
+        for b in blocks:
+            if b.mode == "run" and BENCH_PROGRAM.search(b.text):
+                b.mode, b.reason = "skip", "benchmarks not built"
 
     if args.list:
         for b in blocks:
