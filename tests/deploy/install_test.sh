@@ -6,15 +6,8 @@
 # environment file.
 # Usage: install_test.sh BUILD_DIR
 set -euo pipefail
+source "$(dirname "$0")/lib.sh"
 build_dir=$1
-tmp=$(mktemp -d)
-pid=
-cleanup() {
-  [ -n "$pid" ] && kill "$pid" 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
 
 prefix=$tmp/prefix
 cmake --install "$build_dir" --prefix "$prefix" >"$tmp/install.log" || fail "cmake --install failed: $(cat "$tmp/install.log")"
@@ -37,13 +30,9 @@ grep -q '^u locus ' "$prefix/lib/sysusers.d/locus-server.conf" || fail "no sysus
 
 # The installed server finds the web viewer under the prefix.
 "$prefix/bin/locus-server" --db "$tmp/locus.db" --port 0 --demo --quiet 2>"$tmp/server.log" &
-pid=$!
-for _ in $(seq 100); do
-  port=$(grep -o '"port":[0-9]*' "$tmp/server.log" | head -1 | cut -d: -f2 || true)
-  [ -n "$port" ] && break
-  sleep 0.1
-done
-[ -n "${port:-}" ] || fail "the installed server did not start: $(cat "$tmp/server.log")"
+pids+=("$!")
+wait_for_log "$tmp/server.log" '"port":[0-9]' "the installed server" "$!"
+port=$(logged_port "$tmp/server.log")
 python3 - "$port" <<'PY' || fail "the installed server does not serve the viewer"
 import sys, urllib.request
 body = urllib.request.urlopen(f"http://127.0.0.1:{sys.argv[1]}/").read().decode()

@@ -9,20 +9,9 @@
 # Usage: nginx_proxy_test.sh LOCUS_SERVER_BIN. Exit 77 (skipped) when nginx is not installed.
 set -euo pipefail
 server_bin=$1
-repo=$(cd "$(dirname "$0")/../.." && pwd)
 command -v nginx >/dev/null 2>&1 || { echo "nginx not installed (Debian nginx-light): skipped"; exit 77; }
-
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  [ -f "$tmp/nginx.pid" ] && kill "$(cat "$tmp/nginx.pid")" 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-
-free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+source "$(dirname "$0")/lib.sh"
+exit_hooks+=('[ -f "$tmp/nginx.pid" ] && kill "$(cat "$tmp/nginx.pid")" 2>/dev/null')
 
 # A replica on a free port (0), with a short heartbeat so the stream check takes a second,
 # trusting nginx (on loopback here) for X-Forwarded-For as docker/compose.yaml does.
@@ -32,12 +21,8 @@ start_replica() {
   "$server_bin" --db "$tmp/$name.db" --host 127.0.0.1 --port 0 --demo --track-heartbeat 0.2 --trusted-proxy 127.0.0.1 >/dev/null 2>"$tmp/$name.log" &
   pid=$!
   pids+=("$pid")
-  for _ in $(seq 100); do
-    port=$(grep -o '"port":[0-9]*' "$tmp/$name.log" | head -1 | cut -d: -f2 || true)
-    [ -n "$port" ] && return
-    sleep 0.1
-  done
-  fail "replica $name did not start: $(cat "$tmp/$name.log")"
+  wait_for_log "$tmp/$name.log" '"port":[0-9]' "replica $name" "$pid"
+  port=$(logged_port "$tmp/$name.log")
 }
 start_replica a; port_a=$port
 start_replica b; port_b=$port; pid_b=$pid

@@ -4,30 +4,17 @@
 # binaries already built (LOCUS_NO_BUILD=1), so it never touches the build.
 # Usage: run_script_test.sh BUILD_DIR
 set -euo pipefail
+source "$(dirname "$0")/lib.sh"
 build_dir=$1
-repo=$(cd "$(dirname "$0")/../.." && pwd)
-tmp=$(mktemp -d)
-pid=
-cleanup() {
-  [ -n "$pid" ] && kill "$pid" 2>/dev/null || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 
 # Starts run.sh with the given environment and arguments; waits until it listens on $port.
 start() {
   env LOCUS_NO_BUILD=1 LOCUS_BUILD_DIR="$build_dir" "$@" >/dev/null 2>"$tmp/log" &
   pid=$!
-  for _ in $(seq 100); do
-    grep -q '"event":"listening"' "$tmp/log" 2>/dev/null && return
-    kill -0 "$pid" 2>/dev/null || fail "run.sh exited: $(cat "$tmp/log")"
-    sleep 0.1
-  done
-  fail "run.sh did not start: $(cat "$tmp/log")"
+  pids+=("$pid")
+  wait_for_log "$tmp/log" '"event":"listening"' run.sh "$pid"
 }
-stop() { kill "$pid"; wait "$pid" 2>/dev/null || true; pid=; }
+stop() { stop_pid "$pid"; }
 health() { python3 -c "import urllib.request,sys; print(urllib.request.urlopen('http://127.0.0.1:$1/health').status)"; }
 
 port=$(free_port)

@@ -1,0 +1,53 @@
+# The preamble the tests/deploy/*.sh scripts share; each sources it right after
+# `set -euo pipefail`. It gives them:
+#   repo            the repository's root
+#   tmp             a fresh temporary directory, removed on exit
+#   pids            processes to kill on exit: start one in the background, then `pids+=("$!")`
+#   exit_hooks      more commands (strings, eval'd) to run on exit, before the kills
+#   fail MESSAGE    prints FAIL: MESSAGE and exits 1
+#   free_port       a TCP port free on 127.0.0.1 now
+#   wait_for_log LOG PATTERN WHAT [PID]
+#                   waits up to 10 s for LOG to match the extended regex PATTERN; fails, showing
+#                   LOG, when PID (if given) exits first ("WHAT exited") or time runs out
+#                   ("WHAT did not start")
+#   logged_port LOG the port a locus-server started with --port 0 reports in its log
+#   stop_pid PID    kills PID, reaps it and drops it from pids
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+tmp=$(mktemp -d)
+pids=()
+exit_hooks=()
+
+deploy_cleanup() {
+  local hook p
+  for hook in "${exit_hooks[@]}"; do eval "$hook" || true; done
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  rm -rf "$tmp"
+}
+trap deploy_cleanup EXIT
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+
+wait_for_log() {
+  local log=$1 pattern=$2 what=$3 watched=${4:-}
+  for _ in $(seq 100); do
+    grep -qE "$pattern" "$log" 2>/dev/null && return 0
+    if [ -n "$watched" ] && ! kill -0 "$watched" 2>/dev/null; then
+      grep -qE "$pattern" "$log" 2>/dev/null && return 0
+      fail "$what exited: $(cat "$log")"
+    fi
+    sleep 0.1
+  done
+  fail "$what did not start: $(cat "$log")"
+}
+
+logged_port() { grep -o '"port":[0-9]*' "$1" | head -1 | cut -d: -f2; }
+
+stop_pid() {
+  local victim=$1 p kept=()
+  kill "$victim" 2>/dev/null || true
+  wait "$victim" 2>/dev/null || true
+  for p in "${pids[@]}"; do [ "$p" = "$victim" ] || kept+=("$p"); done
+  pids=("${kept[@]}")
+}
