@@ -268,3 +268,30 @@ TEST(BaroFloorData, TheStairsWalkLandmarksFloorsFromPressureAndTheStartFloor) {
     }
     EXPECT_EQ(right, 12);
 }
+
+// Every walk of the folder (36 on one floor, the stairs walk), pressure and start floor alone:
+// no false floor change on a single-floor walk (their heights wander ≤ ±1.2 m, less than the
+// 1.6 m + 0.5 m hysteresis to the mezzanine), every landmark's floor right. About a second.
+TEST(BaroFloorData, EveryWalksLandmarksFloorsFromPressureAndTheStartFloor) {
+    const std::string dir = std::string(LOCUS_DATA_DIR) + "/ipin2023/trials";
+    if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " not found: the shared data folder is absent";
+    const std::vector<FloorLevel> floors{{0, 0.0, true}, {-1, 3.2, false}, {-2, -5.7, true}};
+    int walks = 0, landmarks = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        if (entry.path().extension() != ".txt") continue;
+        const auto log = locus::datasets::ipin::read_log(entry.path().string());
+        const auto pressure = locus::datasets::ipin::pressure_series(log);
+        ASSERT_FALSE(log.posi.empty()) << entry.path();
+        BaroFloor bf(floors, {}, log.posi.front().floor);
+        std::size_t next = 0;
+        for (const auto& posi : log.posi) {
+            for (; next < pressure.size() && pressure[next].t_s <= posi.app_s; ++next)
+                bf.add_pressure(pressure[next].t_s, pressure[next].hpa);
+            EXPECT_EQ(bf.floor(), posi.floor) << entry.path().filename() << " landmark at " << posi.app_s << " s";
+            ++landmarks;
+        }
+        ++walks;
+    }
+    EXPECT_EQ(walks, 37);
+    EXPECT_EQ(landmarks, 528);
+}
