@@ -173,8 +173,12 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
                                  "--trials", "*Trial52*", "--train", "*Trial01*", "--method", "all", "--json"});
     ASSERT_EQ(ev.status, 0) << ev.err;
     const json e = json::parse(ev.out);
-    EXPECT_EQ(e["default"], "wifi");
+    EXPECT_EQ(e["default"], "wifi-baro");
     EXPECT_EQ(e["pooled"]["wifi"]["n"], 4);
+    EXPECT_EQ(e["pooled"]["wifi-baro"]["n"], 4);
+    // T52's pressure rises by 0.66 hPa (5.7 m down) between its 24 s and 30 s samples: the two
+    // POSI instants after the stairs are on −2 by the barometer, whatever the radio said.
+    EXPECT_EQ(e["pooled"]["wifi-baro"]["floor_hit_rate"], 1.0);
     EXPECT_EQ(e["pooled"]["yardstick"]["n"], 4);
     ASSERT_EQ(e["trials"].size(), 1u);
     EXPECT_EQ(e["trials"][0]["trial"], "T52_R01");
@@ -215,6 +219,24 @@ TEST(ImportIpin, BadInputImportsNothing) {
 
     // None of them reached the server.
     EXPECT_EQ(map_count(server), 0u);
+}
+
+TEST(EvalIpin, WifiBaroNamesWhatItLacks) {
+    ServerProcess server{{"--quiet"}};
+    const auto no_map = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--trials", "*Trial52*", "--method",
+                                     "wifi-baro", "--json"});
+    EXPECT_NE(no_map.status, 0);
+    EXPECT_NE(no_map.err.find("--method wifi-baro needs --map ID"), std::string::npos) << no_map.err;
+    // A map whose one floor has no elevation_m: the barometer cannot place anything on it.
+    const auto map = body_of(server.post("/v1/maps", {{"name", "flat"}}), 201);
+    const auto b = body_of(server.post("/v1/maps/" + std::to_string(map["id"].get<std::int64_t>()) + "/buildings", {{"name", "B"}}), 201);
+    body_of(server.post("/v1/buildings/" + std::to_string(b["id"].get<std::int64_t>()) + "/floors",
+                        {{"name", "G"}, {"level", 0}, {"width", 200}, {"height", 100}}),
+            201);
+    const auto flat = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--map",
+                                   std::to_string(map["id"].get<std::int64_t>()), "--trials", "*Trial52*", "--method", "wifi-baro"});
+    EXPECT_NE(flat.status, 0);
+    EXPECT_NE(flat.err.find("needs the map's floors' elevation_m"), std::string::npos) << flat.err;
 }
 
 TEST(SurveyWalkCli, LandmarksFromACsvOrFromPosiThroughTheFloorsGeoreference) {

@@ -48,11 +48,14 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     const json e = json::parse(ev.out);
     ASSERT_EQ(e["trials"].size(), 1u);
     EXPECT_EQ(e["trials"][0]["phone"], "SM-A520F");  // the README's table: T01 repetition 02 is the A5
-    for (const char* m : {"wifi", "yardstick"}) {
+    for (const char* m : {"wifi", "wifi-baro", "yardstick"}) {
         const json& f = e["pooled"][m];
         EXPECT_GE(f["n"].get<int>(), 10) << m;  // 10–26 POSI points per walk
         EXPECT_EQ(f["unscored"], 0) << m;
         // Same phone, same route, map from one walk: within 15 m at p75 (one floor's penalty).
         EXPECT_LT(f["p75_m"].get<double>(), 15.0) << m;
     }
+    // T01 stays on floor 0: its pressure wanders (≤ 0.16 hPa, the README) but never by half a
+    // floor, so the barometric floor is 0 at every landmark.
+    EXPECT_EQ(e["pooled"]["wifi-baro"]["floor_hit_rate"], 1.0);
 }

@@ -1,4 +1,4 @@
-// `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|all] [--train GLOB]
+// `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|wifi-baro|all] [--train GLOB]
 // [--server URL --map ID] [--json]`: WiFi-only positioning of the IPIN 2023 walks scored as
 // the competition scores them (tools/ipin_eval.hpp, docs/ipin-import.md). Each held-out walk's WiFi
 // scans are localized one by one (an estimate stamped at the scan's AppTimestamp); at each POSI
@@ -9,7 +9,11 @@
 // Methods: `yardstick`, kNN k = 3 over the raw scans of the --train walks (one RP per scan,
 // placed by the walking survey), powed representation (β = e), Sørensen distance, floor by
 // vote (Torres-Sospedra et al. 2015, as in tools/fingerprint_eval.hpp); `wifi`, the server's
-// answer to POST /v1/maps/{id}/localize with the scan and nothing else.
+// answer to POST /v1/maps/{id}/localize with the scan and nothing else; `wifi-baro`, the same
+// answers with their floor replaced by the barometric floor (locus/fusion/baro_floor.hpp: the
+// walk's pressure, the map's floor elevations, each answer's floor as a radio vote), estimates
+// at each scan and every 0.5 s between (the last answer's position, the floor then). Causal:
+// an estimate at t uses only the pressure samples and answers at or before t.
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -23,6 +27,7 @@
 #include "datasets/ipin_log.hpp"
 #include "ipin_eval.hpp"
 #include "ipin_venue.hpp"
+#include "locus/fusion/baro_floor.hpp"
 #include "locus/match/localize.hpp"
 #include "survey_connect.hpp"
 #include "walk_survey.hpp"
@@ -47,6 +52,7 @@ struct LoadedWalk {
     std::string label, phone;
     Walk walk;
     std::vector<ipin::Fix> truth;  // POSI instants on the venue's floors
+    std::vector<datasets::ipin::PressureSample> pressure;
 };
 
 std::vector<LoadedWalk> load(const std::string& dir, const std::vector<std::string>& globs) {
@@ -76,6 +82,7 @@ std::vector<LoadedWalk> load(const std::string& dir, const std::vector<std::stri
             log, [&](int, double lat, double lon) -> std::optional<Point> { return frame.to_floor({lat, lon}); }, dropped);
         for (const auto& l : w.walk.landmarks) w.truth.push_back({l.t, l.floor, l.at});
         add_wifi_scans(log, w.walk);
+        w.pressure = datasets::ipin::pressure_series(log);
         out.push_back(std::move(w));
     }
     return out;
@@ -127,26 +134,88 @@ Yardstick yardstick(const std::vector<LoadedWalk>& train) {
     return y;
 }
 
+// The map's floors as the barometric estimator takes them: level, elevation_m, and whether the
+// floor has a radio map (the server cannot answer a floor without one). A floor without an
+// elevation cannot be placed by pressure and is left out.
+std::vector<fusion::FloorLevel> baro_floors(api::Client& client, std::int64_t map) {
+    std::vector<fusion::FloorLevel> out;
+    for (const auto& b : client.buildings(map))
+        for (const auto& f : client.floors(b.id)) {
+            const json stored = client.get("/v1/floors/" + std::to_string(f.id));
+            const auto e = stored.find("elevation_m");
+            if (e == stored.end() || !e->is_number()) continue;
+            out.push_back({f.level, e->get<double>(), !client.radiomaps(f.id).empty()});
+        }
+    return out;
+}
+
+// wifi-baro: each server answer's floor replaced by the barometric floor. The events of the
+// walk (pressure samples, scans, the 2 Hz ticks) are taken in time order, pressure first at
+// equal times, so every estimate uses only what came at or before it.
+std::vector<std::optional<ipin::Fix>> with_baro_floor(const LoadedWalk& lw, const std::vector<std::optional<ipin::Fix>>& answers,
+                                                      const std::vector<fusion::FloorLevel>& floors,
+                                                      std::vector<ipin::Fix>& estimates) {
+    constexpr double kTickS = 0.5;
+    fusion::BaroFloor baro(floors);
+    std::vector<std::optional<ipin::Fix>> per_scan(answers.size());
+    std::optional<ipin::Fix> last;
+    std::size_t next_p = 0;
+    auto feed_until = [&](double t) {
+        for (; next_p < lw.pressure.size() && lw.pressure[next_p].t_s <= t; ++next_p)
+            baro.add_pressure(lw.pressure[next_p].t_s, lw.pressure[next_p].hpa);
+    };
+    const auto& times = lw.walk.scan_times;
+    const double end = std::max(times.empty() ? 0.0 : times.back(), lw.truth.empty() ? 0.0 : lw.truth.back().t);
+    std::size_t i = 0;
+    double tick = times.empty() ? end + 1.0 : std::floor(times.front() / kTickS) * kTickS;
+    while (i < times.size() || tick <= end) {
+        const bool scan_first = i < times.size() && (tick > end || times[i] <= tick);
+        const double t = scan_first ? times[i] : tick;
+        feed_until(t);
+        if (scan_first) {
+            if (answers[i]) {
+                baro.add_radio_vote(answers[i]->floor);
+                last = *answers[i];
+                last->floor = baro.floor().value_or(answers[i]->floor);
+                per_scan[i] = last;
+                estimates.push_back(*last);
+            }
+            ++i;
+        } else {
+            if (last) estimates.push_back({t, baro.floor().value_or(last->floor), last->at});
+            tick += kTickS;
+        }
+    }
+    return per_scan;
+}
+
 void run(const Args& a) {
     const bool want_yardstick = a.method == "yardstick" || a.method == "all";
     const bool want_wifi = a.method == "wifi" || a.method == "all";
+    const bool want_baro = a.method == "wifi-baro" || a.method == "all";
     if (want_yardstick && a.train.empty()) throw CommandError("--method " + a.method + " needs --train GLOB (the yardstick's walks)");
-    if (want_wifi && a.map <= 0) throw CommandError("--method " + a.method + " needs --map ID (and --server URL)");
+    if ((want_wifi || want_baro) && a.map <= 0) throw CommandError("--method " + a.method + " needs --map ID (and --server URL)");
     const auto test = load(a.dir, a.trials);
     std::optional<Yardstick> ys;
     if (want_yardstick) ys = yardstick(load(a.dir, a.train));
 
     std::optional<api::Client> client;
     std::map<long long, int> level_of_floor;
-    if (want_wifi) {
+    std::vector<fusion::FloorLevel> floors;
+    if (want_wifi || want_baro) {
         client.emplace(a.server.client_options());
         for (const auto& b : client->buildings(a.map))
             for (const auto& f : client->floors(b.id)) level_of_floor[f.id] = f.level;
         if (level_of_floor.empty()) throw CommandError("map " + std::to_string(a.map) + " has no floor");
     }
+    if (want_baro) {
+        floors = baro_floors(*client, a.map);
+        if (floors.empty()) throw CommandError("--method " + a.method + " needs the map's floors' elevation_m (none has one)");
+    }
     std::vector<std::string> methods;
     if (want_yardstick) methods.push_back("yardstick");
     if (want_wifi) methods.push_back("wifi");
+    if (want_baro) methods.push_back("wifi-baro");
 
     std::map<std::string, ipin::Errors> pooled, pooled_scans;
     std::map<std::string, std::size_t> unanswered;
@@ -155,33 +224,46 @@ void run(const Args& a) {
     for (const auto& lw : test) {
         std::cerr << "evaluating " << lw.label << " (" << lw.phone << ", " << lw.walk.scans.size() << " scans)\n";
         const auto truth_of_scan = scan_truth(lw.walk);
+        // The server's answers, asked once for wifi and wifi-baro.
+        std::vector<std::optional<ipin::Fix>> server_answers;
+        if (want_wifi || want_baro) {
+            server_answers.resize(lw.walk.scans.size());
+            for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
+                api::LocalizeRequest req;
+                req.scans = {lw.walk.scans[i]};
+                try {
+                    const auto r = client->localize_map(a.map, req);
+                    const auto it = level_of_floor.find(r.floor_id);
+                    if (it != level_of_floor.end()) server_answers[i] = ipin::Fix{lw.walk.scan_times[i], it->second, r.at};
+                } catch (const api::ApiError& err) {
+                    if (err.status() / 100 != 4) throw;  // 4xx: no answer for this scan (e.g. no AP known)
+                }
+            }
+        }
         json row = {{"trial", lw.label}, {"phone", lw.phone}, {"methods", json::object()}};
         for (const auto& m : methods) {
             std::vector<ipin::Fix> estimates, scan_est, scan_truths;
-            for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
-                std::optional<ipin::Fix> e;
-                if (m == "yardstick") {
+            std::vector<std::optional<ipin::Fix>> per_scan;
+            if (m == "yardstick") {
+                per_scan.resize(lw.walk.scans.size());
+                for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
                     const auto r = match::localize(ys->index, match::Query::from_scans({lw.walk.scans[i]}), match::Algorithm::knn,
                                                    ys->options, workspace);
-                    if (r) e = ipin::Fix{lw.walk.scan_times[i], static_cast<int>(r->floor_id), r->at};
-                } else {
-                    api::LocalizeRequest req;
-                    req.scans = {lw.walk.scans[i]};
-                    try {
-                        const auto r = client->localize_map(a.map, req);
-                        const auto it = level_of_floor.find(r.floor_id);
-                        if (it != level_of_floor.end()) e = ipin::Fix{lw.walk.scan_times[i], it->second, r.at};
-                    } catch (const api::ApiError& err) {
-                        if (err.status() / 100 != 4) throw;  // 4xx: no answer for this scan (e.g. no AP known)
-                    }
+                    if (r) per_scan[i] = ipin::Fix{lw.walk.scan_times[i], static_cast<int>(r->floor_id), r->at};
                 }
-                if (!e) {
+            } else if (m == "wifi") {
+                per_scan = server_answers;
+            } else {
+                per_scan = with_baro_floor(lw, server_answers, floors, estimates);
+            }
+            for (std::size_t i = 0; i < per_scan.size(); ++i) {
+                if (!per_scan[i]) {
                     ++unanswered[m];
                     continue;
                 }
-                estimates.push_back(*e);
+                if (m != "wifi-baro") estimates.push_back(*per_scan[i]);
                 if (truth_of_scan[i]) {
-                    scan_est.push_back(*e);
+                    scan_est.push_back(*per_scan[i]);
                     scan_truths.push_back(*truth_of_scan[i]);
                 }
             }
@@ -227,10 +309,10 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     cmd->add_option("DIR", a->dir, "the data set folder (with trials/)")->required();
     cmd->add_option("--trials", a->trials, "held-out walks: globs on the file names of DIR/trials (repeat: any matches)")->required();
     cmd->add_option("--train", a->train, "the yardstick's walks (a glob, as --trials)");
-    cmd->add_option("--method", a->method, "yardstick, wifi (the server's answer) or all")
+    cmd->add_option("--method", a->method, "yardstick, wifi (the server's answer), wifi-baro (its floor from the barometer) or all")
         ->capture_default_str()
-        ->check(CLI::IsMember({"yardstick", "wifi", "all"}));
-    cmd->add_option("--map", a->map, "map id (for wifi)");
+        ->check(CLI::IsMember({"yardstick", "wifi", "wifi-baro", "all"}));
+    cmd->add_option("--map", a->map, "map id (for wifi and wifi-baro)");
     cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");
     cmd->callback([a] { run(*a); });
 });
