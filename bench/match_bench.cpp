@@ -1,7 +1,8 @@
 // Time per localize() query (one iteration = one query, reported in µs) for each matcher
 // over the full UJIIndoorLoc map (933 RPs, 520 WAPs), one thread, plus the cost of building
-// the index; then the maps issue 14 bounds: TUT6 (3,116 one-scan RPs, queried with its own
-// test scans) and the raw-scan yardstick on both (every UJIIndoorLoc training row an RP).
+// the index; then the large maps whose query time docs/results.md bounds (≤ 300 µs): TUT6
+// (3,116 one-scan RPs, queried with its own test scans) and the raw-scan yardstick on both
+// (every UJIIndoorLoc training row an RP).
 // The counter bytes_per_rp is the index's heap size over its RPs.
 // Run by hand:  build/bin/match_bench
 #include <benchmark/benchmark.h>

@@ -1,7 +1,7 @@
-// Positioning from transmitters at known positions (issue 18 targets): multilateration and
-// seed 004's trilateration with 20 transmitters heard (≤ 50 µs per query), the model fit of
-// one AP from a survey, and a modelled radio map of 10,000 grid RPs from 200 transmitters and
-// 2,000 walls (≤ 5 s).
+// Positioning from transmitters at known positions (the budgets docs/transmitters.md sets):
+// multilateration and the Kalman-fusion paper's trilateration with 20 transmitters heard (≤ 50 µs
+// per query), the model fit of one AP from a survey, and a modelled radio map of 10,000 grid RPs
+// from 200 transmitters and 2,000 walls (≤ 5 s).
 #include <benchmark/benchmark.h>
 
 #include <cmath>

@@ -1,6 +1,7 @@
-// The tightly coupled ranging filter (fusion::RangingEkf, issue 18's seed 004 target): the cost
-// of one PDR step (predict) and of one scan's update with seed 004's six anchors and with 20
-// anchors heard, so a phone (1 Hz scans, ~2 steps/s) or a server running many tracks can budget it.
+// The tightly coupled ranging filter (fusion::RangingEkf, our answer to the Kalman-fusion paper,
+// docs/spec.md §8): the cost of one PDR step (predict) and of one scan's update with the
+// Kalman-fusion paper's six anchors and with 20 anchors heard, so a phone (1 Hz scans, ~2 steps/s)
+// or a server running many tracks can budget it.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -23,7 +24,7 @@ std::vector<RangingAnchor> anchors(int count) {
     return out;
 }
 
-// 64 scans from random points, 3.75 dB noise (seed 004's).
+// 64 scans from random points, 3.75 dB noise (the Kalman-fusion paper's).
 std::vector<std::vector<AnchorReading>> scans(const std::vector<RangingAnchor>& as) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> x(2, 23), y(2, 10);

@@ -1,5 +1,6 @@
-// Seed 001 on the phone: what one acoustic exchange costs a phone (finding both chirps in a
-// 0.2 s recording with the direct-form matched filter) and one estimator step.
+// Relative positioning (Bonjorn López 2016, docs/spec.md §8) on the phone: what one acoustic
+// exchange costs a phone (finding both chirps in a 0.2 s recording with the direct-form matched
+// filter) and one estimator step.
 #include <benchmark/benchmark.h>
 
 #include <cmath>

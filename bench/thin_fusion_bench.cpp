@@ -4,7 +4,7 @@
 // the PUTMC floor's plan made from its drawing; walk_pf also without a plan. Counters: the
 // bytes one live track's filter holds (track_bytes) and those of the floor's shared plan
 // structures (floor_bytes: PlanWalkable, built once per plan version). Skipped when the
-// shared data folder is absent. And a Kalman track's request (kalman_seed, kalman_ranging,
+// shared data folder is absent. And a Kalman track's request (kalman_trilateration, kalman_ranging,
 // ekf_ranging): its scan of six transmitters ranged (trilateration, multilateration) and fused
 // with 4 steps (ekf_ranging: the scan's six readings are its measurements).
 #include <benchmark/benchmark.h>
@@ -92,16 +92,16 @@ void BM_ThinFusionCopy(benchmark::State& state) {
 BENCHMARK(BM_ThinFusionCopy)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // A Kalman track's request as POST /v1/tracks/{id}/steps runs it past the HTTP layer and the
-// transmitter cache (transmitter_cache_bench): the scan ranged on six transmitters around a
-// 14 m × 12 m room (seed 004's trilateration or multilateration), then the filter's copy runs
-// 4 steps and the ranged fix. Arg 0: 0 = kalman_seed, 1 = kalman_ranging, 2 = ekf_ranging (the
-// scan multilaterated as the route does, its six readings the update).
+// transmitter cache (transmitter_cache_bench): the scan ranged on six transmitters around a 14 m ×
+// 12 m room (the Kalman-fusion paper's trilateration or multilateration), then the filter's copy
+// runs 4 steps and the ranged fix. Arg 0: 0 = kalman_trilateration, 1 = kalman_ranging, 2 =
+// ekf_ranging (the scan multilaterated as the route does, its six readings the update).
 void BM_ThinFusionRangingRequest(benchmark::State& state) {
     const bool ekf = state.range(0) == 2;
     const bool ours = state.range(0) >= 1;
     const std::vector<ranging::Transmitter> txs = {{{1, 1}, 1.3, {-40, 2.0}},  {{14, 1}, 1.3, {-42, 2.1}}, {{14, 13}, 1.3, {-41, 2.0}},
                                                    {{1, 13}, 1.3, {-39, 1.9}}, {{7, 7}, 1.6, {-40, 2.0}},  {{11, 7}, 1.0, {-41, 2.0}}};
-    const auto method = ekf ? tracks::FusionMethod::ekf_ranging : ours ? tracks::FusionMethod::kalman_ranging : tracks::FusionMethod::kalman_seed;
+    const auto method = ekf ? tracks::FusionMethod::ekf_ranging : ours ? tracks::FusionMethod::kalman_ranging : tracks::FusionMethod::kalman_trilateration;
     auto anchors = std::make_shared<tracks::FloorAnchors>();
     for (std::size_t i = 0; i < txs.size(); ++i) anchors->by_floor[1].push_back({"wifi|tx" + std::to_string(i), txs[i]});
     const auto no_plan = [](std::int64_t) { return std::shared_ptr<const fusion::Walkable>(); };

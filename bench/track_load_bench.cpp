@@ -1,4 +1,4 @@
-// Live tracks under load (issue 17): a real server in this process on 127.0.0.1 (the HTTP
+// Live tracks under load (docs/tracks.md): a real server in this process on 127.0.0.1 (the HTTP
 // front, the tracks service, SQLite in a temp file), N tracks each posting one fix a second
 // for D seconds from 16 kept-alive client connections, and 50 Server-Sent Event listeners on
 // 50 of the tracks. Reports the post latency (p50, p99, max), errors, whether every listener

@@ -1,4 +1,4 @@
--- Locus schema v8: live tracks (issue 17). A phone opens a track on a map and posts its fused
+-- Locus schema v8: live tracks (docs/tracks.md). A phone opens a track on a map and posts its fused
 -- fixes; the owner's token and each share token are stored only as SHA-256 hashes, so the
 -- database file cannot be used to follow anyone. Times are Unix seconds (REAL). A track is
 -- 'live', then 'closed' (by its owner, or after --track-ttl without a fix), then 'gone' once

@@ -1,5 +1,6 @@
--- Locus schema v13: a track may be fused by seed 004's Kalman filters (`fusion`
--- 'kalman_seed' or 'kalman_ranging' on POST /v1/tracks) or our tightly coupled ranging filter
+-- Locus schema v13: a track may be fused by the Kalman filters of the Kalman-fusion paper
+-- (docs/spec.md §8; `fusion` 'kalman_seed', the stored name of POST /v1/tracks's
+-- kalman_trilateration, or 'kalman_ranging') or our tightly coupled ranging filter
 -- ('ekf_ranging'; added before 013 was released, so no database has 013 without it), with their noise options
 -- (`fusion_options`, JSON text; NULL: the method's defaults). Tracks opened before keep their
 -- fusion and have no options.

@@ -264,7 +264,7 @@ async function run() {
   await patch(`/v1/pois/${poi}`, { kind: 'emergency_exit' }, { expect: 200 });
   await patch(`/v1/pois/${poi}`, { x: '1' }, { expect: 422, invalid: true });
 
-  // Transmitters (issue 18): three APs and a beacon at known positions on the 30 m × 15 m floor
+  // Transmitters (docs/transmitters.md): three APs and a beacon at known positions on the 30 m × 15 m floor
   const txAp = (n) => `02:00:00:00:10:0${n}`;
   const tx = idOf(await post(`/v1/floors/${floor}/transmitters`, { name: 'AP west', type: 'wifi', bssid: txAp(1), x: 2, y: 2, z: 2.6, tx_power: -40, path_loss_exponent: 2 }, { expect: 201 }), 'a transmitter');
   await post(`/v1/floors/${floor}/transmitters`, { type: 'wifi', bssid: txAp(2), x: 28, y: 2, tx_power: -40 }, { expect: 201 });
@@ -521,7 +521,11 @@ async function run() {
     await get(`/v1/tracks/${ekfT}`, { headers: te, expect: 200 });
     await post('/v1/tracks', { map_id: map, fusion: 'ekf_ranging', fusion_options: { r_floor_m: 0.5 } }, { auth: false, expect: 422 });
     await post('/v1/tracks', { map_id: map, fusion: 'ekf_ranging', fusion_options: { reading_sigma_db: 0 } }, { auth: false, expect: 422, invalid: true });
-    await post('/v1/tracks', { map_id: map, fusion: 'kalman_seed', fusion_options: { r_sigma_m: -1 } }, { auth: false, expect: 422, invalid: true });
+    await post('/v1/tracks', { map_id: map, fusion: 'kalman_trilateration', fusion_options: { r_sigma_m: -1 } }, { auth: false, expect: 422, invalid: true });
+    // The deprecated alias kalman_seed opens a kalman_trilateration track, named so in the answer.
+    const openedAlias = await post('/v1/tracks', { map_id: map, fusion: 'kalman_seed', fusion_options: { r_sigma_m: 2.5 } }, { auth: false, expect: 201 });
+    if (openedAlias.json?.fusion !== 'kalman_trilateration')
+      violations.push(`POST /v1/tracks with fusion kalman_seed: answered fusion ${openedAlias.json?.fusion}, not kalman_trilateration`);
     await post('/v1/tracks', { map_id: map, fusion: 'walk_pf', fusion_options: { q_sigma_m: 0.3 } }, { auth: false, expect: 422 });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, { auth: false, expect: 401 });
     await post(`/v1/tracks/${a}/fixes`, { fixes: [fixOf(nowS, floor, 1, 1)] }, own(tb, { expect: 403 }));

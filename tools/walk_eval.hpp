@@ -30,7 +30,7 @@ std::vector<PhoneStep> detect_steps(const datasets::putmc::Walk& walk, double un
 
 // The methods' parameters on real walks. Chosen on walks xperia_traj1–5 only (docs/fusion.md):
 // the Kalman filter's per-metre step noise is 8× the simulator's (a real indoor compass is off
-// by tens of degrees, the simulator's by a few); the five rules run with the seed's exact
+// by tens of degrees, the simulator's by a few); the five rules run with Traini 2017's exact
 // constants here (Traini's λ = 4 m, N_max 10, γ 2, midpoint ½) and again tuned (below).
 inline sim::EvalConfig real_walk_methods() {
     sim::EvalConfig c;
@@ -39,12 +39,12 @@ inline sim::EvalConfig real_walk_methods() {
 }
 
 // The rules' parameters chosen on walks 1–5 (docs/fusion.md, "The five rules on real data"),
-// reported as `<rule>_tuned` beside the seed-exact rules.
+// reported as `<rule>_tuned` beside the rules as Traini 2017 states them.
 inline fusion::RuleParams real_walk_rules() {
     fusion::RuleParams p;
     p.midpoint_wifi_weight = 0.9;  // 0.5 → 0.9 took midpoint from 3.69 to 2.29 m on walks 1–5
     p.lambda_m = 100.0;            // with that weight any λ ≤ 20 m was worse: the switch never fires
-    p.n_max = 20;                  // seed's 10: every scan here has ≥ 10 APs, so α = 0 (the fix)
+    p.n_max = 20;                  // Traini 2017's 10: every scan here has ≥ 10 APs, so α = 0 (the fix)
     p.proportional2_min_r = 0.9;   // the fix's weight at least 0.9 (6.21 → 2.29 m on walks 1–5)
     return p;
 }

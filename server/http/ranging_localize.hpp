@@ -16,7 +16,7 @@
 namespace locus::http {
 
 struct RangingRequest {
-    bool multilateration = false;  // else seed 004's trilateration
+    bool multilateration = false;  // else the Kalman-fusion paper's trilateration
     match::Query query;
     ranging::TrilaterationOptions trilateration;
     ranging::MultilaterationOptions multilateration_options;

@@ -1,4 +1,4 @@
-// Live tracks (issue 17; the service is server/tracks/service.hpp):
+// Live tracks (docs/tracks.md; the service is server/tracks/service.hpp):
 //
 //   POST   /v1/tracks                          {map_id, label?, fusion?, fusion_options?} -> 201 {id, token, ...}
 //   POST   /v1/tracks/{id}/fixes               {fixes: [{t, floor_id, x, y, accuracy_m, heading_deg?}]}
@@ -219,7 +219,7 @@ tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMetho
     const auto it = body.find("fusion_options");
     if (it == body.end()) return out;
     if (!tracks::ranges_scans(method))
-        throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_seed, kalman_ranging, ekf_ranging); ") +
+        throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_trilateration, kalman_ranging, ekf_ranging); ") +
                             tracks::fusion_method_name(method) + " takes none");
     if (!it->is_object()) throw invalid_field("'fusion_options' must be an object");
     for (auto item = it->begin(); item != it->end(); ++item) {
@@ -239,7 +239,7 @@ tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMetho
 }
 
 // A scan on a track fused by a Kalman method: ranged on the map's transmitters as
-// POST /v1/maps/{id}/localize ranges it (kalman_seed: trilateration, kalman_ranging and
+// POST /v1/maps/{id}/localize ranges it (kalman_trilateration: trilateration, kalman_ranging and
 // ekf_ranging: multilateration, the default options), the ranging fix carried for its
 // covariance. ekf_ranging also carries the readings of known transmitters, its measurements,
 // and takes a scan that cannot be ranged (fewer than three heard, no fix) as readings alone:
@@ -248,7 +248,7 @@ tracks::RadioFix ranged_scan_fix(const KnownTransmitters& known, tracks::FusionM
                                  const std::string& where) {
     const bool ekf = method == tracks::FusionMethod::ekf_ranging;
     RangingRequest request;
-    request.multilateration = method != tracks::FusionMethod::kalman_seed;
+    request.multilateration = method != tracks::FusionMethod::kalman_trilateration;
     request.query = match::Query::from_scans({readings});
     if (request.query.aps.empty()) throw invalid_field("'" + where + ".readings' holds no reading");
     tracks::RadioFix f;
@@ -313,8 +313,8 @@ void App::install_track_routes() {
             if (const auto f = body.find("fusion"); f != body.end()) {
                 const auto named = f->is_string() ? tracks::fusion_method_of(f->get<std::string>()) : std::nullopt;
                 if (!named)
-                    throw invalid_field("'fusion' must be \"walk_pf\" (the default), \"particle\", \"kalman_seed\", "
-                                        "\"kalman_ranging\" or \"ekf_ranging\"");
+                    throw invalid_field("'fusion' must be \"walk_pf\" (the default), \"particle\", \"kalman_trilateration\" "
+                                        "(or its deprecated alias \"kalman_seed\"), \"kalman_ranging\" or \"ekf_ranging\"");
                 fusion = *named;
             }
             const auto fusion_options = parse_fusion_options(body, fusion);

@@ -22,7 +22,7 @@ Eigen::Matrix2d fix_covariance(double accuracy_m) {
 }
 
 fusion::RangingKalmanConfig kalman_config(FusionMethod method, const FusionOptions& options) {
-    auto c = method == FusionMethod::kalman_seed ? fusion::seed004_kalman_config() : fusion::ranging_kalman_config();
+    auto c = method == FusionMethod::kalman_trilateration ? fusion::trilateration_kalman_config() : fusion::ranging_kalman_config();
     if (options.r_sigma_m) c.fixed_r_sigma_m = *options.r_sigma_m;
     if (options.q_sigma_m) c.kalman.step_sigma_floor_m = *options.q_sigma_m;
     if (options.q_sigma_per_m) c.kalman.step_sigma_per_m = *options.q_sigma_per_m;
@@ -80,7 +80,7 @@ void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resume
         // resumed at a stored fused fix, as sure as the filter was then.
         fusion::KalmanConfig c = kalman_config_.kalman;
         c.initial_sigma_m = resumed ? std::max(r.accuracy_m, 0.05) : std::sqrt(kalman_r(r).trace() / 2.0);
-        // Ours is map-matched on the floor's plan as `locus replay` runs it; the seed's is not.
+        // Ours is map-matched on the floor's plan as `locus replay` runs it; the paper's is not.
         std::shared_ptr<const fusion::PlanWalkable> plan;
         if (method_ == FusionMethod::kalman_ranging && w) plan = w->floor_plan;
         kalman_.emplace(at, c, std::move(plan));

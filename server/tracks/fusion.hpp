@@ -5,9 +5,9 @@
 // By default that is walk_pf (fusion::WalkFilter with the real-walk preset, the best causal
 // method on real walks: docs/fusion.md), which learns the compass's rotation, mirror and the
 // step scale and walks the floor's plan when it has one, freely when not; a track may ask for
-// the older fusion::ParticleFilter, which needs a plan, or seed 004's Kalman filter
+// the older fusion::ParticleFilter, which needs a plan, or the Kalman-fusion paper's Kalman filter
 // (fusion::KalmanFilter with PDR steps as control input, as `locus sim` and `locus replay` run
-// it: kalman_seed with constant R and Q, kalman_ranging with each ranged fix's covariance as R;
+// it: kalman_trilateration with constant R and Q, kalman_ranging with each ranged fix's covariance as R;
 // the latter map-matched on the floor's plan when it has one), or our tightly coupled
 // fusion::RangingEkf (ekf_ranging: each known transmitter a scan hears is a measurement, so a
 // scan hearing one or two still counts once the filter runs). One filter per track, started at

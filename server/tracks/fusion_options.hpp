@@ -1,9 +1,9 @@
 #pragma once
 // `fusion_options` on POST /v1/tracks: the Kalman methods' noise, each absent one the method's
-// default (fusion::seed004_kalman_config() for kalman_seed, fusion::ranging_kalman_config()
-// for kalman_ranging, fusion::RangingEkfConfig{} for ekf_ranging). Stored with the track as JSON text (migration 013). The table of
-// options, which method takes each and its range, is here once: the HTTP layer validates by
-// it and the filter is configured by it.
+// default (fusion::trilateration_kalman_config() for kalman_trilateration,
+// fusion::ranging_kalman_config() for kalman_ranging, fusion::RangingEkfConfig{} for ekf_ranging).
+// Stored with the track as JSON text (migration 013). The table of options, which method takes each
+// and its range, is here once: the HTTP layer validates by it and the filter is configured by it.
 #include <array>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -14,7 +14,7 @@
 namespace locus::tracks {
 
 struct FusionOptions {
-    std::optional<double> r_sigma_m;      // kalman_seed: R = σ² I, whatever the fix says
+    std::optional<double> r_sigma_m;      // kalman_trilateration: R = σ² I, whatever the fix says
     std::optional<double> q_sigma_m;      // all three: Q's σ per step, however short
     std::optional<double> q_sigma_per_m;  // all three: plus this σ per metre walked
     std::optional<double> r_floor_m;      // kalman_ranging: R's σ per axis is at least this
@@ -33,12 +33,12 @@ struct FusionOptionSpec {
     const char* name;
     std::optional<double> FusionOptions::*field;
     double min, max;  // inclusive
-    bool seed, ranging, ekf;  // taken by kalman_seed, by kalman_ranging, by ekf_ranging
+    bool trilateration, ranging, ekf;  // taken by kalman_trilateration, by kalman_ranging, by ekf_ranging
 };
 
-// Every σ is positive (a zero R or Q would make the filter trust one side absolutely), except
-// the per-metre Q, which seed 004 sets to 0 (its Q is per step), and the EKF's step lead (0
-// turns it off), offset σ (0: the phone's offset is held at 0) and heading walk (0: the bias
+// Every σ is positive (a zero R or Q would make the filter trust one side absolutely), except the
+// per-metre Q, which the Kalman-fusion paper sets to 0 (its Q is per step), and the EKF's step lead
+// (0 turns it off), offset σ (0: the phone's offset is held at 0) and heading walk (0: the bias
 // stays at what the first readings make of it).
 inline constexpr std::array<FusionOptionSpec, 10> kFusionOptions{{
     {"r_sigma_m", &FusionOptions::r_sigma_m, 0.05, 100.0, true, false, false},
@@ -54,7 +54,7 @@ inline constexpr std::array<FusionOptionSpec, 10> kFusionOptions{{
 }};
 
 inline bool takes(const FusionOptionSpec& spec, FusionMethod m) {
-    return (m == FusionMethod::kalman_seed && spec.seed) || (m == FusionMethod::kalman_ranging && spec.ranging) ||
+    return (m == FusionMethod::kalman_trilateration && spec.trilateration) || (m == FusionMethod::kalman_ranging && spec.ranging) ||
            (m == FusionMethod::ekf_ranging && spec.ekf);
 }
 

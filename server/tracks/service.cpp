@@ -253,7 +253,7 @@ TrackInfo Service::insert_track(std::int64_t map_id, const std::string& label, F
     ins.bind(1, map_id);
     if (label.empty()) ins.bind_null(2);
     else ins.bind(2, std::string_view(label));
-    ins.bind_blob(3, hash).bind(4, t).bind(5, t).bind(6, std::string_view(fusion_method_name(fusion)));
+    ins.bind_blob(3, hash).bind(4, t).bind(5, t).bind(6, std::string_view(fusion_method_stored_name(fusion)));
     const std::string options_text = fusion_options_text(options);
     if (options_text.empty()) ins.bind_null(7);
     else ins.bind(7, std::string_view(options_text));

@@ -1,5 +1,5 @@
 #pragma once
-// Live tracks (issue 17): who is where now, for the owner of a track and those it shares with.
+// Live tracks (docs/tracks.md): who is where now, for the owner of a track and those it shares with.
 //
 // A track's fixes are rows of the database (schema/008_tracks.sql), written on the service's
 // own SQLite connection to the store's file: a thousand phones posting a fix a second would

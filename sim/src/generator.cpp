@@ -73,7 +73,7 @@ std::vector<double> means_at(const Environment& env, Point p) {
 
 SimConfig default_config(const std::string& scenario) {
     SimConfig c;
-    if (scenario == "seed004") {
+    if (scenario == "open_area" || scenario == kOpenAreaAlias) {
         c.heading_walk_rad_per_sqrt_m = 0.04;
         c.misalignment_sigma_rad = 0.04;
         c.step_length_person_sigma = 0.05;

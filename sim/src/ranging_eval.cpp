@@ -52,7 +52,7 @@ RangingFixes run_ranging(const Walk& walk, const RangingEvalConfig& config) {
     RangingFixes out;
     for_each_window(walk, config.window_s, [&](const std::vector<ranging::Heard>& heard, double t) {
         if (const auto f = ranging::trilaterate(heard, config.trilateration))
-            out.trilateration.push_back(as_fix(t, *f, config.seed_kalman));
+            out.trilateration.push_back(as_fix(t, *f, config.trilateration_kalman));
     });
     double residual_sum = 0.0;
     int residuals = 0;
@@ -115,7 +115,7 @@ std::vector<NamedTrack> run_ranging_methods(const std::vector<PdrStep>& steps, c
     };
     out.push_back({"trilateration", fix_track(fixes.trilateration)});
     out.push_back({"multilateration", fix_track(fixes.multilateration)});
-    out.push_back({"kalman_seed", kalman_track(steps, fixes.trilateration, start, config.seed_kalman.kalman)});
+    out.push_back({"kalman_trilateration", kalman_track(steps, fixes.trilateration, start, config.trilateration_kalman.kalman)});
     out.push_back({"kalman_ranging", kalman_track(steps, fixes.multilateration, start, config.kalman.kalman,
                                                   config.kalman_fix_latency_s, std::move(floor_plan))});
     out.push_back({"ekf_ranging", ekf_track(steps, fixes, start, config.ekf)});

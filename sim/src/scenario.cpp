@@ -83,17 +83,18 @@ Scenario make_basement() {
     return s;
 }
 
-// Seed 004 §4: a 300 m² open area with chairs, tables and people passing, 2 WiFi APs and 4 BLE
-// tags as anchors, the phone in hand walking one fixed path, coordinates every 5 s. The seed
-// gives neither plan nor path nor anchor positions: a 25 m × 12 m hall, the walk a loop along
-// its middle (the free "corridor" between the furniture), the anchors on the two long sides
-// of it, 4 m from the walk, so every point of it has at least four anchors within the seed's
-// 10 m cutoff. The anchors' model is the seed's (n = 2, RSS at 1 m as configured); the room's
+// The test area of the Kalman-fusion paper (docs/spec.md §8 "Sources"), its §4: a
+// 300 m² open area with chairs, tables and people passing, 2 WiFi APs and 4 BLE tags as
+// anchors, the phone in hand walking one fixed path, coordinates every 5 s. The paper gives
+// neither plan nor path nor anchor positions: a 25 m × 12 m hall, the walk a loop along its
+// middle (the free "corridor" between the furniture), the anchors on the two long sides of
+// it, 4 m from the walk, so every point of it has at least four anchors within the paper's
+// 10 m cutoff. The anchors' model is the paper's (n = 2, RSS at 1 m as configured); the room's
 // true exponents scatter around it.
-Scenario make_seed004() {
+Scenario make_open_area() {
     Scenario s;
-    s.name = "seed004";
-    s.description = "seed 004's open area, 300 m2: 4 BLE + 2 WiFi anchors around the walk's corridor; loop of 46 m";
+    s.name = "open_area";
+    s.description = "the Kalman-fusion paper's open area, 300 m2: 4 BLE + 2 WiFi anchors around the walk's corridor; loop of 46 m";
     auto& plan = s.map.plan;
     plan.width = 25.0;
     plan.height = 12.0;
@@ -156,15 +157,15 @@ std::vector<Point> points_along(const std::vector<Point>& path, double spacing_m
 const Scenario& scenario(const std::string& name) {
     static const Scenario ground = make_ground();
     static const Scenario basement = make_basement();
-    static const Scenario seed004 = make_seed004();
+    static const Scenario open_area = make_open_area();
     if (name == "ground") return ground;
     if (name == "basement") return basement;
-    if (name == "seed004") return seed004;
-    throw std::invalid_argument("unknown scenario '" + name + "' (ground, basement, seed004)");
+    if (name == "open_area" || name == kOpenAreaAlias) return open_area;
+    throw std::invalid_argument("unknown scenario '" + name + "' (ground, basement, open_area)");
 }
 
 std::span<const std::string> scenario_names() {
-    static const std::vector<std::string> names{"ground", "basement", "seed004"};
+    static const std::vector<std::string> names{"ground", "basement", "open_area"};
     return names;
 }
 

@@ -78,12 +78,12 @@ TEST(Replay, UnknownRuleIsRefused) {
 TEST(Replay, AWalkWithAnchorsGetsTheRangingMethods) {
     ServerProcess s;
     const auto h = locus::testing::make_hierarchy(s);
-    const std::string walk = s.dir() + "/seed004.jsonl";
-    ASSERT_EQ(run_command({LOCUS_CLI_BIN, "sim", "--scenario", "seed004", "--seed", "4", "--out", walk}).status, 0);
+    const std::string walk = s.dir() + "/open_area.jsonl";
+    ASSERT_EQ(run_command({LOCUS_CLI_BIN, "sim", "--scenario", "open_area", "--seed", "4", "--out", walk}).status, 0);
     const auto r = run_command({LOCUS_CLI_BIN, "replay", "--server", s.url(), "--radiomap", std::to_string(h.radiomap),
                                 "--rule", "all", "--walls", "file", "--upload-survey", walk});
     ASSERT_EQ(r.status, 0) << r.err;
-    const auto local = run_command({LOCUS_CLI_BIN, "sim", "--scenario", "seed004", "--seed", "4", "--evaluate", "--json"});
+    const auto local = run_command({LOCUS_CLI_BIN, "sim", "--scenario", "open_area", "--seed", "4", "--evaluate", "--json"});
     ASSERT_EQ(local.status, 0) << local.err;
     std::map<std::string, double> expected;
     for (const auto& o : json::parse(local.out)) expected[o.at("method")] = o.at("mean_error_m");
@@ -91,7 +91,7 @@ TEST(Replay, AWalkWithAnchorsGetsTheRangingMethods) {
     const json out = json::parse(r.out);  // kept: a range-for over a temporary's member dangles
     for (const auto& t : out.at("tracks")) {
         const std::string method = t.at("method");
-        if (method != "trilateration" && method != "multilateration" && method != "kalman_seed" && method != "kalman_ranging" &&
+        if (method != "trilateration" && method != "multilateration" && method != "kalman_trilateration" && method != "kalman_ranging" &&
             method != "ekf_ranging")
             continue;
         ++ranging;
@@ -100,6 +100,38 @@ TEST(Replay, AWalkWithAnchorsGetsTheRangingMethods) {
         EXPECT_NEAR(t.at("mean_error_m").get<double>(), expected[method], 1e-6) << method;
     }
     EXPECT_EQ(ranging, 5);
+}
+
+// The names from before the rename still work: the scenario seed004 is open_area, the flags
+// --seed-r-sigma and --seed-q-sigma are --trilateration-r-sigma and --trilateration-q-sigma (which
+// change kalman_trilateration's track, and only it), and --rule kalman_seed is kalman_trilateration.
+TEST(Replay, TheDeprecatedNamesStillWork) {
+    const auto scores = [](const std::vector<std::string>& extra) {
+        std::vector<std::string> args = {LOCUS_CLI_BIN, "sim", "--seed", "4", "--evaluate", "--json"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const auto r = run_command(args);
+        EXPECT_EQ(r.status, 0) << r.err;
+        std::map<std::string, double> out;
+        for (const auto& o : json::parse(r.out)) {
+            EXPECT_EQ(o.at("scenario"), "open_area");
+            out[o.at("method")] = o.at("mean_error_m");
+        }
+        return out;
+    };
+    const auto old_names = scores({"--scenario", "seed004", "--seed-r-sigma", "1.2", "--seed-q-sigma", "0.6"});
+    const auto new_names = scores({"--scenario", "open_area", "--trilateration-r-sigma", "1.2", "--trilateration-q-sigma", "0.6"});
+    const auto defaults = scores({"--scenario", "open_area"});
+    EXPECT_EQ(old_names, new_names);
+    ASSERT_TRUE(defaults.count("kalman_trilateration"));
+    EXPECT_NE(new_names.at("kalman_trilateration"), defaults.at("kalman_trilateration"));
+    EXPECT_EQ(new_names.at("kalman_ranging"), defaults.at("kalman_ranging"));
+
+    ServerProcess s;
+    const std::string walk = s.dir() + "/ground.jsonl";
+    ASSERT_EQ(run_command({LOCUS_CLI_BIN, "sim", "--scenario", "ground", "--seed", "1", "--out", walk}).status, 0);
+    const auto r = run_command({LOCUS_CLI_BIN, "replay", "--server", s.url(), "--radiomap", "1", "--rule", "kalman_seed", walk});
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("--rule kalman_trilateration needs a walk with anchors"), std::string::npos) << r.err;
 }
 
 TEST(Replay, ARangingRuleNeedsAnchors) {
@@ -163,7 +195,7 @@ TEST(Replay, FiltersMapMatchOnTheServersPlanWhenTheFloorHasOne) {
     ServerProcess s;
     const auto h = locus::testing::make_hierarchy(s);
     const std::string walk = s.dir() + "/walk.jsonl";
-    // The fixed compass offset of the simulator before issue 13: this walk's PDR (seed 3) then
+    // A fixed compass offset alone (--heading-walk 0): this walk's PDR (seed 3) then
     // runs through the office wall past x = 17 m, which is what the map matching is checked on.
     ASSERT_EQ(run_command({LOCUS_CLI_BIN, "sim", "--scenario", "ground", "--seed", "3", "--heading-walk", "0", "--out", walk}).status, 0);
     const auto replay = [&](const std::string& walls) {

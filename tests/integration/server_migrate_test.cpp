@@ -1,6 +1,7 @@
-// `locus migrate --from sqlite:PATH --to postgresql://…` (issue 19): a server on the copy
-// answers what the SQLite server answered, ids included and never reused; a non-empty target
-// is refused. Runs only under scripts/with_postgres.sh.
+// `locus migrate --from sqlite:PATH --to postgresql://…` (docs/deploy.md, "Moving an SQLite
+// database into PostgreSQL"): a server on the copy answers what the SQLite server answered, ids
+// included and never reused; a non-empty target is refused. Runs only under
+// scripts/with_postgres.sh.
 #include <gtest/gtest.h>
 
 #include <string>

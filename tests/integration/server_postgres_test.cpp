@@ -1,7 +1,7 @@
-// PostgreSQL's faults (issue 19): unreachable at start (a clear message naming the URL without
-// its password, exit non-zero), a schema newer than the binary (refused), lost mid-run (writes
-// answer 503 storage_unavailable, localize keeps serving from memory, writes work again once
-// it is back). Runs only under scripts/with_postgres.sh.
+// PostgreSQL's faults (docs/deploy.md, "Failure behaviour"): unreachable at start (a clear message
+// naming the URL without its password, exit non-zero), a schema newer than the binary (refused),
+// lost mid-run (writes answer 503 storage_unavailable, localize keeps serving from memory, writes
+// work again once it is back). Runs only under scripts/with_postgres.sh.
 #include <gtest/gtest.h>
 
 #include <chrono>

@@ -1,8 +1,8 @@
-// Many servers, one PostgreSQL database (issue 19): a write on one server reaches localize on
-// another within a second, uploads from several servers to the same RPs merge exactly, a
-// server killed mid-upload loses nothing it acknowledged, and a live track takes a phone's
-// fixes on either server. Runs only under
-// scripts/with_postgres.sh (LOCUS_TEST_DB_URL); an SQLite file has one server.
+// Many servers, one PostgreSQL database (docs/deploy.md, "Replicated"): a write on one server
+// reaches localize on another within a second, uploads from several servers to the same RPs merge
+// exactly, a server killed mid-upload loses nothing it acknowledged, and a live track takes a
+// phone's fixes on either server. Runs only under scripts/with_postgres.sh (LOCUS_TEST_DB_URL); an
+// SQLite file has one server.
 #include <gtest/gtest.h>
 
 #include <atomic>

@@ -106,7 +106,7 @@ TEST(ServerSearch, FindsAccentsCasePrefixesAndTyposWithWhereToGo) {
         EXPECT_EQ(hit.at("building_id"), site.h.building);
         EXPECT_DOUBLE_EQ(hit.at("x").get<double>(), 15.0);  // the space's middle
         EXPECT_DOUBLE_EQ(hit.at("y").get<double>(), 7.0);
-        // A named space may be kept in step with a room of its own (issue 15): then it is
+        // A named space may be kept in step with a room of its own (docs/spec.md §2.4): then it is
         // that room, else a space reached by position.
         if (hit.at("kind") == "room") {
             EXPECT_EQ(hit.at("route_to"), json({{"room_id", hit.at("id")}}));

@@ -1,11 +1,11 @@
-// Live tracks fused by seed 004's Kalman filters over HTTP against the real server: a floor
-// with six transmitters, a walk along a known path, its PDR steps and the scans the
-// log-distance model gives along it; the server's fused fixes are client-lib's ranging and
-// Kalman filter run in-process on the same inputs, and end near the truth. Bad input (unknown
-// fusion, bad fusion_options, a scan hearing two known transmitters, a map with none) is
-// refused with nothing written, and a restarted server (or, on PostgreSQL, another server
-// sharing the database) resumes at the latest stored fix.
-// Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
+// Live tracks fused by the Kalman filters of the Kalman-fusion paper (docs/spec.md §8) over HTTP
+// against the real server: a floor with six transmitters, a walk along a known path, its PDR steps
+// and the scans the log-distance model gives along it; the server's fused fixes are client-lib's
+// ranging and Kalman filter run in-process on the same inputs, and end near the truth. Bad input
+// (unknown fusion, bad fusion_options, a scan hearing two known transmitters, a map with none) is
+// refused with nothing written, and a restarted server (or, on PostgreSQL, another server sharing
+// the database) resumes at the latest stored fix. Eigen first: cpp-httplib pulls in <resolv.h>,
+// whose `_res` macro breaks Eigen's headers.
 #include "locus/fusion/kalman.hpp"
 #include "locus/fusion/ranging_ekf.hpp"
 #include "locus/fusion/ranging_fix.hpp"
@@ -47,7 +47,7 @@ struct Tx {
 };
 
 // Six transmitters around and inside a 13 m × 12 m area of the hierarchy's 30 m × 20 m floor,
-// so that every point of the walk has three within seed 004's 10 m cutoff.
+// so that every point of the walk has three within the Kalman-fusion paper's 10 m cutoff.
 const std::vector<Tx> kTxs = {{"aa:10:00:00:00:01", 1.0, 1.0, 2.5, -40.0, 2.0},
                               {"aa:10:00:00:00:02", 14.0, 1.0, 2.5, -42.0, 2.1},
                               {"aa:10:00:00:00:03", 14.0, 13.0, 2.5, -41.0, 2.0},
@@ -359,10 +359,10 @@ TEST(ServerTracksRanging, KalmanTracksFuseScansAsClientLibDoes) {
         fusion::RangingKalmanConfig config;
         bool multilateration;
     };
-    auto seed_config = fusion::seed004_kalman_config();
-    seed_config.fixed_r_sigma_m = 2.0;
-    seed_config.kalman.step_sigma_floor_m = 0.25;
-    std::vector<Case> cases = {{"kalman_seed", {{"r_sigma_m", 2.0}, {"q_sigma_m", 0.25}}, seed_config, false},
+    auto trilateration_config = fusion::trilateration_kalman_config();
+    trilateration_config.fixed_r_sigma_m = 2.0;
+    trilateration_config.kalman.step_sigma_floor_m = 0.25;
+    std::vector<Case> cases = {{"kalman_trilateration", {{"r_sigma_m", 2.0}, {"q_sigma_m", 0.25}}, trilateration_config, false},
                                {"kalman_ranging", nullptr, fusion::ranging_kalman_config(), true}};
     for (const Case& c : cases) {
         SCOPED_TRACE(c.fusion);
@@ -385,6 +385,40 @@ TEST(ServerTracksRanging, KalmanTracksFuseScansAsClientLibDoes) {
         EXPECT_TRUE(retry["fused"].empty()) << retry.dump();
         EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
     }
+}
+
+// "kalman_seed", kalman_trilateration's name before the rename, is still taken: the track is a
+// kalman_trilateration track (its options, its fused fixes, client-lib's trilateration filter),
+// named by its new name in every answer, also once the server reads it back from the database.
+TEST(ServerTracksRanging, TheDeprecatedNameKalmanSeedOpensAKalmanTrilaterationTrack) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    add_transmitters(s, h.floor);
+    const json options = {{"r_sigma_m", 2.0}};
+    const json opened = body_of(call(s, "POST", "/v1/tracks", "",
+                                     json{{"map_id", h.map}, {"fusion", "kalman_seed"}, {"fusion_options", options}}.dump()),
+                                201);
+    EXPECT_EQ(opened["fusion"], "kalman_trilateration");
+    EXPECT_EQ(opened["fusion_options"], options);
+    // kalman_ranging's options are not kalman_trilateration's: refused under the new name.
+    const Response refused = call(s, "POST", "/v1/tracks", "",
+                                  json{{"map_id", h.map}, {"fusion", "kalman_seed"}, {"fusion_options", {{"r_floor_m", 1.0}}}}.dump());
+    EXPECT_EQ(refused.status, 422) << refused.raw;
+    EXPECT_NE(refused.body["error"]["message"].get<std::string>().find("not an option of kalman_trilateration"), std::string::npos)
+        << refused.raw;
+
+    const Track t{opened.at("id").get<std::int64_t>(), opened.at("token").get<std::string>()};
+    const Walk w = make_walk(std::floor(unix_now()) - 60);
+    auto config = fusion::trilateration_kalman_config();
+    config.fixed_r_sigma_m = 2.0;
+    Expected e{config, false, std::nullopt};
+    post_in_two(s, t, w, w.t0 + 12.2, h.floor, e);
+
+    s.stop();
+    s.start();
+    const json info = body_of(call(s, "GET", t.self(), t.token));
+    EXPECT_EQ(info["fusion"], "kalman_trilateration");
+    EXPECT_EQ(info["fusion_options"], options);
 }
 
 // The mean distance of a track's fused fixes at the walk's steps from the truth there.
@@ -446,8 +480,8 @@ TEST(ServerTracksRanging, EkfTrackFusesReadingsAsClientLibDoes) {
     std::printf("mean error at the steps: ekf_ranging %.3f m (reading σ 3 dB: %.3f m), kalman_ranging %.3f m\n", default_mean,
                 ekf_mean, kalman_mean);
     // Not a ranking: on this short walk with exact steps and a smooth ±2 dB shadowing they are
-    // within a few centimetres of each other (0.29, 0.34 and 0.31 m when written); seed 004's
-    // simulated walks rank them (docs/transmitters.md).
+    // within a few centimetres of each other (0.29, 0.34 and 0.31 m when written); the
+    // Kalman-fusion paper's simulated walks rank them (docs/transmitters.md).
     EXPECT_LT(default_mean, 0.6);
     EXPECT_LT(ekf_mean, 0.6);
     EXPECT_LT(default_mean, kalman_mean + 0.15);
@@ -498,23 +532,23 @@ TEST(ServerTracksRanging, EkfTakesPostedFixesAndScansHearingFewTransmitters) {
 }
 
 // A radio fix posted directly (not a scan): kalman_ranging takes its accuracy_m as an isotropic
-// covariance under the track's r_floor_m and r_scale; kalman_seed its fixed R.
+// covariance under the track's r_floor_m and r_scale; kalman_trilateration its fixed R.
 TEST(ServerTracksRanging, DirectRadioFixesTakeTheirAccuracyOrTheFixedR) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);  // no transmitters: no scan, fixes only
     const double t0 = std::floor(unix_now()) - 60;
-    for (const char* method : {"kalman_ranging", "kalman_seed"}) {
+    for (const char* method : {"kalman_ranging", "kalman_trilateration"}) {
         SCOPED_TRACE(method);
-        const bool seed = std::string(method) == "kalman_seed";
-        const json options = seed ? json{{"q_sigma_per_m", 0.1}} : json{{"r_floor_m", 0.8}, {"r_scale", 2.0}};
+        const bool trilateration = std::string(method) == "kalman_trilateration";
+        const json options = trilateration ? json{{"q_sigma_per_m", 0.1}} : json{{"r_floor_m", 0.8}, {"r_scale", 2.0}};
         const Track t = open_track(s, h.map, method, options);
         const json req = {{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 3.0}, {"y", 4.0}, {"accuracy_m", 1.5}},
                                      {{"t", t0 + 2.5}, {"floor_id", h.floor}, {"x", 5.0}, {"y", 4.5}, {"accuracy_m", 3.0}}}},
                           {"steps", {{{"t", t0 + 1}, {"length_m", 0.8}, {"heading_deg", 90.0}},
                                      {{"t", t0 + 2}, {"length_m", 0.8}, {"heading_deg", 90.0}}}}};
         const json got = body_of(call(s, "POST", t.steps(), t.token, req.dump()));
-        auto config = seed ? fusion::seed004_kalman_config() : fusion::ranging_kalman_config();
-        if (seed) config.kalman.step_sigma_per_m = 0.1;
+        auto config = trilateration ? fusion::trilateration_kalman_config() : fusion::ranging_kalman_config();
+        if (trilateration) config.kalman.step_sigma_per_m = 0.1;
         else config.r_floor_m = 0.8, config.r_scale = 2.0;
         const auto r_of = [&](double accuracy) {
             ranging::Fix f;
@@ -550,13 +584,13 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
         {{{"fusion", "kalman"}}, "fusion"},
         {{{"fusion", "walk_pf"}, {"fusion_options", {{"q_sigma_m", 0.3}}}}, "fusion_options"},
         {{{"fusion_options", {{"q_sigma_m", 0.3}}}}, "fusion_options"},  // the default, walk_pf
-        {{{"fusion", "kalman_seed"}, {"fusion_options", json::array()}}, "fusion_options"},
-        {{{"fusion", "kalman_seed"}, {"fusion_options", {{"r_floor_m", 1.0}}}}, "fusion_options.r_floor_m"},
+        {{{"fusion", "kalman_trilateration"}, {"fusion_options", json::array()}}, "fusion_options"},
+        {{{"fusion", "kalman_trilateration"}, {"fusion_options", {{"r_floor_m", 1.0}}}}, "fusion_options.r_floor_m"},
         {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"r_sigma_m", 1.0}}}}, "fusion_options.r_sigma_m"},
         {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"sigma", 1.0}}}}, "fusion_options.sigma"},
-        {{{"fusion", "kalman_seed"}, {"fusion_options", {{"r_sigma_m", 0.0}}}}, "fusion_options.r_sigma_m"},
-        {{{"fusion", "kalman_seed"}, {"fusion_options", {{"r_sigma_m", -2.0}}}}, "fusion_options.r_sigma_m"},
-        {{{"fusion", "kalman_seed"}, {"fusion_options", {{"q_sigma_m", 1e6}}}}, "fusion_options.q_sigma_m"},
+        {{{"fusion", "kalman_trilateration"}, {"fusion_options", {{"r_sigma_m", 0.0}}}}, "fusion_options.r_sigma_m"},
+        {{{"fusion", "kalman_trilateration"}, {"fusion_options", {{"r_sigma_m", -2.0}}}}, "fusion_options.r_sigma_m"},
+        {{{"fusion", "kalman_trilateration"}, {"fusion_options", {{"q_sigma_m", 1e6}}}}, "fusion_options.q_sigma_m"},
         {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"r_scale", "2"}}}}, "fusion_options.r_scale"},
         {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"q_sigma_per_m", nullptr}}}}, "fusion_options.q_sigma_per_m"},
         {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"reading_sigma_db", 3.0}}}}, "fusion_options.reading_sigma_db"},
@@ -575,7 +609,7 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
         EXPECT_NE(r.body["error"]["message"].get<std::string>().find(name), std::string::npos) << r.raw;
     }
     // Nothing was written: the next track takes the next id.
-    const Track next = open_track(s, h.map, "kalman_seed");
+    const Track next = open_track(s, h.map, "kalman_trilateration");
     EXPECT_EQ(next.id, first.id + 1);
     const Track ekf = open_track(s, h.map, "ekf_ranging");
 
@@ -618,7 +652,7 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
 
     // A map whose floor has no transmitters: every scan hears none.
     const auto bare = locus::testing::make_hierarchy(s, "Bare");
-    const Track lonely = open_track(s, bare.map, "kalman_seed");
+    const Track lonely = open_track(s, bare.map, "kalman_trilateration");
     const Response r = call(s, "POST", lonely.steps(), lonely.token, body({}, {w.scans[0]}).dump());
     EXPECT_EQ(r.status, 422) << r.raw;
     EXPECT_EQ(r.body["error"]["code"], "too_few_transmitters") << r.raw;
@@ -680,9 +714,9 @@ TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesTheTrack) {
     if (!locus::testing::on_postgres()) GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)";
     ServerProcess a({"--quiet"});
     ServerProcess b({"--quiet"}, locus::testing::SameDatabase{a.db()});
-    const HalfWalked hw = walk_half(a, "kalman_seed", nullptr, 10.2);
+    const HalfWalked hw = walk_half(a, "kalman_trilateration", nullptr, 10.2);
     const auto [latest, got] = finish_on(b, hw);
-    Expected e{fusion::seed004_kalman_config(), false, std::nullopt};
+    Expected e{fusion::trilateration_kalman_config(), false, std::nullopt};
     e.resume(latest);
     expect_same(got["fused"], e.run(slice(hw.w.steps, hw.mid, 1e300), slice(hw.w.scans, hw.mid, 1e300)));
     EXPECT_EQ(stored_fixes(a, hw.t), hw.w.steps.size() + hw.w.scans.size());

@@ -215,7 +215,7 @@ TEST(RoomsPlan, ScenariosBecomeValidPlansThatAgreeWithTheirRooms) {
         }
         EXPECT_GT(compared, 5000);
         EXPECT_GT(legal, compared / 2);
-        // Some moves cross walls, except in a single open room (seed004) where none can.
+        // Some moves cross walls, except in a single open room (open_area) where none can.
         if (rooms.plan.rooms.size() > 1) {
             EXPECT_LT(legal, compared) << name;
         }

@@ -15,7 +15,8 @@ using namespace locus::fusion;
 
 namespace {
 
-// Six anchors around a 20 m × 8 m room, 1.3 m above the phone (seed 004's kind of layout).
+// Six anchors around a 20 m × 8 m room, 1.3 m above the phone (the Kalman-fusion paper's kind of
+// layout).
 std::vector<RangingAnchor> six_anchors() {
     std::vector<RangingAnchor> out;
     const Point at[] = {{0, 0}, {10, 0}, {20, 0}, {0, 8}, {10, 8}, {20, 8}};

@@ -1,7 +1,8 @@
-// Seed 004's fusion on its kind of scenario: BLE anchors around a 20 m × 6 m corridor, a walk
-// up and back twice with PDR errors (a fixed step length, its noise, heading noise and bias),
-// 1 Hz RSS with 4 dB shadowing. The Kalman filter (PDR as control input, multilateration fixes
-// as measurements with their own covariance) must beat both of its inputs on the mean error.
+// The fusion of the Kalman-fusion paper (docs/spec.md §8) on its kind of scenario: BLE anchors
+// around a 20 m × 6 m corridor, a walk up and back twice with PDR errors (a fixed step length, its
+// noise, heading noise and bias), 1 Hz RSS with 4 dB shadowing. The Kalman filter (PDR as control
+// input, multilateration fixes as measurements with their own covariance) must beat both of its
+// inputs on the mean error.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,7 +28,7 @@ Errors walk(unsigned seed) {
     for (double x : {0.0, 5.0, 10.0, 15.0, 20.0})
         for (double y : {0.0, 6.0}) anchors.push_back({{x, y}, 1.5, {-59.0, 2.0}});
     // Truth: twice east along y = 3 to x = 18 and back; one 0.75 m step per second. PDR
-    // counts every step as seed 004's fixed 0.7 m, with a compass 0.08 rad off.
+    // counts every step as the Kalman-fusion paper's fixed 0.7 m, with a compass 0.08 rad off.
     std::vector<Point> truth;
     for (int lap = 0; lap < 2; ++lap) {
         for (double x = 2; x <= 18; x += 0.75) truth.push_back({x, 3.0});
@@ -110,7 +111,7 @@ TEST(FusionRanging, MeasurementNoiseIsConfiguredOrTheFixs) {
     f.syy = 1.0;
     f.sxy = 0.5;
     fusion::RangingKalmanConfig fixed;
-    fixed.fixed_r_sigma_m = 2.0;  // seed 004: R a constant, whatever the fix claims
+    fixed.fixed_r_sigma_m = 2.0;  // the Kalman-fusion paper: R a constant, whatever the fix claims
     EXPECT_TRUE(fusion::ranging_measurement_noise(f, fixed).isApprox(Eigen::Matrix2d::Identity() * 4.0));
     fusion::RangingKalmanConfig own;
     own.r_floor_m = 0.0;
@@ -119,14 +120,14 @@ TEST(FusionRanging, MeasurementNoiseIsConfiguredOrTheFixs) {
     EXPECT_DOUBLE_EQ(r(0, 0), 8.0);
     EXPECT_DOUBLE_EQ(r(1, 1), 2.0);
     EXPECT_DOUBLE_EQ(r(0, 1), 1.0);
-    // The seed's filter: constant Q per step (no growth with the distance walked) and a fixed R.
-    const auto seed = fusion::seed004_kalman_config();
-    EXPECT_GT(seed.fixed_r_sigma_m, 0.0);
-    EXPECT_EQ(seed.kalman.step_sigma_per_m, 0.0);
-    fusion::KalmanFilter kf({0, 0}, seed.kalman);
+    // The paper's filter: constant Q per step (no growth with the distance walked) and a fixed R.
+    const auto constant = fusion::trilateration_kalman_config();
+    EXPECT_GT(constant.fixed_r_sigma_m, 0.0);
+    EXPECT_EQ(constant.kalman.step_sigma_per_m, 0.0);
+    fusion::KalmanFilter kf({0, 0}, constant.kalman);
     kf.predict({0.1, 0.0});
     const double after_short = kf.covariance()(0, 0);
-    fusion::KalmanFilter kf2({0, 0}, seed.kalman);
+    fusion::KalmanFilter kf2({0, 0}, constant.kalman);
     kf2.predict({1.0, 0.0});
     EXPECT_DOUBLE_EQ(kf2.covariance()(0, 0), after_short);
 }

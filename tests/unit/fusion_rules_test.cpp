@@ -133,7 +133,7 @@ TEST(FusionRules, RejectsParametersOutsideTheirDomain) {
 }
 
 TEST(FusionRules, TunedWeightsMoveTheFusedPointTowardsTheFix) {
-    // The defaults are the seed's rules exactly; the real-walk tuning moves the weights.
+    // The defaults are Traini 2017's rules exactly; the real-walk tuning moves the weights.
     RuleParams p;
     p.midpoint_wifi_weight = 0.75;  // 0.25·(3,0) + 0.75·(0,4)
     expect_point(fuse(Rule::midpoint, base(), p), 0.75, 3.0);

@@ -1,6 +1,7 @@
-// Ranging, seed 004's trilateration and the multilateration on synthetic geometry: without
-// noise both recover the position exactly; with shadowing the error stays bounded; the
-// seed's cutoff and too few transmitters answer nothing.
+// Ranging, the trilateration of the Kalman-fusion paper (docs/spec.md §8) and the
+// multilateration on synthetic geometry: without noise both recover the position exactly;
+// with shadowing the error stays bounded; the paper's cutoff and too few transmitters answer
+// nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,7 +16,7 @@ using namespace locus::ranging;
 
 namespace {
 
-// Seed 004's layout: anchors around a 20 m × 6 m corridor.
+// The Kalman-fusion paper's layout: anchors around a 20 m × 6 m corridor.
 std::vector<Transmitter> corridor() {
     std::vector<Transmitter> out;
     for (double x : {0.0, 5.0, 10.0, 15.0, 20.0})
@@ -52,7 +53,7 @@ TEST(Trilateration, ExactWithoutNoise) {
         EXPECT_NEAR(fix->at.x, p.x, 1e-6);
         EXPECT_NEAR(fix->at.y, p.y, 1e-6);
         EXPECT_GE(fix->used, 3);
-        // The seed's 10 m cutoff leaves the far anchors out.
+        // The paper's 10 m cutoff leaves the far anchors out.
         EXPECT_LT(fix->used, static_cast<int>(txs.size()));
     }
 }

@@ -1,4 +1,4 @@
-// Seed 001's acoustic ranging on synthetic recordings: two phones at 0.3–1.3 m, each recording
+// Bonjorn López 2016's acoustic ranging on synthetic recordings: two phones at 0.3–1.3 m, each recording
 // both chirps with its own clock offset, white noise at 10 dB SNR against the remote chirp, and
 // 1–5 ms between "play" and the sound actually leaving each speaker. Target: error ≤ 2 cm.
 #include <gtest/gtest.h>

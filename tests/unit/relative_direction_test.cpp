@@ -1,4 +1,4 @@
-// Seed 001's relative-direction estimator on hand-computed cases: weight stages, the angle
+// Bonjorn López 2016's relative-direction estimator on hand-computed cases: weight stages, the angle
 // Kalman filter's wrap, the reference resets, the circle–line intersection.
 #include <gtest/gtest.h>
 
@@ -42,7 +42,7 @@ TEST(AngleKalman, FirstMeasurementAsIsThenAveragesAcrossTheWrap) {
 TEST(AngleKalman, GainShrinksSoLaterOutliersMoveItLittle) {
     AngleKalman k;
     for (int i = 0; i < 30; ++i) k.update(40.0);
-    // With the seed's Q = 1e-5, R = 1e-3 the gain settles near √(Q/R) ≈ 0.1 (P ≈ √(QR)), so a
+    // With the thesis's Q = 1e-5, R = 1e-3 the gain settles near √(Q/R) ≈ 0.1 (P ≈ √(QR)), so a
     // 60° outlier moves the estimate by about 6°, not 60°.
     const double after = k.update(100.0);
     EXPECT_GT(after, 43.0);

@@ -1,6 +1,6 @@
-// Seed 001's two walkers: with exact ranging and A heading at B, the estimator points at B;
+// Bonjorn López 2016's two walkers: with exact ranging and A heading at B, the estimator points at B;
 // with A walking 90° off B it can only ever report the walked direction (|w| = cos α < 0.5 is
-// discarded), which is the seed's own finding for walks not aimed at the other person.
+// discarded), which is the thesis's own finding for walks not aimed at the other person.
 #include <gtest/gtest.h>
 
 #include "sim/two_walkers.hpp"
@@ -49,7 +49,7 @@ TEST(TwoWalkers, BothFixesPointAtBFromAnyStart) {
 }
 
 // Smoothed RSSI and a longer baseline before a weight (min_rho): walking at B, the estimate
-// points at B; with the seed's 0.5 m it is mostly noise.
+// points at B; with the thesis's 0.5 m it is mostly noise.
 TEST(TwoWalkers, SmoothedRssiWithALongBaselinePointsAtB) {
     TwoWalkerConfig c;
     c.initial_spread_deg = 0.0;

@@ -53,6 +53,7 @@ TEST(StoreTrackMigration, Version12TracksKeepTheirRowsIdsAndReferences) {
     db.exec("INSERT INTO tracks (map_id, token_hash, state, created_at, last_fix_at, fusion, fusion_options) "
             "VALUES (1, x'08', 'live', 1, 1, 'kalman_ranging', '{\"r_scale\":2.0}')");
     EXPECT_EQ(db.last_insert_id(), 8);
+    // kalman_trilateration is stored under its first name (tracks/fusion_method.hpp).
     db.exec("INSERT INTO tracks (map_id, token_hash, state, created_at, last_fix_at, fusion) VALUES (1, x'09', 'live', 1, 1, 'kalman_seed')");
     db.exec("INSERT INTO tracks (map_id, token_hash, state, created_at, last_fix_at, fusion, fusion_options) "
             "VALUES (1, x'0b', 'live', 1, 1, 'ekf_ranging', '{\"reading_sigma_db\":5.0}')");

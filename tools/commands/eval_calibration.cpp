@@ -1,13 +1,13 @@
-// `locus eval calibration`: what `POST /v1/floors/{id}/transmitters/fit` gives on a real survey
-// and what a radio map generated from it is worth (issue 18, seed 002). On UJIIndoorLoc, with
-// no AP position given: every AP heard at enough RPs of a floor gets its position, transmit
-// power and exponent fitted from the survey's training rows only (ranging::fit_position_and_model,
-// the code the fit endpoint runs); the R² of the fits is reported per building. Then the
-// held-out rows are localized, with the server's default matcher, against three radio maps:
-// the surveyed one, one modelled at the same RP positions (the survey's positions, not its
-// readings) and one modelled on a grid over the floor's surveyed extent (no survey at all
-// but the floor's outline). The gap between the first and the others is what the survey's
-// readings buy.
+// `locus eval calibration`: what `POST /v1/floors/{id}/transmitters/fit` gives on a real survey and
+// what a radio map generated from it is worth (after Le, Saragas and Webb 2009, docs/spec.md §8).
+// On UJIIndoorLoc, with no AP position given: every AP heard at enough RPs of a floor gets its
+// position, transmit power and exponent fitted from the survey's training rows only
+// (ranging::fit_position_and_model, the code the fit endpoint runs); the R² of the fits is reported
+// per building. Then the held-out rows are localized, with the server's default matcher, against
+// three radio maps: the surveyed one, one modelled at the same RP positions (the survey's
+// positions, not its readings) and one modelled on a grid over the floor's surveyed extent (no
+// survey at all but the floor's outline). The gap between the first and the others is what the
+// survey's readings buy.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // `locus eval relative [--runs N] [--seed S] [--start-distance M] [--seconds T] [--json]`:
-// seed 001's two walkers (sim/two_walkers.hpp): B stands, A walks to find it from PDR and a
+// Bonjorn López 2016's two walkers (sim/two_walkers.hpp): B stands, A walks to find it from PDR and a
 // phone-to-phone distance per step; the relative-direction error of the estimator for each way
 // of getting that distance. No server: the simulator and client-lib only.
 #include <cstdio>
@@ -51,7 +51,7 @@ void run(const Args& a) {
 
 LOCUS_COMMAND("eval-relative", [](CLI::App& app) {
     auto& eval = locus::tools::group(app, "eval", "Measure the matchers on real data sets");
-    auto* cmd = eval.add_subcommand("relative", "Seed 001 in simulation: two walkers, relative-direction error per method");
+    auto* cmd = eval.add_subcommand("relative", "Relative positioning (Bonjorn López 2016) in simulation: two walkers, relative-direction error per method");
     auto args = std::make_shared<Args>();
     auto& c = args->config;
     cmd->add_option("--runs", args->runs, "walks per method (seeds seed…seed+runs−1)")->capture_default_str()->check(CLI::Range(1, 100000));

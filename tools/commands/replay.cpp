@@ -1,9 +1,10 @@
-// `locus replay`: a recorded or simulated walk through the real PDR, fixes from a running
-// server, one fusion rule (or every method), and the track's error against the truth. The
-// particle and Kalman filters map-match on the floor plan the server holds for the radio
-// map's floor when there is one (--walls), else on the walk file's rooms and doors. A walk with
-// anchors at known positions (locus sim --scenario seed004) also gets seed 004's ranging methods,
-// ranged in-process from the anchors the walk file lists (sim/ranging_eval.hpp).
+// `locus replay`: a recorded or simulated walk through the real PDR, fixes from a running server,
+// one fusion rule (or every method), and the track's error against the truth. The particle and
+// Kalman filters map-match on the floor plan the server holds for the radio map's floor when there
+// is one (--walls), else on the walk file's rooms and doors. A walk with anchors at known positions
+// (locus sim --scenario open_area) also gets the Kalman-fusion paper's ranging methods
+// (docs/spec.md §8 "Sources"), ranged in-process from the anchors the walk file lists
+// (sim/ranging_eval.hpp).
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -127,18 +128,18 @@ void run(const Args& a) {
     const bool all = a.rule == "all";
     const std::vector<std::string> methods = {"pdr", "wifi", "only_wifi", "midpoint", "midpoint_threshold",
                                               "proportional", "proportional2", "kalman", "particle", "walk_pf"};
-    const std::vector<std::string> ranging_methods = {"trilateration", "multilateration", "kalman_seed", "kalman_ranging",
+    const std::vector<std::string> ranging_methods = {"trilateration", "multilateration", "kalman_trilateration", "kalman_ranging",
                                                       "ekf_ranging"};
     const bool ranging_rule = std::find(ranging_methods.begin(), ranging_methods.end(), a.rule) != ranging_methods.end();
     if (!all && !ranging_rule && std::find(methods.begin(), methods.end(), a.rule) == methods.end())
         throw tools::CommandError("unknown --rule '" + a.rule + "' (only_wifi, midpoint, midpoint_threshold, "
                                   "proportional, proportional2, kalman, particle, walk_pf, pdr, wifi, all; with "
-                                  "anchors: trilateration, multilateration, kalman_seed, kalman_ranging, ekf_ranging)");
+                                  "anchors: trilateration, multilateration, kalman_trilateration, kalman_ranging, ekf_ranging)");
 
     const sim::Walk walk = sim::load_walk(a.file);
     if (ranging_rule && walk.anchors.empty())
         throw tools::CommandError("--rule " + a.rule + " needs a walk with anchors at known positions (" + a.file +
-                                  " lists none; locus sim --scenario seed004 writes such walks)");
+                                  " lists none; locus sim --scenario open_area writes such walks)");
     api::ClientOptions opts;
     opts.base_url = a.server;
     opts.api_key = a.api_key;
@@ -230,8 +231,8 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_option("--api-key", args->api_key, "API key (for --upload-survey)")->envname("LOCUS_API_KEY");
     cmd->add_option("--radiomap", args->radiomap, "radio map to localize against")->required()->check(CLI::PositiveNumber);
     cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, "
-                    "or all; for a walk with anchors also trilateration, multilateration, kalman_seed, kalman_ranging, "
-                    "ekf_ranging")->capture_default_str();
+                    "or all; for a walk with anchors also trilateration, multilateration, kalman_trilateration (alias: kalman_seed, "
+                    "deprecated), kalman_ranging, ekf_ranging")->capture_default_str();
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn/bayes")->capture_default_str()->check(CLI::Range(1, 100));
     cmd->add_option("--format", args->format, "json (tracks with errors) or csv")->capture_default_str();
@@ -249,7 +250,10 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
         ->capture_default_str()->check(CLI::Range(0.0, 1000.0));
     live->needs(cmd->get_option("--live-map"));
     cmd->add_option("FILE", args->file, "walk file (locus sim --out, or a recording)")->required()->check(CLI::ExistingFile);
-    cmd->callback([args] { run(*args); });
+    cmd->callback([args] {
+        if (args->rule == "kalman_seed") args->rule = "kalman_trilateration";  // the method's deprecated name
+        run(*args);
+    });
 });
 
 }  // namespace

@@ -56,21 +56,22 @@ struct Args {
     std::int64_t floor = 0;
     bool put_plan = false;
     std::string kalman_walls = "snap";  // block | snap
-    std::string report;  // "ranging": seed 004's table side by side
+    std::string report;  // "ranging": the Kalman-fusion paper's table 1 side by side
     sim::RangingEvalConfig ranging;
 };
 
-// Seed 004's table 1 (final-position error over its 20 walks, m): max, min, mean.
-struct SeedRow {
+// Table 1 of the Kalman-fusion paper (docs/spec.md §8 "Sources"): final-position
+// error over its 20 walks, m: max, min, mean.
+struct PaperRow {
     const char* method;
     const char* ours;
     double max, min, mean;
 };
-constexpr SeedRow kSeed004[] = {{"trilateration", "trilateration", 5.872, 1.258, 2.767},
+constexpr PaperRow kPaperTable1[] = {{"trilateration", "trilateration", 5.872, 1.258, 2.767},
                                 {"PDR", "pdr", 4.216, 0.801, 2.384},
-                                {"Kalman (proposed)", "kalman_seed", 3.18, 0.417, 1.224}};
+                                {"Kalman (proposed)", "kalman_trilateration", 3.18, 0.417, 1.224}};
 
-// Final-position errors of each method over the walks, for seed 004's max / min / mean.
+// Final-position errors of each method over the walks, for the paper's max / min / mean.
 void print_ranging_report(const std::map<std::string, std::vector<double>>& finals, const Args& a) {
     std::string notes;
     auto stats = [&](const std::string& m) {
@@ -81,11 +82,11 @@ void print_ranging_report(const std::map<std::string, std::vector<double>>& fina
         for (double e : v) lo = std::min(lo, e), hi = std::max(hi, e), sum += e;
         return std::array<double, 3>{hi, lo, sum / static_cast<double>(v.size())};
     };
-    std::printf("\nseed 004's comparison: final-position error over %d walks (seeds %llu..%llu), m\n", a.runs,
+    std::printf("\nthe Kalman-fusion paper's comparison (its table 1): final-position error over %d walks (seeds %llu..%llu), m\n", a.runs,
                 static_cast<unsigned long long>(a.seed), static_cast<unsigned long long>(a.seed + a.runs - 1));
-    std::printf("%-22s %8s %8s %8s   %-18s %8s %8s %8s\n", "method (ours)", "max", "min", "mean", "seed 004", "max",
+    std::printf("%-22s %8s %8s %8s   %-18s %8s %8s %8s\n", "method (ours)", "max", "min", "mean", "the paper", "max",
                 "min", "mean");
-    for (const SeedRow& r : kSeed004) {
+    for (const PaperRow& r : kPaperTable1) {
         const auto s = stats(r.ours);
         std::printf("%-22s %8.2f %8.2f %8.2f   %-18s %8.2f %8.2f %8.2f\n", r.ours, s[0], s[1], s[2], r.method, r.max,
                     r.min, r.mean);
@@ -94,11 +95,11 @@ void print_ranging_report(const std::map<std::string, std::vector<double>>& fina
         const auto s = stats(m);
         std::printf("%-22s %8.2f %8.2f %8.2f\n", m, s[0], s[1], s[2]);
     }
-    const double target = 0.7 * kSeed004[2].mean;
+    const double target = 0.7 * kPaperTable1[2].mean;
     const double ours = stats("ekf_ranging")[2];
     std::printf("ours (ekf_ranging: multilateration inside the Kalman update) %.2f m against the target %.3f m "
-                "(30 %% below the seed's %.3f m): %s\n",
-                ours, target, kSeed004[2].mean, ours <= target ? "met" : "NOT met");
+                "(30 %% below the paper's %.3f m): %s\n",
+                ours, target, kPaperTable1[2].mean, ours <= target ? "met" : "NOT met");
     std::printf("%s", notes.c_str());
 }
 
@@ -241,7 +242,7 @@ void run(const Args& a) {
     }
     if (!a.evaluate) return;
     if (a.report == "ranging" && !finals.count("kalman_ranging"))
-        throw tools::CommandError("--report ranging needs a scenario with anchors (seed004)");
+        throw tools::CommandError("--report ranging needs a scenario with anchors (open_area)");
     if (a.json) {
         nlohmann::ordered_json arr = nlohmann::ordered_json::array();
         for (const std::string& m : order) {
@@ -280,7 +281,7 @@ void run(const Args& a) {
 LOCUS_COMMAND("sim", [](CLI::App& app) {
     auto args = std::make_shared<Args>();
     auto* cmd = app.add_subcommand("sim", "Simulate a walk on a test floor (IMU, WiFi, truth); write it or score it");
-    cmd->add_option("--scenario", args->scenario, "ground, basement or seed004 (anchors at known positions)")->required();
+    cmd->add_option("--scenario", args->scenario, "ground, basement or open_area (anchors at known positions; seed004 is its deprecated alias)")->required();
     cmd->add_option("--seed", args->seed, "Walk seed (person, phone, noise)");
     cmd->add_option("--runs", args->runs, "Average over seeds seed..seed+runs-1");
     cmd->add_option("--out", args->out, "Write the walk as JSON lines (docs/fusion.md)");
@@ -305,7 +306,7 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
     // Simulator knobs, for the calibration sweeps of docs/fusion.md.
     cmd->add_option("--scan-duration", args->walk.scan_duration_s, "Channel sweep of a scan, s")->capture_default_str();
     cmd->add_option("--heading-walk", args->walk.heading_walk_rad_per_sqrt_m,
-                    "Compass rotation's random walk, rad/√m walked (0: the simulator before issue 13)")->capture_default_str();
+                    "Compass rotation's random walk, rad/√m walked (0: a fixed compass offset alone)")->capture_default_str();
     cmd->add_option("--drift-db", args->walk.survey_drift_sigma_db, "Survey-to-walk RSS change, dB")->capture_default_str();
     cmd->add_option("--device-offset-db", args->walk.device_offset_sigma_db, "Phone vs survey phone RSS offset σ, dB")
         ->capture_default_str();
@@ -330,23 +331,25 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
                     "into walkable space where they end (snap)")
         ->capture_default_str()
         ->check(CLI::IsMember({"block", "snap"}));
-    // Seed 004 (scenarios with anchors): the ranging methods and their filters.
-    cmd->add_option("--report", args->report, "ranging: seed 004's table (final errors) side by side with ours")
+    // Scenarios with anchors (open_area): the ranging methods and their filters.
+    cmd->add_option("--report", args->report, "ranging: the Kalman-fusion paper's table 1 (final errors) side by side with ours")
         ->check(CLI::IsMember({"ranging"}));
     cmd->add_option("--beacon-noise-db", args->walk.beacon_noise_sigma_db, "σ of one anchor reading, dB")
         ->capture_default_str();
     cmd->add_option("--beacon-offset-db", args->walk.beacon_phone_offset_sigma_db,
                     "σ of the phone's RSS offset against the anchors' configured power, dB")->capture_default_str();
-    cmd->add_option("--ranging-window", args->ranging.window_s, "Anchor readings averaged per fix, s (seed 004: 5)")
+    cmd->add_option("--ranging-window", args->ranging.window_s, "Anchor readings averaged per fix, s (the Kalman-fusion paper: 5)")
         ->capture_default_str()
         ->check(CLI::Range(0.1, 3600.0));
     cmd->add_option("--multilateration-window", args->ranging.multilateration_window_s,
                     "Anchor readings averaged per multilateration fix, s")->capture_default_str()
         ->check(CLI::Range(0.1, 3600.0));
-    cmd->add_option("--seed-r-sigma", args->ranging.seed_kalman.fixed_r_sigma_m, "Seed's Kalman: R's σ per axis, m")
+    // --seed-r-sigma and --seed-q-sigma: the deprecated names of the next two.
+    cmd->add_option("--trilateration-r-sigma,--seed-r-sigma", args->ranging.trilateration_kalman.fixed_r_sigma_m,
+                    "Kalman on trilateration fixes (kalman_trilateration): R's σ per axis, m")
         ->capture_default_str();
-    cmd->add_option("--seed-q-sigma", args->ranging.seed_kalman.kalman.step_sigma_floor_m,
-                    "Seed's Kalman: Q's σ per step, m")->capture_default_str();
+    cmd->add_option("--trilateration-q-sigma,--seed-q-sigma", args->ranging.trilateration_kalman.kalman.step_sigma_floor_m,
+                    "Kalman on trilateration fixes (kalman_trilateration): Q's σ per step, m")->capture_default_str();
     cmd->add_option("--ranging-q-per-m", args->ranging.kalman.kalman.step_sigma_per_m,
                     "Our ranging Kalman: Q's σ per metre walked")->capture_default_str();
     cmd->add_option("--ranging-r-floor", args->ranging.kalman.r_floor_m, "Our ranging Kalman: R's floor σ, m")

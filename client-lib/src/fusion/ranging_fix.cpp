@@ -29,7 +29,7 @@ Eigen::Matrix2d ranging_measurement_noise(const ranging::Fix& fix, const Ranging
     return ranging_covariance(scaled, config.r_floor_m);
 }
 
-RangingKalmanConfig seed004_kalman_config() {
+RangingKalmanConfig trilateration_kalman_config() {
     RangingKalmanConfig c;
     c.kalman.step_sigma_floor_m = 0.3;
     c.kalman.step_sigma_per_m = 0.0;

@@ -13,7 +13,7 @@ double wrap_deg(double deg) {
 
 double AngleKalman::update(double direction_deg) {
     const double z = wrap_deg(direction_deg);
-    // As in the seed, the first measurement is taken as is and leaves P at its initial value.
+    // As in the thesis, the first measurement is taken as is and leaves P at its initial value.
     if (!x_) {
         x_ = z;
         return *x_;

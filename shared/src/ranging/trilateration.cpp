@@ -57,7 +57,8 @@ std::optional<Fix> trilaterate(std::span<const Heard> heard, const Trilateration
     std::vector<Ranged> r(m);
     for (std::size_t i = 0; i < m; ++i) r[i] = by_rss[i].second;
 
-    // Votes against each transmitter's range (seed 004, equation 4); the fewest is the reference.
+    // Votes against each transmitter's range (the Kalman-fusion paper, equation 4); the fewest is
+    // the reference.
     std::size_t ref = 0;
     int fewest = -1;
     for (std::size_t n = 0; n < m; ++n) {

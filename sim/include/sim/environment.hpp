@@ -33,7 +33,7 @@ public:
     // Mean RSS (dBm) of AP i at p: log-distance path loss, walls crossed, static shadowing.
     double mean_rss(std::size_t ap, Point p) const;
     // Mean RSS (dBm) of anchor b (Scenario::beacons) at p: its true exponent, the height
-    // difference, its static shadowing; no walls (seed 004's area is open).
+    // difference, its static shadowing; no walls (the Kalman-fusion paper's area is open).
     double beacon_mean_rss(std::size_t b, Point p) const;
     // Magnetic field at p in the floor frame (x, y = local north, z up), µT.
     Eigen::Vector3d magnetic_field(Point p) const;

@@ -35,7 +35,7 @@ struct SimConfig {
     // real PUTMC walks it wanders 80–370° within one walk, a random walk of 0.28 rad/√m
     // between consecutive scans (0.32 over four), `locus eval walks --reality`. Added to the
     // phone's yaw per metre walked, so gyroscope and magnetometer agree on it as they do on a
-    // real phone whose fused azimuth drifts. 0 = the fixed offset alone (before issue 13).
+    // real phone whose fused azimuth drifts. 0 = the fixed offset alone (the simulator's first model).
     double heading_walk_rad_per_sqrt_m = 0.28;
     // Sensors.
     double acc_noise = 0.08;        // m/s² per sample
@@ -56,15 +56,15 @@ struct SimConfig {
     double survey_drift_sigma_db = 7.5;
     double survey_drift_scale_m = 4.0;
     // Anchors at known positions (Scenario::beacons): readings at this rate, each with this
-    // much Gaussian noise (multipath, the body; seed 004 §3.2), plus this phone's offset
+    // much Gaussian noise (multipath, the body; the Kalman-fusion paper §3.2), plus this phone's offset
     // against the anchors' configured RSS at 1 m (drawn per walk).
     double beacon_rate_hz = 1.0;
     double beacon_noise_sigma_db = 4.0;
     double beacon_phone_offset_sigma_db = 2.0;
 };
 
-// The simulator's settings for a scenario: SimConfig's defaults, except seed004's walker and
-// anchors, calibrated on walks 101..120 to the seed's own PDR and trilateration figures
+// The simulator's settings for a scenario: SimConfig's defaults, except open_area's walker and
+// anchors, calibrated on walks 101..120 to the paper's own PDR and trilateration figures
 // (2.38 and 2.77 m final error, docs/transmitters.md): a phone held steadily along the walk
 // in an open room (little heading drift, a step length close to the PDR's).
 SimConfig default_config(const std::string& scenario);

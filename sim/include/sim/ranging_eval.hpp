@@ -1,9 +1,9 @@
 #pragma once
-// Seed 004's comparison on a walk with anchors (Walk::anchors, the seed004 scenario): the
-// anchors' 1 Hz readings averaged per anchor over a window (the seed's 5 s), each window
-// ranged by trilateration (the seed's method) and by multilateration, and four tracks scored
-// as `locus sim` scores every method: trilateration, multilateration, the seed's Kalman filter
-// (trilateration fixes, constant R and Q) and ours (multilateration fixes with their own
+// The Kalman-fusion paper's comparison on a walk with anchors (Walk::anchors, the open_area
+// scenario): the anchors' 1 Hz readings averaged per anchor over a window (the paper's 5 s), each
+// window ranged by trilateration (the paper's method) and by multilateration, and four tracks
+// scored as `locus sim` scores every method: trilateration, multilateration, the paper's Kalman
+// filter (trilateration fixes, constant R and Q) and ours (multilateration fixes with their own
 // covariance as R, Q growing with the distance walked).
 #include <memory>
 #include <string>
@@ -17,16 +17,16 @@
 namespace locus::sim {
 
 struct RangingEvalConfig {
-    double window_s = 5.0;  // seed 004: 5 s of readings averaged, one coordinate per window
+    double window_s = 5.0;  // the Kalman-fusion paper: 5 s of readings averaged, one coordinate per window
     // Ours may range other windows (1–3 s: more, noisier fixes with less lag were worse on
-    // the tuning walks than the seed's 5 s).
+    // the tuning walks than the paper's 5 s).
     double multilateration_window_s = 5.0;
     ranging::TrilaterationOptions trilateration;
     ranging::MultilaterationOptions multilateration;
-    fusion::RangingKalmanConfig seed_kalman = fusion::seed004_kalman_config();
+    fusion::RangingKalmanConfig trilateration_kalman = fusion::trilateration_kalman_config();
     fusion::RangingKalmanConfig kalman = default_kalman();
     // The window's average describes the phone at the window's middle, not at its end: ours
-    // moves the fix by the PDR steps of the last this-many seconds (the seed's does not).
+    // moves the fix by the PDR steps of the last this-many seconds (the paper's does not).
     double kalman_fix_latency_s = 1.0;
     // Ours learns the phone's RSS offset against the anchors' configured power as it goes: the
     // mean residual of every earlier window's fit, subtracted from the next window's readings
@@ -52,7 +52,7 @@ struct RangingFixes {
 // A reading is matched to its anchor by id; readings of unknown ids are ignored.
 RangingFixes run_ranging(const Walk& walk, const RangingEvalConfig& config);
 
-// trilateration, multilateration, kalman_seed, kalman_ranging, ekf_ranging (the readings
+// trilateration, multilateration, kalman_trilateration, kalman_ranging, ekf_ranging (the readings
 // themselves as the measurements, fusion::RangingEkf). With a floor plan ours is
 // map-matched as the WiFi Kalman filter is (a fix off the walkable floor snapped into it).
 std::vector<NamedTrack> run_ranging_methods(const std::vector<PdrStep>& steps, const RangingFixes& fixes, Point start,

@@ -24,10 +24,11 @@ struct AccessPoint {
 
 // A local magnetic source (hardware in a technical room): adds a field of this strength
 // pointing away from the source horizontally and down, fading as a Gaussian of the radius.
-// A transmitter at a known position (seed 004's anchors: BLE beacons and WiFi APs whose
-// coordinates and model are given to the phone). `tx_power_dbm` and `exponent` are what the
-// deployment was configured with (seed 004: n = 2); the building's true exponent may differ
-// (`true_exponent`), which is one of the seed's error sources.
+// A transmitter at a known position (the anchors of the Kalman-fusion paper,
+// docs/spec.md §8 "Sources": BLE beacons and WiFi APs whose coordinates and model are given to
+// the phone). `tx_power_dbm` and `exponent` are what the deployment was configured with (the
+// paper: n = 2); the building's true exponent may differ (`true_exponent`), which is one of
+// the paper's error sources.
 struct Beacon {
     std::string type;  // "ble" or "wifi", as scans name them
     std::string id;
@@ -72,7 +73,7 @@ struct Scenario {
     std::vector<MagneticSource> sources;
     double north_offset_deg = 0.0;
 
-    // Anchors at known positions (only seed004 has them): 1 Hz readings (SimConfig's beacon_*).
+    // Anchors at known positions (only open_area has them): 1 Hz readings (SimConfig's beacon_*).
     std::vector<Beacon> beacons;
     double beacon_shadowing_sigma_db = 2.0;  // static, spatially smooth, per anchor (furniture, people)
     double beacon_shadowing_scale_m = 3.0;
@@ -84,6 +85,10 @@ struct Scenario {
     double area_m2() const;
     double path_length_m() const;
 };
+
+// "open_area" was first published as "seed004": scenario() and default_config() still take
+// that name (a deprecated alias); walks it writes are named "open_area".
+inline constexpr const char* kOpenAreaAlias = "seed004";
 
 const Scenario& scenario(const std::string& name);  // throws std::invalid_argument
 std::span<const std::string> scenario_names();

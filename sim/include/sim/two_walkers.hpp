@@ -1,10 +1,11 @@
 #pragma once
-// Two walkers for seed 001 (issue 17): B stands still, A starts `start_distance` away and walks
-// to find B with no position fix, only its PDR and a distance to B per step. A first walks a
-// heading within ±initial_spread of B (people roughly know where the other is), then follows
-// the relative-direction estimator's bearing as soon as it has one (the seed's usage: "walking
-// towards the current estimated direction"). The score is the relative-direction error at
-// every step until A is within `met_distance` of B or `seconds` have passed.
+// Two walkers for relative positioning (Bonjorn López 2016, docs/spec.md §8): B stands still, A
+// starts `start_distance` away and walks to find B with no position fix, only its PDR and a
+// distance to B per step. A first walks a heading within ±initial_spread of B (people roughly know
+// where the other is), then follows the relative-direction estimator's bearing as soon as it has
+// one (the thesis's usage: "walking towards the current estimated direction"). The score is the
+// relative-direction error at every step until A is within `met_distance` of B or `seconds` have
+// passed.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -23,7 +24,7 @@ enum class RelativeMethod {
     RssiKalman,          // each reading through relative::RangeKalman, driven by A's PDR steps
     RssiKalmanAcoustic,  // the same, plus an acoustic range per step once within acoustic_range
     // B placed by relative::fit_target over all of A's positions and RSSI distances so far
-    // (not the seed's estimator); A follows the fit's bearing.
+    // (not the thesis's estimator); A follows the fit's bearing.
     RssiFit,
     // Both phones have fused fixes (the server's GET /v1/tracks/{a}/relative/{b}): the bearing
     // from A's fix to B's, each off by fix_sigma per axis; no estimator, no ranging.
@@ -46,7 +47,7 @@ struct TwoWalkerConfig {
     double shadowing_db = 4.0;       // RSSI noise
     int rssi_window = 4;
     double met_distance = 1.0;
-    double acoustic_range = 1.3;    // m: the seed's acoustic ranging works up to here...
+    double acoustic_range = 1.3;    // m: the thesis's acoustic ranging works up to here...
     double acoustic_sigma = 0.01;   // ...with this error (relative_acoustic_test: within 2 cm)
     // Per-axis error of each fused fix for BothFixes, redrawn every step (fusion.md: the
     // particle filter's median error on PUTMC is about 2 m, ≈ 1.18 × σ for a 2-D Gaussian).

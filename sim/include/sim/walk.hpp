@@ -33,7 +33,7 @@ struct WifiScan {
     std::optional<Point> truth;
 };
 
-// A transmitter whose position and model the phone is given (seed 004's anchors), as a
+// A transmitter whose position and model the phone is given (the Kalman-fusion paper's anchors), as a
 // floor's transmitter list would state it: `dz` is its height above the phone.
 struct Anchor {
     std::string type;  // "ble" or "wifi"

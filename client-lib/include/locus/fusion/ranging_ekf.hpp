@@ -1,7 +1,7 @@
 #pragma once
-// Tightly coupled ranging + PDR filter (issue 18, seed 004's scenario): an extended Kalman
-// filter whose measurements are the anchors' raw readings themselves, not positions fitted
-// from averaged readings. Multilateration happens inside the update:
+// Tightly coupled ranging + PDR filter (for the scenario of the Kalman-fusion paper, docs/spec.md
+// §8): an extended Kalman filter whose measurements are the anchors' raw readings themselves, not
+// positions fitted from averaged readings. Multilateration happens inside the update:
 //   state   s = [x, y, b, β]: position (m), the phone's RSS offset b (dB, what its radio adds
 //           to every anchor alike) and the PDR heading's bias β (rad, the compass's drift)
 //   predict s.xy ← s.xy + R(β)·u for each PDR step u;  P ← F P Fᵀ + Q(|u|), b and β random walks
@@ -39,7 +39,7 @@ struct AnchorReading {
     double rss = 0.0;  // dBm
 };
 
-// Defaults tuned on `locus sim --scenario seed004` walks 101..160, checked on 161..200 and 206..260
+// Defaults tuned on `locus sim --scenario open_area` walks 101..160, checked on 161..200 and 206..260
 // (docs/transmitters.md).
 struct RangingEkfConfig {
     double initial_sigma_m = 1.0;          // σ of the start position per axis

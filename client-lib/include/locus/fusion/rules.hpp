@@ -19,7 +19,7 @@ struct RuleParams {
     double lambda_m = 4.0;  // midpoint_threshold: mean PDR error (Traini 2017 measured 3.8–4.4 m)
     int n_max = 10;         // proportional: APs that give a good fix
     int gamma = 2;          // proportional: exponent, a natural number ≥ 1
-    // Not in the seed (its values here are the seed's rules exactly); tuned on real walks,
+    // Not in Traini 2017 (its values here are Traini 2017's rules exactly); tuned on real walks,
     // where the PDR heading is far worse than Traini's (docs/fusion.md, "Real walks"):
     double midpoint_wifi_weight = 0.5;  // midpoint, midpoint_threshold: the fix's weight, in [0, 1]
     double proportional2_min_r = 0.0;   // proportional2: the fix's weight is at least this, in [0, 1]

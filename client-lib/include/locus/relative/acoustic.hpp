@@ -1,9 +1,9 @@
 #pragma once
-// Seed 001's close-range acoustic ranging (its section 5, after BeepBeep): both phones record
+// Bonjorn López 2016's close-range acoustic ranging (its section 5, after BeepBeep): both phones record
 // while each plays one linear up-chirp; each finds both chirps in its own recording with a
 // matched filter and counts the samples between them. Sample counts on each phone's own clock
 // only, so clock offsets and the delay between "play" and the sound leaving the speaker cancel:
-//   d = v/2 · ((n_remote − n_own)_A + (n_remote − n_own)_B) / f_s     (seed eq. 5.1, 5.2)
+//   d = v/2 · ((n_remote − n_own)_A + (n_remote − n_own)_B) / f_s     (Bonjorn López 2016 eq. 5.1, 5.2)
 // Pure code: the app supplies PCM samples and exchanges the two counts over its link.
 #include <cstddef>
 #include <cstdint>
@@ -13,7 +13,7 @@
 namespace locus::relative {
 
 struct ChirpParams {
-    // The seed's chirp: 13–18 kHz (nearly inaudible), 44.1 kHz, 1500 samples (34 ms).
+    // The thesis's chirp: 13–18 kHz (nearly inaudible), 44.1 kHz, 1500 samples (34 ms).
     double f0 = 13000.0;
     double f1 = 18000.0;
     double sample_rate = 44100.0;
@@ -23,8 +23,8 @@ struct ChirpParams {
 inline constexpr double kSpeedOfSound = 343.0;  // m/s in air at 20 °C
 
 // The chirp's value at time t (s) from its start, 0 outside [0, duration). The phase is the
-// integral of f(t) = f0 + k·t (seed eq. 5.4); the seed's per-sample sin(2π f_k k/f_s) would
-// sweep to 2·f1 − f0 instead.
+// integral of f(t) = f0 + k·t (Bonjorn López 2016 eq. 5.4); the thesis's per-sample
+// sin(2π f_k k/f_s) would sweep to 2·f1 − f0 instead.
 double chirp_at(const ChirpParams& p, double t);
 // The chirp as samples, amplitude 1.
 std::vector<double> chirp(const ChirpParams& p);
@@ -32,7 +32,7 @@ std::vector<double> chirp(const ChirpParams& p);
 std::vector<std::int16_t> chirp_pcm(const ChirpParams& p, double amplitude = 30000.0);
 
 // Matched-filter output: y[n] = Σ_k x[n + k]·s[k] for every n where the template fits
-// (seed eq. 5.25, real signals).
+// (Bonjorn López 2016 eq. 5.25, real signals).
 std::vector<double> matched_filter(std::span<const double> recording, std::span<const double> templ);
 
 struct Detection {
@@ -56,7 +56,7 @@ struct TwoWayCounts {
 bool own_and_remote(std::span<const double> recording, const ChirpParams& p, TwoWayCounts& out);
 
 // The distance (m) from both phones' counts. `self_a`/`self_b` are each phone's speaker-to-
-// microphone distance (m), which BeepBeep adds back; the seed takes them as 0.
+// microphone distance (m), which BeepBeep adds back; the thesis takes them as 0.
 double two_way_distance(const TwoWayCounts& a, const TwoWayCounts& b, double sample_rate,
                         double speed_of_sound = kSpeedOfSound, double self_a = 0.0, double self_b = 0.0);
 

@@ -1,5 +1,5 @@
 #pragma once
-// Seed 001's 1-D Kalman filter on an angle (degrees): the state is the direction of a target
+// Bonjorn López 2016's 1-D Kalman filter on an angle (degrees): the state is the direction of a target
 // taken as static (F = H = 1, no control), so only the gain shrinks as measurements come in.
 // Innovations and the estimate wrap at ±180° so that 179° and −179° are neighbours.
 #include <optional>
@@ -7,7 +7,7 @@
 namespace locus::relative {
 
 struct AngleKalmanParams {
-    // The seed's initialisation (its appendix): process noise Q, measurement noise R, P0.
+    // The thesis's initialisation (its appendix): process noise Q, measurement noise R, P0.
     double q = 1e-5;
     double r = 1e-3;
     double p0 = 1.0;

@@ -1,9 +1,9 @@
 #pragma once
-// Seed 001's heuristic relative-direction estimator (its section 4.1). Phone A walks (its PDR
+// Bonjorn López 2016's heuristic relative-direction estimator (its section 4.1). Phone A walks (its PDR
 // gives positions in a local east/north plane), phone B stays put, and every step comes with a
 // distance A–B (from RSSI, or acoustic ranging when close). Each walked direction, seen from a
 // reference position, gets a weight
-//   w_k = (d_0 − d_k) / Δρ                                   (seed eq. 4.1)
+//   w_k = (d_0 − d_k) / Δρ                                   (Bonjorn López 2016 eq. 4.1)
 // (1: walking straight at B; −1: straight away). Directions with |w| ≥ 0.5 become measurements
 // of B's direction for a 1-D angle Kalman filter, repeated 1–5 times by weight stage; negative
 // weights count the opposite direction. The reference moves to A when w > 15 (NLOS → LOS) or
@@ -21,7 +21,7 @@ struct DirectionParams {
     double min_weight = 0.5;   // below: the direction says nothing
     double max_weight = 15.0;  // above: the reference distance was NLOS, restart there
     double shrink_reset = 0.2; // restart when d_k ≤ this × d_0
-    // Δρ below which no weight is formed: the seed divides by Δρ, and a PDR position a few
+    // Δρ below which no weight is formed: the thesis divides by Δρ, and a PDR position a few
     // centimetres from the reference would make any distance noise a huge weight.
     double min_rho = 0.5;
     AngleKalmanParams kalman;
@@ -45,7 +45,7 @@ public:
     // east; the last one before a restart until the restarted filter has one.
     std::optional<double> direction_deg() const;
     // B's estimated position (circle–line intersection; the reference plus d_0 along the
-    // direction, seed eq. 4.11, when the circle does not reach the line).
+    // direction, Bonjorn López 2016 eq. 4.11, when the circle does not reach the line).
     std::optional<Point> target() const;
     Point reference() const { return ref_; }
     double reference_distance() const { return d0_; }

@@ -1,5 +1,5 @@
 #pragma once
-// Distance between two phones from the RSSI one hears of the other (seed 001, Wi-Fi Direct or
+// Distance between two phones from the RSSI one hears of the other (Bonjorn López 2016, Wi-Fi Direct or
 // BLE between the phones). The model is the same log-distance model as for fixed transmitters
 // (locus/ranging/path_loss.hpp); only its calibration differs, so only the constants live here.
 #include <span>

@@ -1,10 +1,10 @@
 #pragma once
-// Where B stands, from every distance A measured along its own PDR walk (issue 17, seed 001
-// with RSSI): the point whose distances to A's positions best match the measured ones in
-// log terms (RSSI shadowing is Gaussian in dB, so in ln d), by Gauss–Newton from several
-// starts. Unlike the seed's estimator, which can only weigh directions A has walked, this uses
-// how fast the distance falls and how that changes as A turns, so it can find B off A's path.
-// A straight walk leaves B's side (left or right) ambiguous; the caller's `prefer` breaks the tie.
+// Where B stands, from every distance A measured along its own PDR walk (Bonjorn López 2016,
+// docs/spec.md §8, with RSSI): the point whose distances to A's positions best match the measured
+// ones in log terms (RSSI shadowing is Gaussian in dB, so in ln d), by Gauss–Newton from several
+// starts. Unlike the thesis's estimator, which can only weigh directions A has walked, this uses
+// how fast the distance falls and how that changes as A turns, so it can find B off A's path. A
+// straight walk leaves B's side (left or right) ambiguous; the caller's `prefer` breaks the tie.
 #include <optional>
 #include <span>
 

@@ -1,10 +1,10 @@
 #pragma once
-// A Kalman filter on the A–B distance driven by A's own PDR (issue 17, seed 001 with RSSI):
-// one RSSI distance is ±40 % at 4 dB shadowing, so the estimator's weights (d_0 − d_k)/Δρ are
-// noise unless the distances are smoothed. B stands still, so while A walks the distance
-// changes by (about) v metres per metre walked, v = −cos(angle between A's walk and B): the
-// state is (d, v), the prediction moves d by v × the step's length, and each RSSI distance is
-// a measurement of ln d (the shadowing is Gaussian in dB, so in ln d too). An acoustic range
+// A Kalman filter on the A–B distance driven by A's own PDR (Bonjorn López 2016, docs/spec.md §8,
+// with RSSI): one RSSI distance is ±40 % at 4 dB shadowing, so the estimator's weights (d_0 −
+// d_k)/Δρ are noise unless the distances are smoothed. B stands still, so while A walks the
+// distance changes by (about) v metres per metre walked, v = −cos(angle between A's walk and B):
+// the state is (d, v), the prediction moves d by v × the step's length, and each RSSI distance is a
+// measurement of ln d (the shadowing is Gaussian in dB, so in ln d too). An acoustic range
 // (centimetres, close by) is a measurement of d itself.
 #include <optional>
 

@@ -1,10 +1,10 @@
 #pragma once
-// Calibration of a transmitter's log-distance model from a survey (seed 002): given the mean
-// RSS of one AP at many surveyed points, the transmit power and path-loss exponent that
-// explain it best (least squares: rss = tx_power − 10·n·log10(d) is linear in both), and,
-// when the transmitter's position is unknown, the position too (for each candidate position
-// the model is solved exactly, so only the position is searched: a grid over the area, then a
-// shrinking pattern search). Reports R² and the RMS residual.
+// Calibration of a transmitter's log-distance model from a survey (Le, Saragas and Webb 2009):
+// given the mean RSS of one AP at many surveyed points, the transmit power and path-loss exponent
+// that explain it best (least squares: rss = tx_power − 10·n·log10(d) is linear in both), and, when
+// the transmitter's position is unknown, the position too (for each candidate position the model is
+// solved exactly, so only the position is searched: a grid over the area, then a shrinking pattern
+// search). Reports R² and the RMS residual.
 #include <optional>
 #include <span>
 

@@ -26,7 +26,7 @@ struct Transmitter {
 
 // The RSS the model predicts at distance `d` (m, clamped to kMinRange).
 double rss_at(const PathLoss& m, double d);
-// The distance at which the model predicts `rss` (seed 004's equation 2, d0 = 1 m).
+// The distance at which the model predicts `rss` (the Kalman-fusion paper's equation 2, d0 = 1 m).
 double range_of(const PathLoss& m, double rss);
 // The horizontal distance for a slant range and a height difference (0 when the slant is
 // shorter than the height).

@@ -1,6 +1,6 @@
 #pragma once
-// A radio map from a model instead of a survey (seed 002): at each point of a grid, each
-// transmitter's RSS by the multi-wall model
+// A radio map from a model instead of a survey (Le, Saragas and Webb 2009): at each point of a
+// grid, each transmitter's RSS by the multi-wall model
 //   rss = tx_power − 10·n·log10(d) − wall_attenuation · (walls crossed by the straight path)
 // Walls are bucketed in a uniform grid so that a path tests only the walls of the cells it
 // crosses: 10,000 points × 200 transmitters × 2,000 walls stays within seconds.

@@ -1,6 +1,6 @@
 #pragma once
 // Positions from RSS ranged to transmitters at known positions:
-//  - trilaterate: seed 004's method, every constant an option. Ranges beyond `cutoff` are
+//  - trilaterate: the Kalman-fusion paper's method, every constant an option. Ranges beyond `cutoff` are
 //    dropped; each transmitter gets a vote against it from every other one whose range and
 //    separation break the triangle inequality by more than `vote_slack`; the one with fewest
 //    votes is the reference, and every other range is brought into the interval the reference
@@ -22,7 +22,7 @@ namespace locus::ranging {
 // One transmitter heard in a scan.
 struct Heard {
     Transmitter tx;
-    double rss = 0.0;  // dBm, averaged over the scans (seed 004: 5 s of readings)
+    double rss = 0.0;  // dBm, averaged over the scans (the Kalman-fusion paper: 5 s of readings)
 };
 
 // A 1-σ uncertainty ellipse: semi-axes in metres, the major axis at angle_deg counter-clockwise
@@ -43,7 +43,7 @@ struct Fix {
 };
 
 struct TrilaterationOptions {
-    double cutoff = 10.0;     // m: ranges beyond are dropped (seed 004: the beacons' reach)
+    double cutoff = 10.0;     // m: ranges beyond are dropped (the Kalman-fusion paper: the beacons' reach)
     double vote_slack = 1.25; // a vote against n from l when |A_n A_l| − d_n > vote_slack · d_l
     bool correct = true;      // bring ranges into the reference's triangle-inequality interval
     int max_transmitters = 12;  // the strongest kept: C(12, 3) = 220 triples at most
