@@ -249,63 +249,9 @@ FUNCTION_LENGTH_EXCEPTIONS = {
     "server/tracks/service.cpp:refresh": 122,
 }
 
-# file -> comments citing an issue or a seed it may not exceed (today's count). They cite the
-# project's task list, which a reader of the code does not have; rewrite each to cite the paper
-# (docs/spec.md names them) or the section of docs/ that explains the behaviour.
-CITATION_EXCEPTIONS = {
-    "bench/match_bench.cpp": 1,
-    "bench/ranging_bench.cpp": 2,
-    "bench/ranging_ekf_bench.cpp": 3,
-    "bench/relative_bench.cpp": 1,
-    "bench/thin_fusion_bench.cpp": 1,
-    "bench/track_load_bench.cpp": 1,
-    "client-lib/include/locus/fusion/ranging_ekf.hpp": 1,
-    "client-lib/include/locus/fusion/ranging_fix.hpp": 4,
-    "client-lib/include/locus/relative/acoustic.hpp": 1,
-    "client-lib/include/locus/relative/angle_kalman.hpp": 1,
-    "client-lib/include/locus/relative/direction_estimator.hpp": 1,
-    "client-lib/include/locus/relative/phone_rssi.hpp": 1,
-    "client-lib/include/locus/relative/range_fit.hpp": 1,
-    "client-lib/include/locus/relative/range_kalman.hpp": 1,
-    "schema/008_tracks.sql": 1,
-    "schema/013_track_kalman.sql": 1,
-    "scripts/contract_check.mjs": 1,
-    "server/http/ranging_localize.hpp": 1,
-    "server/http/track_routes.cpp": 1,
-    "server/tracks/fusion.hpp": 1,
-    "server/tracks/fusion_method.hpp": 1,
-    "server/tracks/fusion_options.hpp": 1,
-    "server/tracks/service.hpp": 1,
-    "shared/include/locus/ranging/fit.hpp": 1,
-    "shared/include/locus/ranging/path_loss.hpp": 1,
-    "shared/include/locus/ranging/propagation.hpp": 1,
-    "shared/include/locus/ranging/trilateration.hpp": 3,
-    "shared/src/ranging/trilateration.cpp": 1,
-    "sim/include/sim/environment.hpp": 1,
-    "sim/include/sim/generator.hpp": 2,
-    "sim/include/sim/ranging_eval.hpp": 2,
-    "sim/include/sim/scenario.hpp": 2,
-    "sim/include/sim/two_walkers.hpp": 1,
-    "sim/include/sim/walk.hpp": 1,
-    "sim/src/scenario.cpp": 1,
-    "tests/integration/replay_test.cpp": 1,
-    "tests/integration/server_migrate_test.cpp": 1,
-    "tests/integration/server_postgres_test.cpp": 1,
-    "tests/integration/server_replicas_test.cpp": 1,
-    "tests/integration/server_search_test.cpp": 1,
-    "tests/integration/server_tracks_ranging_test.cpp": 3,
-    "tests/unit/fusion_ranging_ekf_test.cpp": 1,
-    "tests/unit/fusion_ranging_test.cpp": 3,
-    "tests/unit/ranging_test.cpp": 2,
-    "tests/unit/relative_acoustic_test.cpp": 1,
-    "tests/unit/relative_direction_test.cpp": 1,
-    "tests/unit/sim_anchors_test.cpp": 2,
-    "tests/unit/sim_two_walkers_test.cpp": 1,
-    "tools/commands/eval_calibration.cpp": 1,
-    "tools/commands/eval_relative.cpp": 1,
-    "tools/commands/replay.cpp": 1,
-    "tools/commands/sim.cpp": 4,
-}
+# file -> comments citing an issue or a seed it may not exceed. None today: comments cite the
+# paper (docs/spec.md names them) or the section of docs/ that explains the behaviour.
+CITATION_EXCEPTIONS = {}
 
 
 @dataclass
