@@ -134,19 +134,14 @@ Yardstick yardstick(const std::vector<LoadedWalk>& train) {
     return y;
 }
 
-// The map's floors as the barometric estimator takes them: level, elevation_m, and whether the
-// floor has a radio map (the server cannot answer a floor without one). A floor without an
-// elevation cannot be placed by pressure and is left out.
-std::vector<fusion::FloorLevel> baro_floors(api::Client& client, std::int64_t map) {
-    std::vector<fusion::FloorLevel> out;
-    for (const auto& b : client.buildings(map))
-        for (const auto& f : client.floors(b.id)) {
-            const json stored = client.get("/v1/floors/" + std::to_string(f.id));
-            const auto e = stored.find("elevation_m");
-            if (e == stored.end() || !e->is_number()) continue;
-            out.push_back({f.level, e->get<double>(), !client.radiomaps(f.id).empty()});
-        }
-    return out;
+// A map's floor as the barometric estimator takes it: level, elevation_m, and whether the floor
+// has a radio map (the server cannot answer a floor without one). A floor without an elevation
+// cannot be placed by pressure and is left out (nullopt).
+std::optional<fusion::FloorLevel> baro_floor(api::Client& client, const api::FloorInfo& f) {
+    const json stored = client.get("/v1/floors/" + std::to_string(f.id));
+    const auto e = stored.find("elevation_m");
+    if (e == stored.end() || !e->is_number()) return std::nullopt;
+    return fusion::FloorLevel{f.level, e->get<double>(), !client.radiomaps(f.id).empty()};
 }
 
 // wifi-baro: each server answer's floor replaced by the barometric floor. The events of the
@@ -205,12 +200,14 @@ void run(const Args& a) {
     if (want_wifi || want_baro) {
         client.emplace(a.server.client_options());
         for (const auto& b : client->buildings(a.map))
-            for (const auto& f : client->floors(b.id)) level_of_floor[f.id] = f.level;
+            for (const auto& f : client->floors(b.id)) {
+                level_of_floor[f.id] = f.level;
+                if (want_baro)
+                    if (const auto level = baro_floor(*client, f)) floors.push_back(*level);
+            }
         if (level_of_floor.empty()) throw CommandError("map " + std::to_string(a.map) + " has no floor");
-    }
-    if (want_baro) {
-        floors = baro_floors(*client, a.map);
-        if (floors.empty()) throw CommandError("--method " + a.method + " needs the map's floors' elevation_m (none has one)");
+        if (want_baro && floors.empty())
+            throw CommandError("--method " + a.method + " needs the map's floors' elevation_m (none has one)");
     }
     std::vector<std::string> methods;
     if (want_yardstick) methods.push_back("yardstick");
