@@ -5,10 +5,10 @@
 
 #include <numbers>
 
-#include "locus/fusion/kalman.hpp"
-#include "locus/fusion/particle_filter.hpp"
-#include "locus/fusion/rooms_plan.hpp"
-#include "locus/fusion/rules.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/particle_filter.hpp"
+#include "locus/motion/fusion/rooms_plan.hpp"
+#include "locus/motion/fusion/rules.hpp"
 
 using namespace locus;
 using namespace locus::fusion;

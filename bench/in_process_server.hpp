@@ -10,7 +10,7 @@
 
 #include "directory/service.hpp"
 #include "http/app.hpp"
-#include "http/localize_answer.hpp"
+#include "http/localize/localize_answer.hpp"
 #include "localize/service.hpp"
 #include "routing/service.hpp"
 #include "store/sql_store.hpp"
@@ -29,7 +29,7 @@ struct InProcessServer {
     int port = 0;
 
     // `db`: a SQLite file or a PostgreSQL URL. `api_key`: as --api-key (a benchmark sending it
-    // is exempt from the per-client limits, http/fair_share.hpp).
+    // is exempt from the per-client limits, http/front/fair_share.hpp).
     explicit InProcessServer(const std::string& db, const tracks::Options& track_options = {}, const std::string& api_key = "") {
         store = std::make_unique<store::SqlStore>(db);
         localizer = std::make_unique<localize::Service>(*store, http::prepare_answers);

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "datasets/uji_csv.hpp"
-#include "http/localize_answer.hpp"
+#include "http/localize/localize_answer.hpp"
 #include "localize_body.hpp"
 
 namespace {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "locus/pdr/step_detector.hpp"
+#include "locus/motion/pdr/step_detector.hpp"
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <unistd.h>
 
-#include "http/image_header.hpp"
+#include "http/plans/image_header.hpp"
 #include "images/test_images.hpp"
 #include "locus/plan/rects.hpp"
 #include "store/sql_store.hpp"

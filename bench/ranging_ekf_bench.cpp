@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "locus/fusion/ranging_ekf.hpp"
+#include "locus/motion/fusion/ranging_ekf.hpp"
 
 using namespace locus;
 using namespace locus::fusion;

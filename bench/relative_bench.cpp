@@ -7,10 +7,10 @@
 #include <random>
 #include <vector>
 
-#include "locus/relative/acoustic.hpp"
-#include "locus/relative/direction_estimator.hpp"
-#include "locus/relative/range_fit.hpp"
-#include "locus/relative/range_kalman.hpp"
+#include "locus/motion/relative/acoustic.hpp"
+#include "locus/motion/relative/direction_estimator.hpp"
+#include "locus/motion/relative/range_fit.hpp"
+#include "locus/motion/relative/range_kalman.hpp"
 
 using namespace locus::relative;
 

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <string>
 
-#include "http/transmitter_cache.hpp"
-#include "http/transmitter_fields.hpp"
+#include "http/transmitters/transmitter_cache.hpp"
+#include "http/transmitters/transmitter_fields.hpp"
 #include "store/sql_store.hpp"
 
 namespace {

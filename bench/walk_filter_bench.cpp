@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "image_file.hpp"
-#include "locus/fusion/walk_filter.hpp"
+#include "locus/motion/fusion/walk_filter.hpp"
 #include "locus/imaging/plan_from_image.hpp"
 
 using namespace locus;

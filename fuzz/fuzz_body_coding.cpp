@@ -12,8 +12,8 @@
 #include <string_view>
 
 #include "http/api_error.hpp"
-#include "http/body_coding.hpp"
-#include "http/localize_request.hpp"
+#include "http/front/body_coding.hpp"
+#include "http/localize/localize_request.hpp"
 
 using namespace locus::http;
 

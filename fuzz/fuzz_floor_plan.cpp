@@ -1,5 +1,5 @@
 // A floor plan body (PUT /v1/floors/{id}/plan): parse_object, then parse_plan and the links
-// check, as the handler in server/http/plan_routes.cpp does.
+// check, as the handler in server/http/plans/plan_routes.cpp does.
 //
 // Checks: nothing but http::ApiError (400/422) escapes, and a 422 is invalid_plan; an
 // accepted plan written back as the server answers it (plan_json) reads back to the same
@@ -12,7 +12,7 @@
 
 #include "http/api_error.hpp"
 #include "http/json_text.hpp"
-#include "http/plan_json.hpp"
+#include "http/plans/plan_json.hpp"
 #include "http/validation.hpp"
 #include "json_mutator.hpp"
 

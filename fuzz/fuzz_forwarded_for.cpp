@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "http/client_address.hpp"
+#include "http/front/client_address.hpp"
 
 using namespace locus::http;
 

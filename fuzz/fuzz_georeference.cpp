@@ -1,5 +1,5 @@
 // A floor's georeference by control points (POST /v1/floors/{id}/georeference): the body through
-// parse_control_points, then the fit and what the route stores, as server/http/geo_routes.cpp
+// parse_control_points, then the fit and what the route stores, as server/http/plans/geo_routes.cpp
 // does (kept in step with it by hand); and the same body's "geo", if any, through a floor PATCH's
 // validation.
 //
@@ -15,7 +15,7 @@
 #include <string>
 
 #include "http/api_error.hpp"
-#include "http/georeference_request.hpp"
+#include "http/plans/georeference_request.hpp"
 #include "http/validation.hpp"
 #include "json_mutator.hpp"
 #include "store/kinds.hpp"

@@ -15,8 +15,8 @@
 #include <string>
 
 #include "http/api_error.hpp"
-#include "http/localize_request.hpp"
-#include "http/plain_localize_request.hpp"
+#include "http/localize/localize_request.hpp"
+#include "http/localize/plain_localize_request.hpp"
 #include "json_mutator.hpp"
 
 using namespace locus;

@@ -1,6 +1,6 @@
 // The radio-map import (POST /v1/floors/{id}/radiomaps/import): parse_object,
 // parse_radiomap_document, then SqlStore::import_radiomap into an in-memory SQLite
-// store, as the handler in server/http/radiomap_routes.cpp does.
+// store, as the handler in server/http/radiomaps/radiomap_routes.cpp does.
 //
 // Checks: validation throws nothing but http::ApiError (400/422) and the import nothing but the
 // store's documented refusals (NotFound, Conflict, OutOfRange, a constraint DbError: the
@@ -15,7 +15,7 @@
 #include "http/api_error.hpp"
 #include "http/json_text.hpp"
 #include "http/validation.hpp"
-#include "http/store_json.hpp"
+#include "http/crud/store_json.hpp"
 #include "store/sql_store.hpp"
 #include "json_mutator.hpp"
 

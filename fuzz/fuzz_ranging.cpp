@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "http/api_error.hpp"
-#include "http/ranging_localize.hpp"
-#include "http/transmitter_fields.hpp"
+#include "http/localize/ranging_localize.hpp"
+#include "http/transmitters/transmitter_fields.hpp"
 #include "json_mutator.hpp"
 #include "locus/radio_map.hpp"
 

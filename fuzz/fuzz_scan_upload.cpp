@@ -1,6 +1,6 @@
 // The scan upload body (POST /v1/rps/{id}/scans): parse_object, then parse_scans +
 // aggregate_scans for raw scans or parse_measurements (+ merging an AP sent twice) for
-// aggregates, as the handler in server/http/radiomap_routes.cpp does (kept in step with it by hand).
+// aggregates, as the handler in server/http/radiomaps/radiomap_routes.cpp does (kept in step with it by hand).
 //
 // Checks: nothing but http::ApiError (400/422) escapes; an accepted upload holds each
 // (type, bssid) once, normalised, with counts in [1, 2^53] and a scan count of at most 2^53; and
@@ -19,7 +19,7 @@
 
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
-#include "http/store_json.hpp"
+#include "http/crud/store_json.hpp"
 #include "store/documents.hpp"
 #include "json_mutator.hpp"
 

@@ -4,11 +4,11 @@
 #include <cmath>
 #include <numbers>
 
-#include "locus/fusion/heading_alignment.hpp"
-#include "locus/fusion/rules.hpp"
+#include "locus/motion/fusion/heading_alignment.hpp"
+#include "locus/motion/fusion/rules.hpp"
 #include "locus/metrics.hpp"
-#include "locus/pdr/step_detector.hpp"
-#include "locus/pdr/step_length.hpp"
+#include "locus/motion/pdr/step_detector.hpp"
+#include "locus/motion/pdr/step_length.hpp"
 
 namespace locus::tools::walks {
 

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "datasets/putmc.hpp"
-#include "locus/fusion/walkable.hpp"
-#include "locus/fusion/walk_filter.hpp"
+#include "locus/motion/fusion/walkable.hpp"
+#include "locus/motion/fusion/walk_filter.hpp"
 #include "sim/evaluate.hpp"
 
 namespace locus::tools::walks {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 
 namespace locus::tools::walks {
 

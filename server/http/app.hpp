@@ -13,12 +13,12 @@
 #include <unordered_set>
 
 #include "directory/service.hpp"
-#include "http/floor_geo.hpp"
-#include "http/fair_share.hpp"
-#include "http/front.hpp"
-#include "http/slots.hpp"
-#include "http/static_files.hpp"
-#include "http/transmitter_cache.hpp"
+#include "http/plans/floor_geo.hpp"
+#include "http/front/fair_share.hpp"
+#include "http/front/front.hpp"
+#include "http/front/slots.hpp"
+#include "http/front/static_files.hpp"
+#include "http/transmitters/transmitter_cache.hpp"
 #include "localize/service.hpp"
 #include "locus/plan/route.hpp"
 #include "routing/service.hpp"

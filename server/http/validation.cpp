@@ -1,6 +1,6 @@
 #include "http/validation.hpp"
 
-#include "http/transmitter_fields.hpp"
+#include "http/transmitters/transmitter_fields.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -26,7 +26,7 @@ namespace locus::localize {
 
 // An index with the rooms of the floors it covers (for the symbolic location), and each RP's
 // part of a candidate in the JSON answer, written once per snapshot by the answer writer
-// (http/localize_answer.hpp) through the Prepare hook; this layer only keeps the text.
+// (http/localize/localize_answer.hpp) through the Prepare hook; this layer only keeps the text.
 struct Snapshot {
     match::Index index;
     std::unordered_map<long long, std::vector<Room>> rooms_by_floor;

@@ -55,7 +55,7 @@ const std::vector<Kind>& kinds() {
           {.name = "generated", .type = FieldType::Integer, .writable = false},
           // when a scan upload last changed the RP (schema 010); null until one does
           {.name = "last_upload_at", .type = FieldType::Text, .writable = false}}},
-        // schema/009_transmitters.sql; http/transmitter_routes.cpp checks what a field alone
+        // schema/009_transmitters.sql; http/transmitters/transmitter_routes.cpp checks what a field alone
         // cannot (type, the bssid's form, the position within the floor).
         {"transmitters",
          "transmitter",

@@ -23,12 +23,12 @@
 #include <stdexcept>
 #include <string>
 
-#include "locus/fusion/kalman.hpp"
-#include "locus/fusion/particle_filter.hpp"
-#include "locus/fusion/ranging_ekf.hpp"
-#include "locus/fusion/ranging_fix.hpp"
-#include "locus/fusion/walk_filter.hpp"
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/particle_filter.hpp"
+#include "locus/motion/fusion/ranging_ekf.hpp"
+#include "locus/motion/fusion/ranging_fix.hpp"
+#include "locus/motion/fusion/walk_filter.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "tracks/fix.hpp"
 #include "tracks/fusion_method.hpp"

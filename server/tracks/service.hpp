@@ -22,7 +22,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "locus/fusion/walkable.hpp"
+#include "locus/motion/fusion/walkable.hpp"
 #include "store/db.hpp"
 #include "store/store.hpp"
 #include "tracks/fix.hpp"
@@ -41,7 +41,7 @@ struct Options {
     std::size_t max_streams = 100;      // open event streams, all tracks together
     std::size_t max_streams_per_track = 10;  // so one owner (or its shares) cannot take every slot
     std::size_t max_live_tracks = 10'000;
-    // What one client (one address, http/client_address.hpp) may hold of the two caps above,
+    // What one client (one address, http/front/client_address.hpp) may hold of the two caps above,
     // so it cannot fill them for everyone (docs/deploy.md "Per-client limits"). Live tracks
     // are counted in the database (its keyed hash, schema/015_track_client.sql: across
     // replicas and restarts that share `client_key`); streams by this process.

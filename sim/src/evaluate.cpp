@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "locus/metrics.hpp"
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 
 namespace locus::sim {
 

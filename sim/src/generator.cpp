@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 #include "sim/environment.hpp"
 
 namespace locus::sim {

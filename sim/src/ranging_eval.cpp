@@ -4,7 +4,7 @@
 #include <map>
 #include <utility>
 
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 
 namespace locus::sim {
 

@@ -6,8 +6,8 @@
 #include <numbers>
 #include <random>
 
-#include "locus/relative/angle_kalman.hpp"
-#include "locus/relative/range_fit.hpp"
+#include "locus/motion/relative/angle_kalman.hpp"
+#include "locus/motion/relative/range_fit.hpp"
 
 namespace locus::sim {
 

@@ -6,9 +6,9 @@
 // refused with nothing written, and a restarted server (or, on PostgreSQL, another server sharing
 // the database) resumes at the latest stored fix. Eigen first: cpp-httplib pulls in <resolv.h>,
 // whose `_res` macro breaks Eigen's headers.
-#include "locus/fusion/kalman.hpp"
-#include "locus/fusion/ranging_ekf.hpp"
-#include "locus/fusion/ranging_fix.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/ranging_ekf.hpp"
+#include "locus/motion/fusion/ranging_fix.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "hierarchy.hpp"
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 #include "locus/ranging/path_loss.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "server_process.hpp"

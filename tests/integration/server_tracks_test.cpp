@@ -3,8 +3,8 @@
 // stream that sees a posted fix within a second, the relative position of two tracks against
 // hand-computed values, and tracks closing and going with tiny --track-ttl/--track-retention.
 // Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen's headers.
-#include "locus/fusion/particle_filter.hpp"
-#include "locus/fusion/walk_filter.hpp"
+#include "locus/motion/fusion/particle_filter.hpp"
+#include "locus/motion/fusion/walk_filter.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Request bodies with a Content-Encoding: which codings are taken, and decoding under a limit
-// on the decoded size (server/http/body_coding.hpp).
-#include "http/body_coding.hpp"
+// on the decoded size (server/http/front/body_coding.hpp).
+#include "http/front/body_coding.hpp"
 
 #include <gtest/gtest.h>
 

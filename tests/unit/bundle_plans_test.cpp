@@ -1,4 +1,4 @@
-// Plans inside a map bundle (http/bundle_plans.hpp): the demo map's two plans land on their
+// Plans inside a map bundle (http/plans/bundle_plans.hpp): the demo map's two plans land on their
 // floors with links resolved from levels to floor ids, through the PUT endpoint's checks; a
 // bundle plan that names a missing level, links by floor id, or fails a check is refused
 // naming the floor and the feature.
@@ -8,8 +8,8 @@
 #include <filesystem>
 
 #include "http/api_error.hpp"
-#include "http/bundle_plans.hpp"
-#include "http/store_json.hpp"
+#include "http/plans/bundle_plans.hpp"
+#include "http/crud/store_json.hpp"
 #include "store/migrations.hpp"
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"

@@ -1,11 +1,11 @@
-// Who a request is from (http/client_address.hpp): the peer, unless the peer is a trusted
+// Who a request is from (http/front/client_address.hpp): the peer, unless the peer is a trusted
 // proxy; then the right-most X-Forwarded-For entry that is not one. IPv6 clients by their /64.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "http/client_address.hpp"
+#include "http/front/client_address.hpp"
 
 using locus::http::client_of;
 using locus::http::parse_range;

@@ -1,11 +1,11 @@
-// Per-client token buckets (http/client_buckets.hpp): a burst, then the rate, each client on
+// Per-client token buckets (http/front/client_buckets.hpp): a burst, then the rate, each client on
 // its own; how long a refused client is told to wait; and a table that never holds more than
 // its capacity, dropping the longest-idle client first. The clock is the `now` argument.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "http/client_buckets.hpp"
+#include "http/front/client_buckets.hpp"
 
 using locus::http::ClientBuckets;
 

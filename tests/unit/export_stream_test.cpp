@@ -1,11 +1,11 @@
-// A radio map's export written out piece by piece (http/export_stream.hpp) from the store's
+// A radio map's export written out piece by piece (http/radiomaps/export_stream.hpp) from the store's
 // reader: the same bytes as the whole document written at once, whatever the piece size, and
 // one snapshot however long it is read, without holding a writer back (SQLite file).
 #include <gtest/gtest.h>
 
-#include "http/export_stream.hpp"
+#include "http/radiomaps/export_stream.hpp"
 #include "http/json_text.hpp"
-#include "http/store_json.hpp"
+#include "http/crud/store_json.hpp"
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "http/api_error.hpp"
-#include "http/floor_geo.hpp"
-#include "http/store_json.hpp"
+#include "http/plans/floor_geo.hpp"
+#include "http/crud/store_json.hpp"
 #include "http/validation.hpp"
 #include "store/kinds.hpp"
 

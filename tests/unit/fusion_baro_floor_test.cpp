@@ -1,4 +1,4 @@
-// Floors from the barometer (locus/fusion/baro_floor.hpp) on synthetic pressure series whose
+// Floors from the barometer (locus/motion/fusion/baro_floor.hpp) on synthetic pressure series whose
 // expected heights were worked out by hand from the hypsometric equation at 15 °C
 // (scale height R_d·T/g = 287.05 × 288.15 / 9.80665 = 8434.43 m): from 1000 hPa,
 // +3.5 m is 1000·e^(−3.5/8434.43) = 999.5851 hPa, +7.0 m is 999.1704 hPa, +3.2 m is 999.6207 hPa.
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "datasets/ipin_log.hpp"
-#include "locus/fusion/baro_floor.hpp"
+#include "locus/motion/fusion/baro_floor.hpp"
 
 using namespace locus::fusion;
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "locus/fusion/fast_random.hpp"
+#include "locus/motion/fusion/fast_random.hpp"
 
 using locus::fusion::FastRandom;
 

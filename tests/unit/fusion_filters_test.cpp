@@ -7,9 +7,9 @@
 #include <numbers>
 #include <random>
 
-#include "locus/fusion/kalman.hpp"
-#include "locus/fusion/particle_filter.hpp"
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/particle_filter.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 
 using locus::Point;
 using namespace locus::fusion;

@@ -7,9 +7,9 @@
 #include <numbers>
 #include <random>
 
-#include "locus/fusion/kalman.hpp"
-#include "locus/fusion/particle_filter.hpp"
-#include "locus/fusion/rooms_plan.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/particle_filter.hpp"
+#include "locus/motion/fusion/rooms_plan.hpp"
 #include "locus/plan/check.hpp"
 #include "plan_fixture.hpp"
 #include "sim/scenario.hpp"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "locus/fusion/ranging_ekf.hpp"
+#include "locus/motion/fusion/ranging_ekf.hpp"
 #include "locus/ranging/path_loss.hpp"
 
 using namespace locus;

@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "locus/fusion/kalman.hpp"
-#include "locus/fusion/ranging_fix.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/ranging_fix.hpp"
 #include "locus/ranging/trilateration.hpp"
 
 using namespace locus;

@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-#include "locus/fusion/rules.hpp"
+#include "locus/motion/fusion/rules.hpp"
 
 using locus::Point;
 using namespace locus::fusion;

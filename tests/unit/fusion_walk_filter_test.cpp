@@ -7,9 +7,9 @@
 #include <numbers>
 #include <random>
 
-#include "locus/fusion/heading_alignment.hpp"
-#include "locus/fusion/walk_filter.hpp"
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/fusion/heading_alignment.hpp"
+#include "locus/motion/fusion/walk_filter.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 
 using locus::Point;
 namespace fusion = locus::fusion;

@@ -7,8 +7,8 @@
 
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
-#include "http/localize_request.hpp"
-#include "http/store_json.hpp"
+#include "http/localize/localize_request.hpp"
+#include "http/crud/store_json.hpp"
 #include "store/sql_store.hpp"
 
 using namespace locus;

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "http/api_error.hpp"
-#include "http/image_header.hpp"
+#include "http/plans/image_header.hpp"
 #include "images/test_images.hpp"
 
 using locus::http::ApiError;

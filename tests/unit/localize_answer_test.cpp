@@ -1,11 +1,11 @@
-// The localize answer (server/http/localize_answer.hpp): written with the snapshot's pre-rendered
+// The localize answer (server/http/localize/localize_answer.hpp): written with the snapshot's pre-rendered
 // candidate parts it is byte for byte the answer written field by field, and it is valid JSON
 // holding what the matcher found.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
-#include "http/localize_answer.hpp"
+#include "http/localize/localize_answer.hpp"
 #include "match_fixture.hpp"
 
 using namespace locus;

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "locus/pdr/compass.hpp"
-#include "locus/pdr/heading_convention.hpp"
-#include "locus/pdr/heading_estimator.hpp"
+#include "locus/motion/pdr/compass.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
+#include "locus/motion/pdr/heading_estimator.hpp"
 
 using namespace locus::pdr;
 

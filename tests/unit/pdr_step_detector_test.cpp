@@ -5,8 +5,8 @@
 #include <random>
 #include <vector>
 
-#include "locus/pdr/step_detector.hpp"
-#include "locus/pdr/vec3.hpp"
+#include "locus/motion/pdr/step_detector.hpp"
+#include "locus/motion/pdr/vec3.hpp"
 
 using namespace locus::pdr;
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "locus/pdr/step_length.hpp"
+#include "locus/motion/pdr/step_length.hpp"
 
 using namespace locus::pdr;
 

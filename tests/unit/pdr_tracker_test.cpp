@@ -3,8 +3,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "locus/pdr/pipeline.hpp"
-#include "locus/pdr/tracker.hpp"
+#include "locus/motion/pdr/pipeline.hpp"
+#include "locus/motion/pdr/tracker.hpp"
 
 using namespace locus;
 using namespace locus::pdr;

@@ -1,4 +1,4 @@
-// The localize fast path (server/http/plain_localize_request.hpp): for every body it accepts, the
+// The localize fast path (server/http/localize/plain_localize_request.hpp): for every body it accepts, the
 // result must be exactly what the full parser gives; everything unusual must be declined.
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include "datasets/uji_csv.hpp"
 #include "http/api_error.hpp"
-#include "http/plain_localize_request.hpp"
+#include "http/localize/plain_localize_request.hpp"
 
 using namespace locus;
 using namespace locus::http;

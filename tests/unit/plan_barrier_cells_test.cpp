@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-#include "locus/fusion/plan_walkable.hpp"
+#include "locus/motion/fusion/plan_walkable.hpp"
 #include "locus/plan/barrier_cells.hpp"
 #include "locus/plan/ring.hpp"
 #include "plan_fixture.hpp"

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "locus/relative/acoustic.hpp"
+#include "locus/motion/relative/acoustic.hpp"
 
 using namespace locus::relative;
 

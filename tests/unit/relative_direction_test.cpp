@@ -5,9 +5,9 @@
 #include <cmath>
 #include <vector>
 
-#include "locus/relative/angle_kalman.hpp"
-#include "locus/relative/direction_estimator.hpp"
-#include "locus/relative/phone_rssi.hpp"
+#include "locus/motion/relative/angle_kalman.hpp"
+#include "locus/motion/relative/direction_estimator.hpp"
+#include "locus/motion/relative/phone_rssi.hpp"
 
 using namespace locus;
 using namespace locus::relative;

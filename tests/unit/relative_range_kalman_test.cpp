@@ -8,9 +8,9 @@
 #include <span>
 #include <vector>
 
-#include "locus/relative/phone_rssi.hpp"
-#include "locus/relative/range_fit.hpp"
-#include "locus/relative/range_kalman.hpp"
+#include "locus/motion/relative/phone_rssi.hpp"
+#include "locus/motion/relative/range_fit.hpp"
+#include "locus/motion/relative/range_kalman.hpp"
 
 using namespace locus::relative;
 

@@ -8,7 +8,7 @@
 #include <map>
 #include <sstream>
 
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 #include "sim/environment.hpp"
 #include "sim/generator.hpp"
 #include "sim/ranging_eval.hpp"

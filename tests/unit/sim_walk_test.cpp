@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "locus/pdr/heading_convention.hpp"
+#include "locus/motion/pdr/heading_convention.hpp"
 #include "sim/environment.hpp"
 #include "sim/evaluate.hpp"
 #include "sim/generator.hpp"

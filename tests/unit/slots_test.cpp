@@ -1,5 +1,5 @@
-// http::Slots (http/slots.hpp): the cap shared by the quality assessments and the exports.
-#include "http/slots.hpp"
+// http::Slots (http/front/slots.hpp): the cap shared by the quality assessments and the exports.
+#include "http/front/slots.hpp"
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "store/migrations.hpp"
-#include "http/store_json.hpp"
+#include "http/crud/store_json.hpp"
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 

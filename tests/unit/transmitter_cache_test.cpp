@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "http/transmitter_cache.hpp"
+#include "http/transmitters/transmitter_cache.hpp"
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 

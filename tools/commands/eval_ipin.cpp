@@ -10,7 +10,7 @@
 // placed by the walking survey), powed representation (β = e), Sørensen distance, floor by
 // vote (Torres-Sospedra et al. 2015, as in tools/fingerprint_eval.hpp); `wifi`, the server's
 // answer to POST /v1/maps/{id}/localize with the scan and nothing else; `wifi-baro`, the same
-// answers with their floor replaced by the barometric floor (locus/fusion/baro_floor.hpp: the
+// answers with their floor replaced by the barometric floor (locus/motion/fusion/baro_floor.hpp: the
 // walk's pressure, the map's floor elevations, each answer's floor as a radio vote), estimates
 // at each scan and every 0.5 s between (the last answer's position, the floor then). Causal:
 // an estimate at t uses only the pressure samples and answers at or before t.
@@ -27,7 +27,7 @@
 #include "datasets/ipin_log.hpp"
 #include "ipin_eval.hpp"
 #include "ipin_venue.hpp"
-#include "locus/fusion/baro_floor.hpp"
+#include "locus/motion/fusion/baro_floor.hpp"
 #include "locus/match/localize.hpp"
 #include "survey_connect.hpp"
 #include "walk_survey.hpp"

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "command_registry.hpp"
-#include "locus/fusion/rules.hpp"
+#include "locus/motion/fusion/rules.hpp"
 
 namespace {
 

@@ -17,7 +17,7 @@
 #include "datasets/ipin_log.hpp"
 #include "datasets/pdr_logs.hpp"
 #include "datasets/pdr_oxford.hpp"
-#include "locus/pdr/pipeline.hpp"
+#include "locus/motion/pdr/pipeline.hpp"
 
 using nlohmann::json;
 

@@ -16,7 +16,7 @@
 #include "command_registry.hpp"
 #include "live_track.hpp"
 #include "locus/api/client.hpp"
-#include "locus/fusion/walk_filter.hpp"
+#include "locus/motion/fusion/walk_filter.hpp"
 #include "sim/evaluate.hpp"
 #include "sim/ranging_eval.hpp"
 #include "sim/walk_io.hpp"

@@ -18,7 +18,7 @@
 
 #include "command_registry.hpp"
 #include "locus/api/client.hpp"
-#include "locus/fusion/rooms_plan.hpp"
+#include "locus/motion/fusion/rooms_plan.hpp"
 #include "sim/evaluate.hpp"
 #include "sim/generator.hpp"
 #include "sim/ranging_eval.hpp"

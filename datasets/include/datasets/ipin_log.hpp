@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "datasets/pdr_logs.hpp"
-#include "locus/pdr/vec3.hpp"
+#include "locus/motion/pdr/vec3.hpp"
 #include "locus/radio_map.hpp"
 
 namespace locus::datasets::ipin {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "locus/geometry.hpp"
-#include "locus/pdr/vec3.hpp"
+#include "locus/motion/pdr/vec3.hpp"
 
 namespace locus::datasets {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "datasets/pdr_logs.hpp"
-#include "locus/pdr/step_detector.hpp"
+#include "locus/motion/pdr/step_detector.hpp"
 
 namespace locus::datasets {
 

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "locus/fusion/kalman.hpp"
-#include "locus/fusion/particle_filter.hpp"
-#include "locus/fusion/rules.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/particle_filter.hpp"
+#include "locus/motion/fusion/rules.hpp"
 #include "locus/match/localize.hpp"
-#include "locus/pdr/pipeline.hpp"
+#include "locus/motion/pdr/pipeline.hpp"
 #include "sim/walk.hpp"
 
 namespace locus::sim {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "locus/fusion/ranging_ekf.hpp"
-#include "locus/fusion/ranging_fix.hpp"
+#include "locus/motion/fusion/ranging_ekf.hpp"
+#include "locus/motion/fusion/ranging_fix.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "sim/evaluate.hpp"
 

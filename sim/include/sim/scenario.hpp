@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "locus/fusion/walkable.hpp"
+#include "locus/motion/fusion/walkable.hpp"
 #include "locus/geometry.hpp"
 
 namespace locus::sim {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "locus/relative/direction_estimator.hpp"
-#include "locus/relative/phone_rssi.hpp"
-#include "locus/relative/range_kalman.hpp"
+#include "locus/motion/relative/direction_estimator.hpp"
+#include "locus/motion/relative/phone_rssi.hpp"
+#include "locus/motion/relative/range_kalman.hpp"
 
 namespace locus::sim {
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "locus/fusion/walkable.hpp"
-#include "locus/pdr/vec3.hpp"
+#include "locus/motion/fusion/walkable.hpp"
+#include "locus/motion/pdr/vec3.hpp"
 #include "locus/radio_map.hpp"
 #include "locus/ranging/path_loss.hpp"
 

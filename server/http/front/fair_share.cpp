@@ -1,0 +1,93 @@
+#include "http/front/fair_share.hpp"
+
+#include <cmath>
+#include <string_view>
+
+#include "http/app.hpp"
+#include "tracks/token.hpp"
+
+namespace locus::http {
+
+namespace {
+
+// "/v1/<collection>/<digits>/<tail>" exactly.
+bool is_item_path(std::string_view path, std::string_view collection, std::string_view tail) {
+    if (!path.starts_with("/v1/")) return false;
+    path.remove_prefix(4);
+    if (!path.starts_with(collection) || path.size() <= collection.size() || path[collection.size()] != '/') return false;
+    path.remove_prefix(collection.size() + 1);
+    std::size_t digits = 0;
+    while (digits < path.size() && path[digits] >= '0' && path[digits] <= '9') ++digits;
+    if (digits == 0 || digits >= path.size() || path[digits] != '/') return false;
+    return path.substr(digits + 1) == tail;
+}
+
+enum class Limited { none, track_open, expensive };
+
+Limited limited(const httplib::Request& req) {
+    const bool get = req.method == "GET" || req.method == "HEAD";
+    if (req.method == "POST") {
+        if (req.path == "/v1/tracks") return Limited::track_open;
+        if (is_item_path(req.path, "maps", "route") || is_item_path(req.path, "maps", "localize")) return Limited::expensive;
+    }
+    if (get && (is_item_path(req.path, "maps", "search") || is_item_path(req.path, "radiomaps", "quality"))) return Limited::expensive;
+    return Limited::none;
+}
+
+std::string number_text(double v) {
+    if (v == std::floor(v) && std::fabs(v) < 1e15) return std::to_string(static_cast<long long>(v));
+    std::string s = std::to_string(v);
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    return s;
+}
+
+}  // namespace
+
+FairShare::FairShare(FairShareOptions options, std::string api_key)
+    : options_(std::move(options)),
+      api_key_(std::move(api_key)),
+      opens_(options_.track_open_rate, options_.track_open_burst, options_.table_capacity),
+      routes_(options_.route_rate, options_.route_burst, options_.table_capacity) {}
+
+bool FairShare::exempt(const httplib::Request& req) const {
+    if (api_key_.empty()) return false;
+    const std::string auth = req.get_header_value("Authorization");
+    return auth.starts_with("Bearer ") && tracks::same_hash(std::string_view(auth).substr(7), api_key_);
+}
+
+std::optional<std::string> FairShare::client(const httplib::Request& req) const {
+    if (exempt(req)) return std::nullopt;
+    std::vector<std::string> forwarded;
+    if (!options_.trusted_proxies.empty()) {
+        const auto n = req.get_header_value_count("X-Forwarded-For");
+        for (std::size_t i = 0; i < n; ++i) forwarded.push_back(req.get_header_value("X-Forwarded-For", i));
+    }
+    return client_of(req.remote_addr, forwarded, options_.trusted_proxies);
+}
+
+bool FairShare::refuse(const httplib::Request& req, httplib::Response& res) {
+    const Limited what = limited(req);
+    if (what == Limited::none) return false;
+    const auto who = client(req);
+    if (!who) return false;
+    const double now = std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_).count();
+    ClientBuckets::Verdict v;
+    {
+        std::lock_guard lock(mu_);
+        v = (what == Limited::track_open ? opens_ : routes_).take(*who, now);
+    }
+    if (v.allowed) return false;
+    // Whole seconds, rounded up: a retry at Retry-After finds a token.
+    const long long retry = std::max(1LL, static_cast<long long>(std::ceil(v.wait_s - 1e-9)));
+    res.set_header("Retry-After", std::to_string(retry));
+    const std::string message =
+        what == Limited::track_open
+            ? "this client opened tracks faster than --client-track-opens (" + number_text(options_.track_open_rate) +
+                  " a second, bursts of --client-track-open-burst " + number_text(options_.track_open_burst) + ")"
+            : "this client sent route, search, map localize and quality requests faster than --client-rate (" +
+                  number_text(options_.route_rate) + " a second, bursts of --client-burst " + number_text(options_.route_burst) + ")";
+    write_error(res, 429, "rate_limited", message + "; retry after " + std::to_string(retry) + " s");
+    return true;
+}
+
+}  // namespace locus::http

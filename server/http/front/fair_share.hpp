@@ -1,0 +1,67 @@
+#pragma once
+// Per-client fair shares (docs/deploy.md "Per-client limits"): what one client (one address,
+// client_address.hpp) may take of what every client shares, so one of them cannot fill a
+// server-wide cap and leave everyone else 503.
+//
+// Rates are kept here, checked before routing (App's pre-routing handler): anonymous track
+// opens (POST /v1/tracks, --client-track-opens/--client-track-open-burst) and the expensive
+// anonymous reads (POST /v1/maps/{id}/route, GET /v1/maps/{id}/search, POST /v1/maps/{id}/localize,
+// GET /v1/radiomaps/{id}/quality; one bucket for the four, --client-rate/--client-burst).
+// What a client holds (live tracks, event streams) is counted where it is held, by the tracks
+// service (tracks::Options; live tracks in the database, as a keyed hash); the routes ask
+// client() for the key it counts under.
+//
+// A request carrying the server's API key is the operator's and is exempt from all of these.
+//
+// Costs: client() parses the peer and X-Forwarded-For (client_address.hpp); refuse() adds a
+// regex-free path check and, for a limited route, one ClientBuckets::take under a mutex.
+// Memory: at most `table_capacity` buckets per table (two tables), whatever the clients.
+#include <httplib.h>
+
+#include <chrono>
+#include <cstddef>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "http/front/client_address.hpp"
+#include "http/front/client_buckets.hpp"
+
+namespace locus::http {
+
+struct FairShareOptions {
+    // A phone opens a track per walk; a burst covers a building's worth of tests or restarts.
+    double track_open_rate = 0.5;  // per second
+    double track_open_burst = 30;
+    // A phone localizes about once a second and routes or searches now and then.
+    double route_rate = 10;  // per second
+    double route_burst = 60;
+    std::vector<AddressRange> trusted_proxies;  // --trusted-proxy; empty: X-Forwarded-For is ignored
+    std::size_t table_capacity = 65'536;        // buckets held per table (client_buckets.hpp)
+};
+
+class FairShare {
+public:
+    FairShare(FairShareOptions options, std::string api_key);
+
+    // The key the client of `req` is counted under, or nullopt when it carries the server's
+    // API key ('Authorization: Bearer KEY'; never with no key configured): exempt.
+    std::optional<std::string> client(const httplib::Request& req) const;
+    // Before routing: true, with `res` holding the 429 (Retry-After, rate_limited), when the
+    // request is on a rate-limited route and its client has no token left.
+    bool refuse(const httplib::Request& req, httplib::Response& res);
+
+    const FairShareOptions& options() const { return options_; }
+
+private:
+    bool exempt(const httplib::Request& req) const;
+
+    FairShareOptions options_;
+    std::string api_key_;
+    std::mutex mu_;  // both tables
+    ClientBuckets opens_, routes_;
+    std::chrono::steady_clock::time_point epoch_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace locus::http

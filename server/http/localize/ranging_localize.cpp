@@ -1,0 +1,199 @@
+#include "http/localize/ranging_localize.hpp"
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "http/api_error.hpp"
+#include "http/plans/floor_geo.hpp"
+#include "http/transmitters/transmitter_fields.hpp"
+#include "http/validation.hpp"
+#include "store/kinds.hpp"
+
+namespace locus::http {
+
+using nlohmann::json;
+
+namespace {
+
+double option(const json& o, const char* field, double lo, double hi, double fallback) {
+    if (!o.contains(field)) return fallback;
+    return finite_number(o, field, "options", lo, hi);
+}
+
+int int_option(const json& o, const char* field, int lo, int hi, int fallback) {
+    if (!o.contains(field)) return fallback;
+    const auto& v = o.at(field);
+    if (!v.is_number_integer()) throw invalid_field("'options." + std::string(field) + "' must be an integer");
+    const auto n = v.get<std::int64_t>();
+    if (n < lo || n > hi)
+        throw ApiError(422, "out_of_range",
+                       "'options." + std::string(field) + "' must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return static_cast<int>(n);
+}
+
+void add_floor(TransmitterCache& cache, std::int64_t floor_id, double phone_height, std::map<std::string, KnownTransmitter>& out) {
+    const auto txs = cache.of_floor(floor_id);
+    for (const auto& r : *txs) {
+        const auto& f = r.fields;
+        KnownTransmitter k;
+        k.floor_id = floor_id;
+        k.tx.at = {f.get<double>("x"), f.get<double>("y")};
+        const auto& z = f.values.at("z");
+        k.tx.dz = std::holds_alternative<double>(z) ? std::get<double>(z) - phone_height : 0.0;
+        k.tx.model = {f.get<double>("tx_power"), f.get<double>("path_loss_exponent")};
+        out.emplace(transmitter_key(f.get<std::string>("type"), f.get<std::string>("bssid")), k);
+    }
+}
+
+std::vector<std::int64_t> floors_of_map(store::Store& store, std::int64_t map_id) {
+    std::vector<std::int64_t> floors;
+    store.get(store::kind("maps"), map_id);  // NotFound for an unknown map
+    const auto buildings = store.list(store::kind("buildings"), map_id, 1'000'000, 0);
+    for (const auto& b : buildings.items)
+        for (const auto& f : store.list(store::kind("floors"), b.id, 1'000'000, 0).items) floors.push_back(f.id);
+    return floors;
+}
+
+std::string number(double v) { return std::isfinite(v) ? json(v).dump() : "null"; }
+
+}  // namespace
+
+std::string transmitter_key(std::string_view type, std::string_view bssid) {
+    std::string k(type);
+    k += '|';
+    k += bssid;
+    return k;
+}
+
+std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
+    // The fingerprint matchers' bodies are the hot path: they never hold these names.
+    if (body.find("lateration") == std::string::npos) return std::nullopt;
+    json j = json::parse(body, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) return std::nullopt;  // the full parser words the error
+    const auto it = j.find("algorithm");
+    if (it == j.end() || !it->is_string()) return std::nullopt;
+    const auto& name = it->get_ref<const std::string&>();
+    if (name != "trilateration" && name != "multilateration") return std::nullopt;
+    reject_nul(body);
+    only_fields(j, {"algorithm", "scans", "measurements", "options"}, "");
+    RangingRequest r;
+    r.multilateration = name == "multilateration";
+    const bool has_scans = j.contains("scans"), has_means = j.contains("measurements");
+    if (has_scans == has_means) throw invalid_field("send exactly one of 'scans' or 'measurements'");
+    if (has_scans) {
+        r.query = match::Query::from_scans(parse_scans(j.at("scans"), "scans"));
+    } else {
+        const json& m = j.at("measurements");
+        if (!m.is_array() || m.empty()) throw invalid_field("'measurements' must be a non-empty array of {bssid, rss}");
+        std::vector<Reading> means;
+        for (std::size_t i = 0; i < m.size(); ++i) {
+            // "mean" is the fingerprint parser's other spelling of "rss" here.
+            json reading = m[i];
+            if (reading.is_object() && reading.contains("mean") && !reading.contains("rss")) {
+                reading["rss"] = reading["mean"];
+                reading.erase("mean");
+            }
+            means.push_back(parse_reading(reading, "measurements[" + std::to_string(i) + "]"));
+        }
+        r.query = match::Query::from_means(means);
+    }
+    if (j.contains("options")) {
+        const json& o = j.at("options");
+        if (!o.is_object()) throw invalid_field("'options' must be an object");
+        only_fields(o, {"cutoff", "vote_slack", "correct", "max_transmitters", "sigma_db", "loss_scale", "max_iterations",
+                        "phone_height"},
+                    "options");
+        auto& t = r.trilateration;
+        t.cutoff = option(o, "cutoff", 0.1, 1000.0, t.cutoff);
+        t.vote_slack = option(o, "vote_slack", 0.0, 100.0, t.vote_slack);
+        if (o.contains("correct")) {
+            if (!o.at("correct").is_boolean()) throw invalid_field("'options.correct' must be true or false");
+            t.correct = o.at("correct").get<bool>();
+        }
+        t.max_transmitters = int_option(o, "max_transmitters", 3, 30, t.max_transmitters);
+        auto& m = r.multilateration_options;
+        m.sigma_db = option(o, "sigma_db", 0.1, 30.0, m.sigma_db);
+        m.loss_scale = option(o, "loss_scale", 0.1, 100.0, m.loss_scale);
+        m.max_iterations = int_option(o, "max_iterations", 1, 200, m.max_iterations);
+        r.phone_height = option(o, "phone_height", -10.0, 100.0, r.phone_height);
+    }
+    return r;
+}
+
+KnownTransmitters known_transmitters(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, double phone_height) {
+    KnownTransmitters known;
+    known.map_scope = map_scope;
+    if (map_scope) {
+        for (std::int64_t floor : floors_of_map(store, id)) add_floor(cache, floor, phone_height, known.by_key);
+    } else {
+        const auto radiomap = store.get(store::kind("radiomaps"), id);
+        add_floor(cache, radiomap.parent_id.value(), phone_height, known.by_key);
+    }
+    return known;
+}
+
+Ranged range_scan(const KnownTransmitters& known, const RangingRequest& request) {
+    const bool map_scope = known.map_scope;
+    // The heard transmitters by floor; the floor that hears most is where the phone is.
+    std::map<std::int64_t, std::vector<ranging::Heard>> by_floor;
+    for (const auto& ap : request.query.aps) {
+        const auto k = known.by_key.find(transmitter_key(ap.type, ap.bssid));
+        if (k != known.by_key.end()) by_floor[k->second.floor_id].push_back({k->second.tx, ap.rss});
+    }
+    std::int64_t floor_id = 0;
+    const std::vector<ranging::Heard>* heard = nullptr;
+    for (const auto& [f, h] : by_floor)
+        if (!heard || h.size() > heard->size()) {
+            floor_id = f;
+            heard = &h;
+        }
+    const std::size_t count = heard ? heard->size() : 0;
+    const char* algorithm = request.multilateration ? "multilateration" : "trilateration";
+    if (count < 3)
+        throw ApiError(422, "too_few_transmitters",
+                       "the scan hears " + std::to_string(count) + " known transmitter" + (count == 1 ? "" : "s") +
+                           (map_scope ? " on any floor of the map" : " of the radio map's floor") + "; " + algorithm +
+                           " needs at least 3");
+    const auto fix = request.multilateration ? ranging::multilaterate(*heard, request.multilateration_options)
+                                             : ranging::trilaterate(*heard, request.trilateration);
+    if (!fix)
+        throw ApiError(422, "no_fix",
+                       std::string(algorithm) + " found no position from the " + std::to_string(count) +
+                           " transmitters heard (fewer than 3 within the cutoff of " + number(request.trilateration.cutoff) +
+                           " m, or all in a line)");
+    return {floor_id, *fix, count};
+}
+
+std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request) {
+    const Ranged ranged = range_scan(known_transmitters(store, cache, map_scope, id, request.phone_height), request);
+    const std::int64_t floor_id = ranged.floor_id;
+    const auto* fix = &ranged.fix;
+    const std::size_t count = ranged.heard;
+    const char* algorithm = request.multilateration ? "multilateration" : "trilateration";
+    const auto floor = store.get(store::kind("floors"), floor_id);
+    const auto rooms = store.rooms_of_floor(floor_id);
+    const Room* room = room_at(rooms, fix->at);
+    json room_json = nullptr;
+    if (room) room_json = {{"id", room->id}, {"name", room->name}};
+    json out = {{"x", fix->at.x},
+                      {"y", fix->at.y},
+                      {"floor_id", floor_id},
+                      {"building_id", floor.parent_id.value()},
+                      {"room", room_json},
+                      {"algorithm", algorithm},
+                      {"uncertainty",
+                       {{"semi_major", std::isfinite(fix->uncertainty.semi_major) ? json(fix->uncertainty.semi_major) : json()},
+                        {"semi_minor", std::isfinite(fix->uncertainty.semi_minor) ? json(fix->uncertainty.semi_minor) : json()},
+                        {"angle_deg", fix->uncertainty.angle_deg}}},
+                      {"transmitters_heard", count},
+                      {"transmitters_used", fix->used},
+                      {"residual", fix->rms_residual}};
+    if (const auto g = georeference_of(floor)) {
+        const geo::FloorToEarth earth(*g);
+        add_lat_lon(out, &earth, fix->at);
+    }
+    return out.dump();
+}
+
+}  // namespace locus::http
