@@ -3,10 +3,10 @@
 // 415 where the coding or the route does not take one. Nothing of a refused body is stored.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <string>
 
 #include "compressed_body.hpp"
+#include "proc_status.hpp"
 #include "hierarchy.hpp"
 #include "raw_connection.hpp"
 #include "server_process.hpp"
@@ -29,11 +29,8 @@ Response post_encoded(const ServerProcess& s, const std::string& path, const std
 
 // The server's peak resident memory so far (VmHWM), in bytes.
 long long peak_rss(const ServerProcess& s) {
-    std::ifstream status("/proc/" + std::to_string(s.pid()) + "/status");
-    std::string line;
-    while (std::getline(status, line))
-        if (line.rfind("VmHWM:", 0) == 0) return std::stoll(line.substr(6)) * 1024;
-    return -1;
+    const long long kb = locus::tools::proc_status_kb(s.pid(), "VmHWM:");
+    return kb < 0 ? -1 : kb * 1024;
 }
 
 void expect_error(const Response& r, int status, const std::string& code, const std::string& says = {}) {

@@ -23,7 +23,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -36,6 +35,7 @@
 #include "bench_load.hpp"
 #include "command_registry.hpp"
 #include "compressed_body.hpp"
+#include "proc_status.hpp"
 #include "survey_connect.hpp"
 
 namespace {
@@ -75,14 +75,6 @@ private:
     mutable std::mutex mu_;
     std::map<std::string, int> counts_;
 };
-
-long long proc_status_kb(int pid, const char* field) {
-    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind(field, 0) == 0) return std::stoll(line.substr(std::string(field).size()));
-    return -1;
-}
 
 // "127.0.0.3" + i: the i-th phone's own loopback address.
 std::string phone_address(int i) {

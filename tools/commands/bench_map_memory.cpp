@@ -13,7 +13,6 @@
 #include <cstdio>
 #include <ctime>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -21,6 +20,7 @@
 
 #include "bench_load.hpp"
 #include "command_registry.hpp"
+#include "proc_status.hpp"
 #include "survey_connect.hpp"
 
 namespace {
@@ -43,19 +43,10 @@ struct Memory {
 };
 
 Memory memory_of(int pid) {
-    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-    if (!in) throw CommandError("cannot read /proc/" + std::to_string(pid) + "/status: is --pid the server's process id?");
-    Memory m;
-    std::string line;
-    while (std::getline(in, line)) {
-        std::istringstream fields(line);
-        std::string key;
-        double kb = 0;
-        fields >> key >> kb;
-        if (key == "VmRSS:") m.rss_mb = kb / 1024.0;
-        if (key == "VmHWM:") m.peak_mb = kb / 1024.0;
-    }
-    return m;
+    const long long rss_kb = proc_status_kb(pid, "VmRSS:"), peak_kb = proc_status_kb(pid, "VmHWM:");
+    if (rss_kb < 0 || peak_kb < 0)
+        throw CommandError("cannot read /proc/" + std::to_string(pid) + "/status: is --pid the server's process id?");
+    return {rss_kb / 1024.0, peak_kb / 1024.0};
 }
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
