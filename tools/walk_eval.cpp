@@ -6,6 +6,7 @@
 
 #include "locus/motion/fusion/heading_alignment.hpp"
 #include "locus/motion/fusion/rules.hpp"
+#include "locus/motion/fusion/walk_runner.hpp"
 #include "locus/metrics.hpp"
 #include "locus/motion/pdr/step_detector.hpp"
 #include "locus/motion/pdr/step_length.hpp"
@@ -85,20 +86,30 @@ sim::Track walk_pf_backward(const std::vector<PhoneStep>& phone, const std::vect
                             const std::optional<fusion::Walkable>& map, const fusion::WalkFilterConfig& wc) {
     fusion::WalkFilter wf(map, wc);
     sim::Track out;
-    std::size_t i = phone.size(), j = fx.size();
-    while (i > 0 || j > 0) {
-        // Forwards a step at the fix's time comes before the fix: backwards, after it.
-        if (i == 0 || (j > 0 && fx[j - 1].t_s >= phone[i - 1].t_s)) {
-            const sim::Fix& f = fx[--j];
-            wf.fix(f.at, f.cov);
-            out.push_back({f.t_s, wf.position()});
-        } else {
-            const PhoneStep& s = phone[--i];
-            if (s.t_s < t0) break;
-            wf.step(s.length_m, s.azimuth_rad + std::numbers::pi);
-            if (wf.started()) out.push_back({s.t_s, wf.position()});
+    // The streams from their ends, times negated so the latest comes first; forwards a step at
+    // a fix's time comes before the fix, so backwards after it (fusion::kFixesFirst).
+    std::vector<double> step_t, fix_t;
+    for (std::size_t i = phone.size(); i-- > 0;) step_t.push_back(-phone[i].t_s);
+    for (std::size_t j = fx.size(); j-- > 0;) fix_t.push_back(-fx[j].t_s);
+    bool before_start = false;  // a step before the first fix: nothing earlier is taken
+    fusion::WalkHandlers handlers;
+    handlers.fix = [&](std::size_t j) {
+        if (before_start) return;
+        const sim::Fix& f = fx[fx.size() - 1 - j];
+        wf.fix(f.at, f.cov);
+        out.push_back({f.t_s, wf.position()});
+    };
+    handlers.step = [&](std::size_t i) {
+        const PhoneStep& s = phone[phone.size() - 1 - i];
+        if (before_start) return;
+        if (s.t_s < t0) {
+            before_start = true;
+            return;
         }
-    }
+        wf.step(s.length_m, s.azimuth_rad + std::numbers::pi);
+        if (wf.started()) out.push_back({s.t_s, wf.position()});
+    };
+    fusion::run_walk({.step = step_t, .fix = fix_t}, handlers, fusion::kFixesFirst);
     return out;
 }
 
@@ -115,25 +126,26 @@ sim::Track rts(const std::vector<sim::PdrStep>& steps, const std::vector<sim::Fi
     Eigen::Vector2d x(start.x, start.y);
     Eigen::Matrix2d p = Eigen::Matrix2d::Identity() * kc.initial_sigma_m * kc.initial_sigma_m;
     nodes.push_back({0.0, x, x, p, p});
-    std::size_t i = 0, j = 0;
-    while (i < steps.size() || j < fixes.size()) {
-        if (j >= fixes.size() || (i < steps.size() && steps[i].t_s <= fixes[j].t_s)) {
-            const auto& s = steps[i++];
-            const double sig = kc.step_sigma_floor_m + kc.step_sigma_per_m * s.length_m;
-            const Eigen::Vector2d u(s.length_m * std::sin(s.heading_rad), s.length_m * std::cos(s.heading_rad));
-            const Eigen::Vector2d xp = x + u;
-            const Eigen::Matrix2d pp = p + Eigen::Matrix2d::Identity() * sig * sig;
-            x = xp, p = pp;
-            nodes.push_back({s.t_s, xp, x, pp, p});
-        } else {
-            const auto& f = fixes[j++];
-            const Eigen::Matrix2d k = p * (p + f.cov).inverse();
-            x = x + k * (Eigen::Vector2d(f.at.x, f.at.y) - x);
-            p = (Eigen::Matrix2d::Identity() - k) * p;
-            nodes.back().x_post = x, nodes.back().p_post = p;
-            nodes.back().t = f.t_s;
-        }
-    }
+    fusion::WalkHandlers handlers;
+    handlers.step = [&](std::size_t i) {
+        const auto& s = steps[i];
+        const double sig = kc.step_sigma_floor_m + kc.step_sigma_per_m * s.length_m;
+        const Eigen::Vector2d u(s.length_m * std::sin(s.heading_rad), s.length_m * std::cos(s.heading_rad));
+        const Eigen::Vector2d xp = x + u;
+        const Eigen::Matrix2d pp = p + Eigen::Matrix2d::Identity() * sig * sig;
+        x = xp, p = pp;
+        nodes.push_back({s.t_s, xp, x, pp, p});
+    };
+    handlers.fix = [&](std::size_t j) {
+        const auto& f = fixes[j];
+        const Eigen::Matrix2d k = p * (p + f.cov).inverse();
+        x = x + k * (Eigen::Vector2d(f.at.x, f.at.y) - x);
+        p = (Eigen::Matrix2d::Identity() - k) * p;
+        nodes.back().x_post = x, nodes.back().p_post = p;
+        nodes.back().t = f.t_s;
+    };
+    const std::vector<double> step_t = fusion::times_of(steps, &sim::PdrStep::t_s), fix_t = fusion::times_of(fixes, &sim::Fix::t_s);
+    fusion::run_walk({.step = step_t, .fix = fix_t}, handlers);  // a step before a fix of its instant
     std::vector<Eigen::Vector2d> xs(nodes.size());
     xs.back() = nodes.back().x_post;
     Eigen::Matrix2d ps = nodes.back().p_post;
@@ -180,23 +192,24 @@ WalkResult evaluate_walk(const putmc::Walk& walk, const std::vector<std::optiona
     fusion::WalkFilter wf(map, wc);
     sim::Track wf_track;
     std::vector<sim::PdrStep> steps;  // floor frame, from the first fix on
-    std::size_t i = 0, j = 0;
-    while (i < phone.size() || j < fx.size()) {
-        if (j >= fx.size() || (i < phone.size() && phone[i].t_s <= fx[j].t_s)) {
-            const PhoneStep& s = phone[i++];
-            if (s.t_s < t0) continue;
-            align.add_step(s.length_m, s.azimuth_rad);
-            steps.push_back({s.t_s, s.length_m, align.floor_heading(s.azimuth_rad), false});
-            wf.step(s.length_m, s.azimuth_rad);
-            wf_track.push_back({s.t_s, wf.position()});
-        } else {
-            const sim::Fix& f = fx[j++];
-            align.add_fix(f.at);
-            if (align.pairs() >= 3) wf.hint(align.offset_rad(), align.mirrored());
-            wf.fix(f.at, f.cov);
-            wf_track.push_back({f.t_s, wf.position()});
-        }
-    }
+    fusion::WalkHandlers handlers;
+    handlers.step = [&](std::size_t i) {
+        const PhoneStep& s = phone[i];
+        if (s.t_s < t0) return;
+        align.add_step(s.length_m, s.azimuth_rad);
+        steps.push_back({s.t_s, s.length_m, align.floor_heading(s.azimuth_rad), false});
+        wf.step(s.length_m, s.azimuth_rad);
+        wf_track.push_back({s.t_s, wf.position()});
+    };
+    handlers.fix = [&](std::size_t j) {
+        const sim::Fix& f = fx[j];
+        align.add_fix(f.at);
+        if (align.pairs() >= 3) wf.hint(align.offset_rad(), align.mirrored());
+        wf.fix(f.at, f.cov);
+        wf_track.push_back({f.t_s, wf.position()});
+    };
+    const std::vector<double> phone_t = fusion::times_of(phone, &PhoneStep::t_s), fix_t = fusion::times_of(fx, &sim::Fix::t_s);
+    fusion::run_walk({.step = phone_t, .fix = fix_t}, handlers);  // a step before a fix of its instant
     r.offset_deg = align.offset_rad() * 180.0 / std::numbers::pi;
     r.mirrored = align.mirrored();
 

@@ -28,6 +28,7 @@
 #include "locus/motion/fusion/ranging_ekf.hpp"
 #include "locus/motion/fusion/ranging_fix.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
+#include "locus/motion/fusion/walk_runner.hpp"
 #include "locus/motion/pdr/heading_convention.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "tracks/fix.hpp"
@@ -71,10 +72,10 @@ public:
     // options: the Kalman methods' noise (tracks/fusion_options.hpp), ignored by the others.
     explicit ThinFusion(FusionMethod method = FusionMethod::walk_pf, std::uint64_t seed = 1, const FusionOptions& options = {});
 
-    // Runs the steps and radio fixes in time order (a radio fix before a step of equal t) and
-    // answers one fused fix per input. Inputs at or before the last t an earlier call ran are
-    // skipped (no fix for them): a client retrying a request whose answer it lost must not
-    // move the filter twice. `walkable_of` gives a floor's Walkable (nullptr when it
+    // Runs the steps and radio fixes in time order (fusion::time_order, kFixesFirst: a radio fix
+    // before a step of equal t) and answers one fused fix per input. Inputs at or before the
+    // last t an earlier call ran are skipped (no fix for them): a client retrying a request
+    // whose answer it lost must not move the filter twice. `walkable_of` gives a floor's Walkable (nullptr when it
     // has no plan: walk_pf walks freely, particle throws std::invalid_argument). Steps before
     // any radio fix, with no filter yet, throw std::invalid_argument: the filter starts at a fix.
     template <typename WalkableOf>
@@ -135,17 +136,13 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
     std::vector<Fix> out;
     const std::optional<double> done = done_t_;
     const auto already_run = [&done](double t) { return done && t <= *done; };
-    std::size_t si = 0, ri = 0;
-    while (si < steps.size() || ri < radio.size()) {
-        const bool take_radio = ri < radio.size() && (si >= steps.size() || radio[ri].t <= steps[si].t);
-        const double t = take_radio ? radio[ri].t : steps[si].t;
-        if (already_run(t)) {
-            (take_radio ? ri : si)++;
-            continue;
-        }
+    const std::vector<double> step_t = fusion::times_of(steps, &Step::t), radio_t = fusion::times_of(radio, &RadioFix::t);
+    for (const fusion::WalkEvent& e : fusion::time_order({.step = step_t, .fix = radio_t}, fusion::kFixesFirst)) {
+        const double t = e.t_s;
+        if (already_run(t)) continue;
         if (!done_t_ || t > *done_t_) done_t_ = t;
-        if (take_radio) {
-            const RadioFix& r = radio[ri++];
+        if (e.kind == fusion::EventKind::fix) {
+            const RadioFix& r = radio[e.index];
             const Point at{r.x, r.y};
             if (r.unplaced) {
                 if (!ekf_) throw CannotFuse(r.unplaced->first, r.unplaced->second);
@@ -165,7 +162,7 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
             }
             out.push_back(fused(r.t, heading_deg_));
         } else {
-            const Step& s = steps[si++];
+            const Step& s = steps[e.index];
             if (!started()) throw std::invalid_argument("steps need a radio fix first (in this request or an earlier one): the filter starts there");
             const double heading_rad = s.heading_deg * 3.14159265358979323846 / 180.0;
             if (ekf_) ekf_->predict(pdr::step({0.0, 0.0}, s.length_m, heading_rad), s.t);

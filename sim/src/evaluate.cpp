@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "locus/motion/fusion/walk_runner.hpp"
 #include "locus/metrics.hpp"
 #include "locus/motion/pdr/heading_convention.hpp"
 
@@ -65,16 +66,15 @@ std::vector<Fix> run_matcher(const Walk& walk, const match::Index& index, const 
 
 namespace {
 
-// Walks steps and fixes in time order (a step and a fix at the same instant: step first).
+// Walks steps and fixes in time order, a step before a fix of the same instant
+// (fusion::kStepsFirst).
 template <typename OnStep, typename OnFix>
 void replay_events(const std::vector<PdrStep>& steps, const std::vector<Fix>& fixes, OnStep on_step, OnFix on_fix) {
-    std::size_t i = 0, j = 0;
-    while (i < steps.size() || j < fixes.size()) {
-        if (j >= fixes.size() || (i < steps.size() && steps[i].t_s <= fixes[j].t_s))
-            on_step(steps[i++]);
-        else
-            on_fix(fixes[j++]);
-    }
+    const std::vector<double> step_t = fusion::times_of(steps, &PdrStep::t_s), fix_t = fusion::times_of(fixes, &Fix::t_s);
+    fusion::WalkHandlers handlers;
+    handlers.step = [&](std::size_t i) { on_step(steps[i]); };
+    handlers.fix = [&](std::size_t i) { on_fix(fixes[i]); };
+    fusion::run_walk({.step = step_t, .fix = fix_t}, handlers);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <map>
 #include <utility>
 
+#include "locus/motion/fusion/walk_runner.hpp"
 #include "locus/motion/pdr/heading_convention.hpp"
 
 namespace locus::sim {
@@ -83,22 +84,25 @@ Track ekf_track(const std::vector<PdrStep>& steps, const RangingFixes& fixes, Po
                 const fusion::RangingEkfConfig& config) {
     fusion::RangingEkf ekf(start, fixes.anchors, config);
     Track track{{0.0, start}};
-    std::size_t i = 0, j = 0;
-    while (i < steps.size() || j < fixes.scans.size()) {
-        const bool scan_next = j < fixes.scans.size() && !fixes.scans[j].empty() &&
-                               (i >= steps.size() || fixes.scans[j].front().t_s < steps[i].t_s);
-        if (j < fixes.scans.size() && fixes.scans[j].empty()) {
-            ++j;
-        } else if (scan_next) {
-            ekf.update(fixes.scans[j]);
-            track.push_back({fixes.scans[j].front().t_s, ekf.position()});
-            ++j;
-        } else {
-            const PdrStep& s = steps[i++];
-            ekf.predict(pdr::step({0.0, 0.0}, s.length_m, s.heading_rad), s.t_s);
-            track.push_back({s.t_s, ekf.position()});
-        }
-    }
+    // The scans that heard an anchor, at their first reading's time; a step before a scan of
+    // the same instant (fusion::kStepsFirst).
+    std::vector<std::size_t> heard;
+    std::vector<double> scan_t;
+    for (std::size_t j = 0; j < fixes.scans.size(); ++j)
+        if (!fixes.scans[j].empty()) heard.push_back(j), scan_t.push_back(fixes.scans[j].front().t_s);
+    const std::vector<double> step_t = fusion::times_of(steps, &PdrStep::t_s);
+    fusion::WalkHandlers handlers;
+    handlers.step = [&](std::size_t i) {
+        const PdrStep& s = steps[i];
+        ekf.predict(pdr::step({0.0, 0.0}, s.length_m, s.heading_rad), s.t_s);
+        track.push_back({s.t_s, ekf.position()});
+    };
+    handlers.fix = [&](std::size_t k) {
+        const auto& scan = fixes.scans[heard[k]];
+        ekf.update(scan);
+        track.push_back({scan.front().t_s, ekf.position()});
+    };
+    fusion::run_walk({.step = step_t, .fix = scan_t}, handlers);
     return track;
 }
 

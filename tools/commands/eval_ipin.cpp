@@ -28,6 +28,7 @@
 #include "ipin_eval.hpp"
 #include "ipin_venue.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
+#include "locus/motion/fusion/walk_runner.hpp"
 #include "locus/match/localize.hpp"
 #include "survey_connect.hpp"
 #include "walk_survey.hpp"
@@ -145,8 +146,9 @@ std::optional<fusion::FloorLevel> baro_floor(api::Client& client, const api::Flo
 }
 
 // wifi-baro: each server answer's floor replaced by the barometric floor. The events of the
-// walk (pressure samples, scans, the 2 Hz ticks) are taken in time order, pressure first at
-// equal times, so every estimate uses only what came at or before it.
+// walk (pressure samples, scans, the 2 Hz ticks) are taken in time order, pressure first and a
+// tick last at equal times (fusion::kStepsFirst), so every estimate uses only what came at or
+// before it.
 std::vector<std::optional<ipin::Fix>> with_baro_floor(const LoadedWalk& lw, const std::vector<std::optional<ipin::Fix>>& answers,
                                                       const std::vector<fusion::FloorLevel>& floors,
                                                       std::vector<ipin::Fix>& estimates) {
@@ -154,33 +156,27 @@ std::vector<std::optional<ipin::Fix>> with_baro_floor(const LoadedWalk& lw, cons
     fusion::BaroFloor baro(floors);
     std::vector<std::optional<ipin::Fix>> per_scan(answers.size());
     std::optional<ipin::Fix> last;
-    std::size_t next_p = 0;
-    auto feed_until = [&](double t) {
-        for (; next_p < lw.pressure.size() && lw.pressure[next_p].t_s <= t; ++next_p)
-            baro.add_pressure(lw.pressure[next_p].t_s, lw.pressure[next_p].hpa);
-    };
     const auto& times = lw.walk.scan_times;
     const double end = std::max(times.empty() ? 0.0 : times.back(), lw.truth.empty() ? 0.0 : lw.truth.back().t);
-    std::size_t i = 0;
-    double tick = times.empty() ? end + 1.0 : std::floor(times.front() / kTickS) * kTickS;
-    while (i < times.size() || tick <= end) {
-        const bool scan_first = i < times.size() && (tick > end || times[i] <= tick);
-        const double t = scan_first ? times[i] : tick;
-        feed_until(t);
-        if (scan_first) {
-            if (answers[i]) {
-                baro.add_radio_vote(answers[i]->floor);
-                last = *answers[i];
-                last->floor = baro.floor().value_or(answers[i]->floor);
-                per_scan[i] = last;
-                estimates.push_back(*last);
-            }
-            ++i;
-        } else {
-            if (last) estimates.push_back({t, baro.floor().value_or(last->floor), last->at});
-            tick += kTickS;
-        }
-    }
+    // From the first scan's half second to the last scan or POSI instant; none without scans.
+    std::vector<double> ticks;
+    if (!times.empty())
+        for (double tick = std::floor(times.front() / kTickS) * kTickS; tick <= end; tick += kTickS) ticks.push_back(tick);
+    const std::vector<double> pressure_t = fusion::times_of(lw.pressure, &datasets::ipin::PressureSample::t_s);
+    fusion::WalkHandlers handlers;
+    handlers.pressure = [&](std::size_t k) { baro.add_pressure(lw.pressure[k].t_s, lw.pressure[k].hpa); };
+    handlers.fix = [&](std::size_t i) {
+        if (!answers[i]) return;
+        baro.add_radio_vote(answers[i]->floor);
+        last = *answers[i];
+        last->floor = baro.floor().value_or(answers[i]->floor);
+        per_scan[i] = last;
+        estimates.push_back(*last);
+    };
+    handlers.tick = [&](std::size_t k) {
+        if (last) estimates.push_back({ticks[k], baro.floor().value_or(last->floor), last->at});
+    };
+    fusion::run_walk({.pressure = pressure_t, .fix = times, .tick = ticks}, handlers);
     return per_scan;
 }
 

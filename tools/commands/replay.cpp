@@ -17,6 +17,7 @@
 #include "live_track.hpp"
 #include "locus/api/client.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
+#include "locus/motion/fusion/walk_runner.hpp"
 #include "sim/evaluate.hpp"
 #include "sim/ranging_eval.hpp"
 #include "sim/walk_io.hpp"
@@ -106,18 +107,17 @@ sim::Track walk_pf_track(const std::vector<sim::PdrStep>& steps, const std::vect
     cfg.seed = seed;
     fusion::WalkFilter pf(map, cfg);
     sim::Track track;
-    std::size_t i = 0, j = 0;
-    while (i < steps.size() || j < fixes.size()) {
-        if (j >= fixes.size() || (i < steps.size() && steps[i].t_s <= fixes[j].t_s)) {
-            pf.step(steps[i].length_m, steps[i].heading_rad);
-            if (pf.started()) track.push_back({steps[i].t_s, pf.position()});
-            ++i;
-        } else {
-            pf.fix(fixes[j].at, fixes[j].cov);
-            track.push_back({fixes[j].t_s, pf.position()});
-            ++j;
-        }
-    }
+    const std::vector<double> step_t = fusion::times_of(steps, &sim::PdrStep::t_s), fix_t = fusion::times_of(fixes, &sim::Fix::t_s);
+    fusion::WalkHandlers handlers;
+    handlers.step = [&](std::size_t i) {
+        pf.step(steps[i].length_m, steps[i].heading_rad);
+        if (pf.started()) track.push_back({steps[i].t_s, pf.position()});
+    };
+    handlers.fix = [&](std::size_t j) {
+        pf.fix(fixes[j].at, fixes[j].cov);
+        track.push_back({fixes[j].t_s, pf.position()});
+    };
+    fusion::run_walk({.step = step_t, .fix = fix_t}, handlers);  // a step before a fix of its instant
     return track;
 }
 
