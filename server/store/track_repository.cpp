@@ -135,7 +135,7 @@ ClientTracks TrackRepository::client_tracks(const std::string& client_hash, doub
     Stmt q(db_, "SELECT count(*), min(last_fix_at) FROM tracks WHERE client_hash = ? AND state = 'live' AND last_fix_at >= ?");
     q.bind_blob(1, client_hash).bind(2, since);
     q.step();
-    return {static_cast<std::size_t>(q.int64(0)), q.real(1)};
+    return {static_cast<std::size_t>(q.int64(0)), q.is_null(1) ? 0.0 : q.real(1)};  // none live: no minimum
 }
 
 std::int64_t TrackRepository::insert(const NewTrackRow& row) {

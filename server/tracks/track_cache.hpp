@@ -78,6 +78,7 @@ private:
     bool stopping_ = false;
 };
 
+// Refused(forbidden)'s message: the same for an unknown track and a wrong token.
 std::string forbidden_message(std::int64_t id);
 
 }  // namespace locus::tracks
