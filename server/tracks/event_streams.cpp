@@ -1,0 +1,157 @@
+#include "tracks/event_streams.hpp"
+
+#include <chrono>
+
+#include "tracks/token.hpp"
+
+namespace locus::tracks {
+
+void EventStreams::publish(const TrackInfo& track, std::optional<Fix> fix) {
+    map_changes_.push_back({++map_seq_, track.map_id, track.id, track.label, fix});
+    if (map_changes_.size() > options_.map_event_buffer) map_changes_.pop_front();
+    map_changed_.notify_all();
+}
+
+void EventStreams::mark_gone(CachedTrack& track, double t) {
+    if (track.info.state == State::live) publish(track.info, std::nullopt);
+    track.go(t);
+}
+
+bool EventStreams::map_watched(std::int64_t map_id) const {
+    const auto it = map_streams_.find(map_id);
+    return it != map_streams_.end() && it->second > 0;
+}
+
+std::vector<std::int64_t> EventStreams::watched_maps() const {
+    std::vector<std::int64_t> out;
+    for (const auto& [map_id, n] : map_streams_)
+        if (n > 0) out.push_back(map_id);
+    return out;
+}
+
+void EventStreams::wake() { map_changed_.notify_all(); }
+
+void EventStreams::count_client(const std::optional<std::string>& client) {
+    if (!client) return;
+    const auto it = client_streams_.find(*client);
+    const std::size_t held = it == client_streams_.end() ? 0 : it->second;
+    if (held >= options_.max_streams_per_client)
+        throw Refused(Reason::client_streams, "this client has " + std::to_string(held) + " event streams open, its most (--client-streams " +
+                                                  std::to_string(options_.max_streams_per_client) + "); close one first");
+    ++client_streams_[*client];
+}
+
+void EventStreams::uncount_client(const std::optional<std::string>& client) {
+    if (!client) return;
+    const auto it = client_streams_.find(*client);
+    if (it != client_streams_.end() && --it->second == 0) client_streams_.erase(it);
+}
+
+TrackStreamState EventStreams::open(std::shared_ptr<CachedTrack> track, std::int64_t id, const std::optional<std::string>& client) {
+    if (streams_ >= options_.max_streams)
+        throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
+    if (track->streams >= options_.max_streams_per_track)
+        throw Refused(Reason::too_many_streams, "track " + std::to_string(id) + " has " + std::to_string(track->streams) +
+                                                    " event streams open, its most; close one first");
+    count_client(client);
+    ++streams_;
+    ++track->streams;
+    TrackStreamState s;
+    s.seen = track->seq;
+    s.track = std::move(track);
+    s.client = client;
+    return s;
+}
+
+void EventStreams::close(TrackStreamState& s) {
+    std::lock_guard lock(cache_.mutex());
+    --streams_;
+    --s.track->streams;
+    uncount_client(s.client);
+}
+
+Events EventStreams::next(TrackStreamState& s) {
+    std::unique_lock lock(cache_.mutex());
+    CachedTrack& t = *s.track;
+    Events out;
+    const auto revoked = [&] {
+        if (!s.share_hash) return false;
+        for (const auto& [share_id, share_hash] : t.shares)
+            if (same_hash(*s.share_hash, share_hash)) return false;
+        return true;
+    };
+    if (!s.started) {
+        s.started = true;
+        // The latest fix stands for any stored since the stream opened: none is given twice.
+        if (t.info.latest) out.fixes.push_back(*t.info.latest);
+        s.seen = t.seq;
+    } else {
+        t.changed.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s),
+                           [&] { return t.seq > s.seen || t.info.state != State::live || cache_.stopping() || revoked(); });
+        for (const auto& [seq, fix] : t.recent)
+            if (seq > s.seen) out.fixes.push_back(fix);
+        s.seen = t.seq;
+    }
+    if (revoked()) out.fixes.clear();  // a revoked reader is told nothing more
+    out.ended = t.info.state != State::live || cache_.stopping() || revoked();
+    return out;
+}
+
+MapStreamState EventStreams::open_map(std::int64_t map_id, std::optional<std::int64_t> floor_id, const std::optional<std::string>& client) {
+    if (streams_ >= options_.max_streams)
+        throw Refused(Reason::busy, "the server has " + std::to_string(streams_) + " event streams open, its most; try again later");
+    count_client(client);
+    ++streams_;
+    ++map_streams_[map_id];
+    MapStreamState s;
+    s.map_id = map_id;
+    s.floor_id = floor_id;
+    s.client = client;
+    return s;
+}
+
+void EventStreams::close(MapStreamState& s) {
+    std::lock_guard lock(cache_.mutex());
+    --streams_;
+    if (const auto it = map_streams_.find(s.map_id); it != map_streams_.end() && --it->second == 0) map_streams_.erase(it);
+    uncount_client(s.client);
+}
+
+MapEvents EventStreams::next(MapStreamState& s) {
+    MapEvents out;
+    if (!s.started) {
+        // The sequence is read before the snapshot: a change between the two is written twice
+        // (positions are idempotent), never lost.
+        {
+            std::lock_guard lock(cache_.mutex());
+            s.seen = map_seq_;
+        }
+        const auto now_live = cache_.live_on_map(s.map_id, s.floor_id);
+        s.started = true;
+        for (const auto& t : now_live) {
+            out.events.push_back({MapEvent::Kind::position, t.id, t.label, t.latest});
+            s.shown.insert(t.id);
+        }
+        std::lock_guard lock(cache_.mutex());
+        out.ended = cache_.stopping();
+        return out;
+    }
+    std::unique_lock lock(cache_.mutex());
+    map_changed_.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s), [&] { return map_seq_ > s.seen || cache_.stopping(); });
+    // A stream that fell more than map_event_buffer changes behind misses the oldest: the next
+    // fix of each track shows it again.
+    for (const auto& c : map_changes_) {
+        if (c.seq <= s.seen || c.map_id != s.map_id) continue;
+        if (c.fix && (!s.floor_id || c.fix->floor_id == *s.floor_id)) {
+            out.events.push_back({MapEvent::Kind::position, c.track_id, c.label, c.fix});
+            s.shown.insert(c.track_id);
+        } else if (s.shown.erase(c.track_id)) {
+            out.events.push_back({MapEvent::Kind::leave, c.track_id, c.label, c.fix});
+        }
+    }
+    s.seen = map_seq_;
+    out.ended = cache_.stopping();
+    return out;
+}
+
+}  // namespace locus::tracks
