@@ -366,7 +366,7 @@ TEST(ServerTracks, OnlyLiveTracksFillTheTrackCap) {
 }
 
 // Two servers on one PostgreSQL database: a track evicted at --max-tracks by one, or gone
-// with its map deleted there, answers on the other as on the first (Service::refresh finds
+// with its map deleted there, answers on the other as on the first (Replication::refresh finds
 // its row gone and tells the two apart by whether the map is still there): 403 for the
 // evicted one, as for a track never opened, and 404 for the one whose map went.
 TEST(ServerTracks, AnotherServerAnswersAnEvictedTrack403AndOneWhoseMapWent404) {
