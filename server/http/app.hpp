@@ -75,7 +75,13 @@ private:
     void install_route_routes();     // route_routes.cpp
     void install_search_routes();    // search_routes.cpp
     void install_image_routes();     // image_routes.cpp
-    void install_track_routes();     // track_routes.cpp
+    void install_track_routes();     // track_routes.cpp (open, info, close, delete; then the five below)
+    void install_track_fix_routes();     // track_fix_routes.cpp
+    void install_track_step_routes();    // track_step_routes.cpp (thin clients)
+    void install_track_stream_routes();  // track_stream_routes.cpp
+    void install_track_share_routes();   // track_share_routes.cpp
+    void install_relative_routes();      // relative_routes.cpp
+    void install_position_routes();      // position_routes.cpp
     void install_tune_routes();      // tune_routes.cpp (from install_radiomap_routes)
     class TuneGuard;
     std::mutex tuning_mu_;

@@ -1,41 +1,61 @@
-// Eigen first: cpp-httplib (through api_error.hpp) pulls in <resolv.h>, whose `_res` macro breaks Eigen.
-#include "locus/motion/fusion/kalman.hpp"
-
+// Eigen first: cpp-httplib (through the headers below) pulls in <resolv.h>, whose `_res` macro breaks Eigen.
 #include "http/tracks/track_scan.hpp"
 
 #include <algorithm>
-#include <cmath>
+#include <string>
 #include <vector>
 
 #include "http/api_error.hpp"
 #include "http/localize/localize_request.hpp"
+#include "http/tracks/track_anchors.hpp"
 #include "locus/match/localize.hpp"
 #include "locus/match/workspace.hpp"
 
 namespace locus::http {
 
-tracks::Fix scan_fix(const localize::Snapshot& snapshot, double t, const Scan& readings, const std::string& where) {
+const KnownTransmitters& MapScans::known(std::int64_t map_id) {
+    // Every floor's of the map, at the phone height a ranging localize assumes by default.
+    if (!known_) known_ = known_transmitters(store_, transmitters_, true, map_id, RangingRequest{}.phone_height);
+    return *known_;
+}
+
+std::shared_ptr<const tracks::FloorAnchors> MapScans::anchors(std::int64_t map_id) { return floor_anchors(known(map_id)); }
+
+tracks::MatchedScan MapScans::match(std::int64_t map_id, const tracks::TimedScan& scan) {
+    if (!snapshot_) snapshot_ = localizer_.lookup(localize::Service::Scope::map, map_id);
     thread_local match::Workspace workspace;  // as answer(): the HTTP worker owns it
     LocalizeRequest request;                   // no algorithm, no options: the radio map's defaults
-    request.query = match::Query::from_scans({readings});
-    if (request.query.aps.empty()) throw invalid_field("'" + where + ".readings' holds no reading");
-    const auto setting = resolve(request, snapshot.defaults);
-    const auto result = match::localize(snapshot.index, request.query, setting.algorithm, setting.options, workspace);
-    if (!result) throw ApiError(422, "no_match", "'" + where + "': no reference point of the track's map shares an access point with the scan");
-    std::vector<Point> spread;
+    request.query = match::Query::from_scans({scan.readings});
+    if (request.query.aps.empty()) throw invalid_field("'" + scan.where + ".readings' holds no reading");
+    const auto setting = resolve(request, snapshot_->defaults);
+    const auto result = match::localize(snapshot_->index, request.query, setting.algorithm, setting.options, workspace);
+    if (!result) throw ApiError(422, "no_match", "'" + scan.where + "': no reference point of the track's map shares an access point with the scan");
+    tracks::MatchedScan out{result->floor_id, result->at, {}};
     for (const auto& c : result->candidates) {
-        if (static_cast<int>(spread.size()) >= std::max(1, setting.options.k)) break;
-        spread.push_back(c.at);
+        if (static_cast<int>(out.spread.size()) >= std::max(1, setting.options.k)) break;
+        out.spread.push_back(c.at);
     }
-    if (spread.empty()) spread.push_back(result->at);
-    const Eigen::Matrix2d cov = fusion::fix_covariance(spread, {}, kScanFixFloorM);
-    tracks::Fix f;
-    f.t = t;
-    f.floor_id = result->floor_id;
-    f.x = result->at.x;
-    f.y = result->at.y;
-    f.accuracy_m = std::sqrt(cov.trace() / 2.0);  // the σ per axis of an isotropic fix with this spread
-    return f;
+    if (out.spread.empty()) out.spread.push_back(result->at);
+    return out;
+}
+
+tracks::RangedScan MapScans::range(std::int64_t map_id, const tracks::TimedScan& scan, bool multilateration, bool with_readings) {
+    const KnownTransmitters& k = known(map_id);  // read once for the batch
+    RangingRequest request;
+    request.multilateration = multilateration;
+    request.query = match::Query::from_scans({scan.readings});
+    if (request.query.aps.empty()) throw invalid_field("'" + scan.where + ".readings' holds no reading");
+    tracks::RangedScan out;
+    if (with_readings) out.readings = anchor_readings(k, request.query, scan.t);
+    try {
+        const Ranged ranged = range_scan(k, request);
+        out.fix = {ranged.floor_id, ranged.fix};
+    } catch (const ApiError& e) {
+        const std::string message = "'" + scan.where + "': " + e.what();
+        if (e.status != 422) throw ApiError(e.status, e.code, message);
+        out.refused = {e.code, message};
+    }
+    return out;
 }
 
 }  // namespace locus::http

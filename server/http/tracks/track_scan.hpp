@@ -1,21 +1,46 @@
 #pragma once
-// A thin client's WiFi/BLE scan on a track (POST /v1/tracks/{id}/steps, `scans`): localized on
-// the track's map exactly as POST /v1/maps/{id}/localize answers a request naming no algorithm
-// (the localize service's index, the radio map's stored defaults), and turned into the radio
-// fix the track's particle filter takes, as the simulator turns a matcher's answer into one.
-#include <cstdint>
-#include <string>
+// A thin client's WiFi/BLE scans on a track (POST /v1/tracks/{id}/steps, `scans`), localized
+// on the track's map as POST /v1/maps/{id}/localize answers them: by the radio map's matcher
+// (the localize service's index, the radio map's stored defaults: a request naming no
+// algorithm), or by trilateration or multilateration on the map's transmitters (through the
+// ranging localize's transmitter cache). tracks/thin_client.hpp turns the answers into the
+// track filter's radio fixes. One object per request: the map's transmitters and snapshot are
+// read once, at the first scan that needs them.
+// Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen.
+#include "tracks/thin_client.hpp"
 
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include "http/localize/ranging_localize.hpp"
+#include "http/transmitters/transmitter_cache.hpp"
 #include "localize/service.hpp"
-#include "locus/radio_map.hpp"
-#include "tracks/fix.hpp"
+#include "store/store.hpp"
 
 namespace locus::http {
 
-// The fix's accuracy_m is the RMS spread of the matcher's k best candidates around their mean,
-// at least kScanFixFloorM (one candidate is no proof of metre accuracy). Throws ApiError 422
-// no_match (naming `where`) when no RP of the map shares an AP with the scan.
-inline constexpr double kScanFixFloorM = 1.0;
-tracks::Fix scan_fix(const localize::Snapshot& snapshot, double t, const Scan& readings, const std::string& where);
+class MapScans : public tracks::ScanLocalizer {
+public:
+    MapScans(store::Store& store, TransmitterCache& transmitters, localize::Service& localizer)
+        : store_(store), transmitters_(transmitters), localizer_(localizer) {}
+
+    std::shared_ptr<const tracks::FloorAnchors> anchors(std::int64_t map_id) override;
+    // Throws ApiError 422 invalid_field for a scan with no reading, 422 no_match when no RP
+    // of the map shares an AP with it (naming the scan).
+    tracks::MatchedScan match(std::int64_t map_id, const tracks::TimedScan& scan) override;
+    // A ranging refusal (422 too_few_transmitters, no_fix) is answered, not thrown, its message
+    // naming the scan; a scan with no reading throws 422 invalid_field.
+    tracks::RangedScan range(std::int64_t map_id, const tracks::TimedScan& scan, bool multilateration, bool with_readings) override;
+
+private:
+    const KnownTransmitters& known(std::int64_t map_id);
+
+    store::Store& store_;
+    TransmitterCache& transmitters_;
+    localize::Service& localizer_;
+    std::optional<KnownTransmitters> known_;
+    std::shared_ptr<const localize::Snapshot> snapshot_;
+};
 
 }  // namespace locus::http

@@ -1,0 +1,189 @@
+#include "http/tracks/track_request.hpp"
+
+#include <algorithm>
+#include <string_view>
+
+#include "http/api_error.hpp"
+#include "http/validation.hpp"
+#include "locus/plan/plan.hpp"
+
+namespace locus::http {
+
+using nlohmann::json;
+
+namespace {
+
+// A fix's or step's t: Unix seconds, not far ahead of the server's clock, not older than kept.
+double parse_t(const json& j, const std::string& where, double retention_s) {
+    const double now = tracks::Service::now();
+    const double t = finite_number(j, "t", where);
+    if (t > now + kFutureSlackS)
+        throw invalid_field("'" + where + ".t' is " + std::to_string(t - now) + " s ahead of the server's clock (Unix seconds; at most " +
+                            std::to_string(static_cast<int>(kFutureSlackS)) + " s ahead)");
+    if (t < now - retention_s)
+        throw invalid_field("'" + where + ".t' is older than the server keeps fixes (" + std::to_string(retention_s) + " s)");
+    return t;
+}
+
+double parse_heading(const json& j, const std::string& where) {
+    const double h = finite_number(j, "heading_deg", where, -360.0, 360.0);
+    return h < 0 ? h + 360.0 : (h >= 360.0 ? h - 360.0 : h);
+}
+
+// An array member `name` of `body` (absent: null unless `required`).
+const json* items_of(const json& body, const char* name, bool required) {
+    const auto it = body.find(name);
+    if (it == body.end() && !required) return nullptr;
+    if (it == body.end() || !it->is_array() || (required && it->empty()))
+        throw invalid_field(std::string("'") + name + "' must be a" + (required ? " non-empty" : "n") + " array");
+    return &*it;
+}
+
+void check_batch_size(std::size_t n) {
+    if (n > kMaxFixesPerRequest)
+        throw ApiError(413, "batch_too_large", "the request holds " + std::to_string(n) + " fixes and steps; at most " +
+                                                   std::to_string(kMaxFixesPerRequest) + " go in one request");
+}
+
+std::vector<tracks::Fix> parse_fix_array(const json* arr, const char* name, double retention_s) {
+    std::vector<tracks::Fix> out;
+    if (!arr) return out;
+    out.reserve(arr->size());
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+        const json& j = (*arr)[i];
+        const std::string where = std::string(name) + "[" + std::to_string(i) + "]";
+        if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {t, floor_id, x, y, accuracy_m, heading_deg?}");
+        only_fields(j, {"t", "floor_id", "x", "y", "accuracy_m", "heading_deg"}, where);
+        tracks::Fix f;
+        f.t = parse_t(j, where, retention_s);
+        const auto fl = j.find("floor_id");
+        if (fl == j.end() || !fl->is_number_integer() || fl->get<std::int64_t>() <= 0)
+            throw invalid_field("'" + where + ".floor_id' must be a positive integer id");
+        f.floor_id = fl->get<std::int64_t>();
+        f.x = finite_number(j, "x", where, -plan::kMaxPlanCoordinate, plan::kMaxPlanCoordinate);
+        f.y = finite_number(j, "y", where, -plan::kMaxPlanCoordinate, plan::kMaxPlanCoordinate);
+        f.accuracy_m = finite_number(j, "accuracy_m", where, 0.0, 10'000.0);
+        if (j.contains("heading_deg") && !j["heading_deg"].is_null()) f.heading_deg = parse_heading(j, where);
+        out.push_back(f);
+    }
+    // Stored and streamed in time order, whatever order the batch came in.
+    std::stable_sort(out.begin(), out.end(), [](const tracks::Fix& a, const tracks::Fix& b) { return a.t < b.t; });
+    return out;
+}
+
+std::vector<tracks::Step> parse_steps(const json* arr, double retention_s) {
+    std::vector<tracks::Step> out;
+    if (!arr) return out;
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+        const json& j = (*arr)[i];
+        const std::string where = "steps[" + std::to_string(i) + "]";
+        if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {t, length_m, heading_deg}");
+        only_fields(j, {"t", "length_m", "heading_deg"}, where);
+        out.push_back({parse_t(j, where, retention_s), finite_number(j, "length_m", where, 0.0, 3.0), parse_heading(j, where)});
+    }
+    std::stable_sort(out.begin(), out.end(), [](const tracks::Step& a, const tracks::Step& b) { return a.t < b.t; });
+    return out;
+}
+
+// A thin client's scans {t, readings: [{type?, bssid, rss}]}, checked and in time order; they
+// are localized (tracks/thin_client.hpp) only once the whole body is known good.
+std::vector<tracks::TimedScan> parse_timed_scans(const json* arr, double retention_s) {
+    std::vector<tracks::TimedScan> out;
+    if (!arr) return out;
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+        const json& j = (*arr)[i];
+        const std::string where = "scans[" + std::to_string(i) + "]";
+        if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {t, readings: [{type, bssid, rss}]}");
+        only_fields(j, {"t", "readings"}, where);
+        tracks::TimedScan s{parse_t(j, where, retention_s), {}, where};
+        const auto r = j.find("readings");
+        if (r == j.end() || !r->is_array() || r->empty()) throw invalid_field("'" + where + ".readings' must be a non-empty array of {type, bssid, rss}");
+        for (std::size_t k = 0; k < r->size(); ++k) s.readings.push_back(parse_reading((*r)[k], where + ".readings[" + std::to_string(k) + "]"));
+        out.push_back(std::move(s));
+    }
+    std::stable_sort(out.begin(), out.end(), [](const tracks::TimedScan& a, const tracks::TimedScan& b) { return a.t < b.t; });
+    return out;
+}
+
+// `fusion_options` of POST /v1/tracks: only for the Kalman methods, only the options the method
+// takes (tracks/fusion_options.hpp), each a finite number in its range.
+tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMethod method) {
+    tracks::FusionOptions out;
+    const auto it = body.find("fusion_options");
+    if (it == body.end()) return out;
+    if (!tracks::ranges_scans(method))
+        throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_trilateration, kalman_ranging, ekf_ranging); ") +
+                            tracks::fusion_method_name(method) + " takes none");
+    if (!it->is_object()) throw invalid_field("'fusion_options' must be an object");
+    for (auto item = it->begin(); item != it->end(); ++item) {
+        const std::string name = item.key();  // not a structured binding: the lambda below captures it (clang 14)
+        const auto spec = std::find_if(tracks::kFusionOptions.begin(), tracks::kFusionOptions.end(),
+                                       [&name](const tracks::FusionOptionSpec& s) { return name == s.name; });
+        if (spec == tracks::kFusionOptions.end() || !tracks::takes(*spec, method)) {
+            std::string known;
+            for (const auto& s : tracks::kFusionOptions)
+                if (tracks::takes(s, method)) known += std::string(known.empty() ? "" : ", ") + s.name;
+            throw invalid_field("'fusion_options." + name + "' is not an option of " + tracks::fusion_method_name(method) +
+                                " (it takes " + known + ")");
+        }
+        out.*spec->field = finite_number(*it, spec->name, "fusion_options", spec->min, spec->max);
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string token_of(const httplib::Request& req, const char* header) {
+    std::string token = req.get_header_value(header);
+    if (token.empty() && req.method == "GET" && std::string_view(header) == "X-Track-Token") token = req.get_param_value("token");
+    if (token.empty()) throw ApiError(401, "unauthorized", std::string("send the track's token in the ") + header + " header");
+    return token;
+}
+
+void require_owner(tracks::Service& svc, const httplib::Request& req, std::int64_t id, const char* refusal) {
+    if (svc.authorize(id, token_of(req)) != tracks::Access::owner) throw ApiError(403, "forbidden", refusal);
+}
+
+OpenRequest parse_open_request(const json& body) {
+    only_fields(body, {"map_id", "label", "fusion", "fusion_options"}, "");
+    const auto m = body.find("map_id");
+    if (m == body.end() || !m->is_number_integer() || m->get<std::int64_t>() <= 0)
+        throw invalid_field("'map_id' must be a positive integer id");
+    OpenRequest out;
+    out.map_id = m->get<std::int64_t>();
+    out.label = optional_string(body, "label", "", 100).value_or("");
+    if (const auto f = body.find("fusion"); f != body.end()) {
+        const auto named = f->is_string() ? tracks::fusion_method_of(f->get<std::string>()) : std::nullopt;
+        if (!named)
+            throw invalid_field("'fusion' must be \"walk_pf\" (the default), \"particle\", \"kalman_trilateration\" "
+                                "(or its deprecated alias \"kalman_seed\"), \"kalman_ranging\" or \"ekf_ranging\"");
+        out.fusion = *named;
+    }
+    out.fusion_options = parse_fusion_options(body, out.fusion);
+    return out;
+}
+
+std::vector<tracks::Fix> parse_fixes(const json& body, double retention_s) {
+    only_fields(body, {"fixes"}, "");
+    const json* arr = items_of(body, "fixes", true);
+    check_batch_size(arr->size());
+    return parse_fix_array(arr, "fixes", retention_s);
+}
+
+tracks::StepsInput parse_steps_request(const json& body, double retention_s) {
+    only_fields(body, {"steps", "fixes", "scans"}, "");
+    const json* steps = items_of(body, "steps", false);
+    const json* fixes = items_of(body, "fixes", false);
+    const json* scans = items_of(body, "scans", false);
+    const auto count = [](const json* a) { return a ? a->size() : 0; };
+    const std::size_t n = count(steps) + count(fixes) + count(scans);
+    if (n == 0) throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}), 'fixes' (radio fixes) and/or 'scans' ({t, readings})");
+    check_batch_size(n);
+    tracks::StepsInput out;
+    out.steps = parse_steps(steps, retention_s);
+    out.fixes = parse_fix_array(fixes, "fixes", retention_s);
+    out.scans = parse_timed_scans(scans, retention_s);
+    return out;
+}
+
+}  // namespace locus::http

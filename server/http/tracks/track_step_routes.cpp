@@ -1,0 +1,50 @@
+// POST /v1/tracks/{id}/steps {steps?: [{t, length_m, heading_deg}], fixes?, scans?: [{t, readings}]}:
+// thin clients post raw PDR steps, radio fixes and scans; the track's filter's fixes come back
+// (and are stored). The work is tracks/thin_client.hpp's, the scans localized by track_scan.hpp.
+// Eigen first: cpp-httplib (through app.hpp) pulls in <resolv.h>, whose `_res` macro breaks Eigen.
+#include "http/tracks/track_scan.hpp"
+#include "tracks/thin_client.hpp"
+
+#include "http/app.hpp"
+#include "http/tracks/track_json.hpp"
+#include "http/tracks/track_request.hpp"
+#include "http/tracks/track_respond.hpp"
+#include "http/validation.hpp"
+
+namespace locus::http {
+
+using nlohmann::json;
+
+void App::install_track_step_routes() {
+    tracks::Service& svc = *options_.tracks;
+    FloorGeoCache& geo = geo_;
+
+    server_.Post(R"(/v1/tracks/(\d+)/steps)", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+        respond_track(req, res, [&] {
+            const auto id = parse_id(req.matches[1].str(), "track");
+            require_owner(svc, req, id, "a share token reads a track; only its owner's token posts steps");
+            const auto input = parse_steps_request(parse_object(req.body), svc.options().retention_s);
+            MapScans scans(store_, transmitters_, localizer_);
+            tracks::StepsDone done;
+            try {
+                done = tracks::post_steps(svc, id, input, scans);
+            } catch (const tracks::CannotFuse& e) {
+                throw ApiError(422, e.code, e.what());
+            } catch (const tracks::ForeignFloor& e) {
+                throw invalid_field(e.what());
+            }
+            json fused = json::array();
+            for (const auto& f : done.fused) fused.push_back(fix_json(f, geo));
+            json out = {{"stored", done.posted.stored}, {"duplicates", done.posted.duplicates}, {"fused", fused}};
+            if (!input.scans.empty()) {
+                json scan_fixes = json::array();
+                for (const auto& f : done.scan_fixes) scan_fixes.push_back(fix_json(f, geo));
+                out["scan_fixes"] = std::move(scan_fixes);
+            }
+            if (done.posted.latest) out["latest"] = fix_json(*done.posted.latest, geo);
+            return std::pair{200, out};
+        });
+    });
+}
+
+}  // namespace locus::http

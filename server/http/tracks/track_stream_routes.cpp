@@ -1,0 +1,42 @@
+// GET /v1/tracks/{id}/events: Server-Sent Events, one `fix` event per new fix of the track, an
+// `end` event when it is no longer live (docs/tracks.md). The owner's or a share's token.
+#include <memory>
+
+#include "http/app.hpp"
+#include "http/tracks/event_stream.hpp"
+#include "http/tracks/track_json.hpp"
+#include "http/tracks/track_request.hpp"
+#include "http/tracks/track_respond.hpp"
+#include "http/validation.hpp"
+#include "tracks/service.hpp"
+
+namespace locus::http {
+
+using nlohmann::json;
+
+void App::install_track_stream_routes() {
+    tracks::Service& svc = *options_.tracks;
+    FloorGeoCache& geo = geo_;
+
+    server_.Get(R"(/v1/tracks/(\d+)/events)", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+        std::shared_ptr<tracks::Service::Stream> stream;
+        respond_track(req, res, [&] {
+            const auto id = parse_id(req.matches[1].str(), "track");
+            stream = svc.open_stream(id, token_of(req), fair_share_.client(req));
+            return std::pair{200, json()};
+        });
+        if (!stream) return;  // refused: res holds the error
+        begin_event_stream(res, [&svc, &geo, stream](std::size_t, httplib::DataSink& sink) {
+            const auto events = svc.next_events(*stream);
+            std::string out;
+            for (const auto& f : events.fixes) out += sse_event("fix", fix_json(f, geo));
+            if (events.fixes.empty() && !events.ended) out = ": heartbeat\n\n";
+            if (events.ended) out += sse_event("end", json{{"reason", "the track is no longer live, or the server is stopping"}});
+            if (!sink.write(out.data(), out.size())) return false;
+            if (events.ended) sink.done();
+            return true;
+        });
+    });
+}
+
+}  // namespace locus::http

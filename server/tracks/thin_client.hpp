@@ -1,0 +1,72 @@
+#pragma once
+// A thin client's batch on its track (POST /v1/tracks/{id}/steps, docs/tracks.md): raw PDR
+// steps, radio fixes and WiFi/BLE scans in, the track's filter's fused fixes out (and stored).
+// Each scan becomes a radio fix: matched on the map's radio map (the particle filters), or
+// ranged on the map's transmitters (the Kalman methods, ekf_ranging), whose readings of known
+// transmitters are also ekf_ranging's measurements. The localizers themselves are the HTTP
+// layer's (the localize endpoint's matcher and ranging), behind ScanLocalizer.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "locus/geometry.hpp"
+#include "locus/ranging/trilateration.hpp"
+#include "tracks/fusion.hpp"
+#include "tracks/service.hpp"
+#include "tracks/steps_input.hpp"
+
+namespace locus::tracks {
+
+// The radio map's answer for a scan: its floor and position, and the positions of its k best
+// candidates (their spread is the fix's accuracy).
+struct MatchedScan {
+    std::int64_t floor_id = 0;
+    Point at;
+    std::vector<Point> spread;
+};
+
+// The map's transmitters' answer for a scan: a ranging fix on the floor heard most, or the
+// ranging's refusal (fewer than three known transmitters heard, no fix) as {code, message};
+// with the scan's readings of known transmitters when they were asked for.
+struct RangedScan {
+    std::vector<fusion::AnchorReading> readings;
+    std::optional<std::pair<std::int64_t, ranging::Fix>> fix;  // floor id, fix
+    std::pair<std::string, std::string> refused;               // when no fix
+};
+
+// How the track's map localizes a scan. One object serves one batch: it may read the map's
+// transmitters or radio-map snapshot once and keep them for the batch's other scans. Each
+// may throw the HTTP layer's own errors (a scan with no reading, no match), which pass through.
+class ScanLocalizer {
+public:
+    virtual ~ScanLocalizer() = default;
+    // The map's known transmitters, each floor's, as ekf_ranging's anchors.
+    virtual std::shared_ptr<const FloorAnchors> anchors(std::int64_t map_id) = 0;
+    virtual MatchedScan match(std::int64_t map_id, const TimedScan& scan) = 0;
+    // By multilateration, else by the Kalman-fusion paper's trilateration.
+    virtual RangedScan range(std::int64_t map_id, const TimedScan& scan, bool multilateration, bool with_readings) = 0;
+};
+
+// A radio fix (posted, or a scan's) on a floor that is not of the track's map.
+struct ForeignFloor : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
+};
+
+struct StepsDone {
+    Posted posted;
+    std::vector<Fix> fused;       // the filter's fixes of this batch
+    std::vector<Fix> scan_fixes;  // each scan's radio fix that has a position, in the scans' order
+};
+
+// Localizes the batch's scans, then fuses and stores it (Service::post_raw); nothing is
+// written unless every part is good. Throws CannotFuse (code, message) for a batch the
+// filter cannot take, a Kalman track's scan that cannot be ranged (ekf_ranging: only before
+// its filter runs) included; ForeignFloor; and the Service's Refused. Costs the localizing of
+// each scan, plus a read of the map's transmitters (cached) for a Kalman or live ekf_ranging track.
+StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLocalizer& localizer);
+
+}  // namespace locus::tracks
