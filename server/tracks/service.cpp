@@ -40,16 +40,10 @@ void Service::on_change(const store::Change& c) {
         replication_.on_track_change(c.id, c.map_id);
         return;
     }
-    if (c.plan || (c.kind && c.kind->name == "floors")) {
-        std::lock_guard lock(fusion_mu_);
-        walkables_.erase(c.id);
-    }
+    if (c.plan || (c.kind && c.kind->name == "floors")) fusions_.floor_changed(c.id);
     // A deleted map took its floors by cascade, without a change each; it is also how
     // another server's "everything changed" arrives (store/pg_changes.hpp): drop them all.
-    if (!c.plan && c.deleted && c.kind && c.kind->name == "maps") {
-        std::lock_guard lock(fusion_mu_);
-        walkables_.clear();
-    }
+    if (!c.plan && c.deleted && c.kind && c.kind->name == "maps") fusions_.all_floors_changed();
     // A floor, building or map deleted or moved: which floors are on which map is asked again.
     if (!c.plan && c.kind && (c.kind->name == "floors" || c.kind->name == "buildings" || c.kind->name == "maps")) {
         std::lock_guard lock(cache_.mutex());
@@ -113,11 +107,12 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
         }
         out.info = insert_track(map_id, label, fusion, options, hash, t, evicted, client ? keyed_hash(options_.client_key, *client) : "");
     }
-    // With no other lock held: post_raw takes fusion_mu_ first. Only when something was
-    // evicted: fusion_mu_ is held through a whole filter run, which an open need not wait for.
+    // With no other lock held: post_raw takes the sessions' lock first. Only when something
+    // was evicted: that lock is held through a whole filter run, which an open need not wait for.
     if (!evicted.empty()) {
-        std::lock_guard fusion_lock(fusion_mu_);
-        for (const auto& tr : evicted) fusions_.erase(tr->info.id);
+        std::vector<std::int64_t> ids;
+        for (const auto& tr : evicted) ids.push_back(tr->info.id);
+        fusions_.forget(ids);
     }
     return out;
 }
@@ -235,7 +230,7 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
 
 std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
                                                      std::shared_ptr<const FloorAnchors> anchors) {
-    std::lock_guard fusion_lock(fusion_mu_);
+    auto run = fusions_.begin(id);
     FusionMethod method;
     FusionOptions options;
     std::optional<Fix> latest;
@@ -248,26 +243,7 @@ std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std
         options = track->info.fusion_options;
         latest = track->info.latest;
     }
-    const auto walkable_of = [this](std::int64_t floor_id) -> std::shared_ptr<const fusion::Walkable> {
-        if (const auto w = walkables_.find(floor_id); w != walkables_.end()) return w->second;
-        const auto stored = store_.plan_of_floor(floor_id);
-        if (!stored) return nullptr;
-        auto w = std::make_shared<const fusion::Walkable>(fusion::Walkable::from_plan(stored->plan));
-        walkables_[floor_id] = w;
-        return w;
-    };
-    // The filter runs on a copy, kept only once its fixes are stored. Its seed is the track's
-    // id, so a track's fused fixes are reproducible (and client-lib's on the same inputs). A
-    // filter this server does not hold (after a restart), or one the track's stored fixes have
-    // passed (fixes posted directly, or steps another server sharing the database fused),
-    // starts again at the track's latest stored fix rather than refusing the steps or
-    // fusing from a stale state.
-    const auto it = fusions_.find(id);
-    const bool held = it != fusions_.end() && (!latest || (it->second->done_t() && latest->t <= *it->second->done_t()));
-    auto next = held ? std::make_shared<ThinFusion>(*it->second) : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id), options);
-    next->set_anchors(std::move(anchors));
-    if (!held && latest) next->resume(*latest, walkable_of);
-    std::vector<Fix> fused = next->run(steps, radio, walkable_of);
+    std::vector<Fix> fused = run.run(method, options, latest, steps, radio, std::move(anchors));
     // A radio fix and a step at one t give two fixes: the track keeps the later state. A t
     // stored by an earlier request (a retry) keeps the first fix, as posted fixes do.
     std::vector<Fix> kept;
@@ -276,7 +252,7 @@ std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std
         else kept.push_back(f);
     }
     Posted posted = post(id, kept);
-    fusions_[id] = std::move(next);
+    run.keep();
     return {posted, std::move(fused)};
 }
 
@@ -410,9 +386,7 @@ std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id
 MapEvents Service::next_map_events(MapStream& stream) { return streams_.next(stream.state_); }
 
 void Service::sweep() {
-    const auto ended = sweeper_.sweep();
-    std::lock_guard fusion_lock(fusion_mu_);  // with no other lock held: post_raw takes it first
-    for (const auto id : ended) fusions_.erase(id);
+    fusions_.forget(sweeper_.sweep());  // with no other lock held: post_raw takes the sessions' first
 }
 
 }  // namespace locus::tracks

@@ -12,7 +12,7 @@
 // servers' changes are read again by tracks/replication.hpp. This class is their facade: it
 // checks a request against the cache, writes through the repository, then updates the cache
 // and wakes the streams. Locks, when more are held, in this order: the thin clients' filters
-// (fusion_mu_), the repository's, the cache's.
+// (tracks/fusion_sessions.hpp), the repository's, the cache's.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -30,6 +30,7 @@
 #include "tracks/fix.hpp"
 #include "tracks/fusion_method.hpp"
 #include "tracks/fusion_options.hpp"
+#include "tracks/fusion_sessions.hpp"
 #include "tracks/options.hpp"
 #include "tracks/replication.hpp"
 #include "tracks/sweeper.hpp"
@@ -38,7 +39,6 @@
 
 namespace locus::tracks {
 
-class ThinFusion;
 struct RadioFix;
 struct FloorAnchors;
 
@@ -147,9 +147,7 @@ private:
     EventStreams streams_{cache_, options_};
     Replication replication_{repo_, cache_, streams_, options_};
     Sweeper sweeper_{repo_, cache_, streams_, replication_, options_};
-    std::mutex fusion_mu_;  // the two below; taken before the repository's
-    std::unordered_map<std::int64_t, std::shared_ptr<ThinFusion>> fusions_;
-    std::unordered_map<std::int64_t, std::shared_ptr<const fusion::Walkable>> walkables_;  // by floor; dropped when its plan changes
+    FusionSessions fusions_{store_};  // the thin clients' filters; their lock before the repository's
     std::size_t subscription_ = 0;
 };
 
