@@ -11,19 +11,52 @@
 
 namespace locus::tools::ipin {
 
-std::vector<ImuStep> log_steps(const datasets::ipin::Log& log) {
+namespace {
+
+// The gyroscope's turn about the vertical, integrated: a compass azimuth (clockwise, rad) with
+// an arbitrary origin, sampled at each GYRO sample. The vertical is the low-passed
+// accelerometer (gravity included, so it points up); the turn rate about it is ω·up, counter-
+// clockwise, so the clockwise azimuth falls by it.
+std::vector<std::pair<double, double>> gyro_azimuth(const datasets::ipin::Log& log) {
+    constexpr double kGravityAlpha = 0.1;
+    constexpr double kMaxGapS = 0.2;  // a longer gap in the samples is not integrated over
+    std::vector<std::pair<double, double>> out;
+    std::optional<pdr::Vec3> gravity;
+    std::optional<double> last_t;
+    double azimuth = 0.0;
+    for (const auto& s : datasets::ipin::imu_samples(log)) {
+        if (s.sensor == datasets::ImuSensor::acc) {
+            gravity = gravity ? (1.0 - kGravityAlpha) * *gravity + kGravityAlpha * s.v : s.v;
+        } else if (s.sensor == datasets::ImuSensor::gyro && gravity && pdr::norm(*gravity) > 0.0) {
+            const double dt = last_t ? s.t_s - *last_t : 0.0;
+            if (dt > 0.0 && dt < kMaxGapS) azimuth -= pdr::dot(s.v, (1.0 / pdr::norm(*gravity)) * *gravity) * dt;
+            last_t = s.t_s;
+            out.emplace_back(s.t_s, azimuth);
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource source) {
     std::vector<ImuStep> out;
-    if (log.ahrs.empty()) return out;
+    // The azimuth series: the rotation vector's yaw grows counter-clockwise from north (the
+    // data set's README), so the clockwise azimuth is its negative; or the gyroscope's.
+    std::vector<std::pair<double, double>> series;
+    if (source == HeadingSource::gyro) {
+        series = gyro_azimuth(log);
+    } else {
+        for (const auto& a : log.ahrs) series.emplace_back(a.app_s, -a.yaw_deg * std::numbers::pi / 180.0);
+    }
+    if (series.empty()) return out;
     pdr::StepDetector detector;
     const pdr::StepLengthModel length;
-    // The rotation vector's yaw grows counter-clockwise from north (the data set's README):
-    // the compass azimuth, clockwise, is its negative. The sample in force at a step's time is
-    // the last one received at or before it.
+    // The sample in force at a step's time: the last one at or before it.
     auto azimuth_at = [&](double t) {
-        auto it = std::upper_bound(log.ahrs.begin(), log.ahrs.end(), t,
-                                   [](double v, const datasets::ipin::Ahrs& a) { return v < a.app_s; });
-        const auto& a = it == log.ahrs.begin() ? *it : *(it - 1);
-        return -a.yaw_deg * std::numbers::pi / 180.0;
+        auto it = std::upper_bound(series.begin(), series.end(), t,
+                                   [](double v, const std::pair<double, double>& a) { return v < a.first; });
+        return (it == series.begin() ? *it : *(it - 1)).second;
     };
     for (const auto& s : datasets::ipin::accel_samples(log)) {
         auto e = detector.push(s.t_s, s.ax, s.ay, s.az);
@@ -52,6 +85,7 @@ public:
     void begin(Point at, double sigma_m) {
         begun_ = true;
         at_ = at;
+        if (config_.compass_offset_rad) wf_.hint(*config_.compass_offset_rad, false);
         align_.add_fix(at);
         if (kind_ == Tracker::walk_pf) wf_.fix(at, Eigen::Matrix2d::Identity() * sigma_m * sigma_m);
     }
@@ -63,7 +97,7 @@ public:
             return;
         }
         const bool aligned = align_.pairs() >= config_.alignment_pairs;
-        const double heading = align_.floor_heading(s.azimuth_rad);
+        const double heading = config_.compass_offset_rad ? *config_.compass_offset_rad + s.azimuth_rad : align_.floor_heading(s.azimuth_rad);
         const double len = s.length_m * (aligned && align_.scale() > 0.0 ? align_.scale() : 1.0);
         at_ = {at_.x + len * std::sin(heading), at_.y + len * std::cos(heading)};
     }
@@ -74,7 +108,7 @@ public:
         }
         align_.add_fix(at);
         if (kind_ != Tracker::walk_pf) return;
-        if (align_.pairs() >= config_.alignment_pairs) wf_.hint(align_.offset_rad(), align_.mirrored());
+        if (!config_.compass_offset_rad && align_.pairs() >= config_.alignment_pairs) wf_.hint(align_.offset_rad(), align_.mirrored());
         wf_.fix(at, Eigen::Matrix2d::Identity() * config_.answer_sigma_m * config_.answer_sigma_m);
     }
 

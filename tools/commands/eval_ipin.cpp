@@ -281,7 +281,11 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
         return with_baro_floor(lw, answers, c.floors.baro, start ? std::optional<int>(start->floor) : std::nullopt, estimates);
     } else {
         ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, answers, lw.end_s, start};
-        estimates = ipin::track(m == "pdr" ? ipin::Tracker::pdr : ipin::Tracker::walk_pf, in, c.floors.baro);
+        // The venue's frame is the georeference's: its +y axis at bearing_deg from true north, so
+        // a compass azimuth ψ is ψ − bearing in it (magnetic declination, ~3° here, ignored).
+        ipin::TrackerConfig config;
+        config.compass_offset_rad = -ipin::venue_georeference().bearing_deg * std::numbers::pi / 180.0;
+        estimates = ipin::track(m == "pdr" ? ipin::Tracker::pdr : ipin::Tracker::walk_pf, in, c.floors.baro, config);
         return at_scans(estimates, lw.walk.scan_times);
     }
     for (const auto& f : per_scan)
