@@ -1,5 +1,5 @@
-// `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|wifi-baro|all] [--train GLOB]
-// [--server URL --map ID] [--json]`: WiFi-only positioning of the IPIN 2023 walks scored as
+// `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|wifi-baro|pdr|walk_pf|all] [--train GLOB]
+// [--server URL --map ID] [--known-start] [--json]`: positioning of the IPIN 2023 walks scored as
 // the competition scores them (tools/ipin_eval.hpp, docs/ipin-import.md). Each held-out walk's WiFi
 // scans are localized one by one (an estimate stamped at the scan's AppTimestamp); at each POSI
 // instant the latest estimate at most 0.01 s after it counts; error = horizontal metres + 15 m
@@ -12,8 +12,13 @@
 // answer to POST /v1/maps/{id}/localize with the scan and nothing else; `wifi-baro`, the same
 // answers with their floor replaced by the barometric floor (locus/motion/fusion/baro_floor.hpp: the
 // walk's pressure, the map's floor elevations, each answer's floor as a radio vote), estimates
-// at each scan and every 0.5 s between (the last answer's position, the floor then). Causal:
-// an estimate at t uses only the pressure samples and answers at or before t.
+// at each scan and every 0.5 s between (the last answer's position, the floor then); `pdr` and
+// `walk_pf` (the default), the walk's IMU fused with those answers and the barometer, estimates
+// every 0.5 s from the file's start (tools/ipin_track.hpp). Causal: an estimate at t uses only
+// the samples and answers at or before t. --known-start gives the trackers (and wifi-baro's
+// barometer) the first POSI landmark, as the competition gave its scoring walks' start. The
+// server's answers are brought from their floor's frame into the venue's through the floors'
+// georeferences (the same frame for every floor `locus import ipin` makes).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
