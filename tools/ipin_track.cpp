@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "locus/motion/fusion/heading_alignment.hpp"
+#include "locus/motion/fusion/kalman.hpp"
 #include "locus/motion/fusion/walk_runner.hpp"
 #include "locus/motion/pdr/step_detector.hpp"
 #include "locus/motion/pdr/step_length.hpp"
@@ -72,22 +73,30 @@ std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource sou
 
 namespace {
 
-// The tracker's horizontal state: the walk filter or dead reckoning, both beginning at a point.
+// The tracker's horizontal state: the walk filter, the Kalman filter or dead reckoning, each
+// beginning at a point.
 class Horizontal {
 public:
     Horizontal(Tracker kind, const TrackerConfig& config)
         : kind_(kind), config_(config), wf_(std::nullopt, config.walk_filter) {}
 
     bool begun() const { return begun_; }
-    Point position() const { return kind_ == Tracker::walk_pf ? wf_.position() : at_; }
+    Point position() const {
+        if (kind_ == Tracker::walk_pf) return wf_.position();
+        if (kind_ == Tracker::kalman) return kf_->position();
+        return at_;
+    }
 
     // Begins at a point: a known start (tight) or the first answer (its σ).
     void begin(Point at, double sigma_m) {
         begun_ = true;
         at_ = at;
-        if (config_.compass_offset_rad) wf_.hint(*config_.compass_offset_rad, false);
         align_.add_fix(at);
+        if (config_.compass_offset_rad) wf_.hint(*config_.compass_offset_rad, false);
         if (kind_ == Tracker::walk_pf) wf_.fix(at, Eigen::Matrix2d::Identity() * sigma_m * sigma_m);
+        fusion::KalmanConfig kc = config_.kalman;
+        kc.initial_sigma_m = sigma_m;
+        if (kind_ == Tracker::kalman) kf_.emplace(at, kc);
     }
     void step(const ImuStep& s) {
         if (!begun_) return;
@@ -96,10 +105,14 @@ public:
             wf_.step(s.length_m, s.azimuth_rad);
             return;
         }
+        // In the venue's frame: the known rotation, else the one learnt from the answers; the
+        // step scaled by the answers' distance ratio once it is fitted.
         const bool aligned = align_.pairs() >= config_.alignment_pairs;
         const double heading = config_.compass_offset_rad ? *config_.compass_offset_rad + s.azimuth_rad : align_.floor_heading(s.azimuth_rad);
-        const double len = s.length_m * (aligned && align_.scale() > 0.0 ? align_.scale() : 1.0);
-        at_ = {at_.x + len * std::sin(heading), at_.y + len * std::cos(heading)};
+        const double len = s.length_m * (aligned && align_.scale() > 0.0 ? align_.scale() : config_.step_scale);
+        const Point d{len * std::sin(heading), len * std::cos(heading)};
+        if (kind_ == Tracker::kalman) kf_->predict(d);
+        else at_ = {at_.x + d.x, at_.y + d.y};
     }
     void answer(Point at) {
         if (!begun_) {
@@ -107,15 +120,18 @@ public:
             return;
         }
         align_.add_fix(at);
+        const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * config_.answer_sigma_m * config_.answer_sigma_m;
+        if (kind_ == Tracker::kalman) kf_->update(at, r);
         if (kind_ != Tracker::walk_pf) return;
         if (!config_.compass_offset_rad && align_.pairs() >= config_.alignment_pairs) wf_.hint(align_.offset_rad(), align_.mirrored());
-        wf_.fix(at, Eigen::Matrix2d::Identity() * config_.answer_sigma_m * config_.answer_sigma_m);
+        wf_.fix(at, r);
     }
 
 private:
     Tracker kind_;
     TrackerConfig config_;
     fusion::WalkFilter wf_;
+    std::optional<fusion::KalmanFilter> kf_;
     fusion::HeadingAlignment align_;
     Point at_;
     bool begun_ = false;

@@ -8,6 +8,7 @@
 //  - pdr: dead reckoning from the start; each step's compass azimuth turned into the venue's
 //    frame by the rotation (and mirror) learnt so far from the WiFi answers
 //    (fusion::HeadingAlignment), its length scaled by the scale learnt with it.
+//  - kalman: fusion::KalmanFilter, the same steps as pdr as its control input, each answer a fix.
 //  - walk_pf: fusion::WalkFilter (no plan: free moves), which learns the compass rotation and the
 //    step scale itself, leaning on HeadingAlignment's rotation as a hint.
 // Floors: fusion::BaroFloor, the pressure with each answer's floor as a radio vote (and the start
@@ -24,6 +25,7 @@
 #include "datasets/ipin_log.hpp"
 #include "ipin_eval.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
+#include "locus/motion/fusion/kalman.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
 
 namespace locus::tools::ipin {
@@ -43,7 +45,7 @@ enum class HeadingSource { rotation_vector, gyro };
 // (measured worse on the folds with walk_pf).
 std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource source = HeadingSource::rotation_vector);
 
-enum class Tracker { pdr, walk_pf };
+enum class Tracker { pdr, kalman, walk_pf };
 
 // The walk filter on these walks: WalkFilterConfig::real_walks() changed where the IPIN 2023
 // folds (docs/results.md, "IPIN 2023": chosen on the folds reported, so the figures are
@@ -69,14 +71,18 @@ inline fusion::WalkFilterConfig ipin_walk_filter() {
 
 struct TrackerConfig {
     fusion::WalkFilterConfig walk_filter = ipin_walk_filter();
+    // kalman: the position filter of `locus eval walks` (its per-metre step noise for real
+    // compasses, tools/walk_eval.hpp), the answers as fixes of σ answer_sigma_m.
+    fusion::KalmanConfig kalman = {.initial_sigma_m = 1.0, .step_sigma_floor_m = 0.05, .step_sigma_per_m = 4.0};
+    double step_scale = 0.9;  // pdr and kalman: the steps' scale until the answers fit one (walk_pf's prior)
     double answer_sigma_m = 6.0;  // σ of a WiFi answer for the filters (the walk filter takes at least its own)
     double tick_s = 0.5;          // the competition's 2 Hz
-    // Answers the rotation must have been fitted on before pdr and walk_pf lean on it.
+    // Answers the rotation (and the step scale) must have been fitted on before the trackers lean on them.
     int alignment_pairs = 3;
     // The compass's rotation to the venue's frame when it is known: a rotation-vector azimuth is
     // referenced to (magnetic) north, and a georeferenced floor's frame is north-up turned by its
-    // bearing, so the rotation is known up to declination and the phone's bias. Then pdr turns
-    // its steps by it, and walk_pf's particles draw their rotation around it (hint_share,
+    // bearing, so the rotation is known up to declination and the phone's bias. Then pdr and kalman turn
+    // their steps by it, and walk_pf's particles draw their rotation around it (hint_share,
     // ±hint_sigma_rad) instead of leaning on the rotation learnt from the answers.
     std::optional<double> compass_offset_rad;
 };

@@ -185,6 +185,7 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     // so they stand on the answers).
     EXPECT_EQ(e["pooled"]["walk_pf"]["floor_hit_rate"], 1.0);
     EXPECT_EQ(e["pooled"]["pdr"]["floor_hit_rate"], 1.0);
+    EXPECT_EQ(e["pooled"]["kalman"]["floor_hit_rate"], 1.0);
     EXPECT_EQ(e["pooled"]["yardstick"]["n"], 4);
     ASSERT_EQ(e["trials"].size(), 1u);
     EXPECT_EQ(e["trials"][0]["trial"], "T52_R01");
@@ -233,7 +234,7 @@ TEST(EvalIpin, WifiBaroNamesWhatItLacks) {
                                      "wifi-baro", "--json"});
     EXPECT_NE(no_map.status, 0);
     EXPECT_NE(no_map.err.find("--method wifi-baro needs --map ID"), std::string::npos) << no_map.err;
-    for (const char* tracker : {"pdr", "walk_pf"}) {
+    for (const char* tracker : {"pdr", "kalman", "walk_pf"}) {
         const auto r = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--trials", "*Trial52*", "--method",
                                     tracker, "--known-start"});
         EXPECT_NE(r.status, 0);

@@ -61,7 +61,7 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
 
     // The default tracker: the walk's steps and compass between the answers. Measured 3.88 m
     // (walk_pf) against the answers' 9.26 m at p75 on this slice; the tracker must stay below
-    // the answers it fuses, and with the first landmark given (measured 2.52 m; pdr 8.22 m)
+    // the answers it fuses, and with the first landmark given (measured 2.52 m; pdr 8.94 m)
     // within 4 m.
     EXPECT_EQ(e["default"], "walk_pf");
     EXPECT_EQ(e["pooled"]["walk_pf"]["unscored"], 0);

@@ -12,8 +12,8 @@
 // answer to POST /v1/maps/{id}/localize with the scan and nothing else; `wifi-baro`, the same
 // answers with their floor replaced by the barometric floor (locus/motion/fusion/baro_floor.hpp: the
 // walk's pressure, the map's floor elevations, each answer's floor as a radio vote), estimates
-// at each scan and every 0.5 s between (the last answer's position, the floor then); `pdr` and
-// `walk_pf` (the default), the walk's IMU fused with those answers and the barometer, estimates
+// at each scan and every 0.5 s between (the last answer's position, the floor then); `pdr`,
+// `kalman` and `walk_pf` (the default), the walk's IMU fused with those answers and the barometer, estimates
 // every 0.5 s from the file's start (tools/ipin_track.hpp). Causal: an estimate at t uses only
 // the samples and answers at or before t. --known-start gives the trackers (and wifi-baro's
 // barometer) the first POSI landmark, as the competition gave its scoring walks' start. The
@@ -290,7 +290,8 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
         // a compass azimuth ψ is ψ − bearing in it (magnetic declination, ~3° here, ignored).
         ipin::TrackerConfig config;
         config.compass_offset_rad = -ipin::venue_georeference().bearing_deg * std::numbers::pi / 180.0;
-        estimates = ipin::track(m == "pdr" ? ipin::Tracker::pdr : ipin::Tracker::walk_pf, in, c.floors.baro, config);
+        const ipin::Tracker tracker = m == "pdr" ? ipin::Tracker::pdr : m == "kalman" ? ipin::Tracker::kalman : ipin::Tracker::walk_pf;
+        estimates = ipin::track(tracker, in, c.floors.baro, config);
         return at_scans(estimates, lw.walk.scan_times);
     }
     for (const auto& f : per_scan)
@@ -312,7 +313,7 @@ void print_table(const json& out, const std::vector<std::string>& methods) {
 
 std::vector<std::string> methods_of(const std::string& method) {
     if (method != "all") return {method};
-    return {"yardstick", "wifi", "wifi-baro", "pdr", "walk_pf"};
+    return {"yardstick", "wifi", "wifi-baro", "pdr", "kalman", "walk_pf"};
 }
 
 void run(const Args& a) {
@@ -390,10 +391,10 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     cmd->add_option("--trials", a->trials, "held-out walks: globs on the file names of DIR/trials (repeat: any matches)")->required();
     cmd->add_option("--train", a->train, "the yardstick's walks (a glob, as --trials)");
     cmd->add_option("--method", a->method,
-                    "yardstick, wifi (the server's answer), wifi-baro (its floor from the barometer), pdr, walk_pf (the "
-                    "tracker: IMU, WiFi and barometer) or all (the default tracker last)")
+                    "yardstick, wifi (the server's answer), wifi-baro (its floor from the barometer), pdr, kalman, walk_pf "
+                    "(the trackers: IMU, WiFi and barometer; walk_pf the default) or all (the default last)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"yardstick", "wifi", "wifi-baro", "pdr", "walk_pf", "all"}));
+        ->check(CLI::IsMember({"yardstick", "wifi", "wifi-baro", "pdr", "kalman", "walk_pf", "all"}));
     cmd->add_flag("--known-start", a->known_start,
                   "give the trackers (and wifi-baro's floor) the first POSI landmark's position, floor and time");
     cmd->add_option("--map", a->map, "map id (for wifi and wifi-baro)");
