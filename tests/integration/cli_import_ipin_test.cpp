@@ -173,12 +173,19 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
                                  "--trials", "*Trial52*", "--train", "*Trial01*", "--method", "all", "--json"});
     ASSERT_EQ(ev.status, 0) << ev.err;
     const json e = json::parse(ev.out);
-    EXPECT_EQ(e["default"], "wifi-baro");
+    EXPECT_EQ(e["default"], "walk_pf");  // the default tracker, run last
     EXPECT_EQ(e["pooled"]["wifi"]["n"], 4);
+    EXPECT_EQ(e["pooled"]["walk_pf"]["n"], 4);
+    EXPECT_EQ(e["pooled"]["pdr"]["n"], 4);
     EXPECT_EQ(e["pooled"]["wifi-baro"]["n"], 4);
     // T52's pressure rises by 0.66 hPa (5.7 m down) between its 24 s and 30 s samples: the two
     // POSI instants after the stairs are on −2 by the barometer, whatever the radio said.
     EXPECT_EQ(e["pooled"]["wifi-baro"]["floor_hit_rate"], 1.0);
+    // The trackers take their floor from the same barometer (this file has no ACCE: no step,
+    // so they stand on the answers).
+    EXPECT_EQ(e["pooled"]["walk_pf"]["floor_hit_rate"], 1.0);
+    EXPECT_EQ(e["pooled"]["pdr"]["floor_hit_rate"], 1.0);
+    EXPECT_EQ(e["pooled"]["kalman"]["floor_hit_rate"], 1.0);
     EXPECT_EQ(e["pooled"]["yardstick"]["n"], 4);
     ASSERT_EQ(e["trials"].size(), 1u);
     EXPECT_EQ(e["trials"][0]["trial"], "T52_R01");
@@ -227,6 +234,12 @@ TEST(EvalIpin, WifiBaroNamesWhatItLacks) {
                                      "wifi-baro", "--json"});
     EXPECT_NE(no_map.status, 0);
     EXPECT_NE(no_map.err.find("--method wifi-baro needs --map ID"), std::string::npos) << no_map.err;
+    for (const char* tracker : {"pdr", "kalman", "walk_pf"}) {
+        const auto r = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--trials", "*Trial52*", "--method",
+                                    tracker, "--known-start"});
+        EXPECT_NE(r.status, 0);
+        EXPECT_NE(r.err.find(std::string("--method ") + tracker + " needs --map ID"), std::string::npos) << r.err;
+    }
     // A map whose one floor has no elevation_m: the barometer cannot place anything on it.
     const auto map = body_of(server.post("/v1/maps", {{"name", "flat"}}), 201);
     const auto b = body_of(server.post("/v1/maps/" + std::to_string(map["id"].get<std::int64_t>()) + "/buildings", {{"name", "B"}}), 201);
@@ -237,6 +250,10 @@ TEST(EvalIpin, WifiBaroNamesWhatItLacks) {
                                    std::to_string(map["id"].get<std::int64_t>()), "--trials", "*Trial52*", "--method", "wifi-baro"});
     EXPECT_NE(flat.status, 0);
     EXPECT_NE(flat.err.find("needs the map's floors' elevation_m"), std::string::npos) << flat.err;
+    const auto flat_pf = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--map",
+                                      std::to_string(map["id"].get<std::int64_t>()), "--trials", "*Trial52*", "--method", "walk_pf"});
+    EXPECT_NE(flat_pf.status, 0);
+    EXPECT_NE(flat_pf.err.find("--method walk_pf needs the map's floors' elevation_m"), std::string::npos) << flat_pf.err;
 }
 
 TEST(SurveyWalkCli, LandmarksFromACsvOrFromPosiThroughTheFloorsGeoreference) {

@@ -58,4 +58,24 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     // T01 stays on floor 0: its pressure wanders (≤ 0.16 hPa, the README) but never by half a
     // floor, so the barometric floor is 0 at every landmark.
     EXPECT_EQ(e["pooled"]["wifi-baro"]["floor_hit_rate"], 1.0);
+
+    // The default tracker: the walk's steps and compass between the answers. Measured 3.88 m
+    // (walk_pf) against the answers' 9.26 m at p75 on this slice; the tracker must stay below
+    // the answers it fuses, and with the first landmark given (measured 2.52 m; pdr 8.94 m)
+    // within 4 m.
+    EXPECT_EQ(e["default"], "walk_pf");
+    EXPECT_EQ(e["pooled"]["walk_pf"]["unscored"], 0);
+    EXPECT_LT(e["pooled"]["walk_pf"]["p75_m"].get<double>(), e["pooled"]["wifi"]["p75_m"].get<double>());
+    EXPECT_EQ(e["pooled"]["walk_pf"]["floor_hit_rate"], 1.0);
+    const auto ks = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+                                 "*Trial01_repetition02.txt", "--method", "walk_pf", "--known-start", "--json"});
+    ASSERT_EQ(ks.status, 0) << ks.err;
+    const json k = json::parse(ks.out);
+    EXPECT_EQ(k["known_start"], true);
+    EXPECT_LT(k["pooled"]["walk_pf"]["p75_m"].get<double>(), 4.0) << k["pooled"].dump();
+    EXPECT_EQ(k["pooled"]["walk_pf"]["floor_hit_rate"], 1.0);
+    const auto kp = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+                                 "*Trial01_repetition02.txt", "--method", "pdr", "--known-start", "--json"});
+    ASSERT_EQ(kp.status, 0) << kp.err;
+    EXPECT_LT(json::parse(kp.out)["pooled"]["pdr"]["p75_m"].get<double>(), 12.0);
 }

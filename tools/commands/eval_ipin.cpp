@@ -1,5 +1,5 @@
-// `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|wifi-baro|all] [--train GLOB]
-// [--server URL --map ID] [--json]`: WiFi-only positioning of the IPIN 2023 walks scored as
+// `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|wifi-baro|pdr|walk_pf|all] [--train GLOB]
+// [--server URL --map ID] [--known-start] [--json]`: positioning of the IPIN 2023 walks scored as
 // the competition scores them (tools/ipin_eval.hpp, docs/ipin-import.md). Each held-out walk's WiFi
 // scans are localized one by one (an estimate stamped at the scan's AppTimestamp); at each POSI
 // instant the latest estimate at most 0.01 s after it counts; error = horizontal metres + 15 m
@@ -12,8 +12,14 @@
 // answer to POST /v1/maps/{id}/localize with the scan and nothing else; `wifi-baro`, the same
 // answers with their floor replaced by the barometric floor (locus/motion/fusion/baro_floor.hpp: the
 // walk's pressure, the map's floor elevations, each answer's floor as a radio vote), estimates
-// at each scan and every 0.5 s between (the last answer's position, the floor then). Causal:
-// an estimate at t uses only the pressure samples and answers at or before t.
+// at each scan and every 0.5 s between (the last answer's position, the floor then); `pdr`,
+// `kalman` and `walk_pf` (the default), the walk's IMU fused with those answers and the barometer, estimates
+// every 0.5 s from the file's start (tools/ipin_track.hpp). Causal: an estimate at t uses only
+// the samples and answers at or before t. --known-start gives the trackers (and wifi-baro's
+// barometer) the first POSI landmark, as the competition gave its scoring walks' start. The
+// server's answers are brought from their floor's frame into the venue's through the floors'
+// georeferences (the same frame for every floor `locus import ipin` makes).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -26,6 +32,7 @@
 #include "command_registry.hpp"
 #include "datasets/ipin_log.hpp"
 #include "ipin_eval.hpp"
+#include "ipin_track.hpp"
 #include "ipin_venue.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
 #include "locus/motion/fusion/walk_runner.hpp"
@@ -46,6 +53,7 @@ struct Args {
     std::vector<std::string> train;
     std::string method = "all";
     std::int64_t map = 0;
+    bool known_start = false;
     bool json_out = false;
 };
 
@@ -54,6 +62,8 @@ struct LoadedWalk {
     Walk walk;
     std::vector<ipin::Fix> truth;  // POSI instants on the venue's floors
     std::vector<datasets::ipin::PressureSample> pressure;
+    std::vector<ipin::ImuStep> steps;
+    double end_s = 0.0;  // the last scan or POSI instant: the trackers' ticks run to here
 };
 
 std::vector<LoadedWalk> load(const std::string& dir, const std::vector<std::string>& globs) {
@@ -84,6 +94,8 @@ std::vector<LoadedWalk> load(const std::string& dir, const std::vector<std::stri
         for (const auto& l : w.walk.landmarks) w.truth.push_back({l.t, l.floor, l.at});
         add_wifi_scans(log, w.walk);
         w.pressure = datasets::ipin::pressure_series(log);
+        w.steps = ipin::log_steps(log);
+        w.end_s = std::max(w.walk.scan_times.empty() ? 0.0 : w.walk.scan_times.back(), w.truth.empty() ? 0.0 : w.truth.back().t);
         out.push_back(std::move(w));
     }
     return out;
@@ -151,9 +163,11 @@ std::optional<fusion::FloorLevel> baro_floor(api::Client& client, const api::Flo
 // before it.
 std::vector<std::optional<ipin::Fix>> with_baro_floor(const LoadedWalk& lw, const std::vector<std::optional<ipin::Fix>>& answers,
                                                       const std::vector<fusion::FloorLevel>& floors,
-                                                      std::vector<ipin::Fix>& estimates) {
+                                                      std::optional<int> start_floor, std::vector<ipin::Fix>& estimates) {
     constexpr double kTickS = 0.5;
-    fusion::BaroFloor baro(floors);
+    if (start_floor && std::none_of(floors.begin(), floors.end(), [&](const fusion::FloorLevel& f) { return f.floor == *start_floor; }))
+        start_floor.reset();
+    fusion::BaroFloor baro(floors, {}, start_floor);
     std::vector<std::optional<ipin::Fix>> per_scan(answers.size());
     std::optional<ipin::Fix> last;
     const auto& times = lw.walk.scan_times;
@@ -180,81 +194,163 @@ std::vector<std::optional<ipin::Fix>> with_baro_floor(const LoadedWalk& lw, cons
     return per_scan;
 }
 
-void run(const Args& a) {
-    const bool want_yardstick = a.method == "yardstick" || a.method == "all";
-    const bool want_wifi = a.method == "wifi" || a.method == "all";
-    const bool want_baro = a.method == "wifi-baro" || a.method == "all";
-    if (want_yardstick && a.train.empty()) throw CommandError("--method " + a.method + " needs --train GLOB (the yardstick's walks)");
-    if ((want_wifi || want_baro) && a.map <= 0) throw CommandError("--method " + a.method + " needs --map ID (and --server URL)");
-    const auto test = load(a.dir, a.trials);
-    std::optional<Yardstick> ys;
-    if (want_yardstick) ys = yardstick(load(a.dir, a.train));
+// The map's floors as the server holds them: level, the floor's own frame (to bring its
+// answers into the venue's one frame through the Earth) and, for the barometer, its elevation.
+struct MapFloors {
+    struct Floor {
+        int level = 0;
+        std::optional<geo::FloorToEarth> frame;
+    };
+    std::map<long long, Floor> by_id;
+    std::vector<fusion::FloorLevel> baro;
+};
 
-    std::optional<api::Client> client;
-    std::map<long long, int> level_of_floor;
-    std::vector<fusion::FloorLevel> floors;
-    if (want_wifi || want_baro) {
-        client.emplace(a.server.client_options());
-        for (const auto& b : client->buildings(a.map))
-            for (const auto& f : client->floors(b.id)) {
-                level_of_floor[f.id] = f.level;
-                if (want_baro)
-                    if (const auto level = baro_floor(*client, f)) floors.push_back(*level);
+MapFloors map_floors(api::Client& client, std::int64_t map, bool want_baro) {
+    MapFloors out;
+    for (const auto& b : client.buildings(map))
+        for (const auto& f : client.floors(b.id)) {
+            MapFloors::Floor fl{f.level, std::nullopt};
+            const json stored = client.get("/v1/floors/" + std::to_string(f.id));
+            if (stored.contains("geo") && stored.at("geo").is_object()) {
+                const json& g = stored.at("geo");
+                geo::Georeference ref;
+                ref.at = {g.at("lat").get<double>(), g.at("lon").get<double>()};
+                ref.anchor = {g.at("x").get<double>(), g.at("y").get<double>()};
+                ref.bearing_deg = g.at("bearing_deg").get<double>();
+                fl.frame.emplace(ref);
             }
-        if (level_of_floor.empty()) throw CommandError("map " + std::to_string(a.map) + " has no floor");
-        if (want_baro && floors.empty())
+            out.by_id[f.id] = fl;
+            if (want_baro)
+                if (const auto level = baro_floor(client, f)) out.baro.push_back(*level);
+        }
+    if (out.by_id.empty()) throw CommandError("map " + std::to_string(map) + " has no floor");
+    return out;
+}
+
+// The server's answer to each scan of a walk, in the venue's frame; nullopt where it had none.
+std::vector<std::optional<ipin::Fix>> server_answers(api::Client& client, std::int64_t map, const MapFloors& floors,
+                                                     const LoadedWalk& lw) {
+    const geo::FloorToEarth venue(ipin::venue_georeference());
+    std::vector<std::optional<ipin::Fix>> out(lw.walk.scans.size());
+    for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
+        api::LocalizeRequest req;
+        req.scans = {lw.walk.scans[i]};
+        try {
+            const auto r = client.localize_map(map, req);
+            const auto it = floors.by_id.find(r.floor_id);
+            if (it == floors.by_id.end()) continue;
+            const Point at = it->second.frame ? venue.to_floor(it->second.frame->to_geodetic(r.at)) : r.at;
+            out[i] = ipin::Fix{lw.walk.scan_times[i], it->second.level, at};
+        } catch (const api::ApiError& err) {
+            if (err.status() / 100 != 4) throw;  // 4xx: no answer for this scan (e.g. no AP known)
+        }
+    }
+    return out;
+}
+
+// The latest estimate at or before each scan (nullopt before the first), for the per-scan figures.
+std::vector<std::optional<ipin::Fix>> at_scans(const std::vector<ipin::Fix>& estimates, const std::vector<double>& scan_t) {
+    std::vector<std::optional<ipin::Fix>> out(scan_t.size());
+    std::size_t j = 0;
+    for (std::size_t i = 0; i < scan_t.size(); ++i) {
+        while (j < estimates.size() && estimates[j].t <= scan_t[i]) ++j;
+        if (j > 0) out[i] = estimates[j - 1];
+    }
+    return out;
+}
+
+struct Context {
+    const Args& args;
+    std::optional<Yardstick> ys;
+    MapFloors floors;
+    match::Workspace workspace;
+};
+
+// One method on one walk: `estimates` (time order) for the POSI scoring, the per-scan answers returned.
+std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const LoadedWalk& lw,
+                                                 const std::vector<std::optional<ipin::Fix>>& answers, Context& c,
+                                                 std::vector<ipin::Fix>& estimates) {
+    const std::optional<ipin::Fix> start =
+        c.args.known_start && !lw.truth.empty() ? std::optional<ipin::Fix>(lw.truth.front()) : std::nullopt;
+    std::vector<std::optional<ipin::Fix>> per_scan;
+    if (m == "yardstick") {
+        per_scan.resize(lw.walk.scans.size());
+        for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
+            const auto r = match::localize(c.ys->index, match::Query::from_scans({lw.walk.scans[i]}), match::Algorithm::knn,
+                                           c.ys->options, c.workspace);
+            if (r) per_scan[i] = ipin::Fix{lw.walk.scan_times[i], static_cast<int>(r->floor_id), r->at};
+        }
+    } else if (m == "wifi") {
+        per_scan = answers;
+    } else if (m == "wifi-baro") {
+        return with_baro_floor(lw, answers, c.floors.baro, start ? std::optional<int>(start->floor) : std::nullopt, estimates);
+    } else {
+        ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, answers, lw.end_s, start};
+        // The venue's frame is the georeference's: its +y axis at bearing_deg from true north, so
+        // a compass azimuth ψ is ψ − bearing in it (magnetic declination, ~3° here, ignored).
+        ipin::TrackerConfig config;
+        config.compass_offset_rad = -ipin::venue_georeference().bearing_deg * std::numbers::pi / 180.0;
+        const ipin::Tracker tracker = m == "pdr" ? ipin::Tracker::pdr : m == "kalman" ? ipin::Tracker::kalman : ipin::Tracker::walk_pf;
+        estimates = ipin::track(tracker, in, c.floors.baro, config);
+        return at_scans(estimates, lw.walk.scan_times);
+    }
+    for (const auto& f : per_scan)
+        if (f) estimates.push_back(*f);
+    return per_scan;
+}
+
+void print_table(const json& out, const std::vector<std::string>& methods) {
+    std::printf("%-10s %-9s %9s %9s %7s %6s %12s\n", "trial", "phone", "method", "p75_m", "mean_m", "floor", "scans_p75_m");
+    auto line = [](const std::string& t, const std::string& p, const std::string& m, const json& f) {
+        auto num = [](const json& v) { return v.is_number() ? v.get<double>() : NAN; };
+        std::printf("%-10s %-9s %9s %9.2f %7.2f %6.2f %12.2f\n", t.c_str(), p.c_str(), m.c_str(), num(f["p75_m"]),
+                    num(f["mean_m"]), num(f["floor_hit_rate"]), num(f["scans"]["p75_m"]));
+    };
+    for (const auto& r : out["trials"])
+        for (const auto& m : methods) line(r["trial"], r["phone"], m, r["methods"][m]);
+    for (const auto& m : methods) line("pooled", "", m, out["pooled"][m]);
+}
+
+std::vector<std::string> methods_of(const std::string& method) {
+    if (method != "all") return {method};
+    return {"yardstick", "wifi", "wifi-baro", "pdr", "kalman", "walk_pf"};
+}
+
+void run(const Args& a) {
+    const std::vector<std::string> methods = methods_of(a.method);
+    const bool want_yardstick = a.method == "yardstick" || a.method == "all";
+    const bool want_server = a.method != "yardstick";
+    const bool want_baro = want_server && a.method != "wifi";
+    if (want_yardstick && a.train.empty()) throw CommandError("--method " + a.method + " needs --train GLOB (the yardstick's walks)");
+    if (want_server && a.map <= 0) throw CommandError("--method " + a.method + " needs --map ID (and --server URL)");
+    const auto test = load(a.dir, a.trials);
+    Context c{a, std::nullopt, {}, {}};
+    if (want_yardstick) c.ys = yardstick(load(a.dir, a.train));
+    std::optional<api::Client> client;
+    if (want_server) {
+        client.emplace(a.server.client_options());
+        c.floors = map_floors(*client, a.map, want_baro);
+        if (want_baro && c.floors.baro.empty())
             throw CommandError("--method " + a.method + " needs the map's floors' elevation_m (none has one)");
     }
-    std::vector<std::string> methods;
-    if (want_yardstick) methods.push_back("yardstick");
-    if (want_wifi) methods.push_back("wifi");
-    if (want_baro) methods.push_back("wifi-baro");
-
     std::map<std::string, ipin::Errors> pooled, pooled_scans;
     std::map<std::string, std::size_t> unanswered;
     json trials = json::array();
-    match::Workspace workspace;
     for (const auto& lw : test) {
-        std::cerr << "evaluating " << lw.label << " (" << lw.phone << ", " << lw.walk.scans.size() << " scans)\n";
+        std::cerr << "evaluating " << lw.label << " (" << lw.phone << ", " << lw.walk.scans.size() << " scans, "
+                  << lw.steps.size() << " steps)\n";
         const auto truth_of_scan = scan_truth(lw.walk);
-        // The server's answers, asked once for wifi and wifi-baro.
-        std::vector<std::optional<ipin::Fix>> server_answers;
-        if (want_wifi || want_baro) {
-            server_answers.resize(lw.walk.scans.size());
-            for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
-                api::LocalizeRequest req;
-                req.scans = {lw.walk.scans[i]};
-                try {
-                    const auto r = client->localize_map(a.map, req);
-                    const auto it = level_of_floor.find(r.floor_id);
-                    if (it != level_of_floor.end()) server_answers[i] = ipin::Fix{lw.walk.scan_times[i], it->second, r.at};
-                } catch (const api::ApiError& err) {
-                    if (err.status() / 100 != 4) throw;  // 4xx: no answer for this scan (e.g. no AP known)
-                }
-            }
-        }
+        // The server's answers, asked once for every method that uses them.
+        const auto answers = want_server ? server_answers(*client, a.map, c.floors, lw) : std::vector<std::optional<ipin::Fix>>{};
         json row = {{"trial", lw.label}, {"phone", lw.phone}, {"methods", json::object()}};
         for (const auto& m : methods) {
             std::vector<ipin::Fix> estimates, scan_est, scan_truths;
-            std::vector<std::optional<ipin::Fix>> per_scan;
-            if (m == "yardstick") {
-                per_scan.resize(lw.walk.scans.size());
-                for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
-                    const auto r = match::localize(ys->index, match::Query::from_scans({lw.walk.scans[i]}), match::Algorithm::knn,
-                                                   ys->options, workspace);
-                    if (r) per_scan[i] = ipin::Fix{lw.walk.scan_times[i], static_cast<int>(r->floor_id), r->at};
-                }
-            } else if (m == "wifi") {
-                per_scan = server_answers;
-            } else {
-                per_scan = with_baro_floor(lw, server_answers, floors, estimates);
-            }
+            const auto per_scan = run_method(m, lw, answers, c, estimates);
             for (std::size_t i = 0; i < per_scan.size(); ++i) {
                 if (!per_scan[i]) {
                     ++unanswered[m];
                     continue;
                 }
-                if (m != "wifi-baro") estimates.push_back(*per_scan[i]);
                 if (truth_of_scan[i]) {
                     scan_est.push_back(*per_scan[i]);
                     scan_truths.push_back(*truth_of_scan[i]);
@@ -270,7 +366,7 @@ void run(const Args& a) {
         }
         trials.push_back(row);
     }
-    json out = {{"default", methods.back()}, {"pooled", json::object()}, {"trials", trials}};
+    json out = {{"default", methods.back()}, {"known_start", a.known_start}, {"pooled", json::object()}, {"trials", trials}};
     for (const auto& m : methods) {
         json f = ipin::figures(pooled[m]);
         f["scans"] = ipin::figures(pooled_scans[m]);
@@ -281,15 +377,7 @@ void run(const Args& a) {
         std::cout << out.dump() << "\n";
         return;
     }
-    std::printf("%-10s %-9s %9s %9s %7s %6s %12s\n", "trial", "phone", "method", "p75_m", "mean_m", "floor", "scans_p75_m");
-    auto line = [](const std::string& t, const std::string& p, const std::string& m, const json& f) {
-        auto num = [](const json& v) { return v.is_number() ? v.get<double>() : NAN; };
-        std::printf("%-10s %-9s %9s %9.2f %7.2f %6.2f %12.2f\n", t.c_str(), p.c_str(), m.c_str(), num(f["p75_m"]),
-                    num(f["mean_m"]), num(f["floor_hit_rate"]), num(f["scans"]["p75_m"]));
-    };
-    for (const auto& r : trials)
-        for (const auto& m : methods) line(r["trial"], r["phone"], m, r["methods"][m]);
-    for (const auto& m : methods) line("pooled", "", m, out["pooled"][m]);
+    print_table(out, methods);
 }
 
 }  // namespace
@@ -302,9 +390,13 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     cmd->add_option("DIR", a->dir, "the data set folder (with trials/)")->required();
     cmd->add_option("--trials", a->trials, "held-out walks: globs on the file names of DIR/trials (repeat: any matches)")->required();
     cmd->add_option("--train", a->train, "the yardstick's walks (a glob, as --trials)");
-    cmd->add_option("--method", a->method, "yardstick, wifi (the server's answer), wifi-baro (its floor from the barometer) or all")
+    cmd->add_option("--method", a->method,
+                    "yardstick, wifi (the server's answer), wifi-baro (its floor from the barometer), pdr, kalman, walk_pf "
+                    "(the trackers: IMU, WiFi and barometer; walk_pf the default) or all (the default last)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"yardstick", "wifi", "wifi-baro", "all"}));
+        ->check(CLI::IsMember({"yardstick", "wifi", "wifi-baro", "pdr", "kalman", "walk_pf", "all"}));
+    cmd->add_flag("--known-start", a->known_start,
+                  "give the trackers (and wifi-baro's floor) the first POSI landmark's position, floor and time");
     cmd->add_option("--map", a->map, "map id (for wifi and wifi-baro)");
     cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");
     cmd->callback([a] { run(*a); });

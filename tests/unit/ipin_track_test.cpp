@@ -1,0 +1,132 @@
+// The trackers of `locus eval ipin` (tools/ipin_track.hpp) on walks written for the test: the
+// known start, dead reckoning by hand, causality (a walk cut at T gives the same estimates up
+// to T), and the walk filter doing better than the answers it fuses.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "ipin_track.hpp"
+
+using namespace locus;
+using namespace locus::tools;
+
+namespace {
+
+// A walk east along y = 0 at 1.2 m/s from t = 10 s: a 0.6 m step every 0.5 s (confirmed at
+// its own time), compass pointing east (the venue frame north-up); a WiFi answer every 2 s
+// from t = 0, off the truth by up to 4 m in a fixed pattern; pressure at 5 Hz, steady.
+struct Synthetic {
+    std::vector<ipin::ImuStep> steps;
+    std::vector<datasets::ipin::PressureSample> pressure;
+    std::vector<double> scan_t;
+    std::vector<std::optional<ipin::Fix>> answers;
+    double end_s = 70.0;
+
+    static Point truth(double t) { return {1.2 * std::max(0.0, t - 10.0), 0.0}; }
+
+    Synthetic() {
+        for (double t = 10.5; t <= end_s; t += 0.5) steps.push_back({t, 0.6, std::numbers::pi / 2});
+        for (double t = 0.0; t <= end_s; t += 0.2) pressure.push_back({t, 1000.0});
+        for (int i = 0; 2.0 * i <= end_s; ++i) {
+            const double t = 2.0 * i;
+            const Point p = truth(t);
+            scan_t.push_back(t);
+            answers.push_back(ipin::Fix{t, 0, {p.x + 4.0 * std::sin(1.7 * i), p.y + 4.0 * std::cos(2.3 * i)}});
+        }
+    }
+
+    // The walk as the phone knew it at T: nothing stamped after T, ticks up to T.
+    Synthetic cut(double t_cut) const {
+        Synthetic c = *this;
+        c.end_s = t_cut;
+        std::erase_if(c.steps, [&](const ipin::ImuStep& s) { return s.t_s > t_cut; });
+        std::erase_if(c.pressure, [&](const datasets::ipin::PressureSample& s) { return s.t_s > t_cut; });
+        while (!c.scan_t.empty() && c.scan_t.back() > t_cut) {
+            c.scan_t.pop_back();
+            c.answers.pop_back();
+        }
+        return c;
+    }
+
+    ipin::TrackInput input(std::optional<ipin::Fix> start) const { return {steps, pressure, scan_t, answers, end_s, start}; }
+};
+
+const std::vector<fusion::FloorLevel> kFloors = {{0, 0.0, true}, {-2, -5.7, true}};
+
+ipin::TrackerConfig north_up() {
+    ipin::TrackerConfig c;
+    c.compass_offset_rad = 0.0;
+    return c;
+}
+
+}  // namespace
+
+TEST(IpinTrack, PdrWithAKnownStartStandsOnItThenWalksTheCompass) {
+    // Steps every 0.5 s from t = 1 s, 0.8 m each, due east; no answer, no barometer.
+    std::vector<ipin::ImuStep> steps;
+    for (double t = 1.0; t <= 15.0; t += 0.5) steps.push_back({t, 0.8, std::numbers::pi / 2});
+    const ipin::Fix start{5.0, -2, {10.0, 20.0}};
+    const ipin::TrackInput in{steps, {}, {}, {}, 12.0, start};
+    ipin::TrackerConfig config = north_up();
+    config.step_scale = 1.0;  // no answer fits a scale: the steps as detected
+    const auto est = ipin::track(ipin::Tracker::pdr, in, {}, config);
+    ASSERT_EQ(est.size(), 25u);  // ticks 0, 0.5, ..., 12
+    for (const auto& e : est) {
+        EXPECT_EQ(e.floor, -2);
+        EXPECT_NEAR(e.at.y, 20.0, 1e-9);
+        // Before 5 s the steps (the calibration's waving) move nothing; from 5 s on each step
+        // stamped at or before the tick counts: 5.0, 5.5, ..., t.
+        const double walked = e.t < 5.0 ? 0.0 : 0.8 * (std::floor((e.t - 5.0) / 0.5 + 1e-9) + 1.0);
+        EXPECT_NEAR(e.at.x, 10.0 + walked, 1e-9) << "t " << e.t;
+    }
+    EXPECT_NEAR(est.back().at.x, 10.0 + 0.8 * 15, 1e-9);  // 5.0 … 12.0: 15 steps
+}
+
+TEST(IpinTrack, ACutWalkLeavesEveryEarlierEstimateAsItWas) {
+    const Synthetic full;
+    for (const double t_cut : {9.3, 31.3, 50.0}) {
+        const Synthetic cut = full.cut(t_cut);
+        for (const auto tracker : {ipin::Tracker::pdr, ipin::Tracker::kalman, ipin::Tracker::walk_pf}) {
+            for (const bool known : {false, true}) {
+                const std::optional<ipin::Fix> start =
+                    known ? std::optional<ipin::Fix>(ipin::Fix{10.0, 0, Synthetic::truth(10.0)}) : std::nullopt;
+                const auto a = ipin::track(tracker, full.input(start), kFloors, north_up());
+                const auto b = ipin::track(tracker, cut.input(start), kFloors, north_up());
+                ASSERT_FALSE(b.empty());
+                ASSERT_LE(b.size(), a.size());
+                for (std::size_t i = 0; i < b.size(); ++i) {
+                    ASSERT_LE(b[i].t, t_cut);
+                    EXPECT_EQ(a[i].t, b[i].t);
+                    EXPECT_EQ(a[i].floor, b[i].floor);
+                    EXPECT_EQ(a[i].at.x, b[i].at.x) << "cut " << t_cut << " tick " << b[i].t;
+                    EXPECT_EQ(a[i].at.y, b[i].at.y);
+                }
+                // The full walk's estimates go on past the cut.
+                EXPECT_GT(a.back().t, t_cut);
+            }
+        }
+    }
+}
+
+TEST(IpinTrack, WalkFilterTracksCloserThanTheAnswersItFuses) {
+    const Synthetic w;
+    const auto est = ipin::track(ipin::Tracker::walk_pf, w.input(std::nullopt), kFloors, north_up());
+    ASSERT_FALSE(est.empty());
+    // Without a known start it begins at the first answer (t = 0).
+    EXPECT_EQ(est.front().t, 0.0);
+    double filter = 0.0, answers = 0.0;
+    int n = 0;
+    for (const auto& e : est) {
+        if (e.t < 20.0 || std::fmod(e.t, 2.0) != 0.0) continue;  // after it settled, at the answers' instants
+        const auto& a = w.answers[static_cast<std::size_t>(e.t / 2.0)];
+        filter += distance(e.at, Synthetic::truth(e.t));
+        answers += distance(a->at, Synthetic::truth(e.t));
+        EXPECT_EQ(e.floor, 0);
+        ++n;
+    }
+    ASSERT_GT(n, 10);
+    // The answers are 4 m off on average here (the pattern's radius); the steps carry the walk
+    // between them.
+    EXPECT_LT(filter / n, 0.6 * answers / n) << "filter " << filter / n << " answers " << answers / n;
+}

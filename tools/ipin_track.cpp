@@ -1,0 +1,197 @@
+#include "ipin_track.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "locus/motion/fusion/heading_alignment.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/walk_runner.hpp"
+#include "locus/motion/pdr/step_detector.hpp"
+#include "locus/motion/pdr/step_length.hpp"
+
+namespace locus::tools::ipin {
+
+namespace {
+
+// The gyroscope's turn about the vertical, integrated: a compass azimuth (clockwise, rad) with
+// an arbitrary origin, sampled at each GYRO sample. The vertical is the low-passed
+// accelerometer (gravity included, so it points up); the turn rate about it is ω·up, counter-
+// clockwise, so the clockwise azimuth falls by it.
+std::vector<std::pair<double, double>> gyro_azimuth(const datasets::ipin::Log& log) {
+    constexpr double kGravityAlpha = 0.1;
+    constexpr double kMaxGapS = 0.2;  // a longer gap in the samples is not integrated over
+    std::vector<std::pair<double, double>> out;
+    std::optional<pdr::Vec3> gravity;
+    std::optional<double> last_t;
+    double azimuth = 0.0;
+    for (const auto& s : datasets::ipin::imu_samples(log)) {
+        if (s.sensor == datasets::ImuSensor::acc) {
+            gravity = gravity ? (1.0 - kGravityAlpha) * *gravity + kGravityAlpha * s.v : s.v;
+        } else if (s.sensor == datasets::ImuSensor::gyro && gravity && pdr::norm(*gravity) > 0.0) {
+            const double dt = last_t ? s.t_s - *last_t : 0.0;
+            if (dt > 0.0 && dt < kMaxGapS) azimuth -= pdr::dot(s.v, (1.0 / pdr::norm(*gravity)) * *gravity) * dt;
+            last_t = s.t_s;
+            out.emplace_back(s.t_s, azimuth);
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource source) {
+    std::vector<ImuStep> out;
+    // The azimuth series: the rotation vector's yaw grows counter-clockwise from north (the
+    // data set's README), so the clockwise azimuth is its negative; or the gyroscope's.
+    std::vector<std::pair<double, double>> series;
+    if (source == HeadingSource::gyro) {
+        series = gyro_azimuth(log);
+    } else {
+        for (const auto& a : log.ahrs) series.emplace_back(a.app_s, -a.yaw_deg * std::numbers::pi / 180.0);
+    }
+    if (series.empty()) return out;
+    pdr::StepDetector detector;
+    const pdr::StepLengthModel length;
+    // The sample in force at a step's time: the last one at or before it.
+    auto azimuth_at = [&](double t) {
+        auto it = std::upper_bound(series.begin(), series.end(), t,
+                                   [](double v, const std::pair<double, double>& a) { return v < a.first; });
+        return (it == series.begin() ? *it : *(it - 1)).second;
+    };
+    for (const auto& s : datasets::ipin::accel_samples(log)) {
+        auto e = detector.push(s.t_s, s.ax, s.ay, s.az);
+        while (e) {
+            // A bout confirms several steps at once: each is known now, each points where the
+            // phone pointed when it was taken.
+            out.push_back({s.t_s, length.length(*e), azimuth_at(e->t_s)});
+            e = detector.poll();
+        }
+    }
+    return out;
+}
+
+namespace {
+
+// The tracker's horizontal state: the walk filter, the Kalman filter or dead reckoning, each
+// beginning at a point.
+class Horizontal {
+public:
+    Horizontal(Tracker kind, const TrackerConfig& config)
+        : kind_(kind), config_(config), wf_(std::nullopt, config.walk_filter) {}
+
+    bool begun() const { return begun_; }
+    Point position() const {
+        if (kind_ == Tracker::walk_pf) return wf_.position();
+        if (kind_ == Tracker::kalman) return kf_->position();
+        return at_;
+    }
+
+    // Begins at a point: a known start (tight) or the first answer (its σ).
+    void begin(Point at, double sigma_m) {
+        begun_ = true;
+        at_ = at;
+        align_.add_fix(at);
+        if (config_.compass_offset_rad) wf_.hint(*config_.compass_offset_rad, false);
+        if (kind_ == Tracker::walk_pf) wf_.fix(at, Eigen::Matrix2d::Identity() * sigma_m * sigma_m);
+        fusion::KalmanConfig kc = config_.kalman;
+        kc.initial_sigma_m = sigma_m;
+        if (kind_ == Tracker::kalman) kf_.emplace(at, kc);
+    }
+    void step(const ImuStep& s) {
+        if (!begun_) return;
+        align_.add_step(s.length_m, s.azimuth_rad);
+        if (kind_ == Tracker::walk_pf) {
+            wf_.step(s.length_m, s.azimuth_rad);
+            return;
+        }
+        // In the venue's frame: the known rotation, else the one learnt from the answers; the
+        // step scaled by the answers' distance ratio once it is fitted.
+        const bool aligned = align_.pairs() >= config_.alignment_pairs;
+        const double heading = config_.compass_offset_rad ? *config_.compass_offset_rad + s.azimuth_rad : align_.floor_heading(s.azimuth_rad);
+        const double len = s.length_m * (aligned && align_.scale() > 0.0 ? align_.scale() : config_.step_scale);
+        const Point d{len * std::sin(heading), len * std::cos(heading)};
+        if (kind_ == Tracker::kalman) kf_->predict(d);
+        else at_ = {at_.x + d.x, at_.y + d.y};
+    }
+    void answer(Point at) {
+        if (!begun_) {
+            begin(at, config_.answer_sigma_m);
+            return;
+        }
+        align_.add_fix(at);
+        const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * config_.answer_sigma_m * config_.answer_sigma_m;
+        if (kind_ == Tracker::kalman) kf_->update(at, r);
+        if (kind_ != Tracker::walk_pf) return;
+        if (!config_.compass_offset_rad && align_.pairs() >= config_.alignment_pairs) wf_.hint(align_.offset_rad(), align_.mirrored());
+        wf_.fix(at, r);
+    }
+
+private:
+    Tracker kind_;
+    TrackerConfig config_;
+    fusion::WalkFilter wf_;
+    std::optional<fusion::KalmanFilter> kf_;
+    fusion::HeadingAlignment align_;
+    Point at_;
+    bool begun_ = false;
+};
+
+bool has_floor(const std::vector<fusion::FloorLevel>& floors, int floor) {
+    return std::any_of(floors.begin(), floors.end(), [&](const fusion::FloorLevel& f) { return f.floor == floor; });
+}
+
+}  // namespace
+
+std::vector<Fix> track(Tracker tracker, const TrackInput& in, const std::vector<fusion::FloorLevel>& floors,
+                       const TrackerConfig& config) {
+    std::optional<fusion::BaroFloor> baro;
+    if (!floors.empty()) {
+        std::optional<int> start_floor;
+        if (in.start && has_floor(floors, in.start->floor)) start_floor = in.start->floor;
+        baro.emplace(floors, fusion::BaroFloorConfig{}, start_floor);
+    }
+    std::vector<double> ticks;
+    for (double t = 0.0; t <= in.end_s; t += config.tick_s) ticks.push_back(t);
+
+    Horizontal h(tracker, config);
+    std::optional<int> radio_floor = in.start ? std::optional<int>(in.start->floor) : std::nullopt;
+    // With a known start the walker stands on it until its time (the calibration minute):
+    // steps and answers before then move nothing; the barometer takes everything.
+    auto walking = [&](double t) {
+        if (!in.start) return true;
+        if (!h.begun() && t >= in.start->t) h.begin(in.start->at, 0.5);
+        return h.begun();
+    };
+    std::vector<double> step_t;
+    step_t.reserve(in.steps.size());
+    for (const auto& s : in.steps) step_t.push_back(s.t_s);
+    std::vector<Fix> out;
+    fusion::WalkHandlers handlers;
+    handlers.pressure = [&](std::size_t k) {
+        if (baro) baro->add_pressure(in.pressure[k].t_s, in.pressure[k].hpa);
+    };
+    handlers.step = [&](std::size_t i) {
+        if (walking(in.steps[i].t_s)) h.step(in.steps[i]);
+    };
+    handlers.fix = [&](std::size_t i) {
+        const auto& a = in.answers[i];
+        if (!a) return;
+        if (baro) baro->add_radio_vote(a->floor);
+        radio_floor = a->floor;
+        if (walking(a->t)) h.answer(a->at);
+    };
+    handlers.tick = [&](std::size_t k) {
+        const double t = ticks[k];
+        walking(t);
+        const std::optional<int> floor = baro && baro->floor() ? baro->floor() : radio_floor;
+        if (!floor) return;
+        if (h.begun()) out.push_back({t, *floor, h.position()});
+        else if (in.start) out.push_back({t, *floor, in.start->at});
+    };
+    const std::vector<double> pressure_t = fusion::times_of(in.pressure, &datasets::ipin::PressureSample::t_s);
+    fusion::run_walk({.pressure = pressure_t, .step = step_t, .fix = in.scan_times, .tick = ticks}, handlers);
+    return out;
+}
+
+}  // namespace locus::tools::ipin

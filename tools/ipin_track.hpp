@@ -1,0 +1,105 @@
+#pragma once
+// The trackers of `locus eval ipin` (docs/ipin-import.md, "The trackers"): a walk's own IMU
+// (steps from ACCE, their azimuth from the rotation vector) fused with the server's WiFi answers
+// and the barometer, causally, one estimate every 0.5 s from the file's start (the competition's
+// 2 Hz). Every event reaches the filters through fusion::run_walk in time order (pressure, step,
+// answer, tick at equal times), so an estimate at t uses only what was stamped at or before t:
+// cutting a walk at T leaves every estimate before T as it was.
+//  - pdr: dead reckoning from the start; each step's compass azimuth turned into the venue's
+//    frame by the rotation (and mirror) learnt so far from the WiFi answers
+//    (fusion::HeadingAlignment), its length scaled by the scale learnt with it.
+//  - kalman: fusion::KalmanFilter, the same steps as pdr as its control input, each answer a fix.
+//  - walk_pf: fusion::WalkFilter (no plan: free moves), which learns the compass rotation and the
+//    step scale itself, leaning on HeadingAlignment's rotation as a hint.
+// Floors: fusion::BaroFloor, the pressure with each answer's floor as a radio vote (and the start
+// floor, when known). Without a known start a tracker begins at the first answer; with one
+// (the competition gave its walks' first landmark) it stands there until the landmark's time
+// (the calibration minute is spent on it) and walks from then on.
+//
+// Cost per walk: log_steps O(ACCE samples · log AHRS samples); track O(events) for pdr and
+// O(events · particles) for walk_pf (2000 particles: a few ms per walk).
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "datasets/ipin_log.hpp"
+#include "ipin_eval.hpp"
+#include "locus/motion/fusion/baro_floor.hpp"
+#include "locus/motion/fusion/kalman.hpp"
+#include "locus/motion/fusion/walk_filter.hpp"
+
+namespace locus::tools::ipin {
+
+// A detected step, in the phone's compass frame.
+struct ImuStep {
+    double t_s = 0.0;          // AppTimestamp when the detector confirmed it (what the phone knows then)
+    double length_m = 0.0;     // Weinberg
+    double azimuth_rad = 0.0;  // clockwise from (magnetic) north, the rotation vector's at the step's own time
+};
+
+// Every step of the log's ACCE (sensor clock moved onto the App clock), in confirmation order.
+// No azimuth sample (AHRS, or GYRO with ACCE): no step.
+enum class HeadingSource { rotation_vector, gyro };
+// The rotation vector (the default): referenced to north, so the rotation to a georeferenced
+// frame is known; the gyroscope's integrated turn has no reference and drifts with its bias
+// (measured worse on the folds with walk_pf).
+std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource source = HeadingSource::rotation_vector);
+
+enum class Tracker { pdr, kalman, walk_pf };
+
+// The walk filter on these walks: WalkFilterConfig::real_walks() changed where the IPIN 2023
+// folds (docs/results.md, "IPIN 2023": chosen on the folds reported, so the figures are
+// optimistic) disagreed with the PUTMC walks it was chosen on. The detected steps here cover
+// 1.15-1.2 times the landmark-to-landmark distance (PUTMC's walker: 0.6), so the scale prior sits
+// at 0.9 with a tight spread; the server's 5 m-cell answers are off by 4-6 m with errors that
+// last for several scans, so a fix says little (σ 5 m) and almost no particle is re-drawn round
+// it (2-10 %: re-drawing is what made the track follow the answers); the compass rotation is
+// known from the georeference (TrackerConfig::compass_offset_rad), so fresh particles draw it
+// there (95 %, ±0.2 rad) and it wanders 0.05 rad per step (the rotation vector's drift).
+inline fusion::WalkFilterConfig ipin_walk_filter() {
+    fusion::WalkFilterConfig c = fusion::WalkFilterConfig::real_walks();
+    c.scale_mean = 0.9;
+    c.scale_sigma = 0.1;
+    c.fix_sigma_m = 5.0;
+    c.reseed_fraction = 0.02;
+    c.reseed_max_fraction = 0.1;
+    c.offset_walk_rad = 0.05;
+    c.hint_share = 0.95;
+    c.hint_sigma_rad = 0.2;
+    return c;
+}
+
+struct TrackerConfig {
+    fusion::WalkFilterConfig walk_filter = ipin_walk_filter();
+    // kalman: the position filter of `locus eval walks` (its per-metre step noise for real
+    // compasses, tools/walk_eval.hpp), the answers as fixes of σ answer_sigma_m.
+    fusion::KalmanConfig kalman = {.initial_sigma_m = 1.0, .step_sigma_floor_m = 0.05, .step_sigma_per_m = 4.0};
+    double step_scale = 0.9;  // pdr and kalman: the steps' scale until the answers fit one (walk_pf's prior)
+    double answer_sigma_m = 6.0;  // σ of a WiFi answer for the filters (the walk filter takes at least its own)
+    double tick_s = 0.5;          // the competition's 2 Hz
+    // Answers the rotation (and the step scale) must have been fitted on before the trackers lean on them.
+    int alignment_pairs = 3;
+    // The compass's rotation to the venue's frame when it is known: a rotation-vector azimuth is
+    // referenced to (magnetic) north, and a georeferenced floor's frame is north-up turned by its
+    // bearing, so the rotation is known up to declination and the phone's bias. Then pdr and kalman turn
+    // their steps by it, and walk_pf's particles draw their rotation around it (hint_share,
+    // ±hint_sigma_rad) instead of leaning on the rotation learnt from the answers.
+    std::optional<double> compass_offset_rad;
+};
+
+struct TrackInput {
+    std::span<const ImuStep> steps;
+    std::span<const datasets::ipin::PressureSample> pressure;
+    std::span<const double> scan_times;                // every scan's time, in order
+    std::span<const std::optional<Fix>> answers;       // the server's answer per scan (nullopt: none)
+    double end_s = 0.0;                                // ticks run from 0 to here
+    std::optional<Fix> start;                          // the known start (--known-start)
+};
+
+// The tracker's estimates at its ticks (from the first tick at which it has a position), in
+// time order, venue frame. `floors`: the map's floors for BaroFloor (may be empty: then the
+// floor is the last answer's, or the start's).
+std::vector<Fix> track(Tracker tracker, const TrackInput& in, const std::vector<fusion::FloorLevel>& floors,
+                       const TrackerConfig& config = {});
+
+}  // namespace locus::tools::ipin
