@@ -8,14 +8,13 @@
 #include <cstddef>
 #include <functional>
 #include <nlohmann/json.hpp>
-#include <mutex>
 #include <string>
-#include <unordered_set>
 
 #include "directory/service.hpp"
 #include "http/floor_geo.hpp"
 #include "http/fair_share.hpp"
 #include "http/front.hpp"
+#include "http/radiomap_settings.hpp"
 #include "http/slots.hpp"
 #include "http/static_files.hpp"
 #include "http/transmitter_cache.hpp"
@@ -25,6 +24,7 @@
 #include "store/kinds.hpp"
 #include "store/db.hpp"
 #include "store/store.hpp"
+#include "tuning/service.hpp"
 
 namespace locus::tracks {
 class Service;
@@ -77,9 +77,6 @@ private:
     void install_image_routes();     // image_routes.cpp
     void install_track_routes();     // track_routes.cpp
     void install_tune_routes();      // tune_routes.cpp (from install_radiomap_routes)
-    class TuneGuard;
-    std::mutex tuning_mu_;
-    std::unordered_set<std::int64_t> tuning_;  // radio maps being tuned
     void install_transmitter_routes();  // transmitter_routes.cpp (+ trilateration, fit, generate)
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
@@ -90,6 +87,7 @@ private:
     directory::Service& directory_;
     TransmitterCache transmitters_{store_};  // for the ranging localize
     FloorGeoCache geo_{store_};  // lat/lon in the answers of georeferenced floors
+    tuning::Service tuning_{store_, settings_text()};  // tune and quality (tune_routes.cpp)
     AppOptions options_;
     Slots export_slots_{options_.max_exports};
     FairShare fair_share_{options_.fair, options_.api_key};
