@@ -8,8 +8,8 @@
 #include <string>
 
 #include "http/transmitters/transmitter_cache.hpp"
-#include "http/transmitters/transmitter_fields.hpp"
 #include "store/sql_store.hpp"
+#include "transmitters/floor_transmitters.hpp"
 
 namespace {
 
@@ -45,7 +45,7 @@ struct Floor {
 
 void BM_ReadFromStore(benchmark::State& state) {
     Floor f(static_cast<int>(state.range(0)));
-    for (auto _ : state) benchmark::DoNotOptimize(locus::http::transmitters_of_floor(*f.store, f.floor));
+    for (auto _ : state) benchmark::DoNotOptimize(locus::transmitters::transmitters_of_floor(*f.store, f.floor));
 }
 BENCHMARK(BM_ReadFromStore)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 

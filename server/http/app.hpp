@@ -8,14 +8,13 @@
 #include <cstddef>
 #include <functional>
 #include <nlohmann/json.hpp>
-#include <mutex>
 #include <string>
-#include <unordered_set>
 
 #include "directory/service.hpp"
 #include "http/plans/floor_geo.hpp"
 #include "http/front/fair_share.hpp"
 #include "http/front/front.hpp"
+#include "http/radiomaps/radiomap_settings.hpp"
 #include "http/front/slots.hpp"
 #include "http/front/static_files.hpp"
 #include "http/transmitters/transmitter_cache.hpp"
@@ -25,6 +24,7 @@
 #include "store/kinds.hpp"
 #include "store/db.hpp"
 #include "store/store.hpp"
+#include "tuning/service.hpp"
 
 namespace locus::tracks {
 class Service;
@@ -83,9 +83,6 @@ private:
     void install_relative_routes();      // relative_routes.cpp
     void install_position_routes();      // position_routes.cpp
     void install_tune_routes();      // tune_routes.cpp (from install_radiomap_routes)
-    class TuneGuard;
-    std::mutex tuning_mu_;
-    std::unordered_set<std::int64_t> tuning_;  // radio maps being tuned
     void install_transmitter_routes();  // transmitter_routes.cpp (+ trilateration, fit, generate)
     plan::Endpoint endpoint_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
     plan::Endpoint place_of(const nlohmann::json& body, const char* name, std::int64_t map_id);
@@ -96,6 +93,7 @@ private:
     directory::Service& directory_;
     TransmitterCache transmitters_{store_};  // for the ranging localize
     FloorGeoCache geo_{store_};  // lat/lon in the answers of georeferenced floors
+    tuning::Service tuning_{store_, settings_text()};  // tune and quality (tune_routes.cpp)
     AppOptions options_;
     Slots export_slots_{options_.max_exports};
     FairShare fair_share_{options_.fair, options_.api_key};

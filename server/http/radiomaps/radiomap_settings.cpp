@@ -65,6 +65,11 @@ json tune_json(const match::TuneReport& report, double seconds) {
                 {"candidates", std::move(rows)}};
 }
 
+tuning::SettingsText settings_text() {
+    return {settings_of_text, [](const match::Setting& s) { return settings_json(s).dump(); },
+            [](const match::TuneReport& report, double seconds) { return tune_json(report, seconds).dump(); }};
+}
+
 void add_settings(json& radiomap, const std::optional<store::RadiomapSettings>& stored) {
     json settings = settings_json(stored ? settings_of_text(stored->settings) : match::Setting{});
     settings["source"] = stored ? "tuned" : "built-in";

@@ -8,6 +8,7 @@
 
 #include "locus/match/tune.hpp"
 #include "store/documents.hpp"
+#include "tuning/service.hpp"
 
 namespace locus::http {
 
@@ -19,6 +20,9 @@ match::Setting settings_of_text(const std::string& text);
 
 // The CV table: {"folds", "rps", "queries", "subsampled", "chosen", "candidates": [...]}.
 nlohmann::json tune_json(const match::TuneReport& report, double seconds);
+
+// The three above as the tuning service's spelling of stored settings (tuning/service.hpp).
+tuning::SettingsText settings_text();
 
 // What GET /v1/radiomaps/{id} adds to the row: "settings" (the built-in defaults when none
 // are stored, with "source": "built-in" or "tuned") and "tune" (the last tune's table; absent when never tuned).

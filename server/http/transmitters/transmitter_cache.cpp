@@ -1,7 +1,7 @@
 #include "http/transmitters/transmitter_cache.hpp"
 
-#include "http/transmitters/transmitter_fields.hpp"
 #include "store/kinds.hpp"
+#include "transmitters/floor_transmitters.hpp"
 
 namespace locus::http {
 
@@ -30,7 +30,7 @@ std::shared_ptr<const std::vector<store::Record>> TransmitterCache::of_floor(std
         if (const auto it = floors_.find(floor_id); it != floors_.end()) return it->second;
         generation = generation_;
     }
-    auto read = std::make_shared<const std::vector<store::Record>>(transmitters_of_floor(store_, floor_id));
+    auto read = std::make_shared<const std::vector<store::Record>>(transmitters::transmitters_of_floor(store_, floor_id));
     std::lock_guard lock(mu_);
     if (generation == generation_) floors_[floor_id] = read;
     return read;

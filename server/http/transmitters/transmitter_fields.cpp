@@ -98,14 +98,4 @@ void check_on_floor(const store::Record& floor, double x, double y) {
                            shortest(width) + "] x [0, " + shortest(height) + "])");
 }
 
-std::vector<store::Record> transmitters_of_floor(store::Store& store, std::int64_t floor_id) {
-    const store::Kind& k = store::kind("transmitters");
-    std::vector<store::Record> out;
-    for (std::int64_t offset = 0;; offset += kMaxPageLimit) {
-        auto page = store.list(k, floor_id, kMaxPageLimit, offset);
-        for (auto& r : page.items) out.push_back(std::move(r));
-        if (static_cast<std::int64_t>(out.size()) >= page.total || page.items.empty()) return out;
-    }
-}
-
 }  // namespace locus::http

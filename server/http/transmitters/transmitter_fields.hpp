@@ -18,7 +18,4 @@ store::Fields transmitter_fields(const nlohmann::json& body, bool create);
 // 422 out_of_floor unless (x, y) lies on the floor, [0, width] × [0, height] (docs/spec.md §2.1).
 void check_on_floor(const store::Record& floor, double x, double y);
 
-// All of a floor's transmitters, by id (NotFound for an unknown floor).
-std::vector<store::Record> transmitters_of_floor(store::Store& store, std::int64_t floor_id);
-
 }  // namespace locus::http

@@ -1,8 +1,7 @@
 #pragma once
-// POST /v1/floors/{id}/transmitters/fit: each AP heard in the floor's surveyed RPs gets its
-// log-distance model fitted (ranging/fit.hpp): tx power and exponent at its stored position,
-// or the position too when the floor has no transmitter of that id (or `refit_positions`).
-// ?apply=true stores the fits (known transmitters updated, new ones created).
+// POST /v1/floors/{id}/transmitters/fit: the route of transmitters::fit_transmitters
+// (transmitters/fit.hpp), which fits each AP heard in the floor's survey; ?apply=true stores
+// the fits. Its JSON is http/transmitter_fit_json.hpp.
 #include <httplib.h>
 
 #include "store/store.hpp"
