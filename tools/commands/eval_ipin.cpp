@@ -31,6 +31,7 @@
 
 #include "command_registry.hpp"
 #include "datasets/ipin_log.hpp"
+#include "floor_geo_json.hpp"
 #include "ipin_eval.hpp"
 #include "ipin_track.hpp"
 #include "ipin_venue.hpp"
@@ -210,15 +211,7 @@ MapFloors map_floors(api::Client& client, std::int64_t map, bool want_baro) {
     for (const auto& b : client.buildings(map))
         for (const auto& f : client.floors(b.id)) {
             MapFloors::Floor fl{f.level, std::nullopt};
-            const json stored = client.get("/v1/floors/" + std::to_string(f.id));
-            if (stored.contains("geo") && stored.at("geo").is_object()) {
-                const json& g = stored.at("geo");
-                geo::Georeference ref;
-                ref.at = {g.at("lat").get<double>(), g.at("lon").get<double>()};
-                ref.anchor = {g.at("x").get<double>(), g.at("y").get<double>()};
-                ref.bearing_deg = g.at("bearing_deg").get<double>();
-                fl.frame.emplace(ref);
-            }
+            if (const auto ref = georeference_of(client.get("/v1/floors/" + std::to_string(f.id)))) fl.frame.emplace(*ref);
             out.by_id[f.id] = fl;
             if (want_baro)
                 if (const auto level = baro_floor(client, f)) out.baro.push_back(*level);

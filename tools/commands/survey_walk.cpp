@@ -20,6 +20,7 @@
 
 #include "command_registry.hpp"
 #include "datasets/ipin_log.hpp"
+#include "floor_geo_json.hpp"
 #include "locus/geo/georeference.hpp"
 #include "survey_connect.hpp"
 #include "survey_upload.hpp"
@@ -94,17 +95,9 @@ void run(const Args& a) {
     std::map<int, std::optional<geo::FloorToEarth>> frames;
     for (const auto& [floor, rm] : mapping) {
         const auto info = client.radiomap(rm);
-        const json f = client.get("/v1/floors/" + std::to_string(info.floor_id));
-        if (f.contains("geo") && f.at("geo").is_object()) {
-            const json& g = f.at("geo");
-            geo::Georeference ref;
-            ref.at = {g.at("lat").get<double>(), g.at("lon").get<double>()};
-            ref.anchor = {g.at("x").get<double>(), g.at("y").get<double>()};
-            ref.bearing_deg = g.at("bearing_deg").get<double>();
-            frames[floor].emplace(ref);
-        } else {
-            frames[floor];
-        }
+        const auto ref = georeference_of(client.get("/v1/floors/" + std::to_string(info.floor_id)));
+        auto& frame = frames[floor];
+        if (ref) frame.emplace(*ref);
     }
     std::vector<Walk> walks;
     std::size_t dropped_total = 0;
