@@ -1,14 +1,13 @@
 #include "ipin_track.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "locus/motion/fusion/heading_alignment.hpp"
 #include "locus/motion/fusion/kalman.hpp"
 #include "locus/motion/fusion/walk_runner.hpp"
-#include "locus/motion/pdr/step_detector.hpp"
-#include "locus/motion/pdr/step_length.hpp"
 
 namespace locus::tools::ipin {
 
@@ -41,7 +40,6 @@ std::vector<std::pair<double, double>> gyro_azimuth(const datasets::ipin::Log& l
 }  // namespace
 
 std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource source) {
-    std::vector<ImuStep> out;
     // The azimuth series: the rotation vector's yaw grows counter-clockwise from north (the
     // data set's README), so the clockwise azimuth is its negative; or the gyroscope's.
     std::vector<std::pair<double, double>> series;
@@ -50,25 +48,12 @@ std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource sou
     } else {
         for (const auto& a : log.ahrs) series.emplace_back(a.app_s, -a.yaw_deg * std::numbers::pi / 180.0);
     }
-    if (series.empty()) return out;
-    pdr::StepDetector detector;
-    const pdr::StepLengthModel length;
-    // The sample in force at a step's time: the last one at or before it.
-    auto azimuth_at = [&](double t) {
-        auto it = std::upper_bound(series.begin(), series.end(), t,
-                                   [](double v, const std::pair<double, double>& a) { return v < a.first; });
-        return (it == series.begin() ? *it : *(it - 1)).second;
+    if (series.empty()) return {};
+    const auto accel = [](const datasets::AccelSample& s) { return std::array{s.t_s, s.ax, s.ay, s.az}; };
+    const auto azimuth_at = [&](double t) {
+        return sample_at(series, t, [](const std::pair<double, double>& a) { return a.first; }).second;
     };
-    for (const auto& s : datasets::ipin::accel_samples(log)) {
-        auto e = detector.push(s.t_s, s.ax, s.ay, s.az);
-        while (e) {
-            // A bout confirms several steps at once: each is known now, each points where the
-            // phone pointed when it was taken.
-            out.push_back({s.t_s, length.length(*e), azimuth_at(e->t_s)});
-            e = detector.poll();
-        }
-    }
-    return out;
+    return detect_phone_steps(datasets::ipin::accel_samples(log), accel, azimuth_at);
 }
 
 namespace {

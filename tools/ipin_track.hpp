@@ -24,18 +24,16 @@
 
 #include "datasets/ipin_log.hpp"
 #include "ipin_eval.hpp"
+#include "phone_steps.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
 #include "locus/motion/fusion/kalman.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
 
 namespace locus::tools::ipin {
 
-// A detected step, in the phone's compass frame.
-struct ImuStep {
-    double t_s = 0.0;          // AppTimestamp when the detector confirmed it (what the phone knows then)
-    double length_m = 0.0;     // Weinberg
-    double azimuth_rad = 0.0;  // clockwise from (magnetic) north, the rotation vector's at the step's own time
-};
+// A detected step, in the phone's compass frame (AppTimestamp; the azimuth clockwise from
+// magnetic north, the rotation vector's or the gyroscope's).
+using ImuStep = PhoneStep;  // tools/phone_steps.hpp
 
 // Every step of the log's ACCE (sensor clock moved onto the App clock), in confirmation order.
 // No azimuth sample (AHRS, or GYRO with ACCE): no step.

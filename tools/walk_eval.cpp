@@ -1,6 +1,7 @@
 #include "walk_eval.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -8,34 +9,17 @@
 #include "locus/motion/fusion/rules.hpp"
 #include "locus/motion/fusion/walk_runner.hpp"
 #include "locus/metrics.hpp"
-#include "locus/motion/pdr/step_detector.hpp"
-#include "locus/motion/pdr/step_length.hpp"
 
 namespace locus::tools::walks {
 
 namespace putmc = datasets::putmc;
 
 std::vector<PhoneStep> detect_steps(const putmc::Walk& walk, double until_s) {
-    pdr::StepDetector detector;
-    const pdr::StepLengthModel length;
-    std::vector<PhoneStep> out;
-    // The orientation sample in force at a step's time: the last one at or before it.
-    auto azimuth_at = [&](double t) {
-        auto it = std::upper_bound(walk.orient.begin(), walk.orient.end(), t,
-                                   [](double v, const putmc::OrientSample& o) { return v < o.t_s; });
-        return putmc::android_azimuth(it == walk.orient.begin() ? *it : *(it - 1));
+    const auto accel = [](const putmc::AccSample& s) { return std::array{s.t_s, s.a.x, s.a.y, s.a.z}; };
+    const auto azimuth_at = [&](double t) {
+        return putmc::android_azimuth(sample_at(walk.orient, t, [](const putmc::OrientSample& o) { return o.t_s; }));
     };
-    for (const auto& s : walk.acc) {
-        if (s.t_s > until_s) break;
-        auto e = detector.push(s.t_s, s.a.x, s.a.y, s.a.z);
-        while (e) {
-            // A bout confirms several steps at once: each is available now (s.t_s), each
-            // points where the phone pointed when it was taken (e->t_s).
-            out.push_back({s.t_s, length.length(*e), azimuth_at(e->t_s)});
-            e = detector.poll();
-        }
-    }
-    return out;
+    return detect_phone_steps(walk.acc, accel, azimuth_at, until_s);
 }
 
 std::vector<std::string_view> tuned_rule_names() { return {"midpoint", "midpoint_threshold", "proportional", "proportional2"}; }

@@ -12,18 +12,14 @@
 #include <vector>
 
 #include "datasets/putmc.hpp"
+#include "phone_steps.hpp"
 #include "locus/motion/fusion/walkable.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
 #include "sim/evaluate.hpp"
 
 namespace locus::tools::walks {
 
-// A detected step, in the phone's compass frame.
-struct PhoneStep {
-    double t_s = 0.0;        // when the detector confirmed it (what the phone knows when)
-    double length_m = 0.0;   // Weinberg
-    double azimuth_rad = 0.0;  // the rotation vector's azimuth at the step's own time
-};
+using tools::PhoneStep;  // tools/phone_steps.hpp
 
 // Every step of the walk's accelerometer up to `until_s` (the phone's view at that time).
 std::vector<PhoneStep> detect_steps(const datasets::putmc::Walk& walk, double until_s = INFINITY);
