@@ -112,6 +112,20 @@ public:
         wf_.fix(at, r);
     }
 
+    void gnss(const GnssFix& g) {
+        if (!begun_ || kind_ == Tracker::pdr) return;
+        if (last_gnss_s_ && g.t - *last_gnss_s_ < config_.gnss_min_interval_s) return;
+        last_gnss_s_ = g.t;
+        const double sigma = std::max(g.accuracy_m, config_.gnss_min_sigma_m);
+        const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * sigma * sigma;
+        if (kind_ == Tracker::walk_pf) {
+            wf_.fix(g.at, r);
+            return;
+        }
+        const Eigen::Vector2d d(g.at.x - kf_->position().x, g.at.y - kf_->position().y);
+        if (d.dot((kf_->covariance() + r).inverse() * d) <= config_.gnss_gate) kf_->update(g.at, r);
+    }
+
 private:
     Tracker kind_;
     TrackerConfig config_;
@@ -120,6 +134,7 @@ private:
     fusion::HeadingAlignment align_;
     Point at_;
     bool begun_ = false;
+    std::optional<double> last_gnss_s_;
 };
 
 bool has_floor(const std::vector<fusion::FloorLevel>& floors, int floor) {
@@ -159,7 +174,23 @@ std::vector<Fix> track(Tracker tracker, const TrackInput& in, const std::vector<
     handlers.step = [&](std::size_t i) {
         if (walking(in.steps[i].t_s)) h.step(in.steps[i]);
     };
-    handlers.fix = [&](std::size_t i) {
+    // The fix stream holds the scans' answers and the GNSS fixes, merged by time (a scan
+    // first at equal times): index i < scans is scan i, the rest GNSS fix i - scans.
+    std::vector<double> fix_t;
+    std::vector<std::size_t> fix_of;
+    fix_t.reserve(in.scan_times.size() + in.gnss.size());
+    for (std::size_t i = 0, j = 0; i < in.scan_times.size() || j < in.gnss.size();) {
+        const bool scan = j == in.gnss.size() || (i < in.scan_times.size() && in.scan_times[i] <= in.gnss[j].t);
+        fix_t.push_back(scan ? in.scan_times[i] : in.gnss[j].t);
+        fix_of.push_back(scan ? i++ : in.scan_times.size() + j++);
+    }
+    handlers.fix = [&](std::size_t k) {
+        const std::size_t i = fix_of[k];
+        if (i >= in.scan_times.size()) {
+            const GnssFix& g = in.gnss[i - in.scan_times.size()];
+            if (walking(g.t)) h.gnss(g);
+            return;
+        }
         const auto& a = in.answers[i];
         if (!a) return;
         if (baro) baro->add_radio_vote(a->floor);
@@ -175,7 +206,7 @@ std::vector<Fix> track(Tracker tracker, const TrackInput& in, const std::vector<
         else if (in.start) out.push_back({t, *floor, in.start->at});
     };
     const std::vector<double> pressure_t = fusion::times_of(in.pressure, &datasets::ipin::PressureSample::t_s);
-    fusion::run_walk({.pressure = pressure_t, .step = step_t, .fix = in.scan_times, .tick = ticks}, handlers);
+    fusion::run_walk({.pressure = pressure_t, .step = step_t, .fix = fix_t, .tick = ticks}, handlers);
     return out;
 }
 

@@ -11,6 +11,9 @@
 //  - kalman: fusion::KalmanFilter, the same steps as pdr as its control input, each answer a fix.
 //  - walk_pf: fusion::WalkFilter (no plan: free moves), which learns the compass rotation and the
 //    step scale itself, leaning on HeadingAlignment's rotation as a hint.
+//  GNSS (unless --no-gnss): each fix a position measurement of σ its reported accuracy (at
+//  least TrackerConfig::gnss_min_sigma_m) for kalman (gated) and walk_pf, once the tracker has
+//  begun; it names no floor. pdr does not take it (its rotation is fitted on the WiFi answers).
 // Floors: fusion::BaroFloor, the pressure with each answer's floor as a radio vote (and the start
 // floor, when known). Without a known start a tracker begins at the first answer; with one
 // (the competition gave its walks' first landmark) it stands there until the landmark's time
@@ -75,6 +78,16 @@ struct TrackerConfig {
     double step_scale = 0.9;  // pdr and kalman: the steps' scale until the answers fit one (walk_pf's prior)
     double answer_sigma_m = 6.0;  // σ of a WiFi answer for the filters (the walk filter takes at least its own)
     double tick_s = 0.5;          // the competition's 2 Hz
+    // GNSS indoors: the receiver's accuracy is honest on the ground floor (3-5 m off) and
+    // optimistic below it (~10 m, tail 17-26 m: the data set's README), so a fix's σ is its
+    // accuracy, at least gnss_min_sigma_m (chosen on the folds, docs/results.md); kalman drops a fix beyond gnss_gate Mahalanobis
+    // units (χ², 2 dof: 9.21 is 99 %), walk_pf's outlier floor keeps a far fix from ruling.
+    double gnss_min_sigma_m = 10.0;
+    double gnss_gate = 9.21;
+    // One fix per this many seconds at most: a receiver's indoor errors last (multipath moves
+    // slowly), so its fixes a second apart are not independent looks (docs/results.md: every
+    // fix at σ ≥ 5 m cost walk_pf 1.7 m of p75 on fold 01).
+    double gnss_min_interval_s = 10.0;
     // Answers the rotation (and the step scale) must have been fitted on before the trackers lean on them.
     int alignment_pairs = 3;
     // The compass's rotation to the venue's frame when it is known: a rotation-vector azimuth is
@@ -85,6 +98,29 @@ struct TrackerConfig {
     std::optional<double> compass_offset_rad;
 };
 
+// A GNSS fix in the venue's frame: its time (AppTimestamp), where, and the receiver's own
+// accuracy (m, its 68 % radius).
+struct GnssFix {
+    double t = 0.0;
+    Point at;
+    double accuracy_m = 0.0;
+};
+
+// The GNSS fixes of a log in the venue's frame: each fix once (the logger writes each twice),
+// in time order, those without a positive accuracy left out.
+template <typename ToFloor>
+std::vector<GnssFix> log_gnss(const datasets::ipin::Log& log, ToFloor&& to_floor) {
+    std::vector<GnssFix> out;
+    std::optional<double> last_fix_s;
+    for (const auto& g : log.gnss) {
+        if (last_fix_s && g.sensor_s == *last_fix_s) continue;
+        last_fix_s = g.sensor_s;
+        if (!(g.accuracy_m > 0.0)) continue;
+        out.push_back({g.app_s, to_floor(g.lat_deg, g.lon_deg), g.accuracy_m});
+    }
+    return out;
+}
+
 struct TrackInput {
     std::span<const ImuStep> steps;
     std::span<const datasets::ipin::PressureSample> pressure;
@@ -92,6 +128,7 @@ struct TrackInput {
     std::span<const std::optional<Fix>> answers;       // the server's answer per scan (nullopt: none)
     double end_s = 0.0;                                // ticks run from 0 to here
     std::optional<Fix> start;                          // the known start (--known-start)
+    std::span<const GnssFix> gnss;                     // empty: without GNSS (--no-gnss)
 };
 
 // The tracker's estimates at its ticks (from the first tick at which it has a position), in

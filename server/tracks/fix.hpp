@@ -1,5 +1,6 @@
 #pragma once
-// What a track holds: fused fixes; and what a thin client posts instead: PDR steps.
+// What a track holds: fused fixes; and what a thin client posts instead: PDR steps and its
+// barometer's pressure.
 #include <cstdint>
 #include <optional>
 
@@ -16,6 +17,12 @@ struct Step {
     double t = 0;
     double length_m = 0;
     double heading_deg = 0;  // clockwise from the floor's +y axis, as client-lib's PDR
+};
+
+// A barometer sample: the phone's air pressure, for the barometric floor (docs/tracks.md).
+struct Pressure {
+    double t = 0;
+    double hpa = 0;  // hectopascal (= mbar)
 };
 
 }  // namespace locus::tracks

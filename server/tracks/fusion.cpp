@@ -94,8 +94,14 @@ void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resume
     floor_id_ = r.floor_id;
 }
 
+std::optional<int> ThinFusion::baro_index(std::int64_t floor_id) const {
+    const auto it = std::find(baro_ids_.begin(), baro_ids_.end(), floor_id);
+    if (it == baro_ids_.end()) return std::nullopt;
+    return static_cast<int>(it - baro_ids_.begin());
+}
+
 std::size_t ThinFusion::memory_bytes() const {
-    std::size_t n = sizeof(*this);
+    std::size_t n = sizeof(*this) + baro_ids_.capacity() * sizeof(std::int64_t);
     if (walk_) n += walk_->memory_bytes() - sizeof(fusion::WalkFilter);
     if (filter_) n += filter_->particles().capacity() * sizeof(filter_->particles().front());
     return n;

@@ -11,8 +11,19 @@
 // the latter map-matched on the floor's plan when it has one), or our tightly coupled
 // fusion::RangingEkf (ekf_ranging: each known transmitter a scan hears is a measurement, so a
 // scan hearing one or two still counts once the filter runs). One filter per track, started at
-// its first radio fix and restarted at a radio fix on another floor (steps alone never change
-// floor), seeded with the track's id so a track's fused fixes are reproducible.
+// its first radio fix and restarted at a radio fix on another floor, seeded with the track's id
+// so a track's fused fixes are reproducible.
+//
+// Floors from the barometer. A track whose client posts pressure samples, on a building with two
+// or more floors that have an `elevation_m`, also runs fusion::BaroFloor, the estimator
+// `locus eval ipin`'s trackers run (the walk's relative pressure, the floors' elevations, each
+// radio fix's floor as a vote): the track's floor is then the barometer's. A floor change it
+// sees moves the filter to the new floor where it is (walk_pf keeps its cloud and what it has
+// learnt; the other methods restart there, as sure as they were), and a radio fix on a floor it
+// rules out moves nothing (its vote counts). The floors of a building are taken to share one
+// frame, as `locus import ipin` makes them and as a building's plans are drawn: the plans'
+// stairs and lifts are not used yet, a change happens wherever the walker is. Without pressure
+// samples, or on a building whose floors have no elevations, floors change at radio fixes alone.
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -23,6 +34,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "locus/motion/fusion/baro_floor.hpp"
 #include "locus/motion/fusion/kalman.hpp"
 #include "locus/motion/fusion/particle_filter.hpp"
 #include "locus/motion/fusion/ranging_ekf.hpp"
@@ -59,6 +71,14 @@ struct FloorAnchors {
     std::map<std::int64_t, std::vector<fusion::RangingAnchor>> by_floor;
 };
 
+// A floor of the building the barometer tells apart: its id, elevation_m and whether it has a
+// radio map (a floor without one is never a radio fix's floor: fusion::FloorLevel::radio).
+struct BaroLevel {
+    std::int64_t floor_id = 0;
+    double elevation_m = 0;
+    bool radio = true;
+};
+
 // A request ThinFusion cannot fuse, with the API error code it answers with.
 struct CannotFuse : std::invalid_argument {
     CannotFuse(std::string c, const std::string& message) : std::invalid_argument(message), code(std::move(c)) {}
@@ -72,14 +92,25 @@ public:
     // options: the Kalman methods' noise (tracks/fusion_options.hpp), ignored by the others.
     explicit ThinFusion(FusionMethod method = FusionMethod::walk_pf, std::uint64_t seed = 1, const FusionOptions& options = {});
 
-    // Runs the steps and radio fixes in time order (fusion::time_order, kFixesFirst: a radio fix
-    // before a step of equal t) and answers one fused fix per input. Inputs at or before the
-    // last t an earlier call ran are skipped (no fix for them): a client retrying a request
-    // whose answer it lost must not move the filter twice. `walkable_of` gives a floor's Walkable (nullptr when it
-    // has no plan: walk_pf walks freely, particle throws std::invalid_argument). Steps before
-    // any radio fix, with no filter yet, throw std::invalid_argument: the filter starts at a fix.
+    // Runs the pressure samples, steps and radio fixes in time order (fusion::time_order,
+    // kFixesFirst: pressure, then a radio fix, then a step of equal t) and answers one fused fix
+    // per step and radio fix, and one per pressure sample that moves the track to another floor.
+    // Steps and fixes at or before the last t an earlier call ran are skipped (no fix for them):
+    // a client retrying a request whose answer it lost must not move the filter twice; pressure
+    // samples at or before the last one run are skipped likewise. `walkable_of` gives a floor's
+    // Walkable (nullptr when it has no plan: walk_pf walks freely, particle throws
+    // std::invalid_argument). `levels_of` gives the floors of a floor's building that have an
+    // elevation (std::vector<BaroLevel>), asked once, at the first pressure sample on that
+    // building. Steps before any radio fix, with no filter yet, throw std::invalid_argument: the
+    // filter starts at a fix; pressure before it is not used.
+    template <typename WalkableOf, typename LevelsOf>
+    std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, const std::vector<Pressure>& pressure,
+                         WalkableOf&& walkable_of, LevelsOf&& levels_of);
+    // Steps and radio fixes alone (no barometer).
     template <typename WalkableOf>
-    std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of);
+    std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of) {
+        return run(steps, radio, {}, walkable_of, [](std::int64_t) { return std::vector<BaroLevel>{}; });
+    }
 
     bool started() const { return filter_.has_value() || walk_.has_value() || kalman_.has_value() || ekf_.has_value(); }
     // ekf_ranging's anchors, read by the caller from the map's transmitters for each request:
@@ -104,6 +135,12 @@ private:
     Fix fused(double t, std::optional<double> heading_deg) const;
     // resumed: `r` is a fused fix the track stored, whose accuracy_m is the filter's own σ then.
     void start(const fusion::Walkable* w, const RadioFix& r, bool resumed = false);
+    // The barometer's floor when it names one other than the filter's: the filter moves there
+    // (walk_pf keeps its cloud; the others restart at their estimate). True when it moved.
+    template <typename WalkableOf>
+    bool follow_baro(double t, WalkableOf&& walkable_of);
+    // The index in baro_ids_ of a floor (nullopt: not one of the barometer's).
+    std::optional<int> baro_index(std::int64_t floor_id) const;
     // The Kalman filter's R for a radio fix (client-lib's ranging_measurement_noise, the fix's
     // accuracy_m as an isotropic covariance when it was not ranged).
     Eigen::Matrix2d kalman_r(const RadioFix& r) const;
@@ -121,6 +158,12 @@ private:
     std::int64_t floor_id_ = 0;
     std::optional<double> heading_deg_;  // the last step's as sent (resumed: the stored fix's), uncorrected
     std::optional<double> done_t_;  // the latest t run so far
+    // The barometric floor, once a pressure sample came on a building it can tell floors of:
+    // BaroFloor's floors are indices into baro_ids_.
+    std::optional<fusion::BaroFloor> baro_;
+    std::vector<std::int64_t> baro_ids_;
+    std::int64_t baro_asked_floor_ = 0;         // the floor levels_of was last asked for (0: never)
+    std::optional<double> pressure_done_t_;   // the latest pressure sample run so far
 };
 
 // The radio fix's covariance: its accuracy as a 1-sigma radius.
@@ -132,24 +175,80 @@ fusion::RangingKalmanConfig kalman_config(FusionMethod method, const FusionOptio
 fusion::RangingEkfConfig ekf_config(const FusionOptions& options);
 
 template <typename WalkableOf>
-std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of) {
+bool ThinFusion::follow_baro(double t, WalkableOf&& walkable_of) {
+    const std::optional<int> b = baro_ ? baro_->floor() : std::nullopt;
+    if (!b || baro_ids_[static_cast<std::size_t>(*b)] == floor_id_) return false;
+    const std::int64_t to = baro_ids_[static_cast<std::size_t>(*b)];
+    std::shared_ptr<const fusion::Walkable> w = walkable_of(to);
+    if (walk_) {
+        walk_->change_floor(w ? std::optional<fusion::Walkable>(*w) : std::nullopt);
+        floor_id_ = to;
+    } else {
+        RadioFix here(fused(t, heading_deg_));
+        here.floor_id = to;
+        start(w.get(), here, true);
+    }
+    return true;
+}
+
+template <typename WalkableOf, typename LevelsOf>
+std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, const std::vector<Pressure>& pressure,
+                                 WalkableOf&& walkable_of, LevelsOf&& levels_of) {
     std::vector<Fix> out;
     const std::optional<double> done = done_t_;
     const auto already_run = [&done](double t) { return done && t <= *done; };
     const std::vector<double> step_t = fusion::times_of(steps, &Step::t), radio_t = fusion::times_of(radio, &RadioFix::t);
-    for (const fusion::WalkEvent& e : fusion::time_order({.step = step_t, .fix = radio_t}, fusion::kFixesFirst)) {
+    const std::vector<double> pressure_t = fusion::times_of(pressure, &Pressure::t);
+    for (const fusion::WalkEvent& e :
+         fusion::time_order({.pressure = pressure_t, .step = step_t, .fix = radio_t}, fusion::kFixesFirst)) {
         const double t = e.t_s;
+        if (e.kind == fusion::EventKind::pressure) {
+            if (!started() || (pressure_done_t_ && t <= *pressure_done_t_)) continue;
+            pressure_done_t_ = t;
+            if (!baro_ && baro_asked_floor_ != floor_id_) {
+                baro_asked_floor_ = floor_id_;
+                std::vector<fusion::FloorLevel> levels;
+                baro_ids_.clear();
+                for (const BaroLevel& l : levels_of(floor_id_)) {
+                    levels.push_back({static_cast<int>(baro_ids_.size()), l.elevation_m, l.radio});
+                    baro_ids_.push_back(l.floor_id);
+                }
+                if (levels.size() >= 2 && baro_index(floor_id_)) {
+                    baro_.emplace(std::move(levels));
+                    baro_->add_radio_vote(*baro_index(floor_id_));  // the fix the filter started at
+                }
+            }
+            if (!baro_) continue;
+            baro_->add_pressure(t, pressure[e.index].hpa);
+            // A floor change is a fused fix only when it is the track's latest: fixes are stored in time order.
+            if (follow_baro(t, walkable_of) && (!done_t_ || t > *done_t_)) {
+                done_t_ = t;
+                out.push_back(fused(t, heading_deg_));
+            }
+            continue;
+        }
         if (already_run(t)) continue;
         if (!done_t_ || t > *done_t_) done_t_ = t;
         if (e.kind == fusion::EventKind::fix) {
             const RadioFix& r = radio[e.index];
             const Point at{r.x, r.y};
+            bool ruled_out = false;
+            if (const std::optional<int> vote = r.unplaced || !baro_ ? std::nullopt : baro_index(r.floor_id)) {
+                baro_->add_radio_vote(*vote);
+                const std::optional<int> b = baro_->floor();
+                ruled_out = r.floor_id != floor_id_ && b && baro_ids_[static_cast<std::size_t>(*b)] != r.floor_id;
+            }
             if (r.unplaced) {
                 if (!ekf_) throw CannotFuse(r.unplaced->first, r.unplaced->second);
                 ekf_->update(r.readings);
+            } else if (ruled_out) {
+                // The barometer rules the fix's floor out: its vote counted, its position does not.
+                follow_baro(t, walkable_of);
             } else if (!started() || r.floor_id != floor_id_) {
                 std::shared_ptr<const fusion::Walkable> w = walkable_of(r.floor_id);
                 start(w.get(), r);
+                // Another building's floor: its barometer is asked for at the next pressure sample.
+                if (baro_ && !baro_index(r.floor_id)) baro_.reset();
             } else if (ekf_) {
                 if (r.readings.empty()) ekf_->update_position(at, fix_covariance(r.accuracy_m));
                 else ekf_->update(r.readings);

@@ -28,6 +28,7 @@ namespace locus::tracks {
 class ThinFusion;
 struct RadioFix;
 struct FloorAnchors;
+struct BaroLevel;
 
 class FusionSessions {
 public:
@@ -42,7 +43,7 @@ public:
         // track's fused fixes are reproducible.
         std::vector<Fix> run(FusionMethod method, const FusionOptions& options, const std::optional<Fix>& latest,
                              const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
-                             std::shared_ptr<const FloorAnchors> anchors);
+                             const std::vector<Pressure>& pressure, std::shared_ptr<const FloorAnchors> anchors);
         // The run's fixes are stored: its filter is the track's from now on.
         void keep();
 
@@ -66,6 +67,10 @@ public:
 
 private:
     std::shared_ptr<const fusion::Walkable> walkable_of(std::int64_t floor_id);  // under mu_
+    // The floors of floor_id's building that have an elevation_m, read from the store each time
+    // (a filter asks once per building it walks in): a row per floor, and one query per floor
+    // for whether it has a radio map.
+    std::vector<BaroLevel> levels_of(std::int64_t floor_id);
 
     store::Store& store_;
     std::mutex mu_;

@@ -22,6 +22,7 @@ struct StepsInput {
     std::vector<Step> steps;
     std::vector<Fix> fixes;
     std::vector<TimedScan> scans;
+    std::vector<Pressure> pressure;
 };
 
 }  // namespace locus::tracks

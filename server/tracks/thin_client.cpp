@@ -60,7 +60,7 @@ StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLo
     if (const auto floor = svc.misplaced_floor(id, placed))
         throw ForeignFloor("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
     try {
-        std::tie(done.posted, done.fused) = svc.post_raw(id, in.steps, radio, std::move(anchors));
+        std::tie(done.posted, done.fused) = svc.post_raw(id, in.steps, radio, in.pressure, std::move(anchors));
     } catch (const CannotFuse&) {
         throw;
     } catch (const std::invalid_argument& e) {

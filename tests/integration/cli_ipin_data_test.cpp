@@ -78,4 +78,12 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
                                  "*Trial01_repetition02.txt", "--method", "pdr", "--known-start", "--json"});
     ASSERT_EQ(kp.status, 0) << kp.err;
     EXPECT_LT(json::parse(kp.out)["pooled"]["pdr"]["p75_m"].get<double>(), 12.0);
+    // Without the logs' GNSS (used by default): the same walk, still within 4 m.
+    EXPECT_EQ(k["gnss"], true);
+    const auto kn = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+                                 "*Trial01_repetition02.txt", "--method", "walk_pf", "--known-start", "--no-gnss", "--json"});
+    ASSERT_EQ(kn.status, 0) << kn.err;
+    const json n = json::parse(kn.out);
+    EXPECT_EQ(n["gnss"], false);
+    EXPECT_LT(n["pooled"]["walk_pf"]["p75_m"].get<double>(), 4.0) << n["pooled"].dump();
 }

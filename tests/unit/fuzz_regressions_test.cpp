@@ -8,6 +8,7 @@
 #include "http/api_error.hpp"
 #include "http/validation.hpp"
 #include "http/localize/localize_request.hpp"
+#include "http/tracks/track_request.hpp"
 #include "http/crud/store_json.hpp"
 #include "store/sql_store.hpp"
 
@@ -51,4 +52,17 @@ TEST(FuzzRegressions, AnImportedMeasurementWithANullTypeIsWifi) {
     const auto row = repo.import_radiomap(floor, http::parse_radiomap_document(doc));
     const auto exported = http::export_json(repo.export_radiomap(row.radiomap.id));
     EXPECT_EQ(exported.at("rps").at(0).at("measurements").at(0).at("type"), "wifi");
+}
+
+// A heading just below zero, -1e-300, was shifted into [0, 360) by adding 360, which rounds
+// to exactly 360: the step went in with a heading the docs say cannot be
+// (fuzz/corpus/fuzz_track_request/crash_heading_rounds_to_360.json).
+TEST(FuzzRegressions, AHeadingJustBelowNorthIsNorth) {
+    const auto in = http::parse_steps_request(
+        nlohmann::json::parse(R"({"steps":[{"t":1700000001,"length_m":0.7,"heading_deg":-1e-300},)"
+                              R"({"t":1700000002,"length_m":0.7,"heading_deg":-90}]})"),
+        1e12);
+    ASSERT_EQ(in.steps.size(), 2u);
+    EXPECT_EQ(in.steps[0].heading_deg, 0.0);
+    EXPECT_EQ(in.steps[1].heading_deg, 270.0);
 }

@@ -49,7 +49,7 @@ struct Synthetic {
         return c;
     }
 
-    ipin::TrackInput input(std::optional<ipin::Fix> start) const { return {steps, pressure, scan_t, answers, end_s, start}; }
+    ipin::TrackInput input(std::optional<ipin::Fix> start) const { return {steps, pressure, scan_t, answers, end_s, start, {}}; }
 };
 
 const std::vector<fusion::FloorLevel> kFloors = {{0, 0.0, true}, {-2, -5.7, true}};
@@ -67,7 +67,7 @@ TEST(IpinTrack, PdrWithAKnownStartStandsOnItThenWalksTheCompass) {
     std::vector<ipin::ImuStep> steps;
     for (double t = 1.0; t <= 15.0; t += 0.5) steps.push_back({t, 0.8, std::numbers::pi / 2});
     const ipin::Fix start{5.0, -2, {10.0, 20.0}};
-    const ipin::TrackInput in{steps, {}, {}, {}, 12.0, start};
+    const ipin::TrackInput in{steps, {}, {}, {}, 12.0, start, {}};
     ipin::TrackerConfig config = north_up();
     config.step_scale = 1.0;  // no answer fits a scale: the steps as detected
     const auto est = ipin::track(ipin::Tracker::pdr, in, {}, config);
@@ -129,4 +129,74 @@ TEST(IpinTrack, WalkFilterTracksCloserThanTheAnswersItFuses) {
     // The answers are 4 m off on average here (the pattern's radius); the steps carry the walk
     // between them.
     EXPECT_LT(filter / n, 0.6 * answers / n) << "filter " << filter / n << " answers " << answers / n;
+}
+
+namespace {
+
+// The steps of Synthetic with no WiFi answer, from a known start at its truth at 10 s, and a
+// GNSS fix every second from 20 s on, `north_m` north of the truth, accuracy 10 m.
+struct GnssWalk {
+    Synthetic w;
+    std::vector<ipin::GnssFix> gnss;
+    const ipin::Fix start{10.0, 0, Synthetic::truth(10.0)};
+
+    explicit GnssWalk(double north_m) {
+        for (double t = 20.0; t <= w.end_s; t += 1.0) gnss.push_back({t, {Synthetic::truth(t).x, north_m}, 10.0});
+    }
+    std::vector<ipin::Fix> track(ipin::Tracker tracker, bool with_gnss) const {
+        ipin::TrackInput in{w.steps, w.pressure, {}, {}, w.end_s, start, {}};
+        if (with_gnss) in.gnss = gnss;
+        return ipin::track(tracker, in, kFloors, north_up());
+    }
+};
+
+}  // namespace
+
+TEST(IpinTrack, GnssPullsKalmanAndTheWalkFilterAndLeavesPdrAlone) {
+    const GnssWalk walk(8.0);
+    for (const auto tracker : {ipin::Tracker::kalman, ipin::Tracker::walk_pf}) {
+        const auto without = walk.track(tracker, false), with = walk.track(tracker, true);
+        ASSERT_EQ(without.size(), with.size());
+        EXPECT_NEAR(without.back().at.y, 0.0, 1.5);  // the walk filter's heading noise alone
+        EXPECT_GT(with.back().at.y, without.back().at.y + 3.0) << static_cast<int>(tracker);  // drawn to the fixes 8 m north
+        EXPECT_LT(with.back().at.y, 10.0) << static_cast<int>(tracker);
+        // Before the first fix nothing differs.
+        for (std::size_t i = 0; i < with.size() && with[i].t < 20.0; ++i) EXPECT_EQ(with[i].at.y, without[i].at.y);
+    }
+    const auto pdr = walk.track(ipin::Tracker::pdr, true), pdr_without = walk.track(ipin::Tracker::pdr, false);
+    ASSERT_EQ(pdr.size(), pdr_without.size());
+    for (std::size_t i = 0; i < pdr.size(); ++i) EXPECT_EQ(pdr[i].at.y, pdr_without[i].at.y);
+}
+
+TEST(IpinTrack, KalmanGatesAGnssFixFarFromItsEstimate) {
+    const GnssWalk walk(200.0);  // far beyond σ 10 m and the filter's own spread
+    const auto without = walk.track(ipin::Tracker::kalman, false), with = walk.track(ipin::Tracker::kalman, true);
+    ASSERT_EQ(without.size(), with.size());
+    for (std::size_t i = 0; i < with.size(); ++i) {
+        EXPECT_EQ(with[i].at.x, without[i].at.x);
+        EXPECT_EQ(with[i].at.y, without[i].at.y);
+    }
+}
+
+TEST(IpinTrack, LogGnssTakesEachFixOnceAndOnlyWithAnAccuracy) {
+    datasets::ipin::Log log;
+    const auto fix = [](double app, double sensor, double lat, double accuracy) {
+        datasets::ipin::Gnss g;
+        g.app_s = app;
+        g.sensor_s = sensor;
+        g.lat_deg = lat;
+        g.lon_deg = 11.0;
+        g.accuracy_m = accuracy;
+        return g;
+    };
+    log.gnss = {fix(1.0, 100.0, 49.0, 4.0), fix(1.01, 100.0, 49.0, 4.0),  // one fix, logged twice
+                fix(2.0, 101.0, 49.1, 0.0),                            // no accuracy
+                fix(3.0, 102.0, 49.2, 6.0)};
+    const auto got = ipin::log_gnss(log, [](double lat, double lon) { return Point{lat, lon}; });
+    ASSERT_EQ(got.size(), 2u);
+    EXPECT_EQ(got[0].t, 1.0);
+    EXPECT_EQ(got[0].at.x, 49.0);
+    EXPECT_EQ(got[0].accuracy_m, 4.0);
+    EXPECT_EQ(got[1].t, 3.0);
+    EXPECT_EQ(got[1].at.x, 49.2);
 }

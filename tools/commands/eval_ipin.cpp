@@ -1,5 +1,5 @@
 // `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|wifi-baro|pdr|walk_pf|all] [--train GLOB]
-// [--server URL --map ID] [--known-start] [--json]`: positioning of the IPIN 2023 walks scored as
+// [--server URL --map ID] [--known-start] [--no-gnss] [--json]`: positioning of the IPIN 2023 walks scored as
 // the competition scores them (tools/ipin_eval.hpp, docs/ipin-import.md). Each held-out walk's WiFi
 // scans are localized one by one (an estimate stamped at the scan's AppTimestamp); at each POSI
 // instant the latest estimate at most 0.01 s after it counts; error = horizontal metres + 15 m
@@ -13,7 +13,7 @@
 // answers with their floor replaced by the barometric floor (locus/motion/fusion/baro_floor.hpp: the
 // walk's pressure, the map's floor elevations, each answer's floor as a radio vote), estimates
 // at each scan and every 0.5 s between (the last answer's position, the floor then); `pdr`,
-// `kalman` and `walk_pf` (the default), the walk's IMU fused with those answers and the barometer, estimates
+// `kalman` and `walk_pf` (the default), the walk's IMU fused with those answers, the barometer and GNSS (not with --no-gnss), estimates
 // every 0.5 s from the file's start (tools/ipin_track.hpp). Causal: an estimate at t uses only
 // the samples and answers at or before t. --known-start gives the trackers (and wifi-baro's
 // barometer) the first POSI landmark, as the competition gave its scoring walks' start. The
@@ -55,6 +55,7 @@ struct Args {
     std::string method = "all";
     std::int64_t map = 0;
     bool known_start = false;
+    bool no_gnss = false;
     bool json_out = false;
 };
 
@@ -64,6 +65,7 @@ struct LoadedWalk {
     std::vector<ipin::Fix> truth;  // POSI instants on the venue's floors
     std::vector<datasets::ipin::PressureSample> pressure;
     std::vector<ipin::ImuStep> steps;
+    std::vector<ipin::GnssFix> gnss;
     double end_s = 0.0;  // the last scan or POSI instant: the trackers' ticks run to here
 };
 
@@ -96,6 +98,7 @@ std::vector<LoadedWalk> load(const std::string& dir, const std::vector<std::stri
         add_wifi_scans(log, w.walk);
         w.pressure = datasets::ipin::pressure_series(log);
         w.steps = ipin::log_steps(log);
+        w.gnss = ipin::log_gnss(log, [&](double lat, double lon) { return frame.to_floor({lat, lon}); });
         w.end_s = std::max(w.walk.scan_times.empty() ? 0.0 : w.walk.scan_times.back(), w.truth.empty() ? 0.0 : w.truth.back().t);
         out.push_back(std::move(w));
     }
@@ -278,7 +281,8 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
     } else if (m == "wifi-baro") {
         return with_baro_floor(lw, answers, c.floors.baro, start ? std::optional<int>(start->floor) : std::nullopt, estimates);
     } else {
-        ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, answers, lw.end_s, start};
+        ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, answers, lw.end_s, start, {}};
+        if (!c.args.no_gnss) in.gnss = lw.gnss;
         // The venue's frame is the georeference's: its +y axis at bearing_deg from true north, so
         // a compass azimuth ψ is ψ − bearing in it (magnetic declination, ~3° here, ignored).
         ipin::TrackerConfig config;
@@ -359,7 +363,7 @@ void run(const Args& a) {
         }
         trials.push_back(row);
     }
-    json out = {{"default", methods.back()}, {"known_start", a.known_start}, {"pooled", json::object()}, {"trials", trials}};
+    json out = {{"default", methods.back()}, {"known_start", a.known_start}, {"gnss", !a.no_gnss}, {"pooled", json::object()}, {"trials", trials}};
     for (const auto& m : methods) {
         json f = ipin::figures(pooled[m]);
         f["scans"] = ipin::figures(pooled_scans[m]);
@@ -390,6 +394,7 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
         ->check(CLI::IsMember({"yardstick", "wifi", "wifi-baro", "pdr", "kalman", "walk_pf", "all"}));
     cmd->add_flag("--known-start", a->known_start,
                   "give the trackers (and wifi-baro's floor) the first POSI landmark's position, floor and time");
+    cmd->add_flag("--no-gnss", a->no_gnss, "the trackers without the logs' GNSS fixes");
     cmd->add_option("--map", a->map, "map id (for wifi and wifi-baro)");
     cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");
     cmd->callback([a] { run(*a); });

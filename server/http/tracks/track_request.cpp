@@ -27,7 +27,9 @@ double parse_t(const json& j, const std::string& where, double retention_s) {
 
 double parse_heading(const json& j, const std::string& where) {
     const double h = finite_number(j, "heading_deg", where, -360.0, 360.0);
-    return h < 0 ? h + 360.0 : (h >= 360.0 ? h - 360.0 : h);
+    const double w = h < 0 ? h + 360.0 : (h >= 360.0 ? h - 360.0 : h);
+    // A tiny negative heading rounds to exactly 360 when shifted; north is 0.
+    return w >= 360.0 ? 0.0 : w;
 }
 
 // An array member `name` of `body` (absent: null unless `required`).
@@ -105,6 +107,25 @@ std::vector<tracks::TimedScan> parse_timed_scans(const json* arr, double retenti
     return out;
 }
 
+// The barometer's samples {t, hpa}, in time order.
+std::vector<tracks::Pressure> parse_pressure(const json* arr, double retention_s) {
+    std::vector<tracks::Pressure> out;
+    if (!arr) return out;
+    if (arr->size() > kMaxPressurePerRequest)
+        throw ApiError(413, "batch_too_large", "the request holds " + std::to_string(arr->size()) + " pressure samples; at most " +
+                                                   std::to_string(kMaxPressurePerRequest) + " go in one request");
+    out.reserve(arr->size());
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+        const json& j = (*arr)[i];
+        const std::string where = "pressure[" + std::to_string(i) + "]";
+        if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {t, hpa}");
+        only_fields(j, {"t", "hpa"}, where);
+        out.push_back({parse_t(j, where, retention_s), finite_number(j, "hpa", where, kMinPressureHpa, kMaxPressureHpa)});
+    }
+    std::stable_sort(out.begin(), out.end(), [](const tracks::Pressure& a, const tracks::Pressure& b) { return a.t < b.t; });
+    return out;
+}
+
 // `fusion_options` of POST /v1/tracks: only for the Kalman methods, only the options the method
 // takes (tracks/fusion_options.hpp), each a finite number in its range.
 tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMethod method) {
@@ -171,18 +192,22 @@ std::vector<tracks::Fix> parse_fixes(const json& body, double retention_s) {
 }
 
 tracks::StepsInput parse_steps_request(const json& body, double retention_s) {
-    only_fields(body, {"steps", "fixes", "scans"}, "");
+    only_fields(body, {"steps", "fixes", "scans", "pressure"}, "");
     const json* steps = items_of(body, "steps", false);
     const json* fixes = items_of(body, "fixes", false);
     const json* scans = items_of(body, "scans", false);
+    const json* pressure = items_of(body, "pressure", false);
     const auto count = [](const json* a) { return a ? a->size() : 0; };
     const std::size_t n = count(steps) + count(fixes) + count(scans);
-    if (n == 0) throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}), 'fixes' (radio fixes) and/or 'scans' ({t, readings})");
+    if (n + count(pressure) == 0)
+        throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}), 'fixes' (radio fixes), 'scans' ({t, readings}) "
+                            "and/or 'pressure' ({t, hpa})");
     check_batch_size(n);
     tracks::StepsInput out;
     out.steps = parse_steps(steps, retention_s);
     out.fixes = parse_fix_array(fixes, "fixes", retention_s);
     out.scans = parse_timed_scans(scans, retention_s);
+    out.pressure = parse_pressure(pressure, retention_s);
     return out;
 }
 

@@ -19,6 +19,11 @@ namespace locus::http {
 
 // At most this many fixes, steps and scans in one request.
 inline constexpr std::size_t kMaxFixesPerRequest = 1000;
+// At most this many pressure samples in one request (over and above the fixes, steps and
+// scans: a barometer reads several times a second).
+inline constexpr std::size_t kMaxPressurePerRequest = 5000;
+// A pressure outside this range (hPa) is no barometer's reading at a building's height.
+inline constexpr double kMinPressureHpa = 300, kMaxPressureHpa = 1200;
 // A phone's clock may run this far ahead of the server's.
 inline constexpr double kFutureSlackS = 60;
 
@@ -41,7 +46,7 @@ OpenRequest parse_open_request(const nlohmann::json& body);
 // POST /v1/tracks/{id}/fixes {fixes: [{t, floor_id, x, y, accuracy_m, heading_deg?}]}, t no
 // older than `retention_s`.
 std::vector<tracks::Fix> parse_fixes(const nlohmann::json& body, double retention_s);
-// POST /v1/tracks/{id}/steps {steps?, fixes?, scans?}: at least one item.
+// POST /v1/tracks/{id}/steps {steps?, fixes?, scans?, pressure?}: at least one item.
 tracks::StepsInput parse_steps_request(const nlohmann::json& body, double retention_s);
 
 }  // namespace locus::http

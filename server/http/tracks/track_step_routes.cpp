@@ -1,5 +1,6 @@
-// POST /v1/tracks/{id}/steps {steps?: [{t, length_m, heading_deg}], fixes?, scans?: [{t, readings}]}:
-// thin clients post raw PDR steps, radio fixes and scans; the track's filter's fixes come back
+// POST /v1/tracks/{id}/steps {steps?: [{t, length_m, heading_deg}], fixes?, scans?: [{t, readings}],
+// pressure?: [{t, hpa}]}: thin clients post raw PDR steps, radio fixes, scans and their
+// barometer's samples; the track's filter's fixes come back
 // (and are stored). The work is tracks/thin_client.hpp's, the scans localized by track_scan.hpp.
 // Eigen first: cpp-httplib (through app.hpp) pulls in <resolv.h>, whose `_res` macro breaks Eigen.
 #include "http/tracks/track_scan.hpp"

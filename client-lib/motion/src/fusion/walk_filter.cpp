@@ -54,6 +54,28 @@ WalkFilter::WalkFilter(std::optional<Walkable> map, const WalkFilterConfig& conf
     }
 }
 
+void WalkFilter::change_floor(std::optional<Walkable> map) {
+    map_ = std::move(map);
+    plan_ = nullptr;
+    axis_.reset();
+    if (map_ && map_->floor_plan) {
+        plan_ = map_->floor_plan.get();
+        axis_ = plan_->axis();
+    }
+    if (x_.empty()) return;
+    const double sigma = std::max(spread_, config_.initial_sigma_m);
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+        if (inside({x_[i], y_[i]})) continue;
+        for (int tries = 0; tries < 20; ++tries) {
+            const Point at{estimate_.x + sigma * rng_.normal(), estimate_.y + sigma * rng_.normal()};
+            x_[i] = static_cast<float>(at.x);
+            y_[i] = static_cast<float>(at.y);
+            if (inside(at)) break;
+        }
+    }
+    estimate();
+}
+
 bool WalkFilter::inside(Point p) const { return plan_ ? plan_->inside(p) : !map_ || map_->inside(p); }
 
 bool WalkFilter::can_move(Point from, Point to) const { return plan_ ? plan_->can_move(from, to) : !map_ || map_->can_move(from, to); }
