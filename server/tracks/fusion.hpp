@@ -20,9 +20,11 @@
 // radio fix's floor as a vote): the track's floor is then the barometer's. A floor change it
 // sees moves the filter to the new floor where it is (walk_pf keeps its cloud and what it has
 // learnt; the other methods restart there, as sure as they were), and a radio fix on a floor it
-// rules out moves nothing (its vote counts). The floors of a building are taken to share one
-// frame, as `locus import ipin` makes them and as a building's plans are drawn: the plans'
-// stairs and lifts are not used yet, a change happens wherever the walker is. Without pressure
+// rules out moves nothing (its vote counts). Where the floor's plan has stairs or lifts to the
+// new floor (connectors linked both ways, as routes take them), the walker went by the nearest:
+// the filter comes out at its other end, shifted as the walker stood from it; where it has none
+// (no plan, or none to that floor), the change happens where the walker is, the floors of a
+// building taken to share one frame (as `locus import ipin` makes them). Without pressure
 // samples, or on a building whose floors have no elevations, floors change at radio fixes alone.
 #include <cstddef>
 #include <cstdint>
@@ -79,6 +81,11 @@ struct BaroLevel {
     bool radio = true;
 };
 
+// Stairs or a lift between two floors: where it stands on the floor left and on the floor reached.
+struct Crossing {
+    Point from, to;
+};
+
 // A request ThinFusion cannot fuse, with the API error code it answers with.
 struct CannotFuse : std::invalid_argument {
     CannotFuse(std::string c, const std::string& message) : std::invalid_argument(message), code(std::move(c)) {}
@@ -99,17 +106,23 @@ public:
     // a client retrying a request whose answer it lost must not move the filter twice; pressure
     // samples at or before the last one run are skipped likewise. `walkable_of` gives a floor's
     // Walkable (nullptr when it has no plan: walk_pf walks freely, particle throws
-    // std::invalid_argument). `levels_of` gives the floors of a floor's building that have an
-    // elevation (std::vector<BaroLevel>), asked once, at the first pressure sample on that
-    // building. Steps before any radio fix, with no filter yet, throw std::invalid_argument: the
-    // filter starts at a fix; pressure before it is not used.
-    template <typename WalkableOf, typename LevelsOf>
+    // std::invalid_argument). `floors` answers `levels(floor_id)`, the floors of that floor's
+    // building that have an elevation (std::vector<BaroLevel>), asked once, at the first pressure
+    // sample on that building, and `crossing(from, to, at)`, the stairs or lift nearest `at` on
+    // floor `from` that leads to floor `to` (std::optional<Crossing>), asked at a floor change.
+    // Steps before any radio fix, with no filter yet, throw std::invalid_argument: the filter
+    // starts at a fix; pressure before it is not used.
+    template <typename WalkableOf, typename Floors>
     std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, const std::vector<Pressure>& pressure,
-                         WalkableOf&& walkable_of, LevelsOf&& levels_of);
+                         WalkableOf&& walkable_of, Floors&& floors);
     // Steps and radio fixes alone (no barometer).
     template <typename WalkableOf>
     std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of) {
-        return run(steps, radio, {}, walkable_of, [](std::int64_t) { return std::vector<BaroLevel>{}; });
+        struct NoBarometer {
+            std::vector<BaroLevel> levels(std::int64_t) const { return {}; }
+            std::optional<Crossing> crossing(std::int64_t, std::int64_t, Point) const { return std::nullopt; }
+        };
+        return run(steps, radio, {}, walkable_of, NoBarometer{});
     }
 
     bool started() const { return filter_.has_value() || walk_.has_value() || kalman_.has_value() || ekf_.has_value(); }
@@ -135,10 +148,11 @@ private:
     Fix fused(double t, std::optional<double> heading_deg) const;
     // resumed: `r` is a fused fix the track stored, whose accuracy_m is the filter's own σ then.
     void start(const fusion::Walkable* w, const RadioFix& r, bool resumed = false);
-    // The barometer's floor when it names one other than the filter's: the filter moves there
-    // (walk_pf keeps its cloud; the others restart at their estimate). True when it moved.
-    template <typename WalkableOf>
-    bool follow_baro(double t, WalkableOf&& walkable_of);
+    // The barometer's floor when it names one other than the filter's: the filter moves there,
+    // through the stairs or lift `floors` gives (walk_pf keeps its cloud; the others restart at
+    // their estimate). True when it moved.
+    template <typename WalkableOf, typename Floors>
+    bool follow_baro(double t, WalkableOf&& walkable_of, Floors&& floors);
     // The index in baro_ids_ of a floor (nullopt: not one of the barometer's).
     std::optional<int> baro_index(std::int64_t floor_id) const;
     // The Kalman filter's R for a radio fix (client-lib's ranging_measurement_noise, the fix's
@@ -174,26 +188,30 @@ fusion::RangingKalmanConfig kalman_config(FusionMethod method, const FusionOptio
 // ekf_ranging's: fusion::RangingEkfConfig's defaults with the track's options over them.
 fusion::RangingEkfConfig ekf_config(const FusionOptions& options);
 
-template <typename WalkableOf>
-bool ThinFusion::follow_baro(double t, WalkableOf&& walkable_of) {
+template <typename WalkableOf, typename Floors>
+bool ThinFusion::follow_baro(double t, WalkableOf&& walkable_of, Floors&& floors) {
     const std::optional<int> b = baro_ ? baro_->floor() : std::nullopt;
     if (!b || baro_ids_[static_cast<std::size_t>(*b)] == floor_id_) return false;
     const std::int64_t to = baro_ids_[static_cast<std::size_t>(*b)];
+    RadioFix here(fused(t, heading_deg_));
+    Point shift{0.0, 0.0};
+    if (const std::optional<Crossing> c = floors.crossing(floor_id_, to, Point{here.x, here.y})) shift = {c->to.x - c->from.x, c->to.y - c->from.y};
     std::shared_ptr<const fusion::Walkable> w = walkable_of(to);
     if (walk_) {
-        walk_->change_floor(w ? std::optional<fusion::Walkable>(*w) : std::nullopt);
+        walk_->change_floor(w ? std::optional<fusion::Walkable>(*w) : std::nullopt, shift);
         floor_id_ = to;
     } else {
-        RadioFix here(fused(t, heading_deg_));
         here.floor_id = to;
+        here.x += shift.x;
+        here.y += shift.y;
         start(w.get(), here, true);
     }
     return true;
 }
 
-template <typename WalkableOf, typename LevelsOf>
+template <typename WalkableOf, typename Floors>
 std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, const std::vector<Pressure>& pressure,
-                                 WalkableOf&& walkable_of, LevelsOf&& levels_of) {
+                                 WalkableOf&& walkable_of, Floors&& floors) {
     std::vector<Fix> out;
     const std::optional<double> done = done_t_;
     const auto already_run = [&done](double t) { return done && t <= *done; };
@@ -209,7 +227,7 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
                 baro_asked_floor_ = floor_id_;
                 std::vector<fusion::FloorLevel> levels;
                 baro_ids_.clear();
-                for (const BaroLevel& l : levels_of(floor_id_)) {
+                for (const BaroLevel& l : floors.levels(floor_id_)) {
                     levels.push_back({static_cast<int>(baro_ids_.size()), l.elevation_m, l.radio});
                     baro_ids_.push_back(l.floor_id);
                 }
@@ -221,7 +239,7 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
             if (!baro_) continue;
             baro_->add_pressure(t, pressure[e.index].hpa);
             // A floor change is a fused fix only when it is the track's latest: fixes are stored in time order.
-            if (follow_baro(t, walkable_of) && (!done_t_ || t > *done_t_)) {
+            if (follow_baro(t, walkable_of, floors) && (!done_t_ || t > *done_t_)) {
                 done_t_ = t;
                 out.push_back(fused(t, heading_deg_));
             }
@@ -243,7 +261,7 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
                 ekf_->update(r.readings);
             } else if (ruled_out) {
                 // The barometer rules the fix's floor out: its vote counted, its position does not.
-                follow_baro(t, walkable_of);
+                follow_baro(t, walkable_of, floors);
             } else if (!started() || r.floor_id != floor_id_) {
                 std::shared_ptr<const fusion::Walkable> w = walkable_of(r.floor_id);
                 start(w.get(), r);

@@ -2,6 +2,8 @@
 #include "tracks/fusion.hpp"
 #include "tracks/fusion_sessions.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 #include <variant>
 
@@ -37,19 +39,48 @@ std::vector<BaroLevel> FusionSessions::levels_of(std::int64_t floor_id) {
     return out;
 }
 
+std::optional<Crossing> FusionSessions::crossing(std::int64_t from, std::int64_t to, Point at) {
+    const auto here = store_.plan_of_floor(from);
+    if (!here) return std::nullopt;
+    const auto there = store_.plan_of_floor(to);
+    if (!there) return std::nullopt;
+    std::optional<Crossing> best;
+    double best_d = 0.0;
+    for (const auto& c : here->plan.connectors) {
+        for (const auto& link : c.links) {
+            if (link.floor_id != to) continue;
+            const auto other = std::find_if(there->plan.connectors.begin(), there->plan.connectors.end(),
+                                            [&](const plan::Connector& o) { return o.id == link.connector; });
+            if (other == there->plan.connectors.end()) continue;
+            const bool back = std::any_of(other->links.begin(), other->links.end(),
+                                          [&](const plan::ConnectorLink& l) { return l.floor_id == from && l.connector == c.id; });
+            const double d = std::hypot(c.at.x - at.x, c.at.y - at.y);
+            if (back && (!best || d < best_d)) {
+                best = Crossing{c.at, other->at};
+                best_d = d;
+            }
+        }
+    }
+    return best;
+}
+
 std::vector<Fix> FusionSessions::Run::run(FusionMethod method, const FusionOptions& options, const std::optional<Fix>& latest,
                                           const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
                                           const std::vector<Pressure>& pressure, std::shared_ptr<const FloorAnchors> anchors) {
     auto& held = sessions_.fusions_;
     const auto walkable_of = [this](std::int64_t floor_id) { return sessions_.walkable_of(floor_id); };
-    const auto levels_of = [this](std::int64_t floor_id) { return sessions_.levels_of(floor_id); };
+    struct Floors {
+        FusionSessions& sessions;
+        std::vector<BaroLevel> levels(std::int64_t floor_id) const { return sessions.levels_of(floor_id); }
+        std::optional<Crossing> crossing(std::int64_t from, std::int64_t to, Point at) const { return sessions.crossing(from, to, at); }
+    };
     const auto it = held.find(id_);
     const bool continues = it != held.end() && (!latest || (it->second->done_t() && latest->t <= *it->second->done_t()));
     next_ = continues ? std::make_shared<ThinFusion>(*it->second)
                       : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id_), options);
     next_->set_anchors(std::move(anchors));
     if (!continues && latest) next_->resume(*latest, walkable_of);
-    return next_->run(steps, radio, pressure, walkable_of, levels_of);
+    return next_->run(steps, radio, pressure, walkable_of, Floors{sessions_});
 }
 
 void FusionSessions::Run::keep() {

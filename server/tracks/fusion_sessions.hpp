@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "locus/geometry.hpp"
 #include "locus/motion/fusion/walkable.hpp"
 #include "store/store.hpp"
 #include "tracks/fix.hpp"
@@ -29,6 +30,7 @@ class ThinFusion;
 struct RadioFix;
 struct FloorAnchors;
 struct BaroLevel;
+struct Crossing;
 
 class FusionSessions {
 public:
@@ -71,6 +73,9 @@ private:
     // (a filter asks once per building it walks in): a row per floor, and one query per floor
     // for whether it has a radio map.
     std::vector<BaroLevel> levels_of(std::int64_t floor_id);
+    // The stairs or lift nearest `at` on floor `from`'s plan that leads to floor `to` (linked
+    // both ways, as routes take them): where it stands on each floor. Reads both plans.
+    std::optional<Crossing> crossing(std::int64_t from, std::int64_t to, Point at);
 
     store::Store& store_;
     std::mutex mu_;

@@ -1,14 +1,15 @@
 // Floors from the barometer on a thin client's track (docs/tracks.md, "Floors from the
 // barometer"), against the real server: pressure samples on POST /v1/tracks/{id}/steps take the
-// track down a stair to a floor no radio map covers, a radio fix on a floor the barometer rules
-// out moves nothing, a building without elevations ignores pressure, and bad pressure is refused
-// with nothing written.
+// track down a stair to a floor no radio map covers, through the plan's stairs where it has
+// them; a radio fix on a floor the barometer rules out moves nothing; a building without
+// elevations ignores pressure; and bad pressure is refused with nothing written.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
 #include "hierarchy.hpp"
+#include "plan_geojson.hpp"
 #include "server_process.hpp"
 #include "track_call.hpp"
 #include "unix_time.hpp"
@@ -66,12 +67,12 @@ Track open_track(const ServerProcess& s, std::int64_t map) {
 }
 
 // A walk east on the ground floor: radio fixes there every 5 s for 20 s, steps every 0.6 s
-// for 40 s, and the barometer at 5 Hz, steady for 20 s, then 4.5 m down a stair over 10 s,
-// then steady again (±0.01 hPa of noise throughout).
-json walk_down_a_stair(const Building& b, double t0) {
+// until `walk_s`, and the barometer at 5 Hz, steady for 20 s, then 4.5 m down over 10 s (a
+// stair, or a lift when the steps have stopped), then steady again (±0.01 hPa of noise).
+json walk_down_a_stair(const Building& b, double t0, double walk_s = 40.0) {
     json steps = json::array(), fixes = json::array(), pressure = json::array();
     for (int i = 0; i <= 20; i += 5) fixes.push_back({{"t", t0 + i}, {"floor_id", b.h.floor}, {"x", 5.0 + 1.0 * i}, {"y", 5.0}, {"accuracy_m", 2.0}});
-    for (int i = 1; i * 0.6 <= 40.0; ++i) steps.push_back({{"t", t0 + i * 0.6}, {"length_m", 0.6}, {"heading_deg", 90.0}});
+    for (int i = 1; i * 0.6 <= walk_s; ++i) steps.push_back({{"t", t0 + i * 0.6}, {"length_m", 0.6}, {"heading_deg", 90.0}});
     for (int i = 0; i <= 200; ++i) {
         const double s = i * 0.2;
         const double down_m = s < 20 ? 0.0 : (s < 30 ? 4.5 * (s - 20) / 10 : 4.5);
@@ -95,8 +96,12 @@ TEST(ServerTracksBaro, PressureTakesTheTrackDownAStairToAFloorNoRadioMapCovers) 
     std::size_t first_down = fused.size();
     for (std::size_t i = 0; i < fused.size(); ++i) {
         const double at = fused[i]["t"].get<double>() - t0;
-        if (at < 20.0) EXPECT_EQ(fused[i]["floor_id"], b.h.floor) << "t0+" << at;
-        if (at > 32.0) EXPECT_EQ(fused[i]["floor_id"], b.mezzanine) << "t0+" << at;
+        if (at < 20.0) {
+            EXPECT_EQ(fused[i]["floor_id"], b.h.floor) << "t0+" << at;
+        }
+        if (at > 32.0) {
+            EXPECT_EQ(fused[i]["floor_id"], b.mezzanine) << "t0+" << at;
+        }
         if (fused[i]["floor_id"] == b.mezzanine && first_down == fused.size()) first_down = i;
     }
     ASSERT_LT(first_down, fused.size());
@@ -174,4 +179,38 @@ TEST(ServerTracksBaro, BadPressureIsRefusedAndWritesNothing) {
     for (int i = 0; i < 5001; ++i) many.push_back({{"t", t0 + 1 + i * 0.01}, {"hpa", kP0}});
     refused(many.dump(), 413, "batch_too_large");
     EXPECT_EQ(body_of(track_call(s, "GET", "/v1/tracks/" + std::to_string(t.id), {t.token}))["fixes"], 0);
+}
+
+// A 30 m x 4 m corridor with a lift at x = `lift_x` linked to the other floor's ("lift").
+json corridor_with_lift(std::int64_t other_floor, double lift_x) {
+    using locus::testing::feature;
+    return {{"type", "FeatureCollection"},
+            {"features",
+             {feature("space", locus::testing::rect_polygon(0, 0, 30, 4), {{"name", "Corridor"}, {"kind", "corridor"}}),
+              feature("connector", locus::testing::point(lift_x, 2),
+                      {{"id", "lift"}, {"kind", "elevator"}, {"links", {{{"floor_id", other_floor}, {"connector", "lift"}}}}})}}};
+}
+
+TEST(ServerTracksBaro, WhereThePlanHasALiftTheTrackComesOutAtItsOtherEnd) {
+    ServerProcess s({"--quiet"});
+    const Building b = three_floors(s, true);
+    // The ground floor's lift stands near its east end (x 26), the mezzanine's at its west end
+    // (x 3); the walker walks to x ≈ 25 and rides down.
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.h.floor) + "/plan", corridor_with_lift(b.mezzanine, 26)).status, 200);
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.mezzanine) + "/plan", corridor_with_lift(b.h.floor, 3)).status, 200);
+    const Track t = open_track(s, b.h.map);
+    const double t0 = std::floor(unix_now()) - 100;
+    const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, walk_down_a_stair(b, t0, 20.0).dump()));
+    const json& fused = got["fused"];
+    std::size_t first_down = 0;
+    while (first_down < fused.size() && fused[first_down]["floor_id"] != b.mezzanine) ++first_down;
+    ASSERT_LT(first_down, fused.size());
+    ASSERT_GT(first_down, 0u);
+    // Standing dx from the ground floor's lift, the walker comes out dx from the mezzanine's.
+    const json& before = fused[first_down - 1];
+    EXPECT_GT(before["x"].get<double>(), 20.0);
+    EXPECT_NEAR(fused[first_down]["x"].get<double>(), 3.0 + (before["x"].get<double>() - 26.0), 1.0);
+    EXPECT_NEAR(fused[first_down]["y"].get<double>(), before["y"].get<double>(), 1.0);
+    EXPECT_LT(fused[first_down]["x"].get<double>(), 10.0);  // the west end, not where the walker stood
+    EXPECT_EQ(fused.back()["floor_id"], b.mezzanine);
 }

@@ -157,3 +157,26 @@ TEST(WalkFilter, ModeEstimateStaysWithTheLargerGroupWhereTheMeanFallsBetween) {
     EXPECT_LT(std::abs(mode.x), 1.5) << "mode at " << mode.x << ", mean at " << mean.x;
     EXPECT_LT(std::abs(mode.y), 1.0);
 }
+
+// A floor change through stairs moves the cloud by the stairs' shift and keeps what it learnt:
+// the same steps after it walk the same way as a filter that never changed floor, offset by
+// the shift (no map on either floor: nothing is re-drawn).
+TEST(WalkFilter, ChangingFloorMovesTheCloudAndKeepsWhatItLearnt) {
+    fusion::WalkFilterConfig cfg;
+    cfg.seed = 5;
+    fusion::WalkFilter stays(std::nullopt, cfg);
+    stays.fix({5, 5}, Eigen::Matrix2d::Identity());
+    for (int i = 0; i < 10; ++i) stays.step(0.7, 0.3);
+    fusion::WalkFilter moves = stays;
+    const Point shift{-20.0, 3.5};
+    moves.change_floor(std::nullopt, shift);
+    EXPECT_NEAR(moves.position().x, stays.position().x + shift.x, 1e-4);
+    EXPECT_NEAR(moves.position().y, stays.position().y + shift.y, 1e-4);
+    EXPECT_NEAR(moves.spread(), stays.spread(), 1e-4);
+    for (int i = 0; i < 10; ++i) {
+        stays.step(0.7, 0.3);
+        moves.step(0.7, 0.3);
+    }
+    EXPECT_NEAR(moves.position().x, stays.position().x + shift.x, 1e-3);
+    EXPECT_NEAR(moves.position().y, stays.position().y + shift.y, 1e-3);
+}

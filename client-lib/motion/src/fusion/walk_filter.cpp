@@ -54,7 +54,7 @@ WalkFilter::WalkFilter(std::optional<Walkable> map, const WalkFilterConfig& conf
     }
 }
 
-void WalkFilter::change_floor(std::optional<Walkable> map) {
+void WalkFilter::change_floor(std::optional<Walkable> map, Point shift) {
     map_ = std::move(map);
     plan_ = nullptr;
     axis_.reset();
@@ -63,6 +63,11 @@ void WalkFilter::change_floor(std::optional<Walkable> map) {
         axis_ = plan_->axis();
     }
     if (x_.empty()) return;
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+        x_[i] = static_cast<float>(x_[i] + shift.x);
+        y_[i] = static_cast<float>(y_[i] + shift.y);
+    }
+    estimate_ = {estimate_.x + shift.x, estimate_.y + shift.y};
     const double sigma = std::max(spread_, config_.initial_sigma_m);
     for (std::size_t i = 0; i < x_.size(); ++i) {
         if (inside({x_[i], y_[i]})) continue;

@@ -92,11 +92,12 @@ public:
     void fix(Point at, const Eigen::Matrix2d& cov);
     // The rotation and mirror the fixes suggest so far: fresh particles lean on it.
     void hint(double offset_rad, bool mirrored) { hint_ = {offset_rad, mirrored ? -1.0 : 1.0}; }
-    // The walker went to another floor of the same frame (stairs, a lift): the cloud keeps its
-    // positions and what each particle has learnt (rotation, mirror, scale) and walks the new
-    // floor's map from now on; a particle the new floor's walls shut out is placed anew round
-    // the estimate, within the cloud's spread. O(particles).
-    void change_floor(std::optional<Walkable> map);
+    // The walker went to another floor (stairs, a lift): the cloud keeps what each particle has
+    // learnt (rotation, mirror, scale), moves by `shift` (from where the stairs stand on the
+    // floor left to where they stand on this one; zero where the floors share a frame and no
+    // stairs are known) and walks the new floor's map from now on; a particle the new floor's
+    // walls shut out is placed anew round the estimate, within the cloud's spread. O(particles).
+    void change_floor(std::optional<Walkable> map, Point shift = {0.0, 0.0});
 
     // The weighted mean, or the cloud's mode when estimate_radius_m > 0 (the real-walk preset);
     // only meaningful once started().
