@@ -6,6 +6,8 @@
 // placed within a few metres.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <string>
 
@@ -85,5 +87,17 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     ASSERT_EQ(kn.status, 0) << kn.err;
     const json n = json::parse(kn.out);
     EXPECT_EQ(n["gnss"], false);
+    // The phone's offset is learnt on each walk (this slice: an A5 walk against an A5 map, so
+    // a few dB at most) and left out with --no-offset.
+    EXPECT_EQ(k["offset"], true);
+    ASSERT_TRUE(k["trials"][0].contains("offset_db")) << k["trials"][0].dump();
+    EXPECT_LT(std::abs(k["trials"][0]["offset_db"].get<double>()), 5.0);
+    EXPECT_GT(k["trials"][0]["offset_looks"].get<int>(), 10);
+    const auto ko = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+                                 "*Trial01_repetition02.txt", "--method", "walk_pf", "--known-start", "--no-offset", "--json"});
+    ASSERT_EQ(ko.status, 0) << ko.err;
+    const json o = json::parse(ko.out);
+    EXPECT_EQ(o["offset"], false);
+    EXPECT_FALSE(o["trials"][0].contains("offset_db"));
     EXPECT_LT(n["pooled"]["walk_pf"]["p75_m"].get<double>(), 4.0) << n["pooled"].dump();
 }

@@ -1,5 +1,5 @@
 // `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|wifi-baro|pdr|walk_pf|all] [--train GLOB]
-// [--server URL --map ID] [--known-start] [--no-gnss] [--json]`: positioning of the IPIN 2023 walks scored as
+// [--server URL --map ID] [--known-start] [--no-gnss] [--no-offset] [--json]`: positioning of the IPIN 2023 walks scored as
 // the competition scores them (tools/ipin_eval.hpp, docs/ipin-import.md). Each held-out walk's WiFi
 // scans are localized one by one (an estimate stamped at the scan's AppTimestamp); at each POSI
 // instant the latest estimate at most 0.01 s after it counts; error = horizontal metres + 15 m
@@ -26,6 +26,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <unordered_map>
 
 #include <nlohmann/json.hpp>
 
@@ -37,6 +38,7 @@
 #include "ipin_venue.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
 #include "locus/motion/fusion/walk_runner.hpp"
+#include "locus/match/device_offset.hpp"
 #include "locus/match/localize.hpp"
 #include "survey_connect.hpp"
 #include "walk_survey.hpp"
@@ -56,6 +58,7 @@ struct Args {
     std::int64_t map = 0;
     bool known_start = false;
     bool no_gnss = false;
+    bool no_offset = false;
     bool json_out = false;
 };
 
@@ -223,16 +226,51 @@ MapFloors map_floors(api::Client& client, std::int64_t map, bool want_baro) {
     return out;
 }
 
+// The RPs' fingerprints (mean RSS by AP), read from the server once each.
+class RpFingerprints {
+public:
+    explicit RpFingerprints(api::Client& client) : client_(client) {}
+    // The mean of the RPs' means, AP by AP (over the RPs that hear it).
+    match::Fingerprint of(const std::vector<long long>& rp_ids) {
+        std::unordered_map<std::string, std::pair<double, int>> sum;
+        for (const long long id : rp_ids) {
+            auto it = cache_.find(id);
+            if (it == cache_.end()) {
+                match::Fingerprint fp;
+                for (const auto& m : client_.rp(id).measurements) fp[m.bssid.str()] = m.stats.mean;
+                it = cache_.emplace(id, std::move(fp)).first;
+            }
+            for (const auto& [ap, mean] : it->second) {
+                sum[ap].first += mean;
+                ++sum[ap].second;
+            }
+        }
+        match::Fingerprint out;
+        for (const auto& [ap, s] : sum) out[ap] = s.first / s.second;
+        return out;
+    }
+
+private:
+    api::Client& client_;
+    std::unordered_map<long long, match::Fingerprint> cache_;
+};
+
 // The server's answer to each scan of a walk, in the venue's frame; nullopt where it had none.
+// With `offset`, each scan is sent with the phone's offset learnt from the scans before it
+// (match::DeviceOffset, each answer's RPs the fingerprint it is compared with).
 std::vector<std::optional<ipin::Fix>> server_answers(api::Client& client, std::int64_t map, const MapFloors& floors,
-                                                     const LoadedWalk& lw) {
+                                                     const LoadedWalk& lw, match::DeviceOffset* offset = nullptr,
+                                                     RpFingerprints* fingerprints = nullptr) {
     const geo::FloorToEarth venue(ipin::venue_georeference());
     std::vector<std::optional<ipin::Fix>> out(lw.walk.scans.size());
     for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
         api::LocalizeRequest req;
         req.scans = {lw.walk.scans[i]};
+        if (offset)
+            for (auto& r : req.scans.front()) r.rss += offset->offset_db();
         try {
             const auto r = client.localize_map(map, req);
+            if (offset && fingerprints && !r.rp_ids.empty()) offset->add(lw.walk.scans[i], fingerprints->of(r.rp_ids));
             const auto it = floors.by_id.find(r.floor_id);
             if (it == floors.by_id.end()) continue;
             const Point at = it->second.frame ? venue.to_floor(it->second.frame->to_geodetic(r.at)) : r.at;
@@ -263,8 +301,11 @@ struct Context {
 };
 
 // One method on one walk: `estimates` (time order) for the POSI scoring, the per-scan answers returned.
+// `answers`: the server's to the scans as read; `tracked`: those the trackers fuse (sent with
+// the phone's learnt offset, unless --no-offset).
 std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const LoadedWalk& lw,
-                                                 const std::vector<std::optional<ipin::Fix>>& answers, Context& c,
+                                                 const std::vector<std::optional<ipin::Fix>>& answers,
+                                                 const std::vector<std::optional<ipin::Fix>>& tracked, Context& c,
                                                  std::vector<ipin::Fix>& estimates) {
     const std::optional<ipin::Fix> start =
         c.args.known_start && !lw.truth.empty() ? std::optional<ipin::Fix>(lw.truth.front()) : std::nullopt;
@@ -281,7 +322,7 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
     } else if (m == "wifi-baro") {
         return with_baro_floor(lw, answers, c.floors.baro, start ? std::optional<int>(start->floor) : std::nullopt, estimates);
     } else {
-        ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, answers, lw.end_s, start, {}};
+        ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, tracked, lw.end_s, start, {}};
         if (!c.args.no_gnss) in.gnss = lw.gnss;
         // The venue's frame is the georeference's: its +y axis at bearing_deg from true north, so
         // a compass azimuth ψ is ψ − bearing in it (magnetic declination, ~3° here, ignored).
@@ -323,9 +364,14 @@ void run(const Args& a) {
     const auto test = load(a.dir, a.trials);
     Context c{a, std::nullopt, {}, {}};
     if (want_yardstick) c.ys = yardstick(load(a.dir, a.train));
+    const bool want_trackers = std::any_of(methods.begin(), methods.end(), [](const std::string& m) {
+        return m == "pdr" || m == "kalman" || m == "walk_pf";
+    });
     std::optional<api::Client> client;
+    std::optional<RpFingerprints> fingerprints;
     if (want_server) {
         client.emplace(a.server.client_options());
+        fingerprints.emplace(*client);
         c.floors = map_floors(*client, a.map, want_baro);
         if (want_baro && c.floors.baro.empty())
             throw CommandError("--method " + a.method + " needs the map's floors' elevation_m (none has one)");
@@ -340,9 +386,17 @@ void run(const Args& a) {
         // The server's answers, asked once for every method that uses them.
         const auto answers = want_server ? server_answers(*client, a.map, c.floors, lw) : std::vector<std::optional<ipin::Fix>>{};
         json row = {{"trial", lw.label}, {"phone", lw.phone}, {"methods", json::object()}};
+        // The trackers' answers: each scan with the offset this walk's earlier scans taught.
+        std::vector<std::optional<ipin::Fix>> tracked = answers;
+        if (want_trackers && !a.no_offset) {
+            match::DeviceOffset offset;
+            tracked = server_answers(*client, a.map, c.floors, lw, &offset, &*fingerprints);
+            row["offset_db"] = offset.offset_db();
+            row["offset_looks"] = offset.looks();
+        }
         for (const auto& m : methods) {
             std::vector<ipin::Fix> estimates, scan_est, scan_truths;
-            const auto per_scan = run_method(m, lw, answers, c, estimates);
+            const auto per_scan = run_method(m, lw, answers, tracked, c, estimates);
             for (std::size_t i = 0; i < per_scan.size(); ++i) {
                 if (!per_scan[i]) {
                     ++unanswered[m];
@@ -363,7 +417,7 @@ void run(const Args& a) {
         }
         trials.push_back(row);
     }
-    json out = {{"default", methods.back()}, {"known_start", a.known_start}, {"gnss", !a.no_gnss}, {"pooled", json::object()}, {"trials", trials}};
+    json out = {{"default", methods.back()}, {"known_start", a.known_start}, {"gnss", !a.no_gnss}, {"offset", !a.no_offset}, {"pooled", json::object()}, {"trials", trials}};
     for (const auto& m : methods) {
         json f = ipin::figures(pooled[m]);
         f["scans"] = ipin::figures(pooled_scans[m]);
@@ -395,6 +449,7 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     cmd->add_flag("--known-start", a->known_start,
                   "give the trackers (and wifi-baro's floor) the first POSI landmark's position, floor and time");
     cmd->add_flag("--no-gnss", a->no_gnss, "the trackers without the logs' GNSS fixes");
+    cmd->add_flag("--no-offset", a->no_offset, "the trackers' scans sent as read, without the phone's RSS offset learnt online");
     cmd->add_option("--map", a->map, "map id (for wifi and wifi-baro)");
     cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");
     cmd->callback([a] { run(*a); });
