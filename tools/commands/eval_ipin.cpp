@@ -367,6 +367,10 @@ void run(const Args& a) {
     const bool want_trackers = std::any_of(methods.begin(), methods.end(), [](const std::string& m) {
         return m == "pdr" || m == "kalman" || m == "walk_pf";
     });
+    const bool learns_offset = want_trackers && !a.no_offset;
+    const bool want_raw_answers = want_server && (!learns_offset || std::any_of(methods.begin(), methods.end(), [](const std::string& m) {
+                                                      return m == "wifi" || m == "wifi-baro";
+                                                  }));
     std::optional<api::Client> client;
     std::optional<RpFingerprints> fingerprints;
     if (want_server) {
@@ -383,12 +387,13 @@ void run(const Args& a) {
         std::cerr << "evaluating " << lw.label << " (" << lw.phone << ", " << lw.walk.scans.size() << " scans, "
                   << lw.steps.size() << " steps)\n";
         const auto truth_of_scan = scan_truth(lw.walk);
-        // The server's answers, asked once for every method that uses them.
-        const auto answers = want_server ? server_answers(*client, a.map, c.floors, lw) : std::vector<std::optional<ipin::Fix>>{};
+        // The server's answers to the scans as read, asked once for every method that uses them
+        // (wifi, wifi-baro, and the trackers with --no-offset).
+        const auto answers = want_raw_answers ? server_answers(*client, a.map, c.floors, lw) : std::vector<std::optional<ipin::Fix>>{};
         json row = {{"trial", lw.label}, {"phone", lw.phone}, {"methods", json::object()}};
         // The trackers' answers: each scan with the offset this walk's earlier scans taught.
         std::vector<std::optional<ipin::Fix>> tracked = answers;
-        if (want_trackers && !a.no_offset) {
+        if (learns_offset) {
             match::DeviceOffset offset;
             tracked = server_answers(*client, a.map, c.floors, lw, &offset, &*fingerprints);
             row["offset_db"] = offset.offset_db();
