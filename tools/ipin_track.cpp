@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include "locus/motion/fusion/heading_alignment.hpp"
 #include "locus/motion/fusion/kalman.hpp"
@@ -54,6 +55,31 @@ std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource sou
         return sample_at(series, t, [](const std::pair<double, double>& a) { return a.first; }).second;
     };
     return detect_phone_steps(datasets::ipin::accel_samples(log), accel, azimuth_at);
+}
+
+std::vector<BleReading> log_ble(const datasets::ipin::Log& log) {
+    std::vector<BleReading> out;
+    out.reserve(log.ble4.size());
+    for (const auto& b : log.ble4) out.push_back({b.app_s, b.mac, b.rssi_dbm});
+    std::stable_sort(out.begin(), out.end(), [](const BleReading& a, const BleReading& b) { return a.t < b.t; });
+    return out;
+}
+
+std::vector<BeaconFix> beacon_fixes(std::span<const BleReading> readings, std::span<const Beacon> beacons,
+                                    const TrackerConfig& config) {
+    std::vector<BeaconFix> out;
+    std::vector<std::optional<double>> last(beacons.size());
+    for (const auto& r : readings) {
+        if (!(r.rss_dbm >= config.ble_min_rss_dbm)) continue;
+        for (std::size_t b = 0; b < beacons.size(); ++b) {
+            if (beacons[b].mac != r.mac) continue;
+            if (last[b] && r.t - *last[b] < config.ble_min_interval_s) break;
+            last[b] = r.t;
+            out.push_back({r.t, beacons[b].floor, beacons[b].at});
+            break;
+        }
+    }
+    return out;
 }
 
 namespace {
@@ -116,17 +142,26 @@ public:
         if (!begun_ || kind_ == Tracker::pdr) return;
         if (last_gnss_s_ && g.t - *last_gnss_s_ < config_.gnss_min_interval_s) return;
         last_gnss_s_ = g.t;
-        const double sigma = std::max(g.accuracy_m, config_.gnss_min_sigma_m);
-        const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * sigma * sigma;
-        if (kind_ == Tracker::walk_pf) {
-            wf_.fix(g.at, r);
-            return;
-        }
-        const Eigen::Vector2d d(g.at.x - kf_->position().x, g.at.y - kf_->position().y);
-        if (d.dot((kf_->covariance() + r).inverse() * d) <= config_.gnss_gate) kf_->update(g.at, r);
+        measure(g.at, std::max(g.accuracy_m, config_.gnss_min_sigma_m));
+    }
+    void beacon(const BeaconFix& b) {
+        if (begun_ && kind_ != Tracker::pdr) measure(b.at, config_.ble_sigma_m);
     }
 
 private:
+    // A position measurement that is not a WiFi answer (GNSS, a beacon): it teaches the heading
+    // alignment nothing; kalman drops it beyond the gate, walk_pf's outlier floor keeps a far
+    // one from ruling.
+    void measure(Point at, double sigma_m) {
+        const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * sigma_m * sigma_m;
+        if (kind_ == Tracker::walk_pf) {
+            wf_.fix(at, r);
+            return;
+        }
+        const Eigen::Vector2d d(at.x - kf_->position().x, at.y - kf_->position().y);
+        if (d.dot((kf_->covariance() + r).inverse() * d) <= config_.gnss_gate) kf_->update(at, r);
+    }
+
     Tracker kind_;
     TrackerConfig config_;
     fusion::WalkFilter wf_;
@@ -174,21 +209,30 @@ std::vector<Fix> track(Tracker tracker, const TrackInput& in, const std::vector<
     handlers.step = [&](std::size_t i) {
         if (walking(in.steps[i].t_s)) h.step(in.steps[i]);
     };
-    // The fix stream holds the scans' answers and the GNSS fixes, merged by time (a scan
-    // first at equal times): index i < scans is scan i, the rest GNSS fix i - scans.
+    // The fix stream holds the scans' answers, the GNSS fixes and the beacon fixes, merged by
+    // time (at equal times a scan first, then GNSS, then a beacon).
+    enum class Source { scan, gnss, ble };
+    std::vector<std::tuple<double, Source, std::size_t>> fixes;
+    fixes.reserve(in.scan_times.size() + in.gnss.size() + in.ble.size());
+    for (std::size_t i = 0; i < in.scan_times.size(); ++i) fixes.emplace_back(in.scan_times[i], Source::scan, i);
+    for (std::size_t i = 0; i < in.gnss.size(); ++i) fixes.emplace_back(in.gnss[i].t, Source::gnss, i);
+    for (std::size_t i = 0; i < in.ble.size(); ++i) fixes.emplace_back(in.ble[i].t, Source::ble, i);
+    std::stable_sort(fixes.begin(), fixes.end(), [](const auto& a, const auto& b) {
+        return std::get<0>(a) < std::get<0>(b) || (std::get<0>(a) == std::get<0>(b) && std::get<1>(a) < std::get<1>(b));
+    });
     std::vector<double> fix_t;
-    std::vector<std::size_t> fix_of;
-    fix_t.reserve(in.scan_times.size() + in.gnss.size());
-    for (std::size_t i = 0, j = 0; i < in.scan_times.size() || j < in.gnss.size();) {
-        const bool scan = j == in.gnss.size() || (i < in.scan_times.size() && in.scan_times[i] <= in.gnss[j].t);
-        fix_t.push_back(scan ? in.scan_times[i] : in.gnss[j].t);
-        fix_of.push_back(scan ? i++ : in.scan_times.size() + j++);
-    }
+    fix_t.reserve(fixes.size());
+    for (const auto& f : fixes) fix_t.push_back(std::get<0>(f));
     handlers.fix = [&](std::size_t k) {
-        const std::size_t i = fix_of[k];
-        if (i >= in.scan_times.size()) {
-            const GnssFix& g = in.gnss[i - in.scan_times.size()];
-            if (walking(g.t)) h.gnss(g);
+        const auto [t, source, i] = fixes[k];
+        if (source == Source::gnss) {
+            if (walking(t)) h.gnss(in.gnss[i]);
+            return;
+        }
+        if (source == Source::ble) {
+            if (baro) baro->add_radio_vote(in.ble[i].floor);
+            radio_floor = in.ble[i].floor;
+            if (walking(t)) h.beacon(in.ble[i]);
             return;
         }
         const auto& a = in.answers[i];

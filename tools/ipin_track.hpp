@@ -1,7 +1,7 @@
 #pragma once
 // The trackers of `locus eval ipin` (docs/ipin-import.md, "The trackers"): a walk's own IMU
-// (steps from ACCE, their azimuth from the rotation vector) fused with the server's WiFi answers
-// and the barometer, causally, one estimate every 0.5 s from the file's start (the competition's
+// (steps from ACCE, their azimuth from the rotation vector) fused with the server's WiFi answers,
+// the barometer, GNSS and the map's BLE beacons, causally, one estimate every 0.5 s from the file's start (the competition's
 // 2 Hz). Every event reaches the filters through fusion::run_walk in time order (pressure, step,
 // answer, tick at equal times), so an estimate at t uses only what was stamped at or before t:
 // cutting a walk at T leaves every estimate before T as it was.
@@ -14,6 +14,9 @@
 //  GNSS (unless --no-gnss): each fix a position measurement of σ its reported accuracy (at
 //  least TrackerConfig::gnss_min_sigma_m) for kalman (gated) and walk_pf, once the tracker has
 //  begun; it names no floor. pdr does not take it (its rotation is fitted on the WiFi answers).
+//  BLE beacons (unless --no-ble): a reading of a beacon the map holds, at or above
+//  TrackerConfig::ble_min_rss_dbm (-65), says the phone is near it, on its floor: a position
+//  measurement at the beacon (σ ble_sigma_m) for kalman (gated) and walk_pf, and a floor vote.
 // Floors: fusion::BaroFloor, the pressure with each answer's floor as a radio vote (and the start
 // floor, when known). Without a known start a tracker begins at the first answer; with one
 // (the competition gave its walks' first landmark) it stands there until the landmark's time
@@ -88,6 +91,15 @@ struct TrackerConfig {
     // slowly), so its fixes a second apart are not independent looks (docs/results.md: every
     // fix at σ ≥ 5 m cost walk_pf 1.7 m of p75 on fold 01).
     double gnss_min_interval_s = 10.0;
+    // BLE: on these walks a reading at -65 dBm or more was heard within 6 m of its beacon at
+    // p75 (median 3 m) and from another floor twice in ~300; at -65 to -70 dBm the p75 is 9 m
+    // and weaker readings say little (median 12-24 m) (docs/results.md, "BLE beacons": the
+    // threshold and σ chosen there on the folds). One reading per beacon per
+    // ble_min_interval_s counts: a walker passing a beacon hears it for seconds, and those
+    // readings are one look.
+    double ble_min_rss_dbm = -65.0;
+    double ble_sigma_m = 6.0;
+    double ble_min_interval_s = 2.0;
     // Answers the rotation (and the step scale) must have been fitted on before the trackers lean on them.
     int alignment_pairs = 3;
     // The compass's rotation to the venue's frame when it is known: a rotation-vector azimuth is
@@ -121,6 +133,34 @@ std::vector<GnssFix> log_gnss(const datasets::ipin::Log& log, ToFloor&& to_floor
     return out;
 }
 
+// A beacon the map holds, in the venue's frame.
+struct Beacon {
+    Bssid mac;
+    int floor = 0;
+    Point at;
+};
+
+// A beacon reading of a log (AppTimestamp, the normalised MAC, dBm).
+struct BleReading {
+    double t = 0.0;
+    Bssid mac;
+    double rss_dbm = 0.0;
+};
+
+std::vector<BleReading> log_ble(const datasets::ipin::Log& log);
+
+// A beacon reading strong enough to place the phone: near `at`, on `floor`.
+struct BeaconFix {
+    double t = 0.0;
+    int floor = 0;
+    Point at;
+};
+
+// The readings (time order) of beacons in `beacons` at or above config.ble_min_rss_dbm, each
+// beacon at most once per config.ble_min_interval_s. O(readings · beacons).
+std::vector<BeaconFix> beacon_fixes(std::span<const BleReading> readings, std::span<const Beacon> beacons,
+                                    const TrackerConfig& config);
+
 struct TrackInput {
     std::span<const ImuStep> steps;
     std::span<const datasets::ipin::PressureSample> pressure;
@@ -129,6 +169,7 @@ struct TrackInput {
     double end_s = 0.0;                                // ticks run from 0 to here
     std::optional<Fix> start;                          // the known start (--known-start)
     std::span<const GnssFix> gnss;                     // empty: without GNSS (--no-gnss)
+    std::span<const BeaconFix> ble;                    // empty: without BLE (--no-ble)
 };
 
 // The tracker's estimates at its ticks (from the first tick at which it has a position), in

@@ -35,6 +35,12 @@ std::string beacon_mac(int number) {
     return buf;
 }
 
+int logged_beacon(int csv_number) {
+    if (csv_number == 2) return 3;
+    if (csv_number == 3) return 2;
+    return csv_number;
+}
+
 std::vector<std::string> trial_files(const std::string& dir, const std::vector<std::string>& globs) {
     namespace fs = std::filesystem;
     const fs::path trials = fs::path(dir) / "trials";
@@ -61,7 +67,6 @@ std::string trial_label(const std::string& path) {
     label += "_R";
     label += m[2].str();
     return label;
-    return stem;
 }
 
 }  // namespace locus::tools::ipin

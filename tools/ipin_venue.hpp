@@ -38,6 +38,13 @@ const std::vector<FloorSpec>& venue_floors();
 // "be:ac:20:23:00:0n" (two hex digits for n up to 255).
 std::string beacon_mac(int number);
 
+// The number n of the logs' beacon (MAC be:ac:20:23:00:0n, minor n) that stands where
+// BLE_Locations.csv puts BLE<csv_number>. The data set's README presumes they are equal; the
+// walks' strongest readings say so for 1, 4, 5 and 6, but put beacon 2 at BLE3's place and
+// beacon 3 at BLE2's (4.2 and 1.5 m off, on that row's floor; 20-25 m and a floor off their
+// own rows) (docs/ipin-import.md, "The beacons": `locus eval ipin --json`'s `beacons`).
+int logged_beacon(int csv_number);
+
 // The trial files of DIR/trials whose names match any of the globs (fnmatch), sorted by name.
 // Throws std::runtime_error when DIR/trials is not a folder.
 std::vector<std::string> trial_files(const std::string& dir, const std::vector<std::string>& globs);

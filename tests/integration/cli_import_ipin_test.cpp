@@ -114,7 +114,8 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     }
     auto fid = [&](int level) { return std::to_string(floor_of[level]["id"].get<std::int64_t>()); };
 
-    // Beacons: BLE1 at (75, 45) on floor 0, BLE3 at (85, 45) on floor -2.
+    // Beacons: BLE1 at (75, 45) on floor 0, BLE3 at (85, 45) on floor -2; BLE3's place is the
+    // logs' beacon 2's (ipin::logged_beacon: the walks put MAC :02 there).
     const auto t0 = items(server, "/v1/floors/" + fid(0) + "/transmitters");
     ASSERT_EQ(t0.size(), 1u);
     EXPECT_EQ(t0[0]["name"], "BLE1");
@@ -124,7 +125,7 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     EXPECT_NEAR(t0[0]["y"].get<double>(), 45.0, 0.02);
     const auto t2 = items(server, "/v1/floors/" + fid(-2) + "/transmitters");
     ASSERT_EQ(t2.size(), 1u);
-    EXPECT_EQ(t2[0]["bssid"], "be:ac:20:23:00:03");
+    EXPECT_EQ(t2[0]["bssid"], "be:ac:20:23:00:02");
     EXPECT_NEAR(t2[0]["x"].get<double>(), 85.0, 0.02);
     EXPECT_TRUE(items(server, "/v1/floors/" + fid(-1) + "/transmitters").empty());
 
@@ -167,6 +168,19 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     EXPECT_EQ(second["upload"]["already_uploaded"], 6);
     EXPECT_EQ(state(server, map_id), before);
     EXPECT_EQ(map_count(server), 1u);
+
+    // A map imported before BLE3 had its right MAC (it had :03, its number's): the import moves
+    // that row to :02, by its name, and makes no second BLE3.
+    const std::string ble3 = "/v1/transmitters/" + std::to_string(t2[0]["id"].get<std::int64_t>());
+    ASSERT_EQ(server.patch(ble3, {{"bssid", "be:ac:20:23:00:03"}}).status, 200);
+    const auto moved = run_command({kCli, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
+    ASSERT_EQ(moved.status, 0) << moved.err;
+    EXPECT_EQ(json::parse(moved.out)["transmitters"]["updated"], 1);
+    const auto t2_after = items(server, "/v1/floors/" + fid(-2) + "/transmitters");
+    ASSERT_EQ(t2_after.size(), 1u);
+    EXPECT_EQ(t2_after[0]["bssid"], "be:ac:20:23:00:02");
+    EXPECT_EQ(t2_after[0]["id"], t2[0]["id"]);
+    EXPECT_EQ(state(server, map_id), before);
 
     // The evaluation scores T52 at its 4 POSI instants against this map.
     const auto ev = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--map", std::to_string(map_id),

@@ -49,7 +49,7 @@ struct Synthetic {
         return c;
     }
 
-    ipin::TrackInput input(std::optional<ipin::Fix> start) const { return {steps, pressure, scan_t, answers, end_s, start, {}}; }
+    ipin::TrackInput input(std::optional<ipin::Fix> start) const { return {steps, pressure, scan_t, answers, end_s, start, {}, {}}; }
 };
 
 const std::vector<fusion::FloorLevel> kFloors = {{0, 0.0, true}, {-2, -5.7, true}};
@@ -67,7 +67,7 @@ TEST(IpinTrack, PdrWithAKnownStartStandsOnItThenWalksTheCompass) {
     std::vector<ipin::ImuStep> steps;
     for (double t = 1.0; t <= 15.0; t += 0.5) steps.push_back({t, 0.8, std::numbers::pi / 2});
     const ipin::Fix start{5.0, -2, {10.0, 20.0}};
-    const ipin::TrackInput in{steps, {}, {}, {}, 12.0, start, {}};
+    const ipin::TrackInput in{steps, {}, {}, {}, 12.0, start, {}, {}};
     ipin::TrackerConfig config = north_up();
     config.step_scale = 1.0;  // no answer fits a scale: the steps as detected
     const auto est = ipin::track(ipin::Tracker::pdr, in, {}, config);
@@ -144,7 +144,7 @@ struct GnssWalk {
         for (double t = 20.0; t <= w.end_s; t += 1.0) gnss.push_back({t, {Synthetic::truth(t).x, north_m}, 10.0});
     }
     std::vector<ipin::Fix> track(ipin::Tracker tracker, bool with_gnss) const {
-        ipin::TrackInput in{w.steps, w.pressure, {}, {}, w.end_s, start, {}};
+        ipin::TrackInput in{w.steps, w.pressure, {}, {}, w.end_s, start, {}, {}};
         if (with_gnss) in.gnss = gnss;
         return ipin::track(tracker, in, kFloors, north_up());
     }
@@ -199,4 +199,70 @@ TEST(IpinTrack, LogGnssTakesEachFixOnceAndOnlyWithAnAccuracy) {
     EXPECT_EQ(got[0].accuracy_m, 4.0);
     EXPECT_EQ(got[1].t, 3.0);
     EXPECT_EQ(got[1].at.x, 49.2);
+}
+
+TEST(IpinTrack, BeaconFixesAreTheStrongReadingsOfTheMapsBeaconsOncePerInterval) {
+    const std::vector<ipin::Beacon> beacons = {{Bssid("be:ac:20:23:00:01"), 0, {5.0, 6.0}},
+                                               {Bssid("be:ac:20:23:00:04"), -2, {-3.0, 2.0}}};
+    const std::vector<ipin::BleReading> readings = {
+        {1.0, Bssid("BE:AC:20:23:00:01"), -65.0},  // strong: a fix (the MAC as logged, upper case)
+        {1.5, Bssid("be:ac:20:23:00:01"), -60.0},  // within 2 s of the last: the same look
+        {2.0, Bssid("be:ac:20:23:00:04"), -66.0},  // below -65 dBm
+        {2.5, Bssid("be:ac:20:23:00:09"), -50.0},  // not the map's
+        {3.2, Bssid("be:ac:20:23:00:01"), -65.0},  // 2.2 s after the first: a new look, at the threshold
+        {4.0, Bssid("be:ac:20:23:00:04"), -55.0},
+    };
+    const auto got = ipin::beacon_fixes(readings, beacons, ipin::TrackerConfig{});
+    ASSERT_EQ(got.size(), 3u);
+    EXPECT_EQ(got[0].t, 1.0);
+    EXPECT_EQ(got[0].floor, 0);
+    EXPECT_EQ(got[0].at.x, 5.0);
+    EXPECT_EQ(got[1].t, 3.2);
+    EXPECT_EQ(got[2].t, 4.0);
+    EXPECT_EQ(got[2].floor, -2);
+    EXPECT_EQ(got[2].at.y, 2.0);
+}
+
+// GnssWalk's steps and start, with a beacon 8 m north of the walk heard every 3 s from 20 s.
+TEST(IpinTrack, ABeaconPullsKalmanAndTheWalkFilterAndNamesItsFloor) {
+    const GnssWalk walk(0.0);
+    std::vector<ipin::BeaconFix> ble;
+    for (double t = 20.0; t <= walk.w.end_s; t += 3.0) ble.push_back({t, -2, {Synthetic::truth(t).x, 8.0}});
+    const auto run = [&](ipin::Tracker tracker, bool with_ble, const std::vector<fusion::FloorLevel>& floors) {
+        ipin::TrackInput in{walk.w.steps, walk.w.pressure, {}, {}, walk.w.end_s, walk.start, {}, {}};
+        if (with_ble) in.ble = ble;
+        return ipin::track(tracker, in, floors, north_up());
+    };
+    for (const auto tracker : {ipin::Tracker::kalman, ipin::Tracker::walk_pf}) {
+        const auto without = run(tracker, false, {}), with = run(tracker, true, {});
+        ASSERT_EQ(without.size(), with.size());
+        EXPECT_GT(with.back().at.y, without.back().at.y + 3.0) << static_cast<int>(tracker);
+        EXPECT_LT(with.back().at.y, 10.0) << static_cast<int>(tracker);
+        // Without a barometer the beacon's floor is the track's from its first reading on.
+        EXPECT_EQ(without.back().floor, 0);
+        EXPECT_EQ(with.back().floor, -2);
+        for (const auto& e : with) EXPECT_EQ(e.floor, e.t < 20.0 ? 0 : -2) << e.t;
+    }
+    // pdr takes no position measurement but the floor.
+    const auto pdr = run(ipin::Tracker::pdr, true, {}), pdr_without = run(ipin::Tracker::pdr, false, {});
+    ASSERT_EQ(pdr.size(), pdr_without.size());
+    for (std::size_t i = 0; i < pdr.size(); ++i) EXPECT_EQ(pdr[i].at.y, pdr_without[i].at.y);
+}
+
+TEST(IpinTrack, LogBleKeepsEveryBeaconReadingInTimeOrder) {
+    datasets::ipin::Log log;
+    const auto ad = [](double t, const char* mac, double rss) {
+        datasets::ipin::Ble4 b;
+        b.app_s = t;
+        b.mac = Bssid(mac);
+        b.rssi_dbm = rss;
+        return b;
+    };
+    log.ble4 = {ad(2.0, "be:ac:20:23:00:02", -80.0), ad(1.0, "be:ac:20:23:00:01", -60.0), ad(2.0, "be:ac:20:23:00:03", -70.0)};
+    const auto got = ipin::log_ble(log);
+    ASSERT_EQ(got.size(), 3u);
+    EXPECT_EQ(got[0].t, 1.0);
+    EXPECT_EQ(got[0].rss_dbm, -60.0);
+    EXPECT_EQ(got[1].mac, Bssid("be:ac:20:23:00:02"));  // equal times keep the file's order
+    EXPECT_EQ(got[2].mac, Bssid("be:ac:20:23:00:03"));
 }

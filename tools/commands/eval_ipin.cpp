@@ -1,5 +1,5 @@
 // `locus eval ipin DIR --trials GLOB [--method yardstick|wifi|wifi-baro|pdr|walk_pf|all] [--train GLOB]
-// [--server URL --map ID] [--known-start] [--no-gnss] [--no-offset] [--json]`: positioning of the IPIN 2023 walks scored as
+// [--server URL --map ID] [--known-start] [--no-gnss] [--no-ble] [--no-offset] [--json]`: positioning of the IPIN 2023 walks scored as
 // the competition scores them (tools/ipin_eval.hpp, docs/ipin-import.md). Each held-out walk's WiFi
 // scans are localized one by one (an estimate stamped at the scan's AppTimestamp); at each POSI
 // instant the latest estimate at most 0.01 s after it counts; error = horizontal metres + 15 m
@@ -13,7 +13,8 @@
 // answers with their floor replaced by the barometric floor (locus/motion/fusion/baro_floor.hpp: the
 // walk's pressure, the map's floor elevations, each answer's floor as a radio vote), estimates
 // at each scan and every 0.5 s between (the last answer's position, the floor then); `pdr`,
-// `kalman` and `walk_pf` (the default), the walk's IMU fused with those answers, the barometer and GNSS (not with --no-gnss), estimates
+// `kalman` and `walk_pf` (the default), the walk's IMU fused with those answers, the barometer, GNSS (not with --no-gnss) and the
+// map's BLE beacons (not with --no-ble), estimates
 // every 0.5 s from the file's start (tools/ipin_track.hpp). Causal: an estimate at t uses only
 // the samples and answers at or before t. --known-start gives the trackers (and wifi-baro's
 // barometer) the first POSI landmark, as the competition gave its scoring walks' start. The
@@ -59,6 +60,7 @@ struct Args {
     bool known_start = false;
     bool no_gnss = false;
     bool no_offset = false;
+    bool no_ble = false;
     bool json_out = false;
 };
 
@@ -69,6 +71,7 @@ struct LoadedWalk {
     std::vector<datasets::ipin::PressureSample> pressure;
     std::vector<ipin::ImuStep> steps;
     std::vector<ipin::GnssFix> gnss;
+    std::vector<ipin::BleReading> ble;
     double end_s = 0.0;  // the last scan or POSI instant: the trackers' ticks run to here
 };
 
@@ -102,6 +105,7 @@ std::vector<LoadedWalk> load(const std::string& dir, const std::vector<std::stri
         w.pressure = datasets::ipin::pressure_series(log);
         w.steps = ipin::log_steps(log);
         w.gnss = ipin::log_gnss(log, [&](double lat, double lon) { return frame.to_floor({lat, lon}); });
+        w.ble = ipin::log_ble(log);
         w.end_s = std::max(w.walk.scan_times.empty() ? 0.0 : w.walk.scan_times.back(), w.truth.empty() ? 0.0 : w.truth.back().t);
         out.push_back(std::move(w));
     }
@@ -210,14 +214,21 @@ struct MapFloors {
     };
     std::map<long long, Floor> by_id;
     std::vector<fusion::FloorLevel> baro;
+    std::vector<ipin::Beacon> beacons;  // the floors' BLE transmitters, in the venue's frame
 };
 
 MapFloors map_floors(api::Client& client, std::int64_t map, bool want_baro) {
+    const geo::FloorToEarth venue(ipin::venue_georeference());
     MapFloors out;
     for (const auto& b : client.buildings(map))
         for (const auto& f : client.floors(b.id)) {
             MapFloors::Floor fl{f.level, std::nullopt};
             if (const auto ref = georeference_of(client.get("/v1/floors/" + std::to_string(f.id)))) fl.frame.emplace(*ref);
+            for (const auto& t : client.list_all("/v1/floors/" + std::to_string(f.id) + "/transmitters")) {
+                if (t.value("type", "") != "ble" || !t.contains("x") || !t.contains("y")) continue;
+                const Point at{t.at("x").get<double>(), t.at("y").get<double>()};
+                out.beacons.push_back({Bssid(t.value("bssid", "")), f.level, fl.frame ? venue.to_floor(fl.frame->to_geodetic(at)) : at});
+            }
             out.by_id[f.id] = fl;
             if (want_baro)
                 if (const auto level = baro_floor(client, f)) out.baro.push_back(*level);
@@ -282,6 +293,40 @@ std::vector<std::optional<ipin::Fix>> server_answers(api::Client& client, std::i
     return out;
 }
 
+// Where each of the map's beacons is heard near (the check that it is stored where it stands):
+// the readings at or above the trackers' BLE threshold, placed by the walking survey, their
+// centroid and floor (the most frequent), against the stored position. A beacon stored at the
+// wrong place shows as a large `off_m` (docs/ipin-import.md, "The beacons").
+json beacon_check(const std::vector<LoadedWalk>& walks, const std::vector<ipin::Beacon>& beacons, const ipin::TrackerConfig& config) {
+    json out = json::array();
+    for (const auto& b : beacons) {
+        double sx = 0.0, sy = 0.0;
+        std::map<int, std::size_t> floors;
+        std::size_t n = 0;
+        for (const auto& lw : walks) {
+            if (lw.walk.landmarks.empty()) continue;
+            std::vector<double> times;
+            for (const auto& r : lw.ble)
+                if (r.mac == b.mac && r.rss_dbm >= config.ble_min_rss_dbm) times.push_back(r.t);
+            for (const auto& p : survey::place_scans(lw.walk.landmarks, times).placed) {
+                sx += p.where.at.x;
+                sy += p.where.at.y;
+                ++floors[p.where.floor];
+                ++n;
+            }
+        }
+        json row = {{"mac", b.mac.str()}, {"floor", b.floor}, {"x", b.at.x}, {"y", b.at.y}, {"strong_readings", n}};
+        if (n > 0) {
+            const Point c{sx / n, sy / n};
+            const int floor = std::max_element(floors.begin(), floors.end(), [](const auto& a, const auto& z) { return a.second < z.second; })->first;
+            row["heard_near"] = {{"floor", floor}, {"x", c.x}, {"y", c.y}};
+            row["off_m"] = std::hypot(c.x - b.at.x, c.y - b.at.y);
+        }
+        out.push_back(row);
+    }
+    return out;
+}
+
 // The latest estimate at or before each scan (nullopt before the first), for the per-scan figures.
 std::vector<std::optional<ipin::Fix>> at_scans(const std::vector<ipin::Fix>& estimates, const std::vector<double>& scan_t) {
     std::vector<std::optional<ipin::Fix>> out(scan_t.size());
@@ -322,12 +367,14 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
     } else if (m == "wifi-baro") {
         return with_baro_floor(lw, answers, c.floors.baro, start ? std::optional<int>(start->floor) : std::nullopt, estimates);
     } else {
-        ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, tracked, lw.end_s, start, {}};
-        if (!c.args.no_gnss) in.gnss = lw.gnss;
         // The venue's frame is the georeference's: its +y axis at bearing_deg from true north, so
         // a compass azimuth ψ is ψ − bearing in it (magnetic declination, ~3° here, ignored).
         ipin::TrackerConfig config;
         config.compass_offset_rad = -ipin::venue_georeference().bearing_deg * std::numbers::pi / 180.0;
+        const std::vector<ipin::BeaconFix> ble =
+            c.args.no_ble ? std::vector<ipin::BeaconFix>{} : ipin::beacon_fixes(lw.ble, c.floors.beacons, config);
+        ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, tracked, lw.end_s, start, {}, ble};
+        if (!c.args.no_gnss) in.gnss = lw.gnss;
         const ipin::Tracker tracker = m == "pdr" ? ipin::Tracker::pdr : m == "kalman" ? ipin::Tracker::kalman : ipin::Tracker::walk_pf;
         estimates = ipin::track(tracker, in, c.floors.baro, config);
         return at_scans(estimates, lw.walk.scan_times);
@@ -422,7 +469,8 @@ void run(const Args& a) {
         }
         trials.push_back(row);
     }
-    json out = {{"default", methods.back()}, {"known_start", a.known_start}, {"gnss", !a.no_gnss}, {"offset", !a.no_offset}, {"pooled", json::object()}, {"trials", trials}};
+    json out = {{"default", methods.back()}, {"known_start", a.known_start}, {"gnss", !a.no_gnss}, {"ble", !a.no_ble}, {"offset", !a.no_offset}, {"pooled", json::object()}, {"trials", trials}};
+    if (want_server) out["beacons"] = beacon_check(test, c.floors.beacons, ipin::TrackerConfig{});
     for (const auto& m : methods) {
         json f = ipin::figures(pooled[m]);
         f["scans"] = ipin::figures(pooled_scans[m]);
@@ -448,12 +496,13 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     cmd->add_option("--train", a->train, "the yardstick's walks (a glob, as --trials)");
     cmd->add_option("--method", a->method,
                     "yardstick, wifi (the server's answer), wifi-baro (its floor from the barometer), pdr, kalman, walk_pf "
-                    "(the trackers: IMU, WiFi and barometer; walk_pf the default) or all (the default last)")
+                    "(the trackers: IMU, WiFi, barometer, GNSS and BLE; walk_pf the default) or all (the default last)")
         ->capture_default_str()
         ->check(CLI::IsMember({"yardstick", "wifi", "wifi-baro", "pdr", "kalman", "walk_pf", "all"}));
     cmd->add_flag("--known-start", a->known_start,
                   "give the trackers (and wifi-baro's floor) the first POSI landmark's position, floor and time");
     cmd->add_flag("--no-gnss", a->no_gnss, "the trackers without the logs' GNSS fixes");
+    cmd->add_flag("--no-ble", a->no_ble, "the trackers without the logs' readings of the map's BLE beacons");
     cmd->add_flag("--no-offset", a->no_offset, "the trackers' scans sent as read, without the phone's RSS offset learnt online");
     cmd->add_option("--map", a->map, "map id (for wifi and wifi-baro)");
     cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");

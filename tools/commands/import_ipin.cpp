@@ -168,16 +168,23 @@ void run(const Args& a) {
     for (const auto& b : beacons) {
         const std::int64_t fid = floor_ids.at(b.floor);
         const Point at = frame.to_floor({b.lat, b.lon});
-        const json body = {{"name", b.name}, {"type", "ble"}, {"bssid", ipin::beacon_mac(b.number)},
+        const std::string mac = ipin::beacon_mac(ipin::logged_beacon(b.number));
+        const json body = {{"name", b.name}, {"type", "ble"}, {"bssid", mac},
                            {"x", at.x},      {"y", at.y},     {"tx_power", kBeaconTxPower}};
-        const auto it = existing[fid].find(ipin::beacon_mac(b.number));
+        // By its MAC, else by its name: a map imported when BLE2 and BLE3 had the MACs of their
+        // numbers (ipin::logged_beacon) has its rows moved to the right MAC, not doubled.
+        auto it = existing[fid].find(mac);
+        if (it == existing[fid].end())
+            it = std::find_if(existing[fid].begin(), existing[fid].end(),
+                              [&](const auto& row) { return row.second.value("name", "") == b.name; });
         try {
             if (it == existing[fid].end()) {
                 client.post("/v1/floors/" + std::to_string(fid) + "/transmitters", body);
                 ++tx_created;
-            } else if (it->second.value("name", "") != b.name || !near(it->second, "x", at.x) || !near(it->second, "y", at.y)) {
+            } else if (it->first != mac || it->second.value("name", "") != b.name || !near(it->second, "x", at.x) ||
+                       !near(it->second, "y", at.y)) {
                 client.patch("/v1/transmitters/" + std::to_string(it->second.at("id").get<std::int64_t>()),
-                             {{"name", b.name}, {"x", at.x}, {"y", at.y}});
+                             {{"name", b.name}, {"bssid", mac}, {"x", at.x}, {"y", at.y}});
                 ++tx_updated;
             } else {
                 ++tx_unchanged;
