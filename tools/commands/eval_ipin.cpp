@@ -37,6 +37,7 @@
 #include "ipin_eval.hpp"
 #include "ipin_track.hpp"
 #include "ipin_venue.hpp"
+#include "ipin_walk.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
 #include "locus/motion/fusion/walk_runner.hpp"
 #include "locus/match/device_offset.hpp"
@@ -64,62 +65,8 @@ struct Args {
     bool json_out = false;
 };
 
-struct LoadedWalk {
-    std::string label, phone;
-    Walk walk;
-    std::vector<ipin::Fix> truth;  // POSI instants on the venue's floors
-    std::vector<datasets::ipin::PressureSample> pressure;
-    std::vector<ipin::ImuStep> steps;
-    std::vector<ipin::GnssFix> gnss;
-    std::vector<ipin::BleReading> ble;
-    double end_s = 0.0;  // the last scan or POSI instant: the trackers' ticks run to here
-};
-
-std::vector<LoadedWalk> load(const std::string& dir, const std::vector<std::string>& globs) {
-    std::vector<std::string> files;
-    try {
-        files = ipin::trial_files(dir, globs);
-    } catch (const std::runtime_error& e) {
-        throw CommandError(e.what());
-    }
-    if (files.empty()) throw CommandError("no file of '" + dir + "/trials' matches the globs given");
-    const geo::FloorToEarth frame(ipin::venue_georeference());
-    std::vector<LoadedWalk> out;
-    for (const auto& path : files) {
-        datasets::ipin::Log log;
-        try {
-            log = datasets::ipin::read_log(path);
-        } catch (const datasets::ipin::LogError& e) {
-            throw CommandError(e.what());
-        }
-        LoadedWalk w;
-        w.label = ipin::trial_label(path);
-        w.phone = log.header.model;
-        w.walk.source = path;
-        w.walk.stem = w.label;
-        std::size_t dropped = 0;
-        w.walk.landmarks = landmarks_of_posi(
-            log, [&](int, double lat, double lon) -> std::optional<Point> { return frame.to_floor({lat, lon}); }, dropped);
-        for (const auto& l : w.walk.landmarks) w.truth.push_back({l.t, l.floor, l.at});
-        add_wifi_scans(log, w.walk);
-        w.pressure = datasets::ipin::pressure_series(log);
-        w.steps = ipin::log_steps(log);
-        w.gnss = ipin::log_gnss(log, [&](double lat, double lon) { return frame.to_floor({lat, lon}); });
-        w.ble = ipin::log_ble(log);
-        w.end_s = std::max(w.walk.scan_times.empty() ? 0.0 : w.walk.scan_times.back(), w.truth.empty() ? 0.0 : w.truth.back().t);
-        out.push_back(std::move(w));
-    }
-    return out;
-}
-
-// Where each scan of a walk is, by the walking survey; nullopt where it is not placed.
-std::vector<std::optional<ipin::Fix>> scan_truth(const Walk& w) {
-    std::vector<std::optional<ipin::Fix>> out(w.scans.size());
-    if (w.landmarks.empty()) return out;
-    const auto placed = survey::place_scans(w.landmarks, w.scan_times);
-    for (const auto& p : placed.placed) out[p.scan] = ipin::Fix{p.t, p.where.floor, p.where.at};
-    return out;
-}
+using ipin::LoadedWalk;
+using ipin::MapFloors;
 
 // The yardstick's index over the training walks' placed scans, one RP per scan.
 struct Yardstick {
@@ -131,7 +78,7 @@ Yardstick yardstick(const std::vector<LoadedWalk>& train) {
     std::vector<match::IndexedRp> rps;
     double min_rss = 0.0;
     for (const auto& lw : train) {
-        const auto truth = scan_truth(lw.walk);
+        const auto truth = ipin::scan_truth(lw.walk);
         for (std::size_t i = 0; i < truth.size(); ++i) {
             if (!truth[i]) continue;
             match::IndexedRp r;
@@ -158,15 +105,6 @@ Yardstick yardstick(const std::vector<LoadedWalk>& train) {
     return y;
 }
 
-// A map's floor as the barometric estimator takes it: level, elevation_m, and whether the floor
-// has a radio map (the server cannot answer a floor without one). A floor without an elevation
-// cannot be placed by pressure and is left out (nullopt).
-std::optional<fusion::FloorLevel> baro_floor(api::Client& client, const api::FloorInfo& f) {
-    const json stored = client.get("/v1/floors/" + std::to_string(f.id));
-    const auto e = stored.find("elevation_m");
-    if (e == stored.end() || !e->is_number()) return std::nullopt;
-    return fusion::FloorLevel{f.level, e->get<double>(), !client.radiomaps(f.id).empty()};
-}
 
 // wifi-baro: each server answer's floor replaced by the barometric floor. The events of the
 // walk (pressure samples, scans, the 2 Hz ticks) are taken in time order, pressure first and a
@@ -205,93 +143,6 @@ std::vector<std::optional<ipin::Fix>> with_baro_floor(const LoadedWalk& lw, cons
     return per_scan;
 }
 
-// The map's floors as the server holds them: level, the floor's own frame (to bring its
-// answers into the venue's one frame through the Earth) and, for the barometer, its elevation.
-struct MapFloors {
-    struct Floor {
-        int level = 0;
-        std::optional<geo::FloorToEarth> frame;
-    };
-    std::map<long long, Floor> by_id;
-    std::vector<fusion::FloorLevel> baro;
-    std::vector<ipin::Beacon> beacons;  // the floors' BLE transmitters, in the venue's frame
-};
-
-MapFloors map_floors(api::Client& client, std::int64_t map, bool want_baro) {
-    const geo::FloorToEarth venue(ipin::venue_georeference());
-    MapFloors out;
-    for (const auto& b : client.buildings(map))
-        for (const auto& f : client.floors(b.id)) {
-            MapFloors::Floor fl{f.level, std::nullopt};
-            if (const auto ref = georeference_of(client.get("/v1/floors/" + std::to_string(f.id)))) fl.frame.emplace(*ref);
-            for (const auto& t : client.list_all("/v1/floors/" + std::to_string(f.id) + "/transmitters")) {
-                if (t.value("type", "") != "ble" || !t.contains("x") || !t.contains("y")) continue;
-                const Point at{t.at("x").get<double>(), t.at("y").get<double>()};
-                out.beacons.push_back({Bssid(t.value("bssid", "")), f.level, fl.frame ? venue.to_floor(fl.frame->to_geodetic(at)) : at});
-            }
-            out.by_id[f.id] = fl;
-            if (want_baro)
-                if (const auto level = baro_floor(client, f)) out.baro.push_back(*level);
-        }
-    if (out.by_id.empty()) throw CommandError("map " + std::to_string(map) + " has no floor");
-    return out;
-}
-
-// The RPs' fingerprints (mean RSS by AP), read from the server once each.
-class RpFingerprints {
-public:
-    explicit RpFingerprints(api::Client& client) : client_(client) {}
-    // The mean of the RPs' means, AP by AP (over the RPs that hear it).
-    match::Fingerprint of(const std::vector<long long>& rp_ids) {
-        std::unordered_map<std::string, std::pair<double, int>> sum;
-        for (const long long id : rp_ids) {
-            auto it = cache_.find(id);
-            if (it == cache_.end()) {
-                match::Fingerprint fp;
-                for (const auto& m : client_.rp(id).measurements) fp[m.bssid.str()] = m.stats.mean;
-                it = cache_.emplace(id, std::move(fp)).first;
-            }
-            for (const auto& [ap, mean] : it->second) {
-                sum[ap].first += mean;
-                ++sum[ap].second;
-            }
-        }
-        match::Fingerprint out;
-        for (const auto& [ap, s] : sum) out[ap] = s.first / s.second;
-        return out;
-    }
-
-private:
-    api::Client& client_;
-    std::unordered_map<long long, match::Fingerprint> cache_;
-};
-
-// The server's answer to each scan of a walk, in the venue's frame; nullopt where it had none.
-// With `offset`, each scan is sent with the phone's offset learnt from the scans before it
-// (match::DeviceOffset, each answer's RPs the fingerprint it is compared with).
-std::vector<std::optional<ipin::Fix>> server_answers(api::Client& client, std::int64_t map, const MapFloors& floors,
-                                                     const LoadedWalk& lw, match::DeviceOffset* offset = nullptr,
-                                                     RpFingerprints* fingerprints = nullptr) {
-    const geo::FloorToEarth venue(ipin::venue_georeference());
-    std::vector<std::optional<ipin::Fix>> out(lw.walk.scans.size());
-    for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) {
-        api::LocalizeRequest req;
-        req.scans = {lw.walk.scans[i]};
-        if (offset)
-            for (auto& r : req.scans.front()) r.rss += offset->offset_db();
-        try {
-            const auto r = client.localize_map(map, req);
-            if (offset && fingerprints && !r.rp_ids.empty()) offset->add(lw.walk.scans[i], fingerprints->of(r.rp_ids));
-            const auto it = floors.by_id.find(r.floor_id);
-            if (it == floors.by_id.end()) continue;
-            const Point at = it->second.frame ? venue.to_floor(it->second.frame->to_geodetic(r.at)) : r.at;
-            out[i] = ipin::Fix{lw.walk.scan_times[i], it->second.level, at};
-        } catch (const api::ApiError& err) {
-            if (err.status() / 100 != 4) throw;  // 4xx: no answer for this scan (e.g. no AP known)
-        }
-    }
-    return out;
-}
 
 // Where each of the map's beacons is heard near (the check that it is stored where it stands):
 // the readings at or above the trackers' BLE threshold, placed by the walking survey, their
@@ -352,8 +203,6 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
                                                  const std::vector<std::optional<ipin::Fix>>& answers,
                                                  const std::vector<std::optional<ipin::Fix>>& tracked, Context& c,
                                                  std::vector<ipin::Fix>& estimates) {
-    const std::optional<ipin::Fix> start =
-        c.args.known_start && !lw.truth.empty() ? std::optional<ipin::Fix>(lw.truth.front()) : std::nullopt;
     std::vector<std::optional<ipin::Fix>> per_scan;
     if (m == "yardstick") {
         per_scan.resize(lw.walk.scans.size());
@@ -365,18 +214,12 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
     } else if (m == "wifi") {
         per_scan = answers;
     } else if (m == "wifi-baro") {
-        return with_baro_floor(lw, answers, c.floors.baro, start ? std::optional<int>(start->floor) : std::nullopt, estimates);
+        const std::optional<int> start_floor =
+            c.args.known_start && !lw.truth.empty() ? std::optional<int>(lw.truth.front().floor) : std::nullopt;
+        return with_baro_floor(lw, answers, c.floors.baro, start_floor, estimates);
     } else {
-        // The venue's frame is the georeference's: its +y axis at bearing_deg from true north, so
-        // a compass azimuth ψ is ψ − bearing in it (magnetic declination, ~3° here, ignored).
-        ipin::TrackerConfig config;
-        config.compass_offset_rad = -ipin::venue_georeference().bearing_deg * std::numbers::pi / 180.0;
-        const std::vector<ipin::BeaconFix> ble =
-            c.args.no_ble ? std::vector<ipin::BeaconFix>{} : ipin::beacon_fixes(lw.ble, c.floors.beacons, config);
-        ipin::TrackInput in{lw.steps, lw.pressure, lw.walk.scan_times, tracked, lw.end_s, start, {}, ble};
-        if (!c.args.no_gnss) in.gnss = lw.gnss;
         const ipin::Tracker tracker = m == "pdr" ? ipin::Tracker::pdr : m == "kalman" ? ipin::Tracker::kalman : ipin::Tracker::walk_pf;
-        estimates = ipin::track(tracker, in, c.floors.baro, config);
+        estimates = ipin::run_tracker(tracker, lw, tracked, c.floors, {c.args.known_start, !c.args.no_gnss, !c.args.no_ble});
         return at_scans(estimates, lw.walk.scan_times);
     }
     for (const auto& f : per_scan)
@@ -408,9 +251,9 @@ void run(const Args& a) {
     const bool want_baro = want_server && a.method != "wifi";
     if (want_yardstick && a.train.empty()) throw CommandError("--method " + a.method + " needs --train GLOB (the yardstick's walks)");
     if (want_server && a.map <= 0) throw CommandError("--method " + a.method + " needs --map ID (and --server URL)");
-    const auto test = load(a.dir, a.trials);
+    const auto test = ipin::load_walks(a.dir, a.trials);
     Context c{a, std::nullopt, {}, {}};
-    if (want_yardstick) c.ys = yardstick(load(a.dir, a.train));
+    if (want_yardstick) c.ys = yardstick(ipin::load_walks(a.dir, a.train));
     const bool want_trackers = std::any_of(methods.begin(), methods.end(), [](const std::string& m) {
         return m == "pdr" || m == "kalman" || m == "walk_pf";
     });
@@ -419,11 +262,11 @@ void run(const Args& a) {
                                                       return m == "wifi" || m == "wifi-baro";
                                                   }));
     std::optional<api::Client> client;
-    std::optional<RpFingerprints> fingerprints;
+    std::optional<ipin::RpFingerprints> fingerprints;
     if (want_server) {
         client.emplace(a.server.client_options());
         fingerprints.emplace(*client);
-        c.floors = map_floors(*client, a.map, want_baro);
+        c.floors = ipin::map_floors(*client, a.map, want_baro);
         if (want_baro && c.floors.baro.empty())
             throw CommandError("--method " + a.method + " needs the map's floors' elevation_m (none has one)");
     }
@@ -433,16 +276,16 @@ void run(const Args& a) {
     for (const auto& lw : test) {
         std::cerr << "evaluating " << lw.label << " (" << lw.phone << ", " << lw.walk.scans.size() << " scans, "
                   << lw.steps.size() << " steps)\n";
-        const auto truth_of_scan = scan_truth(lw.walk);
+        const auto truth_of_scan = ipin::scan_truth(lw.walk);
         // The server's answers to the scans as read, asked once for every method that uses them
         // (wifi, wifi-baro, and the trackers with --no-offset).
-        const auto answers = want_raw_answers ? server_answers(*client, a.map, c.floors, lw) : std::vector<std::optional<ipin::Fix>>{};
+        const auto answers = want_raw_answers ? ipin::server_answers(*client, a.map, c.floors, lw) : std::vector<std::optional<ipin::Fix>>{};
         json row = {{"trial", lw.label}, {"phone", lw.phone}, {"methods", json::object()}};
         // The trackers' answers: each scan with the offset this walk's earlier scans taught.
         std::vector<std::optional<ipin::Fix>> tracked = answers;
         if (learns_offset) {
             match::DeviceOffset offset;
-            tracked = server_answers(*client, a.map, c.floors, lw, &offset, &*fingerprints);
+            tracked = ipin::server_answers(*client, a.map, c.floors, lw, &offset, &*fingerprints);
             row["offset_db"] = offset.offset_db();
             row["offset_looks"] = offset.looks();
         }
