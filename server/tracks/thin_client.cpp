@@ -33,6 +33,16 @@ RadioFix ranged_scan_fix(ScanLocalizer& localizer, std::int64_t map_id, FusionMe
     return f;
 }
 
+// The floors' georeferences, for the run's GNSS fixes.
+class RunGeo : public RunSources {
+public:
+    explicit RunGeo(ScanLocalizer& localizer) : localizer_(localizer) {}
+    std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return localizer_.georeference(floor_id); }
+
+private:
+    ScanLocalizer& localizer_;
+};
+
 }  // namespace
 
 StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLocalizer& localizer) {
@@ -59,8 +69,9 @@ StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLo
         if (!r.unplaced) placed.push_back(r);
     if (const auto floor = svc.misplaced_floor(id, placed))
         throw ForeignFloor("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
+    RunGeo geo(localizer);
     try {
-        std::tie(done.posted, done.fused) = svc.post_raw(id, in.steps, radio, in.pressure, std::move(anchors));
+        std::tie(done.posted, done.fused) = svc.post_raw(id, in.steps, radio, in.pressure, in.gnss, std::move(anchors), &geo);
     } catch (const CannotFuse&) {
         throw;
     } catch (const std::invalid_argument& e) {

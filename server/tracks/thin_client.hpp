@@ -3,8 +3,10 @@
 // steps, radio fixes and WiFi/BLE scans in, the track's filter's fused fixes out (and stored).
 // Each scan becomes a radio fix: matched on the map's radio map (the particle filters), or
 // ranged on the map's transmitters (the Kalman methods, ekf_ranging), whose readings of known
-// transmitters are also ekf_ranging's measurements. The localizers themselves are the HTTP
-// layer's (the localize endpoint's matcher and ranging), behind ScanLocalizer.
+// transmitters are also ekf_ranging's measurements. GNSS fixes are converted on the track's
+// floor through its georeference, during the run. The localizers and georeferences themselves
+// are the HTTP layer's (the localize endpoint's matcher and ranging, the floors' georeference
+// cache), behind ScanLocalizer.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -13,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "locus/geo/georeference.hpp"
 #include "locus/geometry.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "tracks/fusion.hpp"
@@ -47,6 +50,8 @@ public:
     // The map's known transmitters, each floor's, as ekf_ranging's anchors.
     virtual std::shared_ptr<const FloorAnchors> anchors(std::int64_t map_id) = 0;
     virtual MatchedScan match(std::int64_t map_id, const TimedScan& scan) = 0;
+    // A floor's georeference (null: none), for GNSS.
+    virtual std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) = 0;
     // By multilateration, else by the Kalman-fusion paper's trilateration.
     virtual RangedScan range(std::int64_t map_id, const TimedScan& scan, bool multilateration, bool with_readings) = 0;
 };
@@ -66,7 +71,8 @@ struct StepsDone {
 // written unless every part is good. Throws CannotFuse (code, message) for a batch the
 // filter cannot take, a Kalman track's scan that cannot be ranged (ekf_ranging: only before
 // its filter runs) included; ForeignFloor; and the Service's Refused. Costs the localizing of
-// each scan, plus a read of the map's transmitters (cached) for a Kalman or live ekf_ranging track.
+// each scan, plus a read of the map's transmitters (cached) for a Kalman or live ekf_ranging
+// track.
 StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLocalizer& localizer);
 
 }  // namespace locus::tracks
