@@ -27,12 +27,14 @@
 // building taken to share one frame (as `locus import ipin` makes them). Without pressure
 // samples, or on a building whose floors have no elevations, floors change at radio fixes alone.
 //
-// GNSS (docs/tracks.md, "GNSS and the phone's offset"). A GNSS fix names
+// GNSS and the phone's offset (docs/tracks.md, "GNSS and the phone's offset"). A GNSS fix names
 // no floor: it is taken on the filter's floor, through that floor's georeference (a floor with
 // none takes no GNSS), as a position measurement of σ its accuracy, at least
 // fusion::kGnssMinSigmaM, one per fusion::kGnssMinIntervalS at most, gated for the Kalman
 // methods (the settings `locus eval ipin`'s trackers run, locus/motion/fusion/gnss.hpp). It never
-// starts the filter.
+// starts the filter. A walk_pf track also learns its phone's RSS offset (match::DeviceOffset),
+// held here with the filter so that it is taught once per scan, in time order, and starts afresh
+// where the filter does (a resume at a stored fix).
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -45,6 +47,7 @@
 #include <string>
 
 #include "locus/geo/georeference.hpp"
+#include "locus/match/device_offset.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
 #include "locus/motion/fusion/gnss.hpp"
 #include "locus/motion/fusion/kalman.hpp"
@@ -146,6 +149,12 @@ public:
     void set_anchors(std::shared_ptr<const FloorAnchors> anchors) { anchors_ = std::move(anchors); }
     // The latest t this filter has run (nullopt before its first input).
     std::optional<double> done_t() const { return done_t_; }
+    // walk_pf: the phone's RSS offset learnt from the track's scans so far, which the caller adds
+    // to each new scan before localizing it and then teaches with the answer (only a scan after
+    // done_t(): a retried one taught it already). Copied with the filter, so a refused request
+    // teaches nothing.
+    match::DeviceOffset& rss_offset() { return rss_offset_; }
+    const match::DeviceOffset& rss_offset() const { return rss_offset_; }
     // Bytes this track's filter holds (not the floor's plan, which the floor's tracks share).
     std::size_t memory_bytes() const;
     // Starts the filter at a fix the track already stored (its latest), as if it were a radio
@@ -199,6 +208,7 @@ private:
     std::int64_t baro_asked_floor_ = 0;         // the floor levels_of was last asked for (0: never)
     std::optional<double> pressure_done_t_;   // the latest pressure sample run so far
     std::optional<double> gnss_t_;             // the latest GNSS fix the interval let through
+    match::DeviceOffset rss_offset_;
 };
 
 // The radio fix's covariance: its accuracy as a 1-sigma radius.

@@ -85,7 +85,19 @@ std::vector<Fix> FusionSessions::Run::run(FusionMethod method, const FusionOptio
                       : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id_), options);
     next_->set_anchors(std::move(anchors));
     if (!continues && latest) next_->resume(*latest, walkable_of);
-    return next_->run(steps, radio, pressure, gnss, walkable_of, Floors{sessions_, sources});
+    // The scans are localized only now: each with the offset this very filter has learnt.
+    std::vector<RadioFix> merged;
+    const std::vector<RadioFix>* all = &radio;
+    if (sources) {
+        std::vector<Fix> placed = sources->scans(next_->rss_offset(), next_->done_t());
+        if (!placed.empty()) {
+            merged = radio;
+            for (const Fix& f : placed) merged.emplace_back(f);
+            std::stable_sort(merged.begin(), merged.end(), [](const RadioFix& a, const RadioFix& b) { return a.t < b.t; });
+            all = &merged;
+        }
+    }
+    return next_->run(steps, *all, pressure, gnss, walkable_of, Floors{sessions_, sources});
 }
 
 void FusionSessions::Run::keep() {

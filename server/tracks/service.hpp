@@ -75,8 +75,8 @@ public:
     // stored as the track's fixes; answers them with the post's counts. std::invalid_argument
     // when the filter cannot run (steps before any fix; no plan for particle). `anchors`:
     // ekf_ranging's, the map's known transmitters (tracks/fusion.hpp), else unused. `sources`:
-    // the floors' georeferences (tracks/run_sources.hpp), asked during the run with the
-    // sessions' lock held; whatever it throws passes through, nothing written.
+    // the floors' georeferences and walk_pf's scans (tracks/run_sources.hpp), asked during the
+    // run with the sessions' lock held; whatever it throws passes through, nothing written.
     std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
                                                  const std::vector<Pressure>& pressure = {}, const std::vector<Gnss>& gnss = {},
                                                  std::shared_ptr<const FloorAnchors> anchors = nullptr, RunSources* sources = nullptr);

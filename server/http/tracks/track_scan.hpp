@@ -29,8 +29,9 @@ public:
 
     std::shared_ptr<const tracks::FloorAnchors> anchors(std::int64_t map_id) override;
     // Throws ApiError 422 invalid_field for a scan with no reading, 422 no_match when no RP
-    // of the map shares an AP with it (naming the scan).
-    tracks::MatchedScan match(std::int64_t map_id, const tracks::TimedScan& scan) override;
+    // of the map shares an AP with it (naming the scan). With an offset, the fingerprint costs a
+    // walk over the postings of the scan's APs.
+    tracks::MatchedScan match(std::int64_t map_id, const tracks::TimedScan& scan, std::optional<double> rss_offset_db) override;
     std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return geo_.of_floor(floor_id); }
     // A ranging refusal (422 too_few_transmitters, no_fix) is answered, not thrown, its message
     // naming the scan; a scan with no reading throws 422 invalid_field.

@@ -42,6 +42,7 @@ void App::install_track_step_routes() {
                 for (const auto& f : done.scan_fixes) scan_fixes.push_back(fix_json(f, geo));
                 out["scan_fixes"] = std::move(scan_fixes);
             }
+            if (done.rss_offset_db) out["rss_offset_db"] = *done.rss_offset_db;
             if (done.posted.latest) out["latest"] = fix_json(*done.posted.latest, geo);
             return std::pair{200, out};
         });
