@@ -6,7 +6,8 @@
 // kMaxFixesPerRequest items, at least one for the steps; every list in time order, every
 // number finite and in its range (headings in [0, 360), step lengths in [0, 3] m, accuracies
 // in [0, 10 000] m), every fix on a positive floor id, every scan with readings, every pressure in
-// [300, 1200] hPa and at most kMaxPressurePerRequest of them.
+// [300, 1200] hPa and at most kMaxPressurePerRequest of them, every GNSS fix's latitude in
+// [-90, 90], longitude in [-180, 180] and accuracy in (0, 10 000] m, at most kMaxGnssPerRequest.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -83,10 +84,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     refused_or([&] {
         const auto in = parse_steps_request(parse_object(body), kRetentionS);
         const std::size_t n = in.steps.size() + in.fixes.size() + in.scans.size();
-        check(n + in.pressure.size() >= 1 && n <= kMaxFixesPerRequest, "a steps batch of a size outside 1..1000", body);
+        check(n + in.pressure.size() + in.gnss.size() >= 1 && n <= kMaxFixesPerRequest, "a steps batch of a size outside 1..1000", body);
         check(in.pressure.size() <= kMaxPressurePerRequest, "more pressure samples than a request takes", body);
         for (const auto& p : in.pressure)
             check(std::isfinite(p.t) && p.hpa >= kMinPressureHpa && p.hpa <= kMaxPressureHpa, "a pressure outside [300, 1200] hPa", body);
+        check(in.gnss.size() <= kMaxGnssPerRequest, "more GNSS fixes than a request takes", body);
+        for (const auto& g : in.gnss) {
+            check(std::isfinite(g.t) && g.lat >= -90 && g.lat <= 90 && g.lon >= -180 && g.lon <= 180, "a GNSS fix off the Earth", body);
+            check(g.accuracy_m > 0 && g.accuracy_m <= kMaxGnssAccuracyM, "a GNSS fix's accuracy_m outside (0, 10000]", body);
+        }
         for (const auto& s : in.steps) {
             check(std::isfinite(s.t) && s.length_m >= 0 && s.length_m <= 3, "a step's length outside [0, 3] m", body);
             check(heading_ok(s.heading_deg), "a step's heading outside [0, 360)", body);
@@ -97,6 +103,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         check_in_time_order(in.fixes, body);
         check_in_time_order(in.scans, body);
         check_in_time_order(in.pressure, body);
+        check_in_time_order(in.gnss, body);
     }, body);
     return 0;
 }

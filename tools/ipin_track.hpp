@@ -32,6 +32,7 @@
 #include "ipin_eval.hpp"
 #include "phone_steps.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
+#include "locus/motion/fusion/gnss.hpp"
 #include "locus/motion/fusion/kalman.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
 
@@ -81,16 +82,13 @@ struct TrackerConfig {
     double step_scale = 0.9;  // pdr and kalman: the steps' scale until the answers fit one (walk_pf's prior)
     double answer_sigma_m = 6.0;  // σ of a WiFi answer for the filters (the walk filter takes at least its own)
     double tick_s = 0.5;          // the competition's 2 Hz
-    // GNSS indoors: the receiver's accuracy is honest on the ground floor (3-5 m off) and
-    // optimistic below it (~10 m, tail 17-26 m: the data set's README), so a fix's σ is its
-    // accuracy, at least gnss_min_sigma_m (chosen on the folds, docs/results.md); kalman drops a fix beyond gnss_gate Mahalanobis
-    // units (χ², 2 dof: 9.21 is 99 %), walk_pf's outlier floor keeps a far fix from ruling.
-    double gnss_min_sigma_m = 10.0;
-    double gnss_gate = 9.21;
-    // One fix per this many seconds at most: a receiver's indoor errors last (multipath moves
-    // slowly), so its fixes a second apart are not independent looks (docs/results.md: every
-    // fix at σ ≥ 5 m cost walk_pf 1.7 m of p75 on fold 01).
-    double gnss_min_interval_s = 10.0;
+    // GNSS indoors (locus/motion/fusion/gnss.hpp, the settings the server's live tracks share):
+    // a fix's σ is its accuracy, at least gnss_min_sigma_m; kalman drops a fix beyond gnss_gate
+    // Mahalanobis units, walk_pf's outlier floor keeps a far fix from ruling; one fix per
+    // gnss_min_interval_s at most.
+    double gnss_min_sigma_m = fusion::kGnssMinSigmaM;
+    double gnss_gate = fusion::kGnssGateChi2;
+    double gnss_min_interval_s = fusion::kGnssMinIntervalS;
     // BLE: on these walks a reading at -65 dBm or more was heard within 6 m of its beacon at
     // p75 (median 3 m) and from another floor twice in ~300; at -65 to -70 dBm the p75 is 9 m
     // and weaker readings say little (median 12-24 m) (docs/results.md, "BLE beacons": the

@@ -1,6 +1,6 @@
 #pragma once
-// What a track holds: fused fixes; and what a thin client posts instead: PDR steps and its
-// barometer's pressure.
+// What a track holds: fused fixes; and what a thin client posts instead: PDR steps, its
+// barometer's pressure and its GNSS receiver's fixes.
 #include <cstdint>
 #include <optional>
 
@@ -23,6 +23,14 @@ struct Step {
 struct Pressure {
     double t = 0;
     double hpa = 0;  // hectopascal (= mbar)
+};
+
+// A GNSS fix as the receiver gives it: WGS84, no floor (the track's filter takes it on its
+// current floor, through that floor's georeference: docs/tracks.md).
+struct Gnss {
+    double t = 0;
+    double lat = 0, lon = 0;  // degrees
+    double accuracy_m = 0;    // the receiver's own, its 68 % radius
 };
 
 }  // namespace locus::tracks

@@ -94,6 +94,28 @@ void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resume
     floor_id_ = r.floor_id;
 }
 
+bool ThinFusion::gnss_update(Point at, double sigma_m) {
+    const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * (sigma_m * sigma_m);
+    // The Kalman methods drop a fix beyond the gate, as `locus eval ipin`'s kalman does; the
+    // particle filters' outlier floor keeps a far fix from ruling them.
+    const auto within_gate = [&](Point p, const Eigen::Matrix2d& p_cov) {
+        const Eigen::Vector2d d(at.x - p.x, at.y - p.y);
+        return d.dot((p_cov + r).inverse() * d) <= fusion::kGnssGateChi2;
+    };
+    if (ekf_) {
+        if (!within_gate(ekf_->position(), ekf_->position_covariance())) return false;
+        ekf_->update_position(at, r);
+    } else if (kalman_) {
+        if (!within_gate(kalman_->position(), kalman_->covariance())) return false;
+        kalman_->update(at, r);
+    } else if (walk_) {
+        walk_->fix(at, r);
+    } else {
+        filter_->update(at, r);
+    }
+    return true;
+}
+
 std::optional<int> ThinFusion::baro_index(std::int64_t floor_id) const {
     const auto it = std::find(baro_ids_.begin(), baro_ids_.end(), floor_id);
     if (it == baro_ids_.end()) return std::nullopt;

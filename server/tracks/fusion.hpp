@@ -26,6 +26,16 @@
 // (no plan, or none to that floor), the change happens where the walker is, the floors of a
 // building taken to share one frame (as `locus import ipin` makes them). Without pressure
 // samples, or on a building whose floors have no elevations, floors change at radio fixes alone.
+//
+// GNSS and the phone's offset (docs/tracks.md, "GNSS and the phone's offset"). A GNSS fix names
+// no floor: it is taken on the filter's floor, through that floor's georeference (a floor with
+// none takes no GNSS), as a position measurement of σ its accuracy, at least
+// fusion::kGnssMinSigmaM, one per fusion::kGnssMinIntervalS at most, gated for the Kalman
+// methods (the settings `locus eval ipin`'s trackers run, locus/motion/fusion/gnss.hpp). It never
+// starts the filter. A walk_pf track also learns its phone's RSS offset (match::DeviceOffset),
+// held here with the filter so that it is taught once per scan, in time order, and starts afresh
+// where the filter does (a resume at a stored fix).
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -36,7 +46,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "locus/geo/georeference.hpp"
+#include "locus/match/device_offset.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
+#include "locus/motion/fusion/gnss.hpp"
 #include "locus/motion/fusion/kalman.hpp"
 #include "locus/motion/fusion/particle_filter.hpp"
 #include "locus/motion/fusion/ranging_ekf.hpp"
@@ -99,30 +112,35 @@ public:
     // options: the Kalman methods' noise (tracks/fusion_options.hpp), ignored by the others.
     explicit ThinFusion(FusionMethod method = FusionMethod::walk_pf, std::uint64_t seed = 1, const FusionOptions& options = {});
 
-    // Runs the pressure samples, steps and radio fixes in time order (fusion::time_order,
-    // kFixesFirst: pressure, then a radio fix, then a step of equal t) and answers one fused fix
-    // per step and radio fix, and one per pressure sample that moves the track to another floor.
+    // Runs the pressure samples, steps, radio fixes and GNSS fixes in time order
+    // (fusion::time_order, kFixesFirst: pressure, then a radio fix, then a GNSS fix, then a step
+    // of equal t) and answers one fused fix per step and radio fix, one per GNSS fix the filter
+    // takes (not one thinned out, gated out or on a floor without a georeference), and one per
+    // pressure sample that moves the track to another floor.
     // Steps and fixes at or before the last t an earlier call ran are skipped (no fix for them):
     // a client retrying a request whose answer it lost must not move the filter twice; pressure
     // samples at or before the last one run are skipped likewise. `walkable_of` gives a floor's
     // Walkable (nullptr when it has no plan: walk_pf walks freely, particle throws
     // std::invalid_argument). `floors` answers `levels(floor_id)`, the floors of that floor's
     // building that have an elevation (std::vector<BaroLevel>), asked once, at the first pressure
-    // sample on that building, and `crossing(from, to, at)`, the stairs or lift nearest `at` on
-    // floor `from` that leads to floor `to` (std::optional<Crossing>), asked at a floor change.
+    // sample on that building, `crossing(from, to, at)`, the stairs or lift nearest `at` on
+    // floor `from` that leads to floor `to` (std::optional<Crossing>), asked at a floor change,
+    // and `georeference(floor_id)` (std::shared_ptr<const geo::FloorToEarth>, null: none), asked
+    // at each GNSS fix the interval lets through.
     // Steps before any radio fix, with no filter yet, throw std::invalid_argument: the filter
-    // starts at a fix; pressure before it is not used.
+    // starts at a fix; pressure and GNSS before it are not used.
     template <typename WalkableOf, typename Floors>
     std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, const std::vector<Pressure>& pressure,
-                         WalkableOf&& walkable_of, Floors&& floors);
+                         const std::vector<Gnss>& gnss, WalkableOf&& walkable_of, Floors&& floors);
     // Steps and radio fixes alone (no barometer).
     template <typename WalkableOf>
     std::vector<Fix> run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, WalkableOf&& walkable_of) {
         struct NoBarometer {
             std::vector<BaroLevel> levels(std::int64_t) const { return {}; }
             std::optional<Crossing> crossing(std::int64_t, std::int64_t, Point) const { return std::nullopt; }
+            std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t) const { return nullptr; }
         };
-        return run(steps, radio, {}, walkable_of, NoBarometer{});
+        return run(steps, radio, {}, {}, walkable_of, NoBarometer{});
     }
 
     bool started() const { return filter_.has_value() || walk_.has_value() || kalman_.has_value() || ekf_.has_value(); }
@@ -131,6 +149,12 @@ public:
     void set_anchors(std::shared_ptr<const FloorAnchors> anchors) { anchors_ = std::move(anchors); }
     // The latest t this filter has run (nullopt before its first input).
     std::optional<double> done_t() const { return done_t_; }
+    // walk_pf: the phone's RSS offset learnt from the track's scans so far, which the caller adds
+    // to each new scan before localizing it and then teaches with the answer (only a scan after
+    // done_t(): a retried one taught it already). Copied with the filter, so a refused request
+    // teaches nothing.
+    match::DeviceOffset& rss_offset() { return rss_offset_; }
+    const match::DeviceOffset& rss_offset() const { return rss_offset_; }
     // Bytes this track's filter holds (not the floor's plan, which the floor's tracks share).
     std::size_t memory_bytes() const;
     // Starts the filter at a fix the track already stored (its latest), as if it were a radio
@@ -153,6 +177,11 @@ private:
     // their estimate). True when it moved.
     template <typename WalkableOf, typename Floors>
     bool follow_baro(double t, WalkableOf&& walkable_of, Floors&& floors);
+    // A GNSS fix past the interval, on a floor with a georeference, as a position measurement
+    // (gated for the Kalman methods). True when the filter took it.
+    template <typename Floors>
+    bool take_gnss(const Gnss& g, Floors&& floors);
+    bool gnss_update(Point at, double sigma_m);
     // The index in baro_ids_ of a floor (nullopt: not one of the barometer's).
     std::optional<int> baro_index(std::int64_t floor_id) const;
     // The Kalman filter's R for a radio fix (client-lib's ranging_measurement_noise, the fix's
@@ -178,6 +207,8 @@ private:
     std::vector<std::int64_t> baro_ids_;
     std::int64_t baro_asked_floor_ = 0;         // the floor levels_of was last asked for (0: never)
     std::optional<double> pressure_done_t_;   // the latest pressure sample run so far
+    std::optional<double> gnss_t_;             // the latest GNSS fix the interval let through
+    match::DeviceOffset rss_offset_;
 };
 
 // The radio fix's covariance: its accuracy as a 1-sigma radius.
@@ -209,17 +240,45 @@ bool ThinFusion::follow_baro(double t, WalkableOf&& walkable_of, Floors&& floors
     return true;
 }
 
+template <typename Floors>
+bool ThinFusion::take_gnss(const Gnss& g, Floors&& floors) {
+    if (gnss_t_ && g.t - *gnss_t_ < fusion::kGnssMinIntervalS) return false;
+    const std::shared_ptr<const geo::FloorToEarth> frame = floors.georeference(floor_id_);
+    if (!frame) return false;
+    // A fix the gate drops counts for the interval too, as in `locus eval ipin`'s trackers.
+    gnss_t_ = g.t;
+    return gnss_update(frame->to_floor({g.lat, g.lon}), std::max(g.accuracy_m, fusion::kGnssMinSigmaM));
+}
+
 template <typename WalkableOf, typename Floors>
 std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vector<RadioFix>& radio, const std::vector<Pressure>& pressure,
-                                 WalkableOf&& walkable_of, Floors&& floors) {
+                                 const std::vector<Gnss>& gnss, WalkableOf&& walkable_of, Floors&& floors) {
     std::vector<Fix> out;
     const std::optional<double> done = done_t_;
     const auto already_run = [&done](double t) { return done && t <= *done; };
-    const std::vector<double> step_t = fusion::times_of(steps, &Step::t), radio_t = fusion::times_of(radio, &RadioFix::t);
+    const std::vector<double> step_t = fusion::times_of(steps, &Step::t);
     const std::vector<double> pressure_t = fusion::times_of(pressure, &Pressure::t);
+    // The fix stream holds the radio fixes and the GNSS fixes, merged by time (a radio fix first
+    // at equal t): fix_of[k] < radio.size() is that radio fix, the rest GNSS fix fix_of[k] - radio.size().
+    std::vector<double> fix_t;
+    std::vector<std::size_t> fix_of;
+    fix_t.reserve(radio.size() + gnss.size());
+    fix_of.reserve(radio.size() + gnss.size());
+    for (std::size_t i = 0, j = 0; i < radio.size() || j < gnss.size();) {
+        const bool is_radio = j == gnss.size() || (i < radio.size() && radio[i].t <= gnss[j].t);
+        fix_t.push_back(is_radio ? radio[i].t : gnss[j].t);
+        fix_of.push_back(is_radio ? i++ : radio.size() + j++);
+    }
     for (const fusion::WalkEvent& e :
-         fusion::time_order({.pressure = pressure_t, .step = step_t, .fix = radio_t}, fusion::kFixesFirst)) {
+         fusion::time_order({.pressure = pressure_t, .step = step_t, .fix = fix_t}, fusion::kFixesFirst)) {
         const double t = e.t_s;
+        if (e.kind == fusion::EventKind::fix && fix_of[e.index] >= radio.size()) {
+            // GNSS alone does not begin a track: the filter starts at a radio fix.
+            if (!started() || already_run(t) || !take_gnss(gnss[fix_of[e.index] - radio.size()], floors)) continue;
+            if (!done_t_ || t > *done_t_) done_t_ = t;
+            out.push_back(fused(t, heading_deg_));
+            continue;
+        }
         if (e.kind == fusion::EventKind::pressure) {
             if (!started() || (pressure_done_t_ && t <= *pressure_done_t_)) continue;
             pressure_done_t_ = t;
@@ -248,7 +307,7 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
         if (already_run(t)) continue;
         if (!done_t_ || t > *done_t_) done_t_ = t;
         if (e.kind == fusion::EventKind::fix) {
-            const RadioFix& r = radio[e.index];
+            const RadioFix& r = radio[fix_of[e.index]];
             const Point at{r.x, r.y};
             bool ruled_out = false;
             if (const std::optional<int> vote = r.unplaced || !baro_ ? std::nullopt : baro_index(r.floor_id)) {

@@ -66,13 +66,18 @@ std::optional<Crossing> FusionSessions::crossing(std::int64_t from, std::int64_t
 
 std::vector<Fix> FusionSessions::Run::run(FusionMethod method, const FusionOptions& options, const std::optional<Fix>& latest,
                                           const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
-                                          const std::vector<Pressure>& pressure, std::shared_ptr<const FloorAnchors> anchors) {
+                                          const std::vector<Pressure>& pressure, const std::vector<Gnss>& gnss,
+                                          std::shared_ptr<const FloorAnchors> anchors, RunSources* sources) {
     auto& held = sessions_.fusions_;
     const auto walkable_of = [this](std::int64_t floor_id) { return sessions_.walkable_of(floor_id); };
     struct Floors {
         FusionSessions& sessions;
+        RunSources* sources;
         std::vector<BaroLevel> levels(std::int64_t floor_id) const { return sessions.levels_of(floor_id); }
         std::optional<Crossing> crossing(std::int64_t from, std::int64_t to, Point at) const { return sessions.crossing(from, to, at); }
+        std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) const {
+            return sources ? sources->georeference(floor_id) : nullptr;
+        }
     };
     const auto it = held.find(id_);
     const bool continues = it != held.end() && (!latest || (it->second->done_t() && latest->t <= *it->second->done_t()));
@@ -80,7 +85,19 @@ std::vector<Fix> FusionSessions::Run::run(FusionMethod method, const FusionOptio
                       : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id_), options);
     next_->set_anchors(std::move(anchors));
     if (!continues && latest) next_->resume(*latest, walkable_of);
-    return next_->run(steps, radio, pressure, walkable_of, Floors{sessions_});
+    // The scans are localized only now: each with the offset this very filter has learnt.
+    std::vector<RadioFix> merged;
+    const std::vector<RadioFix>* all = &radio;
+    if (sources) {
+        std::vector<Fix> placed = sources->scans(next_->rss_offset(), next_->done_t());
+        if (!placed.empty()) {
+            merged = radio;
+            for (const Fix& f : placed) merged.emplace_back(f);
+            std::stable_sort(merged.begin(), merged.end(), [](const RadioFix& a, const RadioFix& b) { return a.t < b.t; });
+            all = &merged;
+        }
+    }
+    return next_->run(steps, *all, pressure, gnss, walkable_of, Floors{sessions_, sources});
 }
 
 void FusionSessions::Run::keep() {

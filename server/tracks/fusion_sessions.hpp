@@ -21,6 +21,7 @@
 #include "tracks/fix.hpp"
 #include "tracks/fusion_method.hpp"
 #include "tracks/fusion_options.hpp"
+#include "tracks/run_sources.hpp"
 
 namespace locus::tracks {
 
@@ -42,10 +43,13 @@ public:
         // The filter's fixes for these inputs: the held filter continued, or (none held, or
         // the track's stored fixes have passed it: a restart, fixes posted directly, another
         // server's steps) one started afresh at `latest`, seeded with the track's id so a
-        // track's fused fixes are reproducible.
+        // track's fused fixes are reproducible. `sources` (may be null: no georeference, no
+        // scans) gives the floors' georeferences and walk_pf's scans, localized with the
+        // filter's RSS offset once the filter to run is known (its radio fixes join `radio`).
         std::vector<Fix> run(FusionMethod method, const FusionOptions& options, const std::optional<Fix>& latest,
                              const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
-                             const std::vector<Pressure>& pressure, std::shared_ptr<const FloorAnchors> anchors);
+                             const std::vector<Pressure>& pressure, const std::vector<Gnss>& gnss,
+                             std::shared_ptr<const FloorAnchors> anchors, RunSources* sources);
         // The run's fixes are stored: its filter is the track's from now on.
         void keep();
 

@@ -229,7 +229,8 @@ Posted Service::post(std::int64_t id, const std::vector<Fix>& fixes) {
 }
 
 std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
-                                                     const std::vector<Pressure>& pressure, std::shared_ptr<const FloorAnchors> anchors) {
+                                                     const std::vector<Pressure>& pressure, const std::vector<Gnss>& gnss,
+                                                     std::shared_ptr<const FloorAnchors> anchors, RunSources* sources) {
     auto run = fusions_.begin(id);
     FusionMethod method;
     FusionOptions options;
@@ -243,7 +244,7 @@ std::pair<Posted, std::vector<Fix>> Service::post_raw(std::int64_t id, const std
         options = track->info.fusion_options;
         latest = track->info.latest;
     }
-    std::vector<Fix> fused = run.run(method, options, latest, steps, radio, pressure, std::move(anchors));
+    std::vector<Fix> fused = run.run(method, options, latest, steps, radio, pressure, gnss, std::move(anchors), sources);
     // A radio fix and a step at one t give two fixes: the track keeps the later state. A t
     // stored by an earlier request (a retry) keeps the first fix, as posted fixes do.
     std::vector<Fix> kept;

@@ -70,14 +70,16 @@ public:
     // already stored is a duplicate and keeps the first fix.
     std::optional<std::int64_t> misplaced_floor(std::int64_t id, const std::vector<Fix>& fixes);
     Posted post(std::int64_t id, const std::vector<Fix>& fixes);
-    // A thin client's raw steps, radio fixes and pressure samples, fused by client-lib's filter
-    // the track chose (tracks/fusion.hpp), seeded with the track's id, and stored as the track's
-    // fixes; answers them with the post's counts. std::invalid_argument when the filter cannot
-    // run (steps before any fix; no plan for particle). `anchors`: ekf_ranging's, the map's
-    // known transmitters (tracks/fusion.hpp), else unused.
+    // A thin client's raw steps, radio fixes, pressure samples and GNSS fixes, fused by
+    // client-lib's filter the track chose (tracks/fusion.hpp), seeded with the track's id, and
+    // stored as the track's fixes; answers them with the post's counts. std::invalid_argument
+    // when the filter cannot run (steps before any fix; no plan for particle). `anchors`:
+    // ekf_ranging's, the map's known transmitters (tracks/fusion.hpp), else unused. `sources`:
+    // the floors' georeferences and walk_pf's scans (tracks/run_sources.hpp), asked during the
+    // run with the sessions' lock held; whatever it throws passes through, nothing written.
     std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
-                                                 const std::vector<Pressure>& pressure = {},
-                                                 std::shared_ptr<const FloorAnchors> anchors = nullptr);
+                                                 const std::vector<Pressure>& pressure = {}, const std::vector<Gnss>& gnss = {},
+                                                 std::shared_ptr<const FloorAnchors> anchors = nullptr, RunSources* sources = nullptr);
     // Returns the track as closed, taken under the lock: an open at --max-tracks may evict a
     // closed track the moment after, so looking it up again could find it gone.
     TrackInfo close(std::int64_t id);

@@ -23,6 +23,7 @@ struct StepsInput {
     std::vector<Fix> fixes;
     std::vector<TimedScan> scans;
     std::vector<Pressure> pressure;
+    std::vector<Gnss> gnss;
 };
 
 }  // namespace locus::tracks

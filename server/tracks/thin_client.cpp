@@ -33,6 +33,41 @@ RadioFix ranged_scan_fix(ScanLocalizer& localizer, std::int64_t map_id, FusionMe
     return f;
 }
 
+// walk_pf's scans, localized during the filter's run (Service::post_raw): each shifted by the
+// phone's offset learnt from the scans before it, in time order, then teaching it with the
+// fingerprint it was placed at, as `locus eval ipin` does (tools/commands/eval_ipin.cpp).
+class RunScans : public RunSources {
+public:
+    RunScans(Service& svc, std::int64_t id, std::int64_t map_id, const std::vector<TimedScan>* scans, ScanLocalizer& localizer)
+        : svc_(svc), id_(id), map_id_(map_id), scans_(scans), localizer_(localizer) {}
+
+    std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return localizer_.georeference(floor_id); }
+
+    std::vector<Fix> scans(match::DeviceOffset& offset, std::optional<double> done_t) override {
+        std::vector<Fix> out;
+        if (!scans_) return out;
+        for (const TimedScan& scan : *scans_) {
+            const MatchedScan m = localizer_.match(map_id_, scan, offset.offset_db());
+            if (!done_t || scan.t > *done_t) offset.add(scan.readings, m.placed_at);
+            out.push_back(matched_fix(scan.t, m.floor_id, m.at, m.spread));
+        }
+        if (const auto floor = svc_.misplaced_floor(id_, out))
+            throw ForeignFloor("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id_) + "'s map");
+        scan_fixes = out;
+        offset_db = offset.offset_db();
+        return out;
+    }
+
+    std::vector<Fix> scan_fixes;
+    std::optional<double> offset_db;
+
+private:
+    Service& svc_;
+    std::int64_t id_, map_id_;
+    const std::vector<TimedScan>* scans_;  // null: the scans went the other way (not walk_pf)
+    ScanLocalizer& localizer_;
+};
+
 }  // namespace
 
 StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLocalizer& localizer) {
@@ -44,11 +79,15 @@ StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLo
     // scans on them; the particle filters take the radio map's match.
     std::shared_ptr<const FloorAnchors> anchors;
     if (track.fusion == FusionMethod::ekf_ranging && track.state == State::live) anchors = localizer.anchors(track.map_id);
-    for (const auto& scan : in.scans) {
+    const bool learns_offset = track.fusion == FusionMethod::walk_pf;
+    RunScans run_scans(svc, id, track.map_id, learns_offset ? &in.scans : nullptr, localizer);
+    // walk_pf's scans are localized in the run (RunScans), with the offset its filter learnt.
+    for (std::size_t i = 0; i < (learns_offset ? 0 : in.scans.size()); ++i) {
+        const TimedScan& scan = in.scans[i];
         if (ranges_scans(track.fusion)) {
             radio.push_back(ranged_scan_fix(localizer, track.map_id, track.fusion, scan));
         } else {
-            const MatchedScan m = localizer.match(track.map_id, scan);
+            const MatchedScan m = localizer.match(track.map_id, scan, std::nullopt);
             radio.emplace_back(matched_fix(scan.t, m.floor_id, m.at, m.spread));
         }
         if (!radio.back().unplaced) done.scan_fixes.push_back(radio.back());
@@ -60,11 +99,17 @@ StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLo
     if (const auto floor = svc.misplaced_floor(id, placed))
         throw ForeignFloor("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
     try {
-        std::tie(done.posted, done.fused) = svc.post_raw(id, in.steps, radio, in.pressure, std::move(anchors));
+        std::tie(done.posted, done.fused) = svc.post_raw(id, in.steps, radio, in.pressure, in.gnss, std::move(anchors), &run_scans);
     } catch (const CannotFuse&) {
+        throw;
+    } catch (const ForeignFloor&) {
         throw;
     } catch (const std::invalid_argument& e) {
         throw CannotFuse("cannot_fuse", e.what());
+    }
+    if (learns_offset) {
+        done.scan_fixes = std::move(run_scans.scan_fixes);
+        done.rss_offset_db = run_scans.offset_db;
     }
     return done;
 }

@@ -3,8 +3,13 @@
 // steps, radio fixes and WiFi/BLE scans in, the track's filter's fused fixes out (and stored).
 // Each scan becomes a radio fix: matched on the map's radio map (the particle filters), or
 // ranged on the map's transmitters (the Kalman methods, ekf_ranging), whose readings of known
-// transmitters are also ekf_ranging's measurements. The localizers themselves are the HTTP
-// layer's (the localize endpoint's matcher and ranging), behind ScanLocalizer.
+// transmitters are also ekf_ranging's measurements. On a walk_pf track each scan is shifted by
+// the phone's RSS offset its filter has learnt from the track's earlier scans before it is
+// matched, and then teaches the offset with the match (match::DeviceOffset, as `locus eval
+// ipin`'s trackers do): phones of different makes read the same AP several dB apart. GNSS fixes
+// are converted on the track's floor through its georeference, during the run. The localizers
+// and georeferences themselves are the HTTP layer's (the localize endpoint's matcher and
+// ranging, the floors' georeference cache), behind ScanLocalizer.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -13,7 +18,9 @@
 #include <utility>
 #include <vector>
 
+#include "locus/geo/georeference.hpp"
 #include "locus/geometry.hpp"
+#include "locus/match/device_offset.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "tracks/fusion.hpp"
 #include "tracks/service.hpp"
@@ -22,11 +29,13 @@
 namespace locus::tracks {
 
 // The radio map's answer for a scan: its floor and position, and the positions of its k best
-// candidates (their spread is the fix's accuracy).
+// candidates (their spread is the fix's accuracy); when asked with an offset, also the
+// fingerprint it placed the scan at (the answer's RPs' mean RSS, AP by AP, over the scan's APs).
 struct MatchedScan {
     std::int64_t floor_id = 0;
     Point at;
     std::vector<Point> spread;
+    match::Fingerprint placed_at;
 };
 
 // The map's transmitters' answer for a scan: a ranging fix on the floor heard most, or the
@@ -46,7 +55,11 @@ public:
     virtual ~ScanLocalizer() = default;
     // The map's known transmitters, each floor's, as ekf_ranging's anchors.
     virtual std::shared_ptr<const FloorAnchors> anchors(std::int64_t map_id) = 0;
-    virtual MatchedScan match(std::int64_t map_id, const TimedScan& scan) = 0;
+    // With an offset (dB), each reading is read that much stronger, and the answer carries the
+    // fingerprint the scan was placed at; without, the scan is matched as read.
+    virtual MatchedScan match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db) = 0;
+    // A floor's georeference (null: none), for GNSS.
+    virtual std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) = 0;
     // By multilateration, else by the Kalman-fusion paper's trilateration.
     virtual RangedScan range(std::int64_t map_id, const TimedScan& scan, bool multilateration, bool with_readings) = 0;
 };
@@ -60,13 +73,17 @@ struct StepsDone {
     Posted posted;
     std::vector<Fix> fused;       // the filter's fixes of this batch
     std::vector<Fix> scan_fixes;  // each scan's radio fix that has a position, in the scans' order
+    std::optional<double> rss_offset_db;  // walk_pf: the phone's offset learnt, after this batch
 };
 
 // Localizes the batch's scans, then fuses and stores it (Service::post_raw); nothing is
 // written unless every part is good. Throws CannotFuse (code, message) for a batch the
 // filter cannot take, a Kalman track's scan that cannot be ranged (ekf_ranging: only before
 // its filter runs) included; ForeignFloor; and the Service's Refused. Costs the localizing of
-// each scan, plus a read of the map's transmitters (cached) for a Kalman or live ekf_ranging track.
+// each scan, plus a read of the map's transmitters (cached) for a Kalman or live ekf_ranging
+// track; a walk_pf track's scans are localized with the tracks' sessions lock held (the offset
+// they are shifted by is the filter's), plus a walk over the postings of each scan's APs for
+// the fingerprint it is taught with.
 StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLocalizer& localizer);
 
 }  // namespace locus::tracks

@@ -126,6 +126,34 @@ std::vector<tracks::Pressure> parse_pressure(const json* arr, double retention_s
     return out;
 }
 
+// The GNSS receiver's fixes {t, lat, lon, accuracy_m}, in time order (the filter takes them on
+// the track's floor: tracks/fusion.hpp). An accuracy of 0 claims a certainty no receiver has.
+std::vector<tracks::Gnss> parse_gnss(const json* arr, double retention_s) {
+    std::vector<tracks::Gnss> out;
+    if (!arr) return out;
+    if (arr->size() > kMaxGnssPerRequest)
+        throw ApiError(413, "batch_too_large", "the request holds " + std::to_string(arr->size()) + " GNSS fixes; at most " +
+                                                   std::to_string(kMaxGnssPerRequest) + " go in one request");
+    out.reserve(arr->size());
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+        const json& j = (*arr)[i];
+        const std::string where = "gnss[" + std::to_string(i) + "]";
+        if (!j.is_object()) throw invalid_field("'" + where + "' must be an object {t, lat, lon, accuracy_m}");
+        only_fields(j, {"t", "lat", "lon", "accuracy_m"}, where);
+        tracks::Gnss g;
+        g.t = parse_t(j, where, retention_s);
+        g.lat = finite_number(j, "lat", where, -90.0, 90.0);
+        g.lon = finite_number(j, "lon", where, -180.0, 180.0);
+        g.accuracy_m = finite_number(j, "accuracy_m", where, 0.0, kMaxGnssAccuracyM);
+        if (!(g.accuracy_m > 0.0))
+            throw ApiError(422, "out_of_range", "'" + where + ".accuracy_m' = 0 is not a receiver's accuracy: it must be positive (m, at most " +
+                                                    std::to_string(static_cast<int>(kMaxGnssAccuracyM)) + ")");
+        out.push_back(g);
+    }
+    std::stable_sort(out.begin(), out.end(), [](const tracks::Gnss& a, const tracks::Gnss& b) { return a.t < b.t; });
+    return out;
+}
+
 // `fusion_options` of POST /v1/tracks: only for the Kalman methods, only the options the method
 // takes (tracks/fusion_options.hpp), each a finite number in its range.
 tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMethod method) {
@@ -192,22 +220,24 @@ std::vector<tracks::Fix> parse_fixes(const json& body, double retention_s) {
 }
 
 tracks::StepsInput parse_steps_request(const json& body, double retention_s) {
-    only_fields(body, {"steps", "fixes", "scans", "pressure"}, "");
+    only_fields(body, {"steps", "fixes", "scans", "pressure", "gnss"}, "");
     const json* steps = items_of(body, "steps", false);
     const json* fixes = items_of(body, "fixes", false);
     const json* scans = items_of(body, "scans", false);
     const json* pressure = items_of(body, "pressure", false);
+    const json* gnss = items_of(body, "gnss", false);
     const auto count = [](const json* a) { return a ? a->size() : 0; };
     const std::size_t n = count(steps) + count(fixes) + count(scans);
-    if (n + count(pressure) == 0)
-        throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}), 'fixes' (radio fixes), 'scans' ({t, readings}) "
-                            "and/or 'pressure' ({t, hpa})");
+    if (n + count(pressure) + count(gnss) == 0)
+        throw invalid_field("send 'steps' (PDR steps {t, length_m, heading_deg}), 'fixes' (radio fixes), 'scans' ({t, readings}), "
+                            "'pressure' ({t, hpa}) and/or 'gnss' ({t, lat, lon, accuracy_m})");
     check_batch_size(n);
     tracks::StepsInput out;
     out.steps = parse_steps(steps, retention_s);
     out.fixes = parse_fix_array(fixes, "fixes", retention_s);
     out.scans = parse_timed_scans(scans, retention_s);
     out.pressure = parse_pressure(pressure, retention_s);
+    out.gnss = parse_gnss(gnss, retention_s);
     return out;
 }
 

@@ -22,6 +22,11 @@ inline constexpr std::size_t kMaxFixesPerRequest = 1000;
 // At most this many pressure samples in one request (over and above the fixes, steps and
 // scans: a barometer reads several times a second).
 inline constexpr std::size_t kMaxPressurePerRequest = 5000;
+// At most this many GNSS fixes in one request (over and above the rest, as pressure: a
+// receiver gives one a second, of which the filter takes one per 10 s).
+inline constexpr std::size_t kMaxGnssPerRequest = 1000;
+// A GNSS fix's accuracy_m above this (m) places it nowhere near a building.
+inline constexpr double kMaxGnssAccuracyM = 10'000;
 // A pressure outside this range (hPa) is no barometer's reading at a building's height.
 inline constexpr double kMinPressureHpa = 300, kMaxPressureHpa = 1200;
 // A phone's clock may run this far ahead of the server's.
@@ -46,7 +51,7 @@ OpenRequest parse_open_request(const nlohmann::json& body);
 // POST /v1/tracks/{id}/fixes {fixes: [{t, floor_id, x, y, accuracy_m, heading_deg?}]}, t no
 // older than `retention_s`.
 std::vector<tracks::Fix> parse_fixes(const nlohmann::json& body, double retention_s);
-// POST /v1/tracks/{id}/steps {steps?, fixes?, scans?, pressure?}: at least one item.
+// POST /v1/tracks/{id}/steps {steps?, fixes?, scans?, pressure?, gnss?}: at least one item.
 tracks::StepsInput parse_steps_request(const nlohmann::json& body, double retention_s);
 
 }  // namespace locus::http

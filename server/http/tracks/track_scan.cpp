@@ -21,21 +21,49 @@ const KnownTransmitters& MapScans::known(std::int64_t map_id) {
 
 std::shared_ptr<const tracks::FloorAnchors> MapScans::anchors(std::int64_t map_id) { return floor_anchors(known(map_id)); }
 
-tracks::MatchedScan MapScans::match(std::int64_t map_id, const tracks::TimedScan& scan) {
+namespace {
+
+// The fingerprint an answer placed a scan at: its RPs' mean RSS, AP by AP (the mean over those
+// of them that store it), over the query's APs, which is all match::DeviceOffset compares.
+match::Fingerprint placed_at(const match::Index& index, const match::Query& query, const std::vector<long long>& rp_ids) {
+    match::Fingerprint out;
+    for (const match::QueryAp& ap : query.aps) {
+        const long a = index.ap_of(ap.type, ap.bssid, ap.bssid_hash);
+        if (a < 0) continue;
+        const match::PostingList list = index.postings(static_cast<std::size_t>(a));
+        double sum = 0.0;
+        int n = 0;
+        for (std::size_t k = 0; k < list.size(); ++k) {
+            if (std::find(rp_ids.begin(), rp_ids.end(), index.rp(list.rp[k]).id) == rp_ids.end()) continue;
+            sum += list.mean[k];
+            ++n;
+        }
+        if (n > 0) out[ap.bssid] = sum / n;
+    }
+    return out;
+}
+
+}  // namespace
+
+tracks::MatchedScan MapScans::match(std::int64_t map_id, const tracks::TimedScan& scan, std::optional<double> rss_offset_db) {
     if (!snapshot_) snapshot_ = localizer_.lookup(localize::Service::Scope::map, map_id);
     thread_local match::Workspace workspace;  // as answer(): the HTTP worker owns it
     LocalizeRequest request;                   // no algorithm, no options: the radio map's defaults
-    request.query = match::Query::from_scans({scan.readings});
+    Scan shifted = scan.readings;
+    if (rss_offset_db)
+        for (Reading& r : shifted) r.rss += *rss_offset_db;
+    request.query = match::Query::from_scans({shifted});
     if (request.query.aps.empty()) throw invalid_field("'" + scan.where + ".readings' holds no reading");
     const auto setting = resolve(request, snapshot_->defaults);
     const auto result = match::localize(snapshot_->index, request.query, setting.algorithm, setting.options, workspace);
     if (!result) throw ApiError(422, "no_match", "'" + scan.where + "': no reference point of the track's map shares an access point with the scan");
-    tracks::MatchedScan out{result->floor_id, result->at, {}};
+    tracks::MatchedScan out{result->floor_id, result->at, {}, {}};
     for (const auto& c : result->candidates) {
         if (static_cast<int>(out.spread.size()) >= std::max(1, setting.options.k)) break;
         out.spread.push_back(c.at);
     }
     if (out.spread.empty()) out.spread.push_back(result->at);
+    if (rss_offset_db) out.placed_at = placed_at(snapshot_->index, request.query, result->rp_ids);
     return out;
 }
 

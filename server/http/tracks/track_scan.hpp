@@ -5,7 +5,8 @@
 // algorithm), or by trilateration or multilateration on the map's transmitters (through the
 // ranging localize's transmitter cache). tracks/thin_client.hpp turns the answers into the
 // track filter's radio fixes. One object per request: the map's transmitters and snapshot are
-// read once, at the first scan that needs them.
+// read once, at the first scan that needs them. A floor's georeference, for GNSS, is the
+// floors' georeference cache's.
 // Eigen first: cpp-httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen.
 #include "tracks/thin_client.hpp"
 
@@ -14,6 +15,7 @@
 #include <optional>
 
 #include "http/localize/ranging_localize.hpp"
+#include "http/plans/floor_geo.hpp"
 #include "http/transmitters/transmitter_cache.hpp"
 #include "localize/service.hpp"
 #include "store/store.hpp"
@@ -22,13 +24,15 @@ namespace locus::http {
 
 class MapScans : public tracks::ScanLocalizer {
 public:
-    MapScans(store::Store& store, TransmitterCache& transmitters, localize::Service& localizer)
-        : store_(store), transmitters_(transmitters), localizer_(localizer) {}
+    MapScans(store::Store& store, TransmitterCache& transmitters, localize::Service& localizer, FloorGeoCache& geo)
+        : store_(store), transmitters_(transmitters), localizer_(localizer), geo_(geo) {}
 
     std::shared_ptr<const tracks::FloorAnchors> anchors(std::int64_t map_id) override;
     // Throws ApiError 422 invalid_field for a scan with no reading, 422 no_match when no RP
-    // of the map shares an AP with it (naming the scan).
-    tracks::MatchedScan match(std::int64_t map_id, const tracks::TimedScan& scan) override;
+    // of the map shares an AP with it (naming the scan). With an offset, the fingerprint costs a
+    // walk over the postings of the scan's APs.
+    tracks::MatchedScan match(std::int64_t map_id, const tracks::TimedScan& scan, std::optional<double> rss_offset_db) override;
+    std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return geo_.of_floor(floor_id); }
     // A ranging refusal (422 too_few_transmitters, no_fix) is answered, not thrown, its message
     // naming the scan; a scan with no reading throws 422 invalid_field.
     tracks::RangedScan range(std::int64_t map_id, const tracks::TimedScan& scan, bool multilateration, bool with_readings) override;
@@ -39,6 +43,7 @@ private:
     store::Store& store_;
     TransmitterCache& transmitters_;
     localize::Service& localizer_;
+    FloorGeoCache& geo_;
     std::optional<KnownTransmitters> known_;
     std::shared_ptr<const localize::Snapshot> snapshot_;
 };

@@ -1,6 +1,6 @@
 // POST /v1/tracks/{id}/steps {steps?: [{t, length_m, heading_deg}], fixes?, scans?: [{t, readings}],
-// pressure?: [{t, hpa}]}: thin clients post raw PDR steps, radio fixes, scans and their
-// barometer's samples; the track's filter's fixes come back
+// pressure?: [{t, hpa}], gnss?: [{t, lat, lon, accuracy_m}]}: thin clients post raw PDR steps,
+// radio fixes, scans, their barometer's samples and GNSS fixes; the track's filter's fixes come back
 // (and are stored). The work is tracks/thin_client.hpp's, the scans localized by track_scan.hpp.
 // Eigen first: cpp-httplib (through app.hpp) pulls in <resolv.h>, whose `_res` macro breaks Eigen.
 #include "http/tracks/track_scan.hpp"
@@ -25,7 +25,7 @@ void App::install_track_step_routes() {
             const auto id = parse_id(req.matches[1].str(), "track");
             require_owner(svc, req, id, "a share token reads a track; only its owner's token posts steps");
             const auto input = parse_steps_request(parse_object(req.body), svc.options().retention_s);
-            MapScans scans(store_, transmitters_, localizer_);
+            MapScans scans(store_, transmitters_, localizer_, geo);
             tracks::StepsDone done;
             try {
                 done = tracks::post_steps(svc, id, input, scans);
@@ -42,6 +42,7 @@ void App::install_track_step_routes() {
                 for (const auto& f : done.scan_fixes) scan_fixes.push_back(fix_json(f, geo));
                 out["scan_fixes"] = std::move(scan_fixes);
             }
+            if (done.rss_offset_db) out["rss_offset_db"] = *done.rss_offset_db;
             if (done.posted.latest) out["latest"] = fix_json(*done.posted.latest, geo);
             return std::pair{200, out};
         });

@@ -1,0 +1,34 @@
+#pragma once
+// What a thin client's filter run asks its caller for while it holds the track's filter
+// (tracks/fusion_sessions.hpp): the floors' georeferences, for GNSS, and walk_pf's scans, which
+// are localized there because each is shifted by the phone's RSS offset the filter's session
+// has learnt so far and then teaches it (docs/tracks.md, "GNSS and the phone's offset"). The
+// HTTP layer's localizer and georeference cache implement it (tracks/thin_client.hpp). Plain
+// declarations, no Eigen: service.hpp includes this.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "tracks/fix.hpp"
+
+namespace locus::geo {
+class FloorToEarth;
+}
+namespace locus::match {
+class DeviceOffset;
+}
+
+namespace locus::tracks {
+
+class RunSources {
+public:
+    virtual ~RunSources() = default;
+    // The floor's georeference; null when it has none (its GNSS fixes are not used).
+    virtual std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) = 0;
+    // The batch's scans as radio fixes, in time order, each localized with `offset` added and
+    // then teaching it, unless at or before `done_t` (a retried scan taught it the first time).
+    virtual std::vector<Fix> scans(match::DeviceOffset& offset, std::optional<double> done_t) = 0;
+};
+
+}  // namespace locus::tracks

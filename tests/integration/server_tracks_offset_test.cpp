@@ -1,0 +1,183 @@
+// The phone's RSS offset learnt online on a walk_pf track (docs/tracks.md, "GNSS and the phone's
+// offset"), against the real server: a radio map surveyed with one phone, a track whose phone
+// reads every AP 8 dB weaker. The track learns the offset from its own scans (`rss_offset_db`
+// in the /steps answer approaches +8 dB as the estimator's prior lets it), a phone that reads as
+// the survey's learns about 0, a retried or refused batch teaches nothing, and a track of another
+// method has no offset. (The radio map's default matcher, bayes, also fits a per-scan offset of
+// its own, docs/matchers.md, so on this clean map the offset moves the answers little: the test
+// reads the offset itself.)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "hierarchy.hpp"
+#include "server_process.hpp"
+#include "track_call.hpp"
+#include "unix_time.hpp"
+
+using locus::testing::Response;
+using locus::testing::ServerProcess;
+using locus::testing::body_of;
+using locus::testing::track_call;
+using locus::testing::unix_now;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kPhoneOffsetDb = -8.0;  // the track's phone reads this much below the survey's
+
+struct Ap {
+    const char* bssid;
+    double x, y;
+};
+// Six APs round the 30 m × 20 m floor.
+const std::vector<Ap> kAps = {{"02:00:00:00:00:01", 0, 0},  {"02:00:00:00:00:02", 30, 0},  {"02:00:00:00:00:03", 0, 20},
+                              {"02:00:00:00:00:04", 30, 20}, {"02:00:00:00:00:05", 15, 0}, {"02:00:00:00:00:06", 15, 20}};
+
+// Log-distance path loss: −35 dBm at 1 m, falling 25 dB a decade.
+double rss_at(const Ap& ap, double x, double y) { return -35.0 - 25.0 * std::log10(std::max(1.0, std::hypot(x - ap.x, y - ap.y))); }
+
+// A scan at (x, y) as a phone reading `offset_db` off the survey's reads it, with a small
+// deterministic wobble per AP (±0.5 dB).
+json readings_at(double x, double y, double offset_db, int wobble) {
+    json out = json::array();
+    for (std::size_t a = 0; a < kAps.size(); ++a) {
+        const double w = ((static_cast<int>(a) + wobble) % 3 - 1) * 0.5;
+        out.push_back({{"type", "wifi"}, {"bssid", kAps[a].bssid}, {"rss", rss_at(kAps[a], x, y) + offset_db + w}});
+    }
+    return out;
+}
+
+// The survey: an RP every 5 m (7 × 5), five scans each.
+void survey(const ServerProcess& s, const locus::testing::Hierarchy& h) {
+    for (int i = 0; i <= 6; ++i) {
+        for (int j = 0; j <= 4; ++j) {
+            const double x = 5.0 * i, y = 5.0 * j;
+            const std::string name = std::to_string(i) + "_" + std::to_string(j);
+            const std::int64_t rp = locus::testing::make_rp(s, h.radiomap, name, x, y);
+            json scans = json::array();
+            for (int k = 0; k < 5; ++k) scans.push_back(readings_at(x, y, 0.0, k));
+            // The upload's id appended, not prepended: GCC 12's -Wrestrict misfires on "u" + std::string.
+            std::string upload = std::to_string(rp);
+            upload += "-survey";
+            ASSERT_EQ(s.post("/v1/rps/" + std::to_string(rp) + "/scans", {{"upload_id", upload}, {"scans", scans}}).status, 200);
+        }
+    }
+}
+
+// Where the track's phone scans: the RPs round the floor's edge, one scan a second. An AP 8 dB
+// weaker there reads as one farther off, so the map places the scan inwards.
+struct Spot {
+    double x, y;
+};
+std::vector<Spot> loop_spots(int n) {
+    std::vector<Spot> ring;
+    for (int i = 0; i < 6; ++i) ring.push_back({5.0 * i, 0.0});
+    for (int j = 0; j < 4; ++j) ring.push_back({30.0, 5.0 * j});
+    for (int i = 6; i > 0; --i) ring.push_back({5.0 * i, 20.0});
+    for (int j = 4; j > 0; --j) ring.push_back({0.0, 5.0 * j});
+    std::vector<Spot> out;
+    for (int i = 0; i < n; ++i) out.push_back(ring[static_cast<std::size_t>(i) % ring.size()]);
+    return out;
+}
+
+// Scans at `spots`, one a second from t0 + first, by a phone reading `offset_db` off the survey's.
+json scans_body(const std::vector<Spot>& spots, double t0, int first, double offset_db = kPhoneOffsetDb) {
+    json scans = json::array();
+    for (std::size_t i = 0; i < spots.size(); ++i)
+        scans.push_back({{"t", t0 + first + static_cast<double>(i)}, {"readings", readings_at(spots[i].x, spots[i].y, offset_db, static_cast<int>(i))}});
+    return {{"scans", scans}};
+}
+
+struct Track {
+    std::int64_t id = 0;
+    std::string token;
+};
+
+Track open_track(const ServerProcess& s, std::int64_t map) {
+    const json b = body_of(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", map}}.dump()), 201);
+    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
+}
+
+// What match::DeviceOffset would hold after n looks of exactly `look_db` each: their mean shrunk
+// by its prior of 5 looks of 0 dB (shared/include/locus/match/device_offset.hpp).
+double shrunk(double look_db, int n) { return look_db * n / (n + 5.0); }
+
+std::string steps_path(std::int64_t track) { return "/v1/tracks/" + std::to_string(track) + "/steps"; }
+
+}  // namespace
+
+TEST(ServerTracksOffset, AWalkPfTrackLearnsItsPhonesOffset) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    survey(s, h);
+    const Track t = open_track(s, h.map);
+    const double t0 = std::floor(unix_now()) - 200;
+    const std::vector<Spot> spots = loop_spots(72);
+    // Three batches of 24 scans: the offset grows towards +8 dB, as far as the prior lets it
+    // (6.6, 7.3, 7.5 dB after looks of exactly 8; each look is a median against the answer's RPs,
+    // not the spot's own, so within 1 dB of that).
+    std::vector<double> learnt;
+    for (int b = 0; b < 3; ++b) {
+        const std::vector<Spot> part(spots.begin() + 24 * b, spots.begin() + 24 * (b + 1));
+        const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, scans_body(part, t0, 24 * b).dump()));
+        ASSERT_TRUE(got.contains("rss_offset_db")) << got.dump();
+        ASSERT_EQ(got["scan_fixes"].size(), 24u);
+        learnt.push_back(got["rss_offset_db"].get<double>());
+        EXPECT_NEAR(learnt.back(), shrunk(-kPhoneOffsetDb, 24 * (b + 1)), 1.0) << "after batch " << b;
+    }
+    EXPECT_GT(learnt[1], learnt[0]);
+    EXPECT_GT(learnt[2], learnt[1]);
+    EXPECT_LT(learnt[2], 8.5);
+    // The last batch again is a retry: its scans are answered, but teach nothing twice.
+    const std::vector<Spot> tail(spots.begin() + 48, spots.end());
+    const json again = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, scans_body(tail, t0, 48).dump()));
+    EXPECT_EQ(again["fused"].size(), 0u);
+    EXPECT_EQ(again["scan_fixes"].size(), 24u);
+    EXPECT_DOUBLE_EQ(again["rss_offset_db"].get<double>(), learnt[2]);
+}
+
+TEST(ServerTracksOffset, APhoneThatReadsAsTheSurveysLearnsNoOffset) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    survey(s, h);
+    const Track t = open_track(s, h.map);
+    const double t0 = std::floor(unix_now()) - 200;
+    const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, scans_body(loop_spots(48), t0, 0, 0.0).dump()));
+    EXPECT_NEAR(got["rss_offset_db"].get<double>(), 0.0, 1.0) << got.dump();
+}
+
+TEST(ServerTracksOffset, ARefusedBatchTeachesNothing) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    survey(s, h);
+    const Track t = open_track(s, h.map);
+    const std::int64_t id = t.id;
+    const std::string token = t.token;
+    const double t0 = std::floor(unix_now()) - 200;
+    const json first = body_of(track_call(s, "POST", steps_path(id), {token}, scans_body(loop_spots(12), t0, 0).dump()));
+    const double learnt = first["rss_offset_db"].get<double>();
+    EXPECT_GT(learnt, 1.0);
+    // Twelve more good scans and one no RP hears: 422 no_match, and the offset stays as it was.
+    json bad = scans_body(loop_spots(12), t0, 12);
+    bad["scans"].push_back({{"t", t0 + 30}, {"readings", {{{"bssid", "0a:00:00:00:00:99"}, {"rss", -60}}}}});
+    const Response refused = track_call(s, "POST", steps_path(id), {token}, bad.dump());
+    EXPECT_EQ(refused.status, 422) << refused.raw;
+    EXPECT_EQ(refused.body["error"]["code"], "no_match");
+    const json empty = body_of(track_call(s, "POST", steps_path(id), {token},
+                                          json{{"steps", {{{"t", t0 + 11.5}, {"length_m", 0.5}, {"heading_deg", 0.0}}}}}.dump()));
+    EXPECT_DOUBLE_EQ(empty["rss_offset_db"].get<double>(), learnt);
+}
+
+TEST(ServerTracksOffset, AKalmanTrackHasNoOffset) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const json opened = body_of(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", "kalman_trilateration"}}.dump()), 201);
+    const double t0 = std::floor(unix_now()) - 100;
+    const json fix = {{"t", t0}, {"floor_id", h.floor}, {"x", 5.0}, {"y", 5.0}, {"accuracy_m", 2.0}};
+    const json got = body_of(track_call(s, "POST", steps_path(opened.at("id").get<std::int64_t>()), {opened.at("token").get<std::string>()},
+                                        json{{"fixes", {fix}}}.dump()));
+    EXPECT_FALSE(got.contains("rss_offset_db")) << got.dump();
+}
