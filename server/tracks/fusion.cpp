@@ -1,6 +1,5 @@
 #include "tracks/fusion.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -47,6 +46,19 @@ ThinFusion::ThinFusion(FusionMethod method, std::uint64_t seed, const FusionOpti
     : method_(method), walk_config_(fusion::WalkFilterConfig::real_walks()) {
     config_.seed = seed;
     walk_config_.seed = seed;
+    if (options.step_scale) walk_config_.scale_mean = *options.step_scale;
+    if (options.step_scale_sigma) walk_config_.scale_sigma = *options.step_scale_sigma;
+    if (options.fix_sigma_m) walk_config_.fix_sigma_m = *options.fix_sigma_m;
+    if (options.reseed_fraction) walk_config_.reseed_fraction = *options.reseed_fraction;
+    if (options.reseed_max_fraction) walk_config_.reseed_max_fraction = *options.reseed_max_fraction;
+    if (options.rotation_sigma_deg) {
+        // As `locus eval ipin`'s walk_pf with a georeferenced floor (tools/ipin_track.hpp): most
+        // fresh particles draw the rotation round the known one, a few anywhere.
+        walk_config_.hint_share = 0.95;
+        walk_config_.hint_sigma_rad = *options.rotation_sigma_deg * std::numbers::pi / 180.0;
+        rotation_known_ = true;
+    }
+    if (options.rotation_walk_deg) walk_config_.offset_walk_rad = *options.rotation_walk_deg * std::numbers::pi / 180.0;
     if (is_kalman(method)) kalman_config_ = kalman_config(method, options);
     if (method == FusionMethod::ekf_ranging) ekf_config_ = ekf_config(options);
 }
@@ -86,6 +98,7 @@ void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resume
         kalman_.emplace(at, c, std::move(plan));
     } else if (method_ == FusionMethod::walk_pf) {
         walk_.emplace(w ? std::optional<fusion::Walkable>(*w) : std::nullopt, walk_config_);
+        if (rotation_known_) walk_->hint(0.0, false);
         walk_->fix(at, fix_covariance(r.accuracy_m));
     } else {
         if (!w) throw std::invalid_argument("floor " + std::to_string(r.floor_id) + " has no plan: the particle filter walks on one (walk_pf does not need one)");

@@ -191,6 +191,7 @@ private:
     FusionMethod method_;
     fusion::ParticleConfig config_;
     fusion::WalkFilterConfig walk_config_;
+    bool rotation_known_ = false;  // walk_pf: the steps' headings are the floor's (rotation_sigma_deg)
     std::optional<fusion::ParticleFilter> filter_;  // copyable: a request runs on a copy
     std::optional<fusion::WalkFilter> walk_;        // one of the three, by method_
     fusion::RangingKalmanConfig kalman_config_;

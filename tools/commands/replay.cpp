@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "datasets/ipin_log.hpp"
+#include "ipin_replay.hpp"
 #include "live_track.hpp"
 #include "locus/api/client.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
@@ -42,6 +44,9 @@ struct Args {
     std::string live;            // a server to post the fused track to as a live track
     std::int64_t live_map = 0;
     double live_speed = 1.0;
+    // A GetSensorData/IPIN logfile (tools/ipin_replay.hpp): the map it walks, and what the trackers take.
+    std::int64_t map = 0;
+    bool known_start = false, no_gnss = false, no_ble = false, no_offset = false, server_defaults = false;
 };
 
 // What the filters map-match on, and where it came from (said on stderr and in the JSON).
@@ -224,14 +229,43 @@ void run(const Args& a) {
             }
 }
 
+// A GetSensorData/IPIN logfile: the map's floors, one of the IPIN trackers or the server's
+// thin-client path (tools/ipin_replay.hpp).
+void run_log(const Args& a) {
+    if (a.map <= 0) throw tools::CommandError("a logfile replays against a map: --map ID (every floor; not --radiomap)");
+    if (a.radiomap > 0) throw tools::CommandError("--radiomap is for a walk file; a logfile takes --map");
+    if (!a.live.empty() || a.upload_survey) throw tools::CommandError("--live and --upload-survey take walk files (a logfile: --rule thin)");
+    if (a.format != "json") throw tools::CommandError("a logfile replays as json");
+    api::ClientOptions opts;
+    opts.base_url = a.server;
+    opts.api_key = a.api_key;
+    api::Client client(opts);
+    tools::ipin::ReplayOptions o;
+    o.file = a.file;
+    o.map = a.map;
+    o.rule = a.rule;
+    o.known_start = a.known_start;
+    o.gnss = !a.no_gnss;
+    o.ble = !a.no_ble;
+    o.offset = !a.no_offset;
+    o.server_defaults = a.server_defaults;
+    std::cout << tools::ipin::replay_log(client, o, std::cerr).dump() << "\n";
+}
+
 LOCUS_COMMAND("replay", [](CLI::App& app) {
     auto args = std::make_shared<Args>();
     auto* cmd = app.add_subcommand("replay", "Run a walk file through PDR, fixes from a server, and fusion");
     cmd->add_option("--server", args->server, "server base URL")->capture_default_str();
     cmd->add_option("--api-key", args->api_key, "API key (for --upload-survey)")->envname("LOCUS_API_KEY");
-    cmd->add_option("--radiomap", args->radiomap, "radio map to localize against")->required()->check(CLI::PositiveNumber);
+    cmd->add_option("--radiomap", args->radiomap, "radio map to localize against (a walk file)")->check(CLI::PositiveNumber);
+    cmd->add_option("--map", args->map, "map to localize against, every floor (a GetSensorData/IPIN logfile)")->check(CLI::PositiveNumber);
+    cmd->add_flag("--known-start", args->known_start, "a logfile's first POSI landmark given to the tracker");
+    cmd->add_flag("--no-gnss", args->no_gnss, "a logfile's GNSS fixes left out");
+    cmd->add_flag("--no-ble", args->no_ble, "a logfile's beacon readings left out");
+    cmd->add_flag("--server-defaults", args->server_defaults, "--rule thin: the server's walk_pf priors, not the IPIN trackers'");
+    cmd->add_flag("--no-offset", args->no_offset, "a logfile's scans sent as read (the trackers learn no phone offset)");
     cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, "
-                    "or all; for a walk with anchors also trilateration, multilateration, kalman_trilateration (alias: kalman_seed, "
+                    "or all; for a logfile walk_pf, kalman, pdr, wifi or thin (the server's live-track filter); for a walk with anchors also trilateration, multilateration, kalman_trilateration (alias: kalman_seed, "
                     "deprecated), kalman_ranging, ekf_ranging")->capture_default_str();
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn/bayes")->capture_default_str()->check(CLI::Range(1, 100));
@@ -249,9 +283,17 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_option("--live-speed", args->live_speed, "1: post in real time, 10: ten times faster, 0: all at once")
         ->capture_default_str()->check(CLI::Range(0.0, 1000.0));
     live->needs(cmd->get_option("--live-map"));
-    cmd->add_option("FILE", args->file, "walk file (locus sim --out, or a recording)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("FILE", args->file, "walk file (locus sim --out, or a recording) or a GetSensorData/IPIN logfile")
+        ->required()
+        ->check(CLI::ExistingFile);
     cmd->callback([args] {
         if (args->rule == "kalman_seed") args->rule = "kalman_trilateration";  // the method's deprecated name
+        if (datasets::ipin::file_looks_like_log(args->file)) {
+            run_log(*args);
+            return;
+        }
+        if (args->map > 0) throw tools::CommandError("--map is for a logfile; a walk file takes --radiomap");
+        if (args->radiomap <= 0) throw tools::CommandError("--radiomap is required for a walk file");
         run(*args);
     });
 });

@@ -47,6 +47,11 @@ TrackPosted Client::post_fixes(const TrackKey& track, const std::vector<TrackFix
     return out;
 }
 
+json Client::post_steps(const TrackKey& track, const json& batch) {
+    const std::string text = batch.dump();
+    return send("POST", path_of(track, "/steps"), &text, {{"X-Track-Token", track.token}});
+}
+
 TrackState Client::track(const TrackKey& track, int trail_limit) {
     const json j = send("GET", path_of(track, "?limit=" + std::to_string(trail_limit)), nullptr, {{"X-Track-Token", track.token}});
     TrackState s;

@@ -154,14 +154,16 @@ std::vector<tracks::Gnss> parse_gnss(const json* arr, double retention_s) {
     return out;
 }
 
-// `fusion_options` of POST /v1/tracks: only for the Kalman methods, only the options the method
-// takes (tracks/fusion_options.hpp), each a finite number in its range.
+// `fusion_options` of POST /v1/tracks: for the Kalman methods and walk_pf, only the options the
+// method takes (tracks/fusion_options.hpp), each a finite number in its range.
 tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMethod method) {
     tracks::FusionOptions out;
     const auto it = body.find("fusion_options");
     if (it == body.end()) return out;
-    if (!tracks::ranges_scans(method))
-        throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_trilateration, kalman_ranging, ekf_ranging); ") +
+    if (std::none_of(tracks::kFusionOptions.begin(), tracks::kFusionOptions.end(),
+                     [&](const tracks::FusionOptionSpec& s) { return tracks::takes(s, method); }))
+        throw invalid_field(std::string("'fusion_options' is for the Kalman methods (kalman_trilateration, kalman_ranging, ekf_ranging) "
+                                        "and walk_pf; ") +
                             tracks::fusion_method_name(method) + " takes none");
     if (!it->is_object()) throw invalid_field("'fusion_options' must be an object");
     for (auto item = it->begin(); item != it->end(); ++item) {

@@ -111,6 +111,9 @@ public:
     OpenedTrack open_track(std::int64_t map_id, const std::string& label = "");
     // Retrying is safe: a fix whose t is stored already counts as a duplicate.
     TrackPosted post_fixes(const TrackKey& track, const std::vector<TrackFix>& fixes);
+    // A thin client's batch (POST /v1/tracks/{id}/steps: steps, fixes, scans, pressure, gnss):
+    // the server runs the track's filter; its answer (`fused`, `scan_fixes`, ...) as it is.
+    nlohmann::json post_steps(const TrackKey& track, const nlohmann::json& batch);
     TrackState track(const TrackKey& track, int trail_limit = 100);
     void close_track(const TrackKey& track);
     void delete_track(const TrackKey& track);

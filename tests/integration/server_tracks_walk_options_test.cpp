@@ -1,0 +1,117 @@
+// walk_pf's own fusion_options on POST /v1/tracks (server/tracks/fusion_options.hpp; docs/tracks.md):
+// the step scale's prior, a fix's σ and the re-drawn share, against the real server. A track
+// opened with them keeps and answers them; its filter walks by them (ten 0.7 m steps after one
+// fix carry it twice as far at twice the scale); an option of another method, or out of range,
+// is refused by name and opens nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "hierarchy.hpp"
+#include "server_process.hpp"
+#include "track_call.hpp"
+#include "unix_time.hpp"
+
+using locus::testing::body_of;
+using locus::testing::Response;
+using locus::testing::ServerProcess;
+using locus::testing::track_call;
+using locus::testing::unix_now;
+using nlohmann::json;
+
+namespace {
+
+struct Track {
+    std::int64_t id = 0;
+    std::string token;
+};
+
+Track open_track(const ServerProcess& s, const json& body) {
+    const json b = body_of(track_call(s, "POST", "/v1/tracks", {}, body.dump()), 201);
+    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
+}
+
+// The walker's fixes pin the compass's rotation: a fix at (5, 10), ten 0.7 m steps east, a fix
+// at (12, 10) where they took it, ten more steps east, a fix at (19, 10); then ten more steps
+// east with no fix. Answers how far the track's estimate moved over those last ten steps.
+double walked(const ServerProcess& s, const Track& t, std::int64_t floor) {
+    const double t0 = std::floor(unix_now()) - 60;
+    json steps = json::array(), fixes = json::array();
+    for (int leg = 0; leg < 3; ++leg) {
+        const double start = t0 + 6.0 * leg;
+        fixes.push_back({{"t", start}, {"floor_id", floor}, {"x", 5.0 + 7.0 * leg}, {"y", 10.0}, {"accuracy_m", 1.0}});
+        for (int i = 1; i <= 10; ++i) steps.push_back({{"t", start + 0.5 * i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    }
+    const json body = {{"fixes", fixes}, {"steps", steps}};
+    const json got = body_of(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/steps", {t.token}, body.dump()));
+    const json& fused = got["fused"];
+    // The fused fixes: one per fix and per step, in time order; the last leg's are the last 11.
+    const json& before = fused[fused.size() - 11];
+    const json& last = fused.back();
+    return std::hypot(last["x"].get<double>() - before["x"].get<double>(), last["y"].get<double>() - before["y"].get<double>());
+}
+
+}  // namespace
+
+TEST(ServerTracksWalkOptions, AWalkPfTrackWalksByItsOwnStepScale) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const json options = {{"step_scale", 1.0}, {"step_scale_sigma", 0.02}, {"fix_sigma_m", 5.0}, {"reseed_fraction", 0.02},
+                          {"reseed_max_fraction", 0.1}};
+    const Track own = open_track(s, {{"map_id", h.map}, {"fusion", "walk_pf"}, {"fusion_options", options}});
+    const json info = body_of(track_call(s, "GET", "/v1/tracks/" + std::to_string(own.id), {own.token}));
+    EXPECT_EQ(info["fusion"], "walk_pf");
+    EXPECT_EQ(info["fusion_options"], options);
+    // The last ten steps carry the track about scale × 7 m (measured 6.5 m at 1.0, 12.2 m at 2.0:
+    // the fixes before pull the cloud a little).
+    json twice = options;
+    twice["step_scale"] = 2.0;
+    const Track far = open_track(s, {{"map_id", h.map}, {"fusion", "walk_pf"}, {"fusion_options", twice}});
+    const double near_m = walked(s, own, h.floor), far_m = walked(s, far, h.floor);
+    EXPECT_NEAR(near_m, 7.0, 1.5);
+    EXPECT_NEAR(far_m / near_m, 2.0, 0.4) << near_m << " " << far_m;
+}
+
+// Headings already the floor's (rotation_sigma_deg): after one fix at (10, 10) and ten 0.7 m
+// steps east the track is where they lead, (17, 10); without it the filter knows no rotation
+// from one fix (measured at (12.5, 13.8) without it).
+TEST(ServerTracksWalkOptions, AKnownRotationWalksWhereTheHeadingsLead) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const json options = {{"step_scale", 1.0}, {"step_scale_sigma", 0.02}, {"rotation_sigma_deg", 3.0}, {"rotation_walk_deg", 1.0}};
+    const Track t = open_track(s, {{"map_id", h.map}, {"fusion_options", options}});
+    const double t0 = std::floor(unix_now()) - 60;
+    json steps = json::array();
+    for (int i = 1; i <= 10; ++i) steps.push_back({{"t", t0 + 0.5 * i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    const json body = {{"fixes", json::array({{{"t", t0}, {"floor_id", h.floor}, {"x", 10.0}, {"y", 10.0}, {"accuracy_m", 0.5}}})},
+                       {"steps", steps}};
+    const json got = body_of(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/steps", {t.token}, body.dump()));
+    EXPECT_NEAR(got["fused"].back()["x"].get<double>(), 17.0, 1.0) << got["fused"].back().dump();
+    EXPECT_NEAR(got["fused"].back()["y"].get<double>(), 10.0, 1.0) << got["fused"].back().dump();
+}
+
+TEST(ServerTracksWalkOptions, OptionsOfAnotherMethodOrOutOfRangeAreRefused) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::vector<std::pair<json, std::string>> bad = {
+        {{{"fusion", "walk_pf"}, {"fusion_options", {{"step_scale", 0.0}}}}, "fusion_options.step_scale"},
+        {{{"fusion_options", {{"step_scale", 9.0}}}}, "fusion_options.step_scale"},  // the default method, walk_pf
+        {{{"fusion", "walk_pf"}, {"fusion_options", {{"fix_sigma_m", "5"}}}}, "fusion_options.fix_sigma_m"},
+        {{{"fusion", "walk_pf"}, {"fusion_options", {{"reseed_fraction", 1.5}}}}, "fusion_options.reseed_fraction"},
+        {{{"fusion", "walk_pf"}, {"fusion_options", {{"r_sigma_m", 1.0}}}}, "fusion_options.r_sigma_m"},
+        {{{"fusion", "walk_pf"}, {"fusion_options", {{"rotation_sigma_deg", 0.0}}}}, "fusion_options.rotation_sigma_deg"},
+        {{{"fusion", "walk_pf"}, {"fusion_options", {{"rotation_walk_deg", 45.0}}}}, "fusion_options.rotation_walk_deg"},
+        {{{"fusion", "kalman_trilateration"}, {"fusion_options", {{"step_scale", 1.0}}}}, "fusion_options.step_scale"},
+        {{{"fusion", "particle"}, {"fusion_options", {{"step_scale", 1.0}}}}, "particle takes none"},
+    };
+    for (const auto& [fields, name] : bad) {
+        json req = fields;
+        req["map_id"] = h.map;
+        const Response r = track_call(s, "POST", "/v1/tracks", {}, req.dump());
+        EXPECT_EQ(r.status, 422) << req.dump();
+        EXPECT_NE(r.body["error"]["message"].get<std::string>().find(name), std::string::npos) << r.raw;
+    }
+    // Nothing was opened: the first track is number 1.
+    EXPECT_EQ(body_of(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump()), 201)["id"], 1);
+}

@@ -1,0 +1,189 @@
+#include "ipin_replay.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "command_registry.hpp"
+#include "ipin_eval.hpp"
+#include "ipin_venue.hpp"
+#include "ipin_walk.hpp"
+#include "locus/api/error.hpp"
+
+namespace locus::tools::ipin {
+
+namespace {
+
+using nlohmann::json;
+
+// The map's floor of `level` (its id and frame), the first one when several buildings have it.
+const std::pair<const long long, MapFloors::Floor>* floor_of_level(const MapFloors& floors, int level) {
+    for (const auto& entry : floors.by_id)
+        if (entry.second.level == level) return &entry;
+    return nullptr;
+}
+
+// The log as a thin client posts it: at each WiFi scan, the steps, pressure samples and GNSS
+// fixes since the last request, then the scan (its answer is the radio fix the server's filter
+// needs to start); a last request with what follows the last scan. The walk's clock is moved
+// onto Unix time so that the walk ends now (the server refuses fixes from the future and older
+// than it keeps). A scan no RP hears (422 no_match) is posted again without it, steps before
+// the filter could start (422 cannot_fuse) are dropped, as a phone would go on.
+std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFloors& floors, const ReplayOptions& o, json& out,
+                          std::ostream& log) {
+    const geo::FloorToEarth venue(venue_georeference());
+    const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    double last_t = lw.end_s;
+    if (!lw.steps.empty()) last_t = std::max(last_t, lw.steps.back().t_s);
+    if (!lw.pressure.empty()) last_t = std::max(last_t, lw.pressure.back().t_s);
+    if (!lw.gnss.empty()) last_t = std::max(last_t, lw.gnss.back().t);
+    const double base = std::floor(now - last_t - 1.0);
+    // A step's heading is clockwise from the floor's +y axis: the compass azimuth less the
+    // floor's bearing (the floors `locus import ipin` makes share one georeference).
+    double bearing_deg = 0.0;
+    for (const auto& [id, f] : floors.by_id)
+        if (f.frame) {
+            bearing_deg = f.frame->georeference().bearing_deg;
+            break;
+        }
+    // The track's walk filter takes the IPIN trackers' priors (ipin_walk_filter(): these phones'
+    // step scale, answers off by more than PUTMC's, the compass's rotation known from the
+    // georeference) unless the server's own are asked for.
+    json body = {{"map_id", o.map}, {"label", "replay " + lw.label + " (thin)"}};
+    if (!o.server_defaults) {
+        const fusion::WalkFilterConfig c = ipin_walk_filter();
+        body["fusion_options"] = {{"step_scale", c.scale_mean},
+                                  {"step_scale_sigma", c.scale_sigma},
+                                  {"fix_sigma_m", c.fix_sigma_m},
+                                  {"reseed_fraction", c.reseed_fraction},
+                                  {"reseed_max_fraction", c.reseed_max_fraction},
+                                  // the headings posted are the floor's: the compass's rotation is known
+                                  {"rotation_sigma_deg", c.hint_sigma_rad * 180.0 / std::numbers::pi},
+                                  {"rotation_walk_deg", c.offset_walk_rad * 180.0 / std::numbers::pi}};
+    }
+    const json track = client.post("/v1/tracks", body);
+    const api::TrackKey key{track.at("id").get<std::int64_t>(), track.at("token").get<std::string>()};
+    out["track"] = {{"id", key.id}, {"token", key.token}};
+    if (body.contains("fusion_options")) out["fusion_options"] = body["fusion_options"];
+    std::vector<Fix> estimates;
+    auto take = [&](const json& answer) {
+        for (const auto& f : answer.value("fused", json::array())) {
+            const auto it = floors.by_id.find(f.at("floor_id").get<long long>());
+            if (it == floors.by_id.end()) continue;
+            const Point at{f.at("x").get<double>(), f.at("y").get<double>()};
+            estimates.push_back({f.at("t").get<double>() - base, it->second.level,
+                                 it->second.frame ? venue.to_floor(it->second.frame->to_geodetic(at)) : at});
+        }
+        if (answer.contains("rss_offset_db")) out["rss_offset_db"] = answer["rss_offset_db"];
+    };
+    std::size_t requests = 0, refused_scans = 0, dropped_steps = 0;
+    auto post = [&](json batch) {
+        for (;;) {
+            try {
+                ++requests;
+                take(client.post_steps(key, batch));
+                return;
+            } catch (const api::ApiError& e) {
+                if (e.code() == "no_match" && batch.contains("scans")) {
+                    ++refused_scans;
+                    batch.erase("scans");
+                } else if (e.code() == "cannot_fuse" && batch.contains("steps")) {
+                    dropped_steps += batch["steps"].size();
+                    batch.erase("steps");
+                } else {
+                    throw;
+                }
+                if (batch.empty()) return;
+            }
+        }
+    };
+    if (o.known_start && !lw.truth.empty()) {
+        const Fix& s = lw.truth.front();
+        if (const auto* f = floor_of_level(floors, s.floor)) {
+            const Point at = f->second.frame ? f->second.frame->to_floor(venue.to_geodetic(s.at)) : s.at;
+            post({{"fixes", json::array({{{"t", base + s.t}, {"floor_id", f->first}, {"x", at.x}, {"y", at.y}, {"accuracy_m", 0.5}}})}});
+        }
+    }
+    std::size_t step = 0, pressure = 0, gnss = 0;
+    auto until = [&](double t_end, std::optional<std::size_t> scan) {
+        json batch = json::object();
+        json steps = json::array(), pres = json::array(), fixes = json::array();
+        for (; step < lw.steps.size() && lw.steps[step].t_s <= t_end; ++step) {
+            double heading = lw.steps[step].azimuth_rad * 180.0 / std::numbers::pi - bearing_deg;
+            heading = std::fmod(heading, 360.0);
+            if (heading < 0.0) heading += 360.0;
+            if (!(heading < 360.0)) heading = 0.0;
+            steps.push_back({{"t", base + lw.steps[step].t_s}, {"length_m", lw.steps[step].length_m}, {"heading_deg", heading}});
+        }
+        for (; pressure < lw.pressure.size() && lw.pressure[pressure].t_s <= t_end; ++pressure)
+            pres.push_back({{"t", base + lw.pressure[pressure].t_s}, {"hpa", lw.pressure[pressure].hpa}});
+        for (; gnss < lw.gnss.size() && lw.gnss[gnss].t <= t_end; ++gnss) {
+            if (!o.gnss) continue;
+            const geo::LatLon ll = venue.to_geodetic(lw.gnss[gnss].at);
+            fixes.push_back({{"t", base + lw.gnss[gnss].t}, {"lat", ll.lat}, {"lon", ll.lon}, {"accuracy_m", lw.gnss[gnss].accuracy_m}});
+        }
+        if (!steps.empty()) batch["steps"] = std::move(steps);
+        if (!pres.empty()) batch["pressure"] = std::move(pres);
+        if (!fixes.empty()) batch["gnss"] = std::move(fixes);
+        if (scan) {
+            json readings = json::array();
+            for (const auto& m : lw.walk.scans[*scan]) readings.push_back({{"type", m.type}, {"bssid", m.bssid.str()}, {"rss", m.rss}});
+            batch["scans"] = json::array({{{"t", base + lw.walk.scan_times[*scan]}, {"readings", readings}}});
+        }
+        if (!batch.empty()) post(std::move(batch));
+    };
+    for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) until(lw.walk.scan_times[i], i);
+    until(std::numeric_limits<double>::infinity(), std::nullopt);  // what follows the last scan
+    client.close_track(key);
+    out["requests"] = requests;
+    out["refused_scans"] = refused_scans;
+    out["dropped_steps"] = dropped_steps;
+    log << "thin track " << key.id << ": " << requests << " requests, " << estimates.size() << " fused fixes\n";
+    return estimates;
+}
+
+}  // namespace
+
+json replay_log(api::Client& client, const ReplayOptions& o, std::ostream& log) {
+    const bool tracker = o.rule == "walk_pf" || o.rule == "kalman" || o.rule == "pdr";
+    if (!tracker && o.rule != "wifi" && o.rule != "thin")
+        throw CommandError("unknown --rule '" + o.rule + "' for a logfile (walk_pf, kalman, pdr, wifi, thin)");
+    const LoadedWalk lw = load_walk(o.file);
+    const MapFloors floors = map_floors(client, o.map, tracker);
+    json out = {{"file", o.file}, {"format", "ipin"},    {"map", o.map},
+                {"rule", o.rule}, {"phone", lw.phone},   {"known_start", o.known_start},
+                {"landmarks", lw.truth.size()}};
+    std::vector<Fix> estimates;
+    if (o.rule == "thin") {
+        estimates = run_thin(client, lw, floors, o, out, log);
+    } else if (o.rule == "wifi") {
+        for (const auto& a : server_answers(client, o.map, floors, lw))
+            if (a) estimates.push_back(*a);
+    } else {
+        match::DeviceOffset offset;
+        RpFingerprints fingerprints(client);
+        const auto answers = o.offset ? server_answers(client, o.map, floors, lw, &offset, &fingerprints) : server_answers(client, o.map, floors, lw);
+        if (o.offset) out["offset_db"] = offset.offset_db();
+        const Tracker t = o.rule == "pdr" ? Tracker::pdr : o.rule == "kalman" ? Tracker::kalman : Tracker::walk_pf;
+        estimates = run_tracker(t, lw, answers, floors, {o.known_start, o.gnss, o.ble});
+    }
+    const geo::FloorToEarth venue(venue_georeference());
+    json list = json::array();
+    for (const auto& e : estimates) {
+        const geo::LatLon ll = venue.to_geodetic(e.at);
+        list.push_back({{"t", e.t}, {"floor", e.floor}, {"x", e.at.x}, {"y", e.at.y}, {"lat", ll.lat}, {"lon", ll.lon}});
+    }
+    out["estimates"] = std::move(list);
+    if (!lw.truth.empty()) {
+        const Errors e = score_instants(estimates, lw.truth);
+        out["score"] = figures(e);
+        out["score"]["errors"] = e.errors;  // per landmark, for pooling walks
+    }
+    return out;
+}
+
+}  // namespace locus::tools::ipin
