@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
 
 #include "http/api_error.hpp"
@@ -71,7 +72,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const auto open = parse_open_request(parse_object(body));
         check(open.map_id > 0, "an open request with a map id that is not positive", body);
         check(open.label.size() <= 400, "an open request with a label over 100 characters", body);  // UTF-8: up to 4 bytes each
-        check(open.fusion_options.empty() || tracks::ranges_scans(open.fusion), "fusion options on a method that takes none", body);
+        // Every option set is one the method takes (tracks/fusion_options.hpp), within its range.
+        for (const auto& spec : tracks::kFusionOptions) {
+            const std::optional<double>& v = open.fusion_options.*spec.field;
+            if (!v) continue;
+            check(tracks::takes(spec, open.fusion), "a fusion option the track's method does not take", body);
+            check(std::isfinite(*v) && *v >= spec.min && *v <= spec.max, "a fusion option outside its range", body);
+        }
     }, body);
 
     refused_or([&] {
