@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <numbers>
-#include <tuple>
 
 #include "locus/motion/fusion/heading_alignment.hpp"
 #include "locus/motion/fusion/kalman.hpp"
@@ -198,9 +197,7 @@ std::vector<Fix> track(Tracker tracker, const TrackInput& in, const std::vector<
         if (!h.begun() && t >= in.start->t) h.begin(in.start->at, 0.5);
         return h.begun();
     };
-    std::vector<double> step_t;
-    step_t.reserve(in.steps.size());
-    for (const auto& s : in.steps) step_t.push_back(s.t_s);
+    const std::vector<double> step_t = fusion::times_of(in.steps, &ImuStep::t_s);
     std::vector<Fix> out;
     fusion::WalkHandlers handlers;
     handlers.pressure = [&](std::size_t k) {
@@ -211,25 +208,17 @@ std::vector<Fix> track(Tracker tracker, const TrackInput& in, const std::vector<
     };
     // The fix stream holds the scans' answers, the GNSS fixes and the beacon fixes, merged by
     // time (at equal times a scan first, then GNSS, then a beacon).
-    enum class Source { scan, gnss, ble };
-    std::vector<std::tuple<double, Source, std::size_t>> fixes;
-    fixes.reserve(in.scan_times.size() + in.gnss.size() + in.ble.size());
-    for (std::size_t i = 0; i < in.scan_times.size(); ++i) fixes.emplace_back(in.scan_times[i], Source::scan, i);
-    for (std::size_t i = 0; i < in.gnss.size(); ++i) fixes.emplace_back(in.gnss[i].t, Source::gnss, i);
-    for (std::size_t i = 0; i < in.ble.size(); ++i) fixes.emplace_back(in.ble[i].t, Source::ble, i);
-    std::stable_sort(fixes.begin(), fixes.end(), [](const auto& a, const auto& b) {
-        return std::get<0>(a) < std::get<0>(b) || (std::get<0>(a) == std::get<0>(b) && std::get<1>(a) < std::get<1>(b));
-    });
-    std::vector<double> fix_t;
-    fix_t.reserve(fixes.size());
-    for (const auto& f : fixes) fix_t.push_back(std::get<0>(f));
+    enum Source : std::size_t { kScan, kGnss, kBle };  // merge_sources' order
+    const std::vector<double> gnss_t = fusion::times_of(in.gnss, &GnssFix::t), ble_t = fusion::times_of(in.ble, &BeaconFix::t);
+    const fusion::MergedStream fixes = fusion::merge_sources({in.scan_times, gnss_t, ble_t});
     handlers.fix = [&](std::size_t k) {
-        const auto [t, source, i] = fixes[k];
-        if (source == Source::gnss) {
+        const double t = fixes.t[k];
+        const std::size_t i = fixes.index[k];
+        if (fixes.source[k] == kGnss) {
             if (walking(t)) h.gnss(in.gnss[i]);
             return;
         }
-        if (source == Source::ble) {
+        if (fixes.source[k] == kBle) {
             if (baro) baro->add_radio_vote(in.ble[i].floor);
             radio_floor = in.ble[i].floor;
             if (walking(t)) h.beacon(in.ble[i]);
@@ -250,7 +239,7 @@ std::vector<Fix> track(Tracker tracker, const TrackInput& in, const std::vector<
         else if (in.start) out.push_back({t, *floor, in.start->at});
     };
     const std::vector<double> pressure_t = fusion::times_of(in.pressure, &datasets::ipin::PressureSample::t_s);
-    fusion::run_walk({.pressure = pressure_t, .step = step_t, .fix = fix_t, .tick = ticks}, handlers);
+    fusion::run_walk({.pressure = pressure_t, .step = step_t, .fix = fixes.t, .tick = ticks}, handlers);
     return out;
 }
 

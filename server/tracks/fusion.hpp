@@ -259,23 +259,16 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
     const auto already_run = [&done](double t) { return done && t <= *done; };
     const std::vector<double> step_t = fusion::times_of(steps, &Step::t);
     const std::vector<double> pressure_t = fusion::times_of(pressure, &Pressure::t);
-    // The fix stream holds the radio fixes and the GNSS fixes, merged by time (a radio fix first
-    // at equal t): fix_of[k] < radio.size() is that radio fix, the rest GNSS fix fix_of[k] - radio.size().
-    std::vector<double> fix_t;
-    std::vector<std::size_t> fix_of;
-    fix_t.reserve(radio.size() + gnss.size());
-    fix_of.reserve(radio.size() + gnss.size());
-    for (std::size_t i = 0, j = 0; i < radio.size() || j < gnss.size();) {
-        const bool is_radio = j == gnss.size() || (i < radio.size() && radio[i].t <= gnss[j].t);
-        fix_t.push_back(is_radio ? radio[i].t : gnss[j].t);
-        fix_of.push_back(is_radio ? i++ : radio.size() + j++);
-    }
+    // The fix stream holds the radio fixes (source 0) and the GNSS fixes (source 1), merged by
+    // time (a radio fix first at equal t).
+    const std::vector<double> radio_t = fusion::times_of(radio, &RadioFix::t), gnss_t = fusion::times_of(gnss, &Gnss::t);
+    const fusion::MergedStream fixes = fusion::merge_sources({radio_t, gnss_t});
     for (const fusion::WalkEvent& e :
-         fusion::time_order({.pressure = pressure_t, .step = step_t, .fix = fix_t}, fusion::kFixesFirst)) {
+         fusion::time_order({.pressure = pressure_t, .step = step_t, .fix = fixes.t}, fusion::kFixesFirst)) {
         const double t = e.t_s;
-        if (e.kind == fusion::EventKind::fix && fix_of[e.index] >= radio.size()) {
+        if (e.kind == fusion::EventKind::fix && fixes.source[e.index] == 1) {
             // GNSS alone does not begin a track: the filter starts at a radio fix.
-            if (!started() || already_run(t) || !take_gnss(gnss[fix_of[e.index] - radio.size()], floors)) continue;
+            if (!started() || already_run(t) || !take_gnss(gnss[fixes.index[e.index]], floors)) continue;
             if (!done_t_ || t > *done_t_) done_t_ = t;
             out.push_back(fused(t, heading_deg_));
             continue;
@@ -308,7 +301,7 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
         if (already_run(t)) continue;
         if (!done_t_ || t > *done_t_) done_t_ = t;
         if (e.kind == fusion::EventKind::fix) {
-            const RadioFix& r = radio[fix_of[e.index]];
+            const RadioFix& r = radio[fixes.index[e.index]];
             const Point at{r.x, r.y};
             bool ruled_out = false;
             if (const std::optional<int> vote = r.unplaced || !baro_ ? std::nullopt : baro_index(r.floor_id)) {

@@ -82,8 +82,8 @@ StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLo
     const bool learns_offset = track.fusion == FusionMethod::walk_pf;
     RunScans run_scans(svc, id, track.map_id, learns_offset ? &in.scans : nullptr, localizer);
     // walk_pf's scans are localized in the run (RunScans), with the offset its filter learnt.
-    for (std::size_t i = 0; i < (learns_offset ? 0 : in.scans.size()); ++i) {
-        const TimedScan& scan = in.scans[i];
+    const std::vector<TimedScan> none;
+    for (const TimedScan& scan : learns_offset ? none : in.scans) {
         if (ranges_scans(track.fusion)) {
             radio.push_back(ranged_scan_fix(localizer, track.map_id, track.fusion, scan));
         } else {

@@ -175,3 +175,20 @@ TEST(WalkRunner, PushWithFixesFirst) {
     runner.finish();
     EXPECT_EQ(log.seen, (Names{"f0", "s0"}));
 }
+
+// merge_sources: three sources of fixes, written out by hand. Radio at 1, 3, 3; GNSS at 0, 3;
+// beacons at 3, 5. At t = 3 the radio fixes first (in their order), then GNSS, then the beacon.
+TEST(WalkRunner, MergedSourcesTakeTheEarlierSourceFirstAtEqualTimes) {
+    const std::vector<double> radio = {1, 3, 3}, gnss = {0, 3}, ble = {3, 5};
+    const MergedStream m = merge_sources({radio, gnss, ble});
+    EXPECT_EQ(m.t, (std::vector<double>{0, 1, 3, 3, 3, 3, 5}));
+    EXPECT_EQ(m.source, (std::vector<std::size_t>{1, 0, 0, 0, 1, 2, 2}));
+    EXPECT_EQ(m.index, (std::vector<std::size_t>{0, 0, 1, 2, 1, 0, 1}));
+    const MergedStream none = merge_sources({{}, {}});
+    EXPECT_TRUE(none.t.empty());
+    // A source out of time order is walked as it stands, as time_order walks a stream.
+    const std::vector<double> late = {4, 2};
+    const MergedStream as_is = merge_sources({late, std::vector<double>{3}});
+    EXPECT_EQ(as_is.t, (std::vector<double>{3, 4, 2}));
+    EXPECT_EQ(as_is.source, (std::vector<std::size_t>{1, 0, 0}));
+}

@@ -72,6 +72,26 @@ const std::function<void(std::size_t)>& WalkHandlers::of(EventKind kind) const {
     return tick;
 }
 
+MergedStream merge_sources(std::initializer_list<std::span<const double>> sources) {
+    const std::vector<std::span<const double>> src(sources);
+    std::vector<std::size_t> next(src.size(), 0);
+    std::size_t total = 0;
+    for (const auto& s : src) total += s.size();
+    MergedStream out;
+    out.t.reserve(total);
+    out.source.reserve(total);
+    out.index.reserve(total);
+    for (std::size_t n = 0; n < total; ++n) {
+        std::size_t best = src.size();
+        for (std::size_t k = 0; k < src.size(); ++k)
+            if (next[k] < src[k].size() && (best == src.size() || src[k][next[k]] < src[best][next[best]])) best = k;
+        out.t.push_back(src[best][next[best]]);
+        out.source.push_back(best);
+        out.index.push_back(next[best]++);
+    }
+    return out;
+}
+
 std::vector<WalkEvent> time_order(const WalkStreams& streams, const TieOrder& ties) {
     std::vector<WalkEvent> out;
     out.reserve(streams.pressure.size() + streams.step.size() + streams.fix.size() + streams.tick.size());

@@ -36,6 +36,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <initializer_list>
 #include <span>
 #include <vector>
 
@@ -78,6 +79,17 @@ std::vector<double> times_of(const Range& items, Time time) {
     for (const auto& item : items) out.push_back(static_cast<double>(item.*time));
     return out;
 }
+
+// Several sources of one kind merged into one stream (a tracker's radio answers, GNSS fixes and
+// beacon fixes are all `fix` events): each source's times in its own order, heads compared as
+// time_order compares them (a later source goes first only when strictly earlier), so at equal
+// times the earlier source's event comes first. `t` is the merged stream's times, for
+// WalkStreams; `source[k]` and `index[k]` say where its k-th event came from. O(n·sources).
+struct MergedStream {
+    std::vector<double> t;
+    std::vector<std::size_t> source, index;
+};
+MergedStream merge_sources(std::initializer_list<std::span<const double>> sources);
 
 // Batch: every event of the streams, in order.
 std::vector<WalkEvent> time_order(const WalkStreams& streams, const TieOrder& ties = kStepsFirst);
