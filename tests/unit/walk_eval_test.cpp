@@ -161,3 +161,33 @@ TEST(WalkReality, ErrorCorrelationIsOneForASharedErrorAndMinusOneForOpposite) {
     first.fix_truth.resize(1), first.fix_error.resize(1), second.fix_truth.resize(1), second.fix_error.resize(1);
     EXPECT_EQ(walks::error_correlation({first, second}, {0.0, 4.0})[0].pairs, 0u);
 }
+
+// A thin client's batches (tools/putmc_thin): one per scan, every step the detector confirmed
+// up to the last scan in exactly one batch, each after the previous scan and by its own.
+#include "putmc_thin.hpp"
+
+TEST(ThinBatches, EveryStepUpToTheLastScanInTheBatchOfItsScan) {
+    const std::string dir = LOCUS_DATA_DIR "/putmc/trajs/xperia_traj1";
+    if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " not found: the shared data folder is absent";
+    const auto walk = putmc::read_walk(dir);
+    const auto batches = walks::thin_batches(walk);
+    ASSERT_EQ(batches.size(), walk.scans.size());
+    const auto all = walks::detect_steps(walk, walk.scans.back().t_s);
+    std::size_t seen = 0;
+    double previous = -INFINITY;
+    for (std::size_t i = 0; i < batches.size(); ++i) {
+        EXPECT_EQ(batches[i].scan, &walk.scans[i]);
+        EXPECT_EQ(batches[i].t_s, walk.scans[i].t_s);
+        EXPECT_EQ(batches[i].truth.x, walk.truth_of(walk.scans[i]).x);
+        for (const auto& s : batches[i].steps) {
+            EXPECT_GT(s.t_s, previous);
+            EXPECT_LE(s.t_s, batches[i].t_s);
+            ASSERT_LT(seen, all.size());
+            EXPECT_EQ(s.t_s, all[seen].t_s);
+            ++seen;
+        }
+        previous = batches[i].t_s;
+    }
+    EXPECT_EQ(seen, all.size());
+    EXPECT_GT(seen, 100u);  // a real walk of a few minutes
+}
