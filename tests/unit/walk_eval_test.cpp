@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "putmc_thin.hpp"
 #include "walk_eval.hpp"
 #include "walk_reality.hpp"
 
@@ -164,8 +165,6 @@ TEST(WalkReality, ErrorCorrelationIsOneForASharedErrorAndMinusOneForOpposite) {
 
 // A thin client's batches (tools/putmc_thin): one per scan, every step the detector confirmed
 // up to the last scan in exactly one batch, each after the previous scan and by its own.
-#include "putmc_thin.hpp"
-
 TEST(ThinBatches, EveryStepUpToTheLastScanInTheBatchOfItsScan) {
     const std::string dir = LOCUS_DATA_DIR "/putmc/trajs/xperia_traj1";
     if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " not found: the shared data folder is absent";
