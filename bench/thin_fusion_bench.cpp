@@ -1,7 +1,8 @@
 // A thin client's POST /v1/tracks/{id}/steps as the server fuses it (tracks::ThinFusion, no
-// HTTP): the copy of the track's filter a request runs on, then a typical batch (4 steps and
-// the radio fix of one ~4 s WiFi scan), with walk_pf (the default) and the particle filter, on
-// the PUTMC floor's plan made from its drawing; walk_pf also without a plan. Counters: the
+// HTTP): the copy of the track's filter a request runs on, then the next batch of a real PUTMC
+// walk (the steps since the previous WiFi scan, about 4 s, and that scan's radio fix), averaged
+// over the twelve walks, with walk_pf (the default) and the particle filter, on the PUTMC
+// floor's plan made from its drawing; walk_pf also without a plan. Counters: the
 // bytes one live track's filter holds (track_bytes) and those of the floor's shared plan
 // structures (floor_bytes: PlanWalkable, built once per plan version). Skipped when the
 // shared data folder is absent. And a Kalman track's request (kalman_trilateration, kalman_ranging,
@@ -9,16 +10,24 @@
 // with 4 steps (ekf_ranging: the scan's six readings are its measurements).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <vector>
 
+#include "datasets/putmc.hpp"
 #include "image_file.hpp"
 #include "locus/imaging/plan_from_image.hpp"
+#include "locus/match/localize.hpp"
+#include "locus/match/tune.hpp"
 #include "locus/ranging/trilateration.hpp"
+#include "putmc_thin.hpp"
 #include "tracks/fusion.hpp"
+#include "tracks/radio_fix.hpp"
 
 using namespace locus;
 
@@ -37,20 +46,78 @@ std::shared_ptr<const fusion::Walkable> putmc_floor() {
     return floor;
 }
 
-// A corridor point of the PUTMC floor (walk 1's first truth point, y flipped).
-constexpr Point kStart{59.58, 36.94 - 23.27};
+// The PUTMC walks as a thin client posts them (tools/putmc_thin): per scan, the steps the
+// detector confirmed since the previous one (compass headings: walk_pf learns the rotation) and
+// the scan's fix as the server's /steps would match it (the radio map's default matcher over
+// the survey's RPs, tracks::matched_fix's accuracy). Matched once here: the match is localize's
+// cost (localize_request_bench), not the tracker's.
+struct Batch {
+    std::vector<tracks::Step> steps;
+    std::vector<tracks::RadioFix> radio;  // empty when the scan matched nothing
+    Point truth;                          // floor frame
+};
+using Replay = std::vector<Batch>;
 
-tracks::RadioFix radio(double t, double x) {
-    tracks::RadioFix f;
-    f.t = t;
-    f.floor_id = 1;
-    f.x = x;
-    f.y = kStart.y;
-    f.accuracy_m = 2.0;
-    return f;
+const std::vector<Replay>& putmc_walks() {
+    static const std::vector<Replay> walks = [] {
+        std::vector<Replay> out;
+        const std::string dir = LOCUS_DATA_DIR "/putmc";
+        if (!std::filesystem::exists(kImage)) return out;
+        const auto survey = datasets::putmc::read_survey(dir + "/map");
+        const auto image = tools::read_grey_image(kImage);
+        const double height_m = image.height / survey.px_per_m;
+        std::map<int, std::vector<Scan>> scans_at;
+        for (const auto& s : survey.scans)
+            if (!s.readings.empty()) scans_at[s.loc_id].push_back(s.readings);
+        std::vector<match::IndexedRp> rps;
+        for (const auto& [loc, scans] : scans_at) {
+            match::IndexedRp rp;
+            rp.rp.id = loc;
+            rp.rp.at = datasets::putmc::to_floor(survey.at_of(loc), height_m);
+            rp.rp.scans = static_cast<std::int64_t>(scans.size());
+            rp.rp.measurements = aggregate_scans(scans);
+            rp.floor_id = 1;
+            rps.push_back(std::move(rp));
+        }
+        const auto index = match::Index::build(rps);
+        const match::Setting setting;  // a radio map's defaults before any tune
+        match::Workspace workspace;
+        for (const auto& walk_dir : datasets::putmc::walk_dirs(dir)) {
+            const auto walk = datasets::putmc::read_walk(walk_dir);
+            Replay replay;
+            for (const auto& b : tools::walks::thin_batches(walk)) {
+                Batch batch;
+                batch.truth = datasets::putmc::to_floor(b.truth, height_m);
+                for (const auto& s : b.steps) batch.steps.push_back({s.t_s, s.length_m, s.azimuth_rad * 180.0 / std::numbers::pi});
+                const auto m = match::localize(index, match::Query::from_scans({b.scan->readings}), setting.algorithm, setting.options, workspace);
+                if (m) {
+                    std::vector<Point> spread;
+                    for (const auto& c : m->candidates)
+                        if (static_cast<int>(spread.size()) < std::max(1, setting.options.k)) spread.push_back(c.at);
+                    if (spread.empty()) spread.push_back(m->at);
+                    batch.radio.emplace_back(tracks::matched_fix(b.t_s, 1, m->at, spread));
+                }
+                replay.push_back(std::move(batch));
+            }
+            out.push_back(std::move(replay));
+        }
+        return out;
+    }();
+    return walks;
 }
 
-// Arg 0: 0 = walk_pf, 1 = particle; arg 1: 1 = on the plan, 0 = no plan.
+// The batch a replay's track starts at: its first scan that matched.
+std::size_t first_fix(const Replay& r) {
+    std::size_t i = 0;
+    while (i < r.size() && r[i].radio.empty()) ++i;
+    return i;
+}
+
+// Arg 0: 0 = walk_pf, 1 = particle; arg 1: 1 = on the plan, 0 = no plan. Each iteration is
+// one request: a walk's requests in turn, then the next walk's, round the twelve (a walk's
+// first request, with no filter to continue, starts it untimed at its fix). Counters: steps
+// per request; error_m, the mean distance from a request's last answer to its scan's truth
+// (a check that the replay is a real walk's); track_bytes, the most one track held.
 void BM_ThinFusionRequest(benchmark::State& state) {
     const auto method = state.range(0) ? tracks::FusionMethod::particle : tracks::FusionMethod::walk_pf;
     std::shared_ptr<const fusion::Walkable> plan;
@@ -58,26 +125,43 @@ void BM_ThinFusionRequest(benchmark::State& state) {
         plan = putmc_floor();
         if (!plan) return state.SkipWithError("no PUTMC data");
     }
+    const auto& walks = putmc_walks();
+    if (walks.empty()) return state.SkipWithError("no PUTMC data");
     const auto walkable_of = [&plan](std::int64_t) { return plan; };
-    auto track = std::make_shared<tracks::ThinFusion>(method, 7);
-    track->run({}, {radio(0, kStart.x)}, walkable_of);
-    double t = 0, x = kStart.x;
+    std::shared_ptr<tracks::ThinFusion> track;
+    std::size_t walk = 0, next = 0, answered = 0, steps = 0;
+    double error_sum = 0.0;
+    std::size_t most_bytes = 0;
     for (auto _ : state) {
-        // 14 m west along the corridor and back (as walk_filter_bench), a fix after every 4 steps.
-        const bool west = static_cast<int>(t / 20) % 2 == 0;
-        std::vector<tracks::Step> steps;
-        for (int i = 1; i <= 4; ++i) steps.push_back({t + i, 0.7, west ? 270.0 : 90.0});
-        x += west ? -2.8 : 2.8;
+        if (!track || next == walks[walk].size()) {
+            state.PauseTiming();
+            if (track) walk = (walk + 1) % walks.size();
+            next = first_fix(walks[walk]);
+            track = std::make_shared<tracks::ThinFusion>(method, 7);
+            track->run({}, walks[walk][next].radio, walkable_of);
+            ++next;
+            state.ResumeTiming();
+        }
+        const Batch& b = walks[walk][next++];
+        steps += b.steps.size();
         // The request runs on a copy, kept once its fixes are stored (tracks::Service::post_raw).
-        auto next = std::make_shared<tracks::ThinFusion>(*track);
-        benchmark::DoNotOptimize(next->run(steps, {radio(t + 4, x)}, walkable_of));
-        track = std::move(next);
-        t += 4;
+        auto copy = std::make_shared<tracks::ThinFusion>(*track);
+        const auto fixes = copy->run(b.steps, b.radio, walkable_of);
+        if (!fixes.empty()) {
+            error_sum += distance({fixes.back().x, fixes.back().y}, b.truth);
+            ++answered;
+        }
+        track = std::move(copy);
+        most_bytes = std::max(most_bytes, track->memory_bytes());
     }
-    // What one live track holds, and (on the plan) what the floor's tracks share.
-    state.counters["track_bytes"] = static_cast<double>(track->memory_bytes());
+    if (answered) state.counters["error_m"] = error_sum / static_cast<double>(answered);
+    state.counters["steps"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kAvgIterations);
+    // (On the plan) what the floor's tracks share.
+    state.counters["track_bytes"] = static_cast<double>(most_bytes);
     if (plan) state.counters["floor_bytes"] = static_cast<double>(plan->floor_plan->memory_bytes());
 }
+// Run with --benchmark_min_time=3 to go round the walks' ~250 requests at least twice (the
+// default 0.5 s takes /0/1 through the first two thirds of them).
 BENCHMARK(BM_ThinFusionRequest)->Args({0, 1})->Args({1, 1})->Args({0, 0})->Unit(benchmark::kMicrosecond);
 
 // The copy alone: each filter holds its own Walkable (client-lib's filters own their map).
@@ -85,8 +169,9 @@ void BM_ThinFusionCopy(benchmark::State& state) {
     const auto method = state.range(0) ? tracks::FusionMethod::particle : tracks::FusionMethod::walk_pf;
     const auto plan = putmc_floor();
     if (!plan) return state.SkipWithError("no PUTMC data");
+    const auto& walk = putmc_walks().front();
     tracks::ThinFusion track(method, 7);
-    track.run({}, {radio(0, kStart.x)}, [&plan](std::int64_t) { return plan; });
+    track.run({}, walk[first_fix(walk)].radio, [&plan](std::int64_t) { return plan; });
     for (auto _ : state) benchmark::DoNotOptimize(std::make_shared<tracks::ThinFusion>(track));
 }
 BENCHMARK(BM_ThinFusionCopy)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
