@@ -164,6 +164,47 @@ void BM_ThinFusionRequest(benchmark::State& state) {
 // default 0.5 s takes /0/1 through the first two thirds of them).
 BENCHMARK(BM_ThinFusionRequest)->Args({0, 1})->Args({1, 1})->Args({0, 0})->Unit(benchmark::kMicrosecond);
 
+// What a fail-over costs a thin client's track in accuracy: every PUTMC walk replayed whole
+// (walk_pf on the plan), and again with the track's replica lost at the walk's middle scan:
+// the next request reaches a replica that does not hold the filter, which starts afresh at
+// the track's latest stored fix (tracks::FusionSessions), forgetting the compass rotation and
+// step scale it had learnt. One iteration replays the twelve walks. Counters: error_m, the
+// mean error at the scans with an answer; second_half_m, the same over the scans from the
+// middle on (those a fail-over can change). Arg: 0 = no fail-over, 1 = a fail-over per walk.
+void BM_ThinFusionFailover(benchmark::State& state) {
+    const auto plan = putmc_floor();
+    const auto& walks = putmc_walks();
+    if (!plan || walks.empty()) return state.SkipWithError("no PUTMC data");
+    const auto walkable_of = [&plan](std::int64_t) { return plan; };
+    double sum = 0.0, second_sum = 0.0;
+    std::size_t n = 0, second_n = 0;
+    for (auto _ : state) {
+        sum = second_sum = 0.0;
+        n = second_n = 0;
+        for (const Replay& walk : walks) {
+            const std::size_t first = first_fix(walk), middle = first + (walk.size() - first) / 2;
+            auto track = std::make_unique<tracks::ThinFusion>(tracks::FusionMethod::walk_pf, 7);
+            track->run({}, walk[first].radio, walkable_of);
+            std::optional<tracks::Fix> latest;
+            for (std::size_t i = first + 1; i < walk.size(); ++i) {
+                if (state.range(0) && i == middle && latest) {
+                    track = std::make_unique<tracks::ThinFusion>(tracks::FusionMethod::walk_pf, 7);
+                    track->resume(*latest, walkable_of);
+                }
+                const auto fixes = track->run(walk[i].steps, walk[i].radio, walkable_of);
+                if (fixes.empty()) continue;
+                latest = fixes.back();
+                const double e = distance({latest->x, latest->y}, walk[i].truth);
+                sum += e, ++n;
+                if (i >= middle) second_sum += e, ++second_n;
+            }
+        }
+    }
+    state.counters["error_m"] = n ? sum / static_cast<double>(n) : NAN;
+    state.counters["second_half_m"] = second_n ? second_sum / static_cast<double>(second_n) : NAN;
+}
+BENCHMARK(BM_ThinFusionFailover)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+
 // The copy alone: each filter holds its own Walkable (client-lib's filters own their map).
 void BM_ThinFusionCopy(benchmark::State& state) {
     const auto method = state.range(0) ? tracks::FusionMethod::particle : tracks::FusionMethod::walk_pf;

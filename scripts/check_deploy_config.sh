@@ -4,7 +4,8 @@
 #    copy whose upstream host names are 127.0.0.1 (nginx -t resolves them; compose's service
 #    names exist only inside compose's network);
 #  - docker/compose.yaml parses, its replicated profile has postgres, the replicas and nginx,
-#    every replica runs on PostgreSQL and is in nginx's upstream list (and nothing else is),
+#    every replica runs on PostgreSQL and is in both of nginx's upstream lists (any replica, a
+#    track's own) and nothing else is,
 #    and every file it mounts exists;
 #  - docker/Dockerfile installs what the build needs: one of its stages every package that
 #    scripts/setup.sh installs for the server (all but postgresql, which only the tests use), and
@@ -63,9 +64,13 @@ for n in replicas:
         fail(f"replica '{n}' has no /health healthcheck")
 
 with open("docker/nginx-upstream-replicated.conf") as f:
-    upstream = set(re.findall(r"^\s*server\s+([A-Za-z0-9_.-]+):", f.read(), re.M))
-if upstream != set(replicas):
-    fail(f"nginx-upstream-replicated.conf lists {sorted(upstream)}, the profile's replicas are {replicas}")
+    blocks = re.findall(r"^upstream\s+(\w+)\s*\{(.*?)^\}", f.read(), re.M | re.S)
+if sorted(name for name, _ in blocks) != ["locus", "locus_tracks"]:
+    fail(f"nginx-upstream-replicated.conf defines upstreams {sorted(name for name, _ in blocks)}, want locus and locus_tracks")
+for name, body in blocks:
+    upstream = set(re.findall(r"^\s*server\s+([A-Za-z0-9_.-]+):", body, re.M))
+    if upstream != set(replicas):
+        fail(f"nginx-upstream-replicated.conf's upstream {name} lists {sorted(upstream)}, the profile's replicas are {replicas}")
 
 def nginx_address(name):
     nets = services[name].get("networks") or {}

@@ -11,31 +11,11 @@ set -euo pipefail
 server_bin=$1
 command -v nginx >/dev/null 2>&1 || { echo "nginx not installed (Debian nginx-light): skipped"; exit 77; }
 source "$(dirname "$0")/lib.sh"
-exit_hooks+=('[ -f "$tmp/nginx.pid" ] && kill "$(cat "$tmp/nginx.pid")" 2>/dev/null')
 
-# A replica on a free port (0), with a short heartbeat so the stream check takes a second,
-# trusting nginx (on loopback here) for X-Forwarded-For as docker/compose.yaml does.
-# Sets port and pid (no command substitution: the server would hold its pipe open).
-start_replica() {
-  local name=$1
-  "$server_bin" --db "$tmp/$name.db" --host 127.0.0.1 --port 0 --demo --track-heartbeat 0.2 --trusted-proxy 127.0.0.1 >/dev/null 2>"$tmp/$name.log" &
-  pid=$!
-  pids+=("$pid")
-  wait_for_log "$tmp/$name.log" '"port":[0-9]' "replica $name" "$pid"
-  port=$(logged_port "$tmp/$name.log")
-}
-start_replica a; port_a=$port
-start_replica b; port_b=$port; pid_b=$pid
-
-front=$(free_port)
-sed -e "s|/tmp/nginx|$tmp/nginx|g" -e "s|listen 8080;|listen 127.0.0.1:$front;|" \
-    -e 's|worker_processes auto;|worker_processes 1;|' "$repo/docker/nginx.conf" >"$tmp/nginx.conf"
-sed -E -e "s/replica-1:8080/127.0.0.1:$port_a/" -e "s/replica-2:8080/127.0.0.1:$port_b/" \
-    "$repo/docker/nginx-upstream-replicated.conf" >"$tmp/locus-upstream.conf"
-grep -q "127.0.0.1:$port_b" "$tmp/locus-upstream.conf" || fail "the upstream list no longer names replica-1 and replica-2"
-nginx -e "$tmp/error.log" -p "$tmp" -c "$tmp/nginx.conf" || fail "nginx did not start: $(cat "$tmp/error.log")"
-url=http://127.0.0.1:$front
-for _ in $(seq 50); do curl -sf "$url/health" >/dev/null && break; sleep 0.1; done
+# Each replica on its own SQLite file.
+start_replica "$server_bin" a "$tmp/a.db" --demo; port_a=$port
+start_replica "$server_bin" b "$tmp/b.db" --demo; port_b=$port; pid_b=$pid
+start_nginx_front "$port_a" "$port_b"
 
 # A localize body from the demo radio map's first RP.
 body=$(curl -sf "$url/v1/radiomaps/1/export" | python3 -c '
