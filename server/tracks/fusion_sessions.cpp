@@ -10,6 +10,10 @@
 namespace locus::tracks {
 
 std::shared_ptr<const fusion::Walkable> FusionSessions::walkable_of(std::int64_t floor_id) {
+    // Under the sessions' lock while a floor's first one is built (~0.1 s for 1,714 walls,
+    // docs/results.md "Tracking cost"): the tracks on that floor wait for it instead of each
+    // building its own.
+    std::lock_guard lock(mu_);
     if (const auto w = walkables_.find(floor_id); w != walkables_.end()) return w->second;
     const auto stored = store_.plan_of_floor(floor_id);
     if (!stored) return nullptr;
@@ -79,9 +83,13 @@ std::vector<Fix> FusionSessions::Run::run(FusionMethod method, const FusionOptio
             return sources ? sources->georeference(floor_id) : nullptr;
         }
     };
-    const auto it = held.find(id_);
-    const bool continues = it != held.end() && (!latest || (it->second->done_t() && latest->t <= *it->second->done_t()));
-    next_ = continues ? std::make_shared<ThinFusion>(*it->second)
+    std::shared_ptr<const ThinFusion> kept;
+    {
+        std::lock_guard lock(sessions_.mu_);
+        if (const auto it = held.find(id_); it != held.end()) kept = it->second;
+    }
+    const bool continues = kept && (!latest || (kept->done_t() && latest->t <= *kept->done_t()));
+    next_ = continues ? std::make_shared<ThinFusion>(*kept)
                       : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id_), options);
     next_->set_anchors(std::move(anchors));
     if (!continues && latest) next_->resume(*latest, walkable_of);
@@ -101,13 +109,27 @@ std::vector<Fix> FusionSessions::Run::run(FusionMethod method, const FusionOptio
 }
 
 void FusionSessions::Run::keep() {
-    if (next_) sessions_.fusions_[id_] = std::move(next_);
+    if (!next_) return;
+    std::lock_guard lock(sessions_.mu_);
+    // A track forgotten while this ran (ended, evicted, deleted) keeps no filter.
+    const auto it = sessions_.track_locks_.find(id_);
+    if (it != sessions_.track_locks_.end() && it->second == track_) sessions_.fusions_[id_] = std::move(next_);
+}
+
+std::shared_ptr<std::mutex> FusionSessions::track_lock(std::int64_t id) {
+    std::lock_guard lock(mu_);
+    auto& m = track_locks_[id];
+    if (!m) m = std::make_shared<std::mutex>();
+    return m;
 }
 
 void FusionSessions::forget(const std::vector<std::int64_t>& ids) {
     if (ids.empty()) return;
     std::lock_guard lock(mu_);
-    for (const auto id : ids) fusions_.erase(id);
+    for (const auto id : ids) {
+        fusions_.erase(id);
+        track_locks_.erase(id);
+    }
 }
 
 void FusionSessions::floor_changed(std::int64_t floor_id) {

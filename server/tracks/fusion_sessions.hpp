@@ -37,7 +37,10 @@ class FusionSessions {
 public:
     explicit FusionSessions(store::Store& store) : store_(store) {}
 
-    // One filter run of track `id`, holding the sessions' lock from its start to its end.
+    // One filter run of track `id`, holding that track's own lock from its start to its end:
+    // one track's runs take turns (each continues the filter the one before kept), different
+    // tracks' run in parallel, each on its request's thread. The sessions' lock guards only
+    // the maps below, for a lookup or an insert (and a floor's first Walkable, built once).
     class Run {
     public:
         // The filter's fixes for these inputs: the held filter continued, or (none held, or
@@ -55,14 +58,15 @@ public:
 
     private:
         friend class FusionSessions;
-        Run(FusionSessions& sessions, std::int64_t id) : sessions_(sessions), lock_(sessions.mu_), id_(id) {}
+        Run(FusionSessions& sessions, std::int64_t id) : sessions_(sessions), track_(sessions.track_lock(id)), lock_(*track_), id_(id) {}
         FusionSessions& sessions_;
+        std::shared_ptr<std::mutex> track_;
         std::unique_lock<std::mutex> lock_;
         std::int64_t id_;
         std::shared_ptr<ThinFusion> next_;
     };
 
-    // Takes the sessions' lock: call with no other tracks lock held.
+    // Takes track `id`'s lock: call with no other tracks lock held.
     Run begin(std::int64_t id) { return Run(*this, id); }
     // The tracks ended, evicted or deleted: their filters go.
     void forget(const std::vector<std::int64_t>& ids);
@@ -72,7 +76,8 @@ public:
     void all_floors_changed();
 
 private:
-    std::shared_ptr<const fusion::Walkable> walkable_of(std::int64_t floor_id);  // under mu_
+    std::shared_ptr<const fusion::Walkable> walkable_of(std::int64_t floor_id);  // takes mu_
+    std::shared_ptr<std::mutex> track_lock(std::int64_t id);                     // takes mu_
     // The floors of floor_id's building that have an elevation_m, read from the store each time
     // (a filter asks once per building it walks in): a row per floor, and one query per floor
     // for whether it has a radio map.
@@ -84,6 +89,9 @@ private:
     store::Store& store_;
     std::mutex mu_;
     std::unordered_map<std::int64_t, std::shared_ptr<ThinFusion>> fusions_;
+    // Each track's run lock, made at its first run and dropped with its filter (forget); a run
+    // holds its own reference, so one in flight outlives a forget.
+    std::unordered_map<std::int64_t, std::shared_ptr<std::mutex>> track_locks_;
     std::unordered_map<std::int64_t, std::shared_ptr<const fusion::Walkable>> walkables_;  // by floor
 };
 

@@ -107,8 +107,9 @@ Opened Service::open(std::int64_t map_id, const std::string& label, FusionMethod
         }
         out.info = insert_track(map_id, label, fusion, options, hash, t, evicted, client ? keyed_hash(options_.client_key, *client) : "");
     }
-    // With no other lock held: post_raw takes the sessions' lock first. Only when something
-    // was evicted: that lock is held through a whole filter run, which an open need not wait for.
+    // With no other lock held: post_raw takes a track's run lock, then the sessions' (briefly),
+    // then these. Only when something was evicted, so that an open does not wait for a floor's
+    // first Walkable to be built.
     if (!evicted.empty()) {
         std::vector<std::int64_t> ids;
         for (const auto& tr : evicted) ids.push_back(tr->info.id);

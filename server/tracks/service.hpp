@@ -76,7 +76,7 @@ public:
     // when the filter cannot run (steps before any fix; no plan for particle). `anchors`:
     // ekf_ranging's, the map's known transmitters (tracks/fusion.hpp), else unused. `sources`:
     // the floors' georeferences and walk_pf's scans (tracks/run_sources.hpp), asked during the
-    // run with the sessions' lock held; whatever it throws passes through, nothing written.
+    // run with the track's run lock held; whatever it throws passes through, nothing written.
     std::pair<Posted, std::vector<Fix>> post_raw(std::int64_t id, const std::vector<Step>& steps, const std::vector<RadioFix>& radio,
                                                  const std::vector<Pressure>& pressure = {}, const std::vector<Gnss>& gnss = {},
                                                  std::shared_ptr<const FloorAnchors> anchors = nullptr, RunSources* sources = nullptr);
