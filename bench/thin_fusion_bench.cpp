@@ -90,13 +90,7 @@ const std::vector<Replay>& putmc_walks() {
                 batch.truth = datasets::putmc::to_floor(b.truth, height_m);
                 for (const auto& s : b.steps) batch.steps.push_back({s.t_s, s.length_m, s.azimuth_rad * 180.0 / std::numbers::pi});
                 const auto m = match::localize(index, match::Query::from_scans({b.scan->readings}), setting.algorithm, setting.options, workspace);
-                if (m) {
-                    std::vector<Point> spread;
-                    for (const auto& c : m->candidates)
-                        if (static_cast<int>(spread.size()) < std::max(1, setting.options.k)) spread.push_back(c.at);
-                    if (spread.empty()) spread.push_back(m->at);
-                    batch.radio.emplace_back(tracks::matched_fix(b.t_s, 1, m->at, spread));
-                }
+                if (m) batch.radio.emplace_back(tracks::matched_fix(b.t_s, 1, m->at, tracks::candidate_spread(*m, setting.options.k)));
                 replay.push_back(std::move(batch));
             }
             out.push_back(std::move(replay));

@@ -1,5 +1,6 @@
 #include "tracks/radio_fix.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "locus/motion/fusion/kalman.hpp"
@@ -16,6 +17,16 @@ Fix matched_fix(double t, std::int64_t floor_id, Point at, const std::vector<Poi
     f.y = at.y;
     f.accuracy_m = std::sqrt(cov.trace() / 2.0);  // the σ per axis of an isotropic fix with this spread
     return f;
+}
+
+std::vector<Point> candidate_spread(const match::Result& result, int k) {
+    std::vector<Point> out;
+    for (const auto& c : result.candidates) {
+        if (static_cast<int>(out.size()) >= std::max(1, k)) break;
+        out.push_back(c.at);
+    }
+    if (out.empty()) out.push_back(result.at);
+    return out;
 }
 
 RadioFix ranged_fix(double t, std::int64_t floor_id, const ranging::Fix& fix) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "locus/geometry.hpp"
+#include "locus/match/localize.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "tracks/fusion.hpp"
 
@@ -15,6 +16,9 @@ namespace locus::tracks {
 // their mean, at least kScanFixFloorM: one candidate is no proof of metre accuracy.
 inline constexpr double kScanFixFloorM = 1.0;
 Fix matched_fix(double t, std::int64_t floor_id, Point at, const std::vector<Point>& spread);
+// The spread matched_fix takes from a matcher's answer: its best max(1, k) candidates'
+// positions (k: the matcher's Options::k), or the answer's own point when it lists none.
+std::vector<Point> candidate_spread(const match::Result& result, int k);
 
 // A ranging fix's accuracy_m is the σ per axis of its covariance (fusion::ranging_covariance),
 // as a matched fix's is of its spread; the ranging fix itself goes along for kalman_ranging's R.

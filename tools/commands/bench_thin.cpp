@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <httplib.h>
 #include <iostream>
@@ -85,11 +84,8 @@ std::vector<Walk> read_walks(const std::string& dir) {
 std::string body_of(const Request& r, double shift, bool first) {
     json steps = json::array();
     if (!first)
-        for (const auto& s : r.steps) {
-            double heading = std::fmod(s.azimuth_rad * 180.0 / std::numbers::pi, 360.0);
-            if (heading < 0) heading += 360.0;
-            steps.push_back({{"t", s.t_s + shift}, {"length_m", s.length_m}, {"heading_deg", heading}});
-        }
+        for (const auto& s : r.steps)  // an azimuth in (−π, π]: within the ±360° the server takes
+            steps.push_back({{"t", s.t_s + shift}, {"length_m", s.length_m}, {"heading_deg", s.azimuth_rad * 180.0 / std::numbers::pi}});
     json readings = json::array();
     for (const auto& x : r.readings) readings.push_back({{"type", x.type}, {"bssid", x.bssid.str()}, {"rss", x.rss}});
     return json{{"steps", steps}, {"scans", {{{"t", r.t + shift}, {"readings", readings}}}}}.dump();

@@ -10,6 +10,7 @@
 #include "http/tracks/track_anchors.hpp"
 #include "locus/match/localize.hpp"
 #include "locus/match/workspace.hpp"
+#include "tracks/radio_fix.hpp"
 
 namespace locus::http {
 
@@ -57,12 +58,7 @@ tracks::MatchedScan MapScans::match(std::int64_t map_id, const tracks::TimedScan
     const auto setting = resolve(request, snapshot_->defaults);
     const auto result = match::localize(snapshot_->index, request.query, setting.algorithm, setting.options, workspace);
     if (!result) throw ApiError(422, "no_match", "'" + scan.where + "': no reference point of the track's map shares an access point with the scan");
-    tracks::MatchedScan out{result->floor_id, result->at, {}, {}};
-    for (const auto& c : result->candidates) {
-        if (static_cast<int>(out.spread.size()) >= std::max(1, setting.options.k)) break;
-        out.spread.push_back(c.at);
-    }
-    if (out.spread.empty()) out.spread.push_back(result->at);
+    tracks::MatchedScan out{result->floor_id, result->at, tracks::candidate_spread(*result, setting.options.k), {}};
     if (rss_offset_db) out.placed_at = placed_at(snapshot_->index, request.query, result->rp_ids);
     return out;
 }
