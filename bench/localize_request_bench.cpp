@@ -15,6 +15,7 @@
 #include "datasets/uji_csv.hpp"
 #include "http/localize/localize_answer.hpp"
 #include "localize_body.hpp"
+#include "build_paths.hpp"
 
 namespace {
 

@@ -19,6 +19,7 @@
 // The reader belongs to the CLI sources, which are not a library; compile it in here.
 #include "datasets/uji_csv.hpp"
 #include "fingerprint_eval.hpp"
+#include "build_paths.hpp"
 
 namespace {
 

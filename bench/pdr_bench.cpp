@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "locus/motion/pdr/step_detector.hpp"
+#include "build_paths.hpp"
 
 namespace {
 

@@ -10,6 +10,7 @@
 #include "image_file.hpp"
 #include "locus/imaging/plan_from_image.hpp"
 #include "locus/plan/walk_grid.hpp"
+#include "build_paths.hpp"
 
 namespace {
 

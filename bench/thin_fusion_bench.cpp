@@ -28,12 +28,13 @@
 #include "putmc_thin.hpp"
 #include "tracks/fusion.hpp"
 #include "tracks/radio_fix.hpp"
+#include "build_paths.hpp"
 
 using namespace locus;
 
 namespace {
 
-const std::string kImage = LOCUS_DATA_DIR "/putmc/map/floorplan.png";
+const std::string kImage = std::string(LOCUS_DATA_DIR) + "/putmc/map/floorplan.png";
 constexpr double kPxPerM = 28.3988631094;
 
 std::shared_ptr<const fusion::Walkable> putmc_floor() {
@@ -61,7 +62,7 @@ using Replay = std::vector<Batch>;
 const std::vector<Replay>& putmc_walks() {
     static const std::vector<Replay> walks = [] {
         std::vector<Replay> out;
-        const std::string dir = LOCUS_DATA_DIR "/putmc";
+        const std::string dir = std::string(LOCUS_DATA_DIR) + "/putmc";
         if (!std::filesystem::exists(kImage)) return out;
         const auto survey = datasets::putmc::read_survey(dir + "/map");
         const auto image = tools::read_grey_image(kImage);

@@ -10,12 +10,13 @@
 #include "image_file.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
 #include "locus/imaging/plan_from_image.hpp"
+#include "build_paths.hpp"
 
 using namespace locus;
 
 namespace {
 
-const std::string kImage = LOCUS_DATA_DIR "/putmc/map/floorplan.png";
+const std::string kImage = std::string(LOCUS_DATA_DIR) + "/putmc/map/floorplan.png";
 constexpr double kPxPerM = 28.3988631094;
 
 // Built once: making the plan takes about a second.

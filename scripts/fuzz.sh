@@ -26,14 +26,14 @@ if ! "$cxx" -fsanitize=fuzzer,address,undefined "$probe/p.cpp" -o "$probe/p" 2>"
   exit 2
 fi
 rm -rf "$probe"
-launcher=()
-command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
 # -O1 -gline-tables-only, the flags OSS-Fuzz builds with: crash reports keep file and line at a
 # fraction of -O2 -g's build time.
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" \
-      -DLOCUS_FUZZ=ON -DLOCUS_BENCHMARKS=OFF -DCMAKE_CXX_COMPILER="$cxx" "${launcher[@]}" >/dev/null
-cmake --build "$BUILD_DIR" -j"$JOBS" --target locus_fuzz
+source scripts/phase.sh
+phase "fuzz configure" bash scripts/configure.sh "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DLOCUS_FUZZ=ON -DLOCUS_BENCHMARKS=OFF \
+      -DCMAKE_CXX_COMPILER="$cxx" >/dev/null
+phase "fuzz build" cmake --build "$BUILD_DIR" -j"$JOBS" --target locus_fuzz
 
 targets=("$@")
 if ((${#targets[@]} == 0)); then
@@ -47,24 +47,42 @@ mkdir -p "$artifacts"
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=${LOCUS_DETECT_LEAKS:-1}:print_stacktrace=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 
-failed=()
-for t in "${targets[@]}"; do
-  bin="$BUILD_DIR/bin/$t"
-  [ -x "$bin" ] || { echo "fuzz: no target $t ($bin)" >&2; exit 2; }
+# One target's run: its report to $work/$t.report, its status to $work/$t.rc.
+run_target() {
+  local t=$1 bin="$BUILD_DIR/bin/$1" dict=() rc=0
   mkdir -p "$work/$t"
   [ -d "fuzz/corpus/$t" ] && cp -R "fuzz/corpus/$t/." "$work/$t/"
-  dict=()
   [ -f "fuzz/dict/$t.dict" ] && dict=(-dict="fuzz/dict/$t.dict")
-  echo "fuzz: $t for ${seconds} s" >&2
-  if "$bin" "$work/$t" "${dict[@]}" -max_total_time="$seconds" -timeout=25 -rss_limit_mb=2048 \
-        -print_final_stats=1 -artifact_prefix="$artifacts/$t-" >"$work/$t.log" 2>&1; then
+  "$bin" "$work/$t" "${dict[@]}" -max_total_time="$seconds" -timeout=25 -rss_limit_mb=2048 \
+    -print_final_stats=1 -artifact_prefix="$artifacts/$t-" >"$work/$t.log" 2>&1 || rc=$?
+  if ((rc == 0)); then
     grep -E '^(stat::number_of_executed_units|stat::average_exec_per_sec|stat::new_units_added)' "$work/$t.log" |
-      sed "s/^/fuzz: $t: /" >&2 || true
+      sed "s/^/fuzz: $t: /" || true
   else
-    tail -n 60 "$work/$t.log" >&2
-    echo "fuzz: $t FAILED (input under $artifacts/)" >&2
-    failed+=("$t")
-  fi
+    tail -n 60 "$work/$t.log"
+    echo "fuzz: $t FAILED (input under $artifacts/)"
+  fi >"$work/$t.report"
+  echo "$rc" >"$work/$t.rc"
+}
+
+# A fuzzer is one process on one core: LOCUS_FUZZ_JOBS of them (default LOCUS_JOBS) run at once.
+fuzz_jobs="${LOCUS_FUZZ_JOBS:-$JOBS}"
+for t in "${targets[@]}"; do
+  [ -x "$BUILD_DIR/bin/$t" ] || { echo "fuzz: no target $t ($BUILD_DIR/bin/$t)" >&2; exit 2; }
+done
+run_all() {
+  for t in "${targets[@]}"; do
+    while (($(jobs -rp | wc -l) >= fuzz_jobs)); do wait -n || true; done
+    echo "fuzz: $t for ${seconds} s" >&2
+    run_target "$t" &
+  done
+  wait
+}
+phase "fuzz runs ($fuzz_jobs at once)" run_all
+failed=()
+for t in "${targets[@]}"; do
+  cat "$work/$t.report" >&2
+  [ "$(cat "$work/$t.rc" 2>/dev/null)" = 0 ] || failed+=("$t")
 done
 if ((${#failed[@]})); then
   echo "fuzz: failures in ${failed[*]}" >&2

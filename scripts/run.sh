@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Builds the server and the CLI (not the tests and benchmarks: scripts/test.sh builds those)
-# and starts the server on http://127.0.0.1:8080 with an SQLite file (locus.db) that gets a
+# Builds the server only (the CLI, tests and benchmarks: `scripts/setup.sh locus` or
+# scripts/test.sh; the server alone serves in a third of the time) and starts it on http://127.0.0.1:8080 with an SQLite file (locus.db) that gets a
 # small demo map the first time. Override with LOCUS_DB, LOCUS_PORT, LOCUS_HOST, or with the
 # server's own flags (`./scripts/run.sh --port 9090`), which win over those. LOCUS_NO_BUILD=1
 # starts the binaries already built in LOCUS_BUILD_DIR (default build/) without the set-up.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-[ "${LOCUS_NO_BUILD:-0}" = 1 ] || bash scripts/setup.sh locus-server locus
+[ "${LOCUS_NO_BUILD:-0}" = 1 ] || bash scripts/setup.sh locus-server
 defaults=()
 given() {  # is flag $1 among the arguments, as `--flag V` or `--flag=V`?
   local flag=$1 arg

@@ -19,7 +19,10 @@ fi
 
 packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev libsqlite3-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libutf8proc-dev libopencv-imgproc-dev libpng-dev
-          libjpeg-dev libssl-dev zlib1g-dev libjs-leaflet libpq-dev postgresql)
+          libjpeg-dev libssl-dev zlib1g-dev libjs-leaflet libpq-dev postgresql
+          # Build speed only (taken when present): a compiler cache, a fast linker, a build tool that
+          # keeps both cores busy (CMakeLists.txt, scripts/configure.sh).
+          ccache mold ninja-build)
 # The docs' shell blocks (scripts/docs_blocks.py, a test): Python, and the curl they use.
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(python3 curl)
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! command -v npm >/dev/null 2>&1 && packages+=(nodejs npm)
@@ -27,20 +30,21 @@ packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-js
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(chromium chromium-driver python3-selenium)
 # scripts/check_deploy_config.sh: nginx -t on docker/nginx.conf, and compose.yaml read as YAML.
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(nginx-light python3-yaml)
-bash scripts/install_packages.sh "${packages[@]}"
+source scripts/phase.sh
+phase "install packages" bash scripts/install_packages.sh "${packages[@]}"
 
 # A copy of the lock file npm ci last installed from: equal means nothing to do.
 if [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! cmp -s package-lock.json node_modules/.locus-installed-lock.json 2>/dev/null; then
   echo "setup: installing the pinned developer tools (npm ci)" >&2
-  npm ci --no-audit --no-fund --loglevel=error >&2
+  phase "npm ci" npm ci --no-audit --no-fund --loglevel=error >&2
   cp package-lock.json node_modules/.locus-installed-lock.json
 fi
 
 BUILD_DIR="${LOCUS_BUILD_DIR:-build}"
 JOBS="${LOCUS_JOBS:-2}"
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
+phase "configure ($BUILD_DIR)" bash scripts/configure.sh "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
 if ((${#targets[@]})); then
-  cmake --build "$BUILD_DIR" -j"$JOBS" --target "${targets[@]}"
+  phase "build ${targets[*]}" cmake --build "$BUILD_DIR" -j"$JOBS" --target "${targets[@]}"
 else
-  cmake --build "$BUILD_DIR" -j"$JOBS"
+  phase "build everything ($BUILD_DIR)" cmake --build "$BUILD_DIR" -j"$JOBS"
 fi

@@ -11,22 +11,21 @@ cd "$(dirname "$0")/.."
 
 BUILD_DIR="${LOCUS_ASAN_BUILD_DIR:-build-asan}"
 JOBS="${LOCUS_JOBS:-2}"
-launcher=()
-command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
 # -O1 -g1, as the ASan documentation advises: reports keep file and line, and the build takes
 # a fraction of -O2 -g's time (it is most of CI's time). No benchmarks: no test runs them.
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-      -DLOCUS_SANITIZE=ON -DLOCUS_BENCHMARKS=OFF "${launcher[@]}" >/dev/null
+source scripts/phase.sh
+phase "sanitized configure" bash scripts/configure.sh "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DLOCUS_SANITIZE=ON -DLOCUS_BENCHMARKS=OFF >/dev/null
 
-# Fatal on the first report (the build runs each test binary to list its tests, so it applies
-# there too). UBSan is also made fatal at compile time (-fno-sanitize-recover=undefined).
+# Fatal on the first report (also when ctest runs a test binary to list its tests). UBSan is
+# also made fatal at compile time (-fno-sanitize-recover=undefined).
 asan="halt_on_error=1:detect_leaks=${LOCUS_DETECT_LEAKS:-1}:print_stacktrace=1:strict_string_checks=1"
 asan+=":detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1"
 ubsan="halt_on_error=1:print_stacktrace=1"
 export ASAN_OPTIONS="$asan${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="$ubsan${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
-cmake --build "$BUILD_DIR" -j"$JOBS"
+phase "sanitized build" cmake --build "$BUILD_DIR" -j"$JOBS"
 
 # During the tests every report also goes to a file: a server the tests stop with SIGTERM, or a
 # CLI run whose exit status a test does not look at, could otherwise report (a leak at exit, an
@@ -38,7 +37,8 @@ export ASAN_OPTIONS="$ASAN_OPTIONS:log_path=$reports/asan"
 export UBSAN_OPTIONS="$UBSAN_OPTIONS:log_path=$reports/ubsan"
 
 status=0
-(cd "$BUILD_DIR" && ctest --output-on-failure -j"$JOBS" "$@") || status=$?
+phase "sanitized tests" bash -c 'cd "$1" && shift && ctest --output-on-failure "$@"' _ "$BUILD_DIR" -j"$JOBS" "$@" ||
+  status=$?
 if compgen -G "$reports/*" >/dev/null; then
   for f in "$reports"/*; do
     echo "=== sanitizer report $f" >&2

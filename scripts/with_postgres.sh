@@ -31,9 +31,12 @@ chmod 700 "$dir"
 port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 as_pg "$bin/initdb" -D "$dir/data" -A trust -U locus --no-sync -E UTF8 >"$dir/initdb.log" 2>&1 ||
   { cat "$dir/initdb.log" >&2; exit 1; }
-# fsync off: the cluster is deleted afterwards; the tests need its semantics, not its durability.
+# Tuned for throwaway data: the cluster is deleted afterwards, and the tests need its semantics,
+# not its durability (a test kills locus-server, never PostgreSQL). fsync off (-F), commits not
+# waiting for their WAL flush, no full-page images after a checkpoint.
 as_pg "$bin/pg_ctl" -D "$dir/data" -l "$dir/server.log" -w -t 60 \
-  -o "-k $dir -h 127.0.0.1 -p $port -F -c max_connections=300" start >/dev/null ||
+  -o "-k $dir -h 127.0.0.1 -p $port -F -c max_connections=300 -c synchronous_commit=off -c full_page_writes=off" \
+  start >/dev/null ||
   { cat "$dir/server.log" >&2; exit 1; }
 export LOCUS_TEST_DB_URL="postgresql://locus@127.0.0.1:$port/postgres"
 set +e

@@ -1,5 +1,7 @@
 #include "tracks/fusion_options.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace locus::tracks {
 
 bool FusionOptions::empty() const {

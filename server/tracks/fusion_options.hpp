@@ -6,7 +6,7 @@
 // Stored with the track as JSON text (migration 013). The table of options, which method takes each
 // and its range, is here once: the HTTP layer validates by it and the filter is configured by it.
 #include <array>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 

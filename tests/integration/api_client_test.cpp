@@ -17,6 +17,7 @@
 
 #include "locus/api/client.hpp"
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using namespace locus;
 using locus::testing::ServerProcess;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;

@@ -13,6 +13,7 @@
 #include "bench_connection.hpp"
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;

@@ -5,6 +5,7 @@
 
 #include "server_process.hpp"
 #include "text_file.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::contains;
 using locus::testing::run_command;
@@ -13,7 +14,6 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 
 }  // namespace
 
@@ -21,7 +21,7 @@ TEST(BenchMapMemory, BuildsTheRadioMapAndReadsTheServersMemory) {
     ServerProcess server{{"--quiet"}};
     const int pid = static_cast<int>(server.pid());
     ASSERT_GT(pid, 0);
-    const auto r = run_command({kCli, "bench", "map-memory", "--server", server.url(), "--pid", std::to_string(pid),
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "map-memory", "--server", server.url(), "--pid", std::to_string(pid),
                                 "--width", "40", "--height", "20", "--ap-spacing", "10"});
     ASSERT_EQ(r.status, 0) << r.err;
     const json out = json::parse(r.out);
@@ -38,7 +38,7 @@ TEST(BenchMapMemory, BuildsTheRadioMapAndReadsTheServersMemory) {
     server.stop();
     server.start();
     const int again = static_cast<int>(server.pid());
-    const auto m = run_command({kCli, "bench", "map-memory", "--server", server.url(), "--pid", std::to_string(again),
+    const auto m = run_command({LOCUS_CLI_BIN, "bench", "map-memory", "--server", server.url(), "--pid", std::to_string(again),
                                 "--radiomap", std::to_string(out.at("radiomap").get<int>())});
     ASSERT_EQ(m.status, 0) << m.err;
     const json existing = json::parse(m.out);
@@ -49,7 +49,7 @@ TEST(BenchMapMemory, BuildsTheRadioMapAndReadsTheServersMemory) {
 
 TEST(BenchMapMemory, AProcessThatIsNotThereIsNamed) {
     ServerProcess server{{"--quiet"}};
-    const auto r = run_command({kCli, "bench", "map-memory", "--server", server.url(), "--pid", "999999999"});
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "map-memory", "--server", server.url(), "--pid", "999999999"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "cannot read /proc/999999999/status")) << r.err;
 }

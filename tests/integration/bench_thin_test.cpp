@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
@@ -13,11 +14,10 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
-const std::string kFixture = LOCUS_TEST_FIXTURES "/putmc";
+const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/putmc";
 
 std::string import_fixture(const ServerProcess& server) {
-    const auto r = run_command({kCli, "import", "putmc", "--server", server.url(), "--map", "PUTMC", "--no-progress", kFixture});
+    const auto r = run_command({LOCUS_CLI_BIN, "import", "putmc", "--server", server.url(), "--map", "PUTMC", "--no-progress", kFixture});
     if (r.status != 0) throw std::runtime_error("import putmc: " + r.err);
     return std::to_string(json::parse(r.out).at("map_id").get<int>());
 }
@@ -27,7 +27,7 @@ std::string import_fixture(const ServerProcess& server) {
 TEST(BenchThin, TracksReplayTheWalkAndTheServerFusesEveryScan) {
     ServerProcess server{{"--quiet"}};
     const std::string map = import_fixture(server);
-    const auto r = run_command({kCli, "bench", "thin", kFixture, "--server", server.url(), "--map", map, "--tracks", "3", "--seconds", "3",
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "thin", kFixture, "--server", server.url(), "--map", map, "--tracks", "3", "--seconds", "3",
                                 "--pid", std::to_string(server.pid())});
     ASSERT_EQ(r.status, 0) << r.err;
     const json out = json::parse(r.out);
@@ -50,20 +50,20 @@ TEST(BenchThin, RefusesWhatItCannotReplay) {
     ServerProcess server{{"--quiet"}};
     const std::string map = import_fixture(server);
     // A directory with no walk under it.
-    auto r = run_command({kCli, "bench", "thin", kFixture + "/map", "--server", server.url(), "--map", map});
+    auto r = run_command({LOCUS_CLI_BIN, "bench", "thin", kFixture + "/map", "--server", server.url(), "--map", map});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("holds no PUTMC walk"), std::string::npos) << r.err;
     // A map the server does not have: the first open's answer, named.
-    r = run_command({kCli, "bench", "thin", kFixture, "--server", server.url(), "--map", "999"});
+    r = run_command({LOCUS_CLI_BIN, "bench", "thin", kFixture, "--server", server.url(), "--map", "999"});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("opening track 0 answered 422"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("map 999 not found"), std::string::npos) << r.err;
     // Load tests stay on this machine.
-    r = run_command({kCli, "bench", "thin", kFixture, "--server", "http://192.0.2.1:8080", "--map", map});
+    r = run_command({LOCUS_CLI_BIN, "bench", "thin", kFixture, "--server", "http://192.0.2.1:8080", "--map", map});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("loopback"), std::string::npos) << r.err;
     // A process id that is not running.
-    r = run_command({kCli, "bench", "thin", kFixture, "--server", server.url(), "--map", map, "--pid", "999999999"});
+    r = run_command({LOCUS_CLI_BIN, "bench", "thin", kFixture, "--server", server.url(), "--map", map, "--pid", "999999999"});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("no such process"), std::string::npos) << r.err;
 }

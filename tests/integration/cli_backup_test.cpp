@@ -14,6 +14,7 @@
 #include "server_process.hpp"
 #include "test_database.hpp"
 #include "text_file.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::body_of;
 using locus::testing::contains;
@@ -25,7 +26,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 
 json one_scan(int i) {
     return json::array({json::array({{{"type", "wifi"}, {"bssid", "aa:bb:cc:00:00:01"}, {"rss", -40 - i % 50}}})});
@@ -72,7 +72,7 @@ TEST(Backup, ACopyTakenDuringUploadsHoldsEveryUploadAcknowledgedBeforeIt) {
 
     const std::string dir = make_temp_dir();
     const int before = acknowledged;
-    const auto r = run_command({kCli, "backup", "--db", server.db_path(), "--out", dir + "/copy.db"});
+    const auto r = run_command({LOCUS_CLI_BIN, "backup", "--db", server.db_path(), "--out", dir + "/copy.db"});
     const int after = acknowledged;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));  // uploads go on after the copy
     stop = true;
@@ -105,7 +105,7 @@ TEST(Backup, ACopyOfAQuietServerServesTheSameExport) {
     const auto original = body_of(server.get(export_path(1)));
     ASSERT_FALSE(original.at("rps").empty());
     const std::string dir = make_temp_dir();
-    ASSERT_EQ(run_command({kCli, "backup", "--db", "sqlite:" + server.db_path(), "--out", dir + "/copy.db"}).status, 0);
+    ASSERT_EQ(run_command({LOCUS_CLI_BIN, "backup", "--db", "sqlite:" + server.db_path(), "--out", dir + "/copy.db"}).status, 0);
     // The copy is one self-contained file: no journal beside it.
     EXPECT_EQ(names_in(dir), std::vector<std::string>{"copy.db"});
 
@@ -121,13 +121,13 @@ TEST(Backup, AnExistingFileIsReplacedOnlyWithForce) {
     const std::string dir = make_temp_dir();
     const std::string out = dir + "/copy.db";
     std::ofstream(out) << "keep me";
-    const auto refused = run_command({kCli, "backup", "--db", server.db_path(), "--out", out});
+    const auto refused = run_command({LOCUS_CLI_BIN, "backup", "--db", server.db_path(), "--out", out});
     EXPECT_NE(refused.status, 0);
     EXPECT_TRUE(contains(refused.err, "already exists; pass --force")) << refused.err;
     EXPECT_EQ(locus::testing::slurp(out), "keep me");
     EXPECT_EQ(names_in(dir), std::vector<std::string>{"copy.db"});
 
-    const auto forced = run_command({kCli, "backup", "--db", server.db_path(), "--out", out, "--force"});
+    const auto forced = run_command({LOCUS_CLI_BIN, "backup", "--db", server.db_path(), "--out", out, "--force"});
     EXPECT_EQ(forced.status, 0) << forced.err;
     EXPECT_NE(locus::testing::slurp(out), "keep me");
     EXPECT_EQ(names_in(dir), std::vector<std::string>{"copy.db"});
@@ -139,26 +139,26 @@ TEST(Backup, BadInputIsNamedAndLeavesNothingBehind) {
     const std::string dir = make_temp_dir();
     const std::string out = dir + "/copy.db";
 
-    const auto missing = run_command({kCli, "backup", "--db", dir + "/nope.db", "--out", out});
+    const auto missing = run_command({LOCUS_CLI_BIN, "backup", "--db", dir + "/nope.db", "--out", out});
     EXPECT_EQ(missing.status, 1);
     EXPECT_TRUE(contains(missing.err, "no database file at '" + dir + "/nope.db'")) << missing.err;
 
     std::ofstream(dir + "/junk.db") << "this is not a database, just text long enough to be read as a header......";
-    const auto junk = run_command({kCli, "backup", "--db", dir + "/junk.db", "--out", out});
+    const auto junk = run_command({LOCUS_CLI_BIN, "backup", "--db", dir + "/junk.db", "--out", out});
     EXPECT_EQ(junk.status, 1);
     EXPECT_TRUE(contains(junk.err, "is not a Locus database")) << junk.err;
 
     ServerProcess server{{"--quiet"}};
-    const auto no_dir = run_command({kCli, "backup", "--db", server.db_path(), "--out", dir + "/no/such/dir/copy.db"});
+    const auto no_dir = run_command({LOCUS_CLI_BIN, "backup", "--db", server.db_path(), "--out", dir + "/no/such/dir/copy.db"});
     EXPECT_EQ(no_dir.status, 1);
     EXPECT_TRUE(contains(no_dir.err, "directory '" + dir + "/no/such/dir' does not exist")) << no_dir.err;
 
-    const auto itself = run_command({kCli, "backup", "--db", server.db_path(), "--out", server.db_path(), "--force"});
+    const auto itself = run_command({LOCUS_CLI_BIN, "backup", "--db", server.db_path(), "--out", server.db_path(), "--force"});
     EXPECT_EQ(itself.status, 1);
     EXPECT_TRUE(contains(itself.err, "is the database itself")) << itself.err;
     EXPECT_EQ(body_of(server.get("/health")).at("status"), "ok");  // the running server was not disturbed
 
-    const auto pg = run_command({kCli, "backup", "--db", "postgresql://locus@db.example/locus", "--out", out});
+    const auto pg = run_command({LOCUS_CLI_BIN, "backup", "--db", "postgresql://locus@db.example/locus", "--out", out});
     EXPECT_EQ(pg.status, 2);
     EXPECT_TRUE(contains(pg.err, "pg_dump")) << pg.err;
 

@@ -13,6 +13,7 @@
 
 #include "server_process.hpp"
 #include "text_file.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::body_of;
 using locus::testing::make_temp_dir;
@@ -23,8 +24,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
-const std::string kFixture = LOCUS_TEST_FIXTURES "/ipin_import";
+const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/ipin_import";
 const std::string kT01 = kFixture + "/trials/IPIN2023_T3_TrainingTrial01_repetition01.txt";
 
 std::vector<json> items(const ServerProcess& s, const std::string& path) {
@@ -79,7 +79,7 @@ std::size_t map_count(const ServerProcess& s) { return body_of(s.get("/v1/maps")
 
 TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     ServerProcess server{{"--quiet"}};
-    const auto r = run_command({kCli, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
+    const auto r = run_command({LOCUS_CLI_BIN, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
     ASSERT_EQ(r.status, 0) << r.err;
     const json out = json::parse(r.out);
     const auto map_id = out["map_id"].get<std::int64_t>();
@@ -157,7 +157,7 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     EXPECT_TRUE(items(server, "/v1/floors/" + fid(-1) + "/radiomaps").empty());
 
     const json before = state(server, map_id);
-    const auto again = run_command({kCli, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
+    const auto again = run_command({LOCUS_CLI_BIN, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
     ASSERT_EQ(again.status, 0) << again.err;
     const json second = json::parse(again.out);
     EXPECT_EQ(second["map_id"], map_id);
@@ -173,7 +173,7 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     // that row to :02, by its name, and makes no second BLE3.
     const std::string ble3 = "/v1/transmitters/" + std::to_string(t2[0]["id"].get<std::int64_t>());
     ASSERT_EQ(server.patch(ble3, {{"bssid", "be:ac:20:23:00:03"}}).status, 200);
-    const auto moved = run_command({kCli, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
+    const auto moved = run_command({LOCUS_CLI_BIN, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
     ASSERT_EQ(moved.status, 0) << moved.err;
     EXPECT_EQ(json::parse(moved.out)["transmitters"]["updated"], 1);
     const auto t2_after = items(server, "/v1/floors/" + fid(-2) + "/transmitters");
@@ -183,7 +183,7 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     EXPECT_EQ(state(server, map_id), before);
 
     // The evaluation scores T52 at its 4 POSI instants against this map.
-    const auto ev = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--map", std::to_string(map_id),
+    const auto ev = run_command({LOCUS_CLI_BIN, "eval", "ipin", kFixture, "--server", server.url(), "--map", std::to_string(map_id),
                                  "--trials", "*Trial52*", "--train", "*Trial01*", "--method", "all", "--json"});
     ASSERT_EQ(ev.status, 0) << ev.err;
     const json e = json::parse(ev.out);
@@ -212,29 +212,29 @@ TEST(ImportIpin, BadInputImportsNothing) {
     ServerProcess server{{"--quiet"}};
     const std::string url = server.url();
 
-    const auto missing = run_command({kCli, "import", "ipin", "/nonexistent/ipin", "--server", url});
+    const auto missing = run_command({LOCUS_CLI_BIN, "import", "ipin", "/nonexistent/ipin", "--server", url});
     EXPECT_NE(missing.status, 0);
     EXPECT_NE(missing.err.find("'/nonexistent/ipin' is not a folder"), std::string::npos) << missing.err;
 
     const std::string no_ble = copy_fixture();
     fs::remove(no_ble + "/supplementary/BLE_Locations.csv");
-    const auto nb = run_command({kCli, "import", "ipin", no_ble, "--server", url});
+    const auto nb = run_command({LOCUS_CLI_BIN, "import", "ipin", no_ble, "--server", url});
     EXPECT_NE(nb.status, 0);
     EXPECT_NE(nb.err.find("BLE_Locations.csv' is missing"), std::string::npos) << nb.err;
 
     const std::string bad_csv = copy_fixture();
     replace_line(bad_csv + "/supplementary/BLE_Locations.csv", 3, "\"BLE3\",49.46,eleven,-2");
-    const auto bc = run_command({kCli, "import", "ipin", bad_csv, "--server", url});
+    const auto bc = run_command({LOCUS_CLI_BIN, "import", "ipin", bad_csv, "--server", url});
     EXPECT_NE(bc.status, 0);
     EXPECT_NE(bc.err.find("BLE_Locations.csv:3: 'Lon' is not a longitude: 'eleven'; nothing imported"), std::string::npos) << bc.err;
 
     const std::string bad_log = copy_fixture();
     replace_line(bad_log + "/trials/IPIN2023_T3_TrainingTrial52_repetition01.txt", 9, "WIFI;4.000;1004.000;SSID;20:23:00:00:00:02;2437");
-    const auto bl = run_command({kCli, "import", "ipin", bad_log, "--server", url});
+    const auto bl = run_command({LOCUS_CLI_BIN, "import", "ipin", bad_log, "--server", url});
     EXPECT_NE(bl.status, 0);
     EXPECT_NE(bl.err.find("IPIN2023_T3_TrainingTrial52_repetition01.txt:9:"), std::string::npos) << bl.err;
 
-    const auto none = run_command({kCli, "import", "ipin", kFixture, "--server", url, "--trials", "*Trial99*"});
+    const auto none = run_command({LOCUS_CLI_BIN, "import", "ipin", kFixture, "--server", url, "--trials", "*Trial99*"});
     EXPECT_NE(none.status, 0);
     EXPECT_NE(none.err.find("matches --trials"), std::string::npos) << none.err;
 
@@ -244,12 +244,12 @@ TEST(ImportIpin, BadInputImportsNothing) {
 
 TEST(EvalIpin, WifiBaroNamesWhatItLacks) {
     ServerProcess server{{"--quiet"}};
-    const auto no_map = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--trials", "*Trial52*", "--method",
+    const auto no_map = run_command({LOCUS_CLI_BIN, "eval", "ipin", kFixture, "--server", server.url(), "--trials", "*Trial52*", "--method",
                                      "wifi-baro", "--json"});
     EXPECT_NE(no_map.status, 0);
     EXPECT_NE(no_map.err.find("--method wifi-baro needs --map ID"), std::string::npos) << no_map.err;
     for (const char* tracker : {"pdr", "kalman", "walk_pf"}) {
-        const auto r = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--trials", "*Trial52*", "--method",
+        const auto r = run_command({LOCUS_CLI_BIN, "eval", "ipin", kFixture, "--server", server.url(), "--trials", "*Trial52*", "--method",
                                     tracker, "--known-start"});
         EXPECT_NE(r.status, 0);
         EXPECT_NE(r.err.find(std::string("--method ") + tracker + " needs --map ID"), std::string::npos) << r.err;
@@ -260,11 +260,11 @@ TEST(EvalIpin, WifiBaroNamesWhatItLacks) {
     body_of(server.post("/v1/buildings/" + std::to_string(b["id"].get<std::int64_t>()) + "/floors",
                         {{"name", "G"}, {"level", 0}, {"width", 200}, {"height", 100}}),
             201);
-    const auto flat = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--map",
+    const auto flat = run_command({LOCUS_CLI_BIN, "eval", "ipin", kFixture, "--server", server.url(), "--map",
                                    std::to_string(map["id"].get<std::int64_t>()), "--trials", "*Trial52*", "--method", "wifi-baro"});
     EXPECT_NE(flat.status, 0);
     EXPECT_NE(flat.err.find("needs the map's floors' elevation_m"), std::string::npos) << flat.err;
-    const auto flat_pf = run_command({kCli, "eval", "ipin", kFixture, "--server", server.url(), "--map",
+    const auto flat_pf = run_command({LOCUS_CLI_BIN, "eval", "ipin", kFixture, "--server", server.url(), "--map",
                                       std::to_string(map["id"].get<std::int64_t>()), "--trials", "*Trial52*", "--method", "walk_pf"});
     EXPECT_NE(flat_pf.status, 0);
     EXPECT_NE(flat_pf.err.find("--method walk_pf needs the map's floors' elevation_m"), std::string::npos) << flat_pf.err;
@@ -282,7 +282,7 @@ TEST(SurveyWalkCli, LandmarksFromACsvOrFromPosiThroughTheFloorsGeoreference) {
     const std::string rmid = std::to_string(rm["id"].get<std::int64_t>());
 
     // POSI lat/lon need the floor's georeference.
-    const auto nogeo = run_command({kCli, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rmid});
+    const auto nogeo = run_command({LOCUS_CLI_BIN, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rmid});
     EXPECT_NE(nogeo.status, 0);
     EXPECT_NE(nogeo.err.find("has no georeference"), std::string::npos) << nogeo.err;
     EXPECT_TRUE(items(server, "/v1/radiomaps/" + rmid + "/rps").empty());
@@ -290,7 +290,7 @@ TEST(SurveyWalkCli, LandmarksFromACsvOrFromPosiThroughTheFloorsGeoreference) {
     // Landmarks from a CSV in the floor's frame: T01's times, the walk moved to (10,10) → (20,10) → (20,20).
     const std::string csv = make_temp_dir() + "/landmarks.csv";
     std::ofstream(csv) << "t,floor,x,y\n10,0,10,10\n20,0,20,10\n30,0,20,20\n";
-    const auto c = run_command({kCli, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rmid, "--landmarks",
+    const auto c = run_command({LOCUS_CLI_BIN, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rmid, "--landmarks",
                                 csv, "--cell", "0", "--no-progress"});
     ASSERT_EQ(c.status, 0) << c.err;
     const json cj = json::parse(c.out);
@@ -307,24 +307,24 @@ TEST(SurveyWalkCli, LandmarksFromACsvOrFromPosiThroughTheFloorsGeoreference) {
     body_of(server.patch("/v1/floors/" + fid, {{"geo", {{"lat", 49.46115}, {"lon", 11.11115}, {"x", 70}, {"y", 40}, {"bearing_deg", 0}}}}));
     const auto rm2 = body_of(server.post("/v1/floors/" + fid + "/radiomaps", {{"name", "walked posi"}}), 201);
     const std::string rm2id = std::to_string(rm2["id"].get<std::int64_t>());
-    const auto p = run_command({kCli, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rm2id, "--cell", "0",
+    const auto p = run_command({LOCUS_CLI_BIN, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rm2id, "--cell", "0",
                                 "--no-progress"});
     ASSERT_EQ(p.status, 0) << p.err;
     const json at16p = by_name(items(server, "/v1/radiomaps/" + rm2id + "/rps"), "IPIN2023_T3_TrainingTrial01_repetition01 0m #004");
     EXPECT_NEAR(at16p["x"].get<double>(), 76.0, 0.02);
     EXPECT_NEAR(at16p["y"].get<double>(), 40.0, 0.02);
     // Again: nothing merged twice.
-    const auto p2 = run_command({kCli, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rm2id, "--cell", "0",
+    const auto p2 = run_command({LOCUS_CLI_BIN, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rm2id, "--cell", "0",
                                  "--no-progress"});
     ASSERT_EQ(p2.status, 0) << p2.err;
     EXPECT_EQ(json::parse(p2.out)["already_uploaded"], 11);
 
     // Bad input: a malformed landmarks line, a mapping that is not FLOOR=ID.
     std::ofstream(csv) << "t,floor,x,y\n10,0,10,10\n20,0,twenty,10\n";
-    const auto bad = run_command({kCli, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rmid, "--landmarks", csv});
+    const auto bad = run_command({LOCUS_CLI_BIN, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "0=" + rmid, "--landmarks", csv});
     EXPECT_NE(bad.status, 0);
     EXPECT_NE(bad.err.find("landmarks.csv:3: 'x' is not a finite number: 'twenty'"), std::string::npos) << bad.err;
-    const auto badmap = run_command({kCli, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "ground"});
+    const auto badmap = run_command({LOCUS_CLI_BIN, "survey", "walk", kT01, "--server", server.url(), "--radiomap", "ground"});
     EXPECT_NE(badmap.status, 0);
     EXPECT_NE(badmap.err.find("expected FLOOR=ID"), std::string::npos) << badmap.err;
     EXPECT_EQ(items(server, "/v1/radiomaps/" + rmid + "/rps").size(), 11u);

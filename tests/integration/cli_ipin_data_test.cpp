@@ -12,6 +12,7 @@
 #include <string>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::body_of;
 using locus::testing::run_command;
@@ -20,8 +21,7 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
-const std::string kDir = LOCUS_DATA_DIR "/ipin2023";
+const std::string kDir = std::string(LOCUS_DATA_DIR) + "/ipin2023";
 
 }  // namespace
 
@@ -29,7 +29,7 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     if (!std::filesystem::exists(kDir + "/trials") || !std::filesystem::exists(kDir + "/supplementary/BLE_Locations.csv"))
         GTEST_SKIP() << kDir << " not found: the shared data folder is absent";
     ServerProcess server{{"--quiet"}};
-    const auto r = run_command({kCli, "import", "ipin", kDir, "--server", server.url(), "--trials", "*Trial52_repetition01.txt",
+    const auto r = run_command({LOCUS_CLI_BIN, "import", "ipin", kDir, "--server", server.url(), "--trials", "*Trial52_repetition01.txt",
                                 "--trials", "*Trial01_repetition01.txt", "--no-progress"});
     ASSERT_EQ(r.status, 0) << r.err;
     const json out = json::parse(r.out);
@@ -44,7 +44,7 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     EXPECT_EQ(out["upload"]["failed"], 0);
     const auto map_id = out["map_id"].get<std::int64_t>();
 
-    const auto ev = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+    const auto ev = run_command({LOCUS_CLI_BIN, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
                                  "*Trial01_repetition02.txt", "--train", "*Trial01_repetition01.txt", "--method", "all", "--json"});
     ASSERT_EQ(ev.status, 0) << ev.err;
     const json e = json::parse(ev.out);
@@ -69,20 +69,20 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     EXPECT_EQ(e["pooled"]["walk_pf"]["unscored"], 0);
     EXPECT_LT(e["pooled"]["walk_pf"]["p75_m"].get<double>(), e["pooled"]["wifi"]["p75_m"].get<double>());
     EXPECT_EQ(e["pooled"]["walk_pf"]["floor_hit_rate"], 1.0);
-    const auto ks = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+    const auto ks = run_command({LOCUS_CLI_BIN, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
                                  "*Trial01_repetition02.txt", "--method", "walk_pf", "--known-start", "--json"});
     ASSERT_EQ(ks.status, 0) << ks.err;
     const json k = json::parse(ks.out);
     EXPECT_EQ(k["known_start"], true);
     EXPECT_LT(k["pooled"]["walk_pf"]["p75_m"].get<double>(), 4.0) << k["pooled"].dump();
     EXPECT_EQ(k["pooled"]["walk_pf"]["floor_hit_rate"], 1.0);
-    const auto kp = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+    const auto kp = run_command({LOCUS_CLI_BIN, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
                                  "*Trial01_repetition02.txt", "--method", "pdr", "--known-start", "--json"});
     ASSERT_EQ(kp.status, 0) << kp.err;
     EXPECT_LT(json::parse(kp.out)["pooled"]["pdr"]["p75_m"].get<double>(), 12.0);
     // Without the logs' GNSS (used by default): the same walk, still within 4 m.
     EXPECT_EQ(k["gnss"], true);
-    const auto kn = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+    const auto kn = run_command({LOCUS_CLI_BIN, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
                                  "*Trial01_repetition02.txt", "--method", "walk_pf", "--known-start", "--no-gnss", "--json"});
     ASSERT_EQ(kn.status, 0) << kn.err;
     const json n = json::parse(kn.out);
@@ -93,7 +93,7 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     ASSERT_TRUE(k["trials"][0].contains("offset_db")) << k["trials"][0].dump();
     EXPECT_LT(std::abs(k["trials"][0]["offset_db"].get<double>()), 5.0);
     EXPECT_GT(k["trials"][0]["offset_looks"].get<int>(), 10);
-    const auto ko = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
+    const auto ko = run_command({LOCUS_CLI_BIN, "eval", "ipin", kDir, "--server", server.url(), "--map", std::to_string(map_id), "--trials",
                                  "*Trial01_repetition02.txt", "--method", "walk_pf", "--known-start", "--no-offset", "--json"});
     ASSERT_EQ(ko.status, 0) << ko.err;
     const json o = json::parse(ko.out);
@@ -105,7 +105,7 @@ TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     // priors (locus replay --rule thin; docs/results.md "The live server on the same walks"):
     // measured 2.82 m at p75 from the known start (7.58 m with the server's defaults), within 4 m
     // like the evaluation's tracker.
-    const auto th = run_command({kCli, "replay", kDir + "/trials/IPIN2023_T3_TrainingTrial01_repetition02.txt", "--server",
+    const auto th = run_command({LOCUS_CLI_BIN, "replay", kDir + "/trials/IPIN2023_T3_TrainingTrial01_repetition02.txt", "--server",
                                  server.url(), "--map", std::to_string(map_id), "--rule", "thin", "--known-start"});
     ASSERT_EQ(th.status, 0) << th.err;
     const json t = json::parse(th.out);
@@ -121,11 +121,11 @@ TEST(IpinData, EachBeaconIsHeardNearWhereTheImportPutIt) {
     if (!std::filesystem::exists(kDir + "/trials") || !std::filesystem::exists(kDir + "/supplementary/BLE_Locations.csv"))
         GTEST_SKIP() << kDir << " not found: the shared data folder is absent";
     ServerProcess server{{"--quiet"}};
-    const auto r = run_command({kCli, "import", "ipin", kDir, "--server", server.url(), "--trials", "*Trial52_repetition01.txt",
+    const auto r = run_command({LOCUS_CLI_BIN, "import", "ipin", kDir, "--server", server.url(), "--trials", "*Trial52_repetition01.txt",
                                 "--trials", "*Trial03_repetition01.txt", "--trials", "*Trial22_repetition01.txt", "--no-progress"});
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string map_id = std::to_string(json::parse(r.out)["map_id"].get<std::int64_t>());
-    const auto ev = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", map_id, "--trials",
+    const auto ev = run_command({LOCUS_CLI_BIN, "eval", "ipin", kDir, "--server", server.url(), "--map", map_id, "--trials",
                                  "*Trial03_repetition02.txt", "--trials", "*Trial22_repetition02.txt", "--method", "walk_pf",
                                  "--known-start", "--json"});
     ASSERT_EQ(ev.status, 0) << ev.err;
@@ -141,7 +141,7 @@ TEST(IpinData, EachBeaconIsHeardNearWhereTheImportPutIt) {
         EXPECT_EQ(b["heard_near"]["floor"], b["floor"]) << b.dump();
     }
     EXPECT_EQ(checked, 2) << e["beacons"].dump();  // BLE2 and BLE3
-    const auto nb = run_command({kCli, "eval", "ipin", kDir, "--server", server.url(), "--map", map_id, "--trials",
+    const auto nb = run_command({LOCUS_CLI_BIN, "eval", "ipin", kDir, "--server", server.url(), "--map", map_id, "--trials",
                                  "*Trial03_repetition02.txt", "--trials", "*Trial22_repetition02.txt", "--method", "walk_pf",
                                  "--known-start", "--no-ble", "--json"});
     ASSERT_EQ(nb.status, 0) << nb.err;

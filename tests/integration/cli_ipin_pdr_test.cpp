@@ -13,6 +13,7 @@
 
 #include "server_process.hpp"
 #include "text_file.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::contains;
 using locus::testing::make_temp_dir;
@@ -21,8 +22,7 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
-const std::string kLog = LOCUS_TEST_FIXTURES "/ipin/T21_rep01_10s.txt";
+const std::string kLog = std::string(LOCUS_TEST_FIXTURES) + "/ipin/T21_rep01_10s.txt";
 
 std::vector<std::string> fields(const std::string& line) {
     std::vector<std::string> f;
@@ -35,7 +35,7 @@ std::vector<std::string> fields(const std::string& line) {
 }  // namespace
 
 TEST(PdrIpinLog, StepsMatchTheSameAccelerometerAsCsv) {
-    const auto r = run_command({kCli, "pdr", "steps", "--times", kLog});
+    const auto r = run_command({LOCUS_CLI_BIN, "pdr", "steps", "--times", kLog});
     ASSERT_EQ(r.status, 0) << r.err;
     const json j = json::parse(r.out);
     EXPECT_EQ(j["format"], "ipin");
@@ -68,7 +68,7 @@ TEST(PdrIpinLog, StepsMatchTheSameAccelerometerAsCsv) {
         out << "t,ax,ay,az\n";
         for (const auto& f : acce) out << std::stod(f[2]) + shift << "," << f[3] << "," << f[4] << "," << f[5] << "\n";
     }
-    const auto c = run_command({kCli, "pdr", "steps", "--times", csv});
+    const auto c = run_command({LOCUS_CLI_BIN, "pdr", "steps", "--times", csv});
     ASSERT_EQ(c.status, 0) << c.err;
     const json k = json::parse(c.out);
     EXPECT_EQ(k["steps"], j["steps"]);
@@ -79,7 +79,7 @@ TEST(PdrIpinLog, StepsMatchTheSameAccelerometerAsCsv) {
 }
 
 TEST(PdrIpinLog, TrackTurnsWithTheGyroscope) {
-    const auto r = run_command({kCli, "pdr", "track", kLog});
+    const auto r = run_command({LOCUS_CLI_BIN, "pdr", "track", kLog});
     ASSERT_EQ(r.status, 0) << r.err;
     std::istringstream lines(r.out);
     std::string line;
@@ -108,7 +108,7 @@ TEST(PdrIpinLog, AMalformedLogfileNamesFileAndLine) {
         out << "% Model: \tSM-G930F\nACCE;1.0;2.0;0;0;9.8;3\nACCE;1.02;2.02;0;nan;9.8;3\n";
     }
     for (const char* cmd : {"steps", "track"}) {
-        const auto r = run_command({kCli, "pdr", cmd, bad});
+        const auto r = run_command({LOCUS_CLI_BIN, "pdr", cmd, bad});
         EXPECT_NE(r.status, 0) << cmd;
         EXPECT_TRUE(contains(r.err, bad + ":3: y is not finite")) << cmd << ": " << r.err;
     }
@@ -117,7 +117,7 @@ TEST(PdrIpinLog, AMalformedLogfileNamesFileAndLine) {
         std::ofstream out(no_acce);
         out << "% Model: \tSM-G930F\nPRES;1.0;2.0;976.2;3\n";
     }
-    const auto r = run_command({kCli, "pdr", "steps", no_acce});
+    const auto r = run_command({LOCUS_CLI_BIN, "pdr", "steps", no_acce});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "no ACCE lines")) << r.err;
 }

@@ -20,6 +20,7 @@
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
 #include "text_file.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::body_of;
 using locus::testing::feature;
@@ -37,7 +38,6 @@ using locus::testing::contains;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 const std::string kData = LOCUS_DATA_DIR;
 
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
@@ -60,11 +60,11 @@ TEST(CliPlan, ImportThenExportGivesThePlanBackAndImportTakesTheExportUnchanged) 
     write(file, two_rooms().dump());
     const std::string floor = std::to_string(h.floor);
 
-    auto r = run_command({kCli, "plan", "import", file, "--floor", floor, "--server", s.url()});
+    auto r = run_command({LOCUS_CLI_BIN, "plan", "import", file, "--floor", floor, "--server", s.url()});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "floor " + floor + ": plan version 1 stored (2 spaces, 1 walls, 1 doors, 0 connectors)")) << r.err;
 
-    r = run_command({kCli, "plan", "export", "--floor", floor, "--server", s.url(), "--out", out});
+    r = run_command({LOCUS_CLI_BIN, "plan", "export", "--floor", floor, "--server", s.url(), "--out", out});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "version 1, 4 features")) << r.err;
     const json exported = json::parse(slurp(out));
@@ -79,10 +79,10 @@ TEST(CliPlan, ImportThenExportGivesThePlanBackAndImportTakesTheExportUnchanged) 
     EXPECT_EQ(plan::to_geojson(stored), plan::to_geojson(plan::from_geojson(two_rooms())));
 
     // Export to stdout is the same document; importing it stores the same features again.
-    r = run_command({kCli, "plan", "export", "--floor", floor, "--server", s.url()});
+    r = run_command({LOCUS_CLI_BIN, "plan", "export", "--floor", floor, "--server", s.url()});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(json::parse(r.out), exported);
-    r = run_command({kCli, "plan", "import", out, "--floor", floor, "--server", s.url()});
+    r = run_command({LOCUS_CLI_BIN, "plan", "import", out, "--floor", floor, "--server", s.url()});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "plan version 2 stored")) << r.err;
     EXPECT_EQ(body_of(s.get(plan_path(h.floor))).at("features"), exported.at("features"));
@@ -97,7 +97,7 @@ TEST(CliPlan, ABadFileIsRefusedNamingTheFeatureAndNothingIsWritten) {
     json bowtie = two_rooms();
     bowtie["features"][0]["geometry"] = polygon({{0, 0}, {5, 0}, {5, 4}, {2, -1}, {0, 4}, {0, 0}});
     write(dir + "/bowtie.geojson", bowtie.dump());
-    auto r = run_command({kCli, "plan", "import", dir + "/bowtie.geojson", "--floor", floor, "--server", s.url()});
+    auto r = run_command({LOCUS_CLI_BIN, "plan", "import", dir + "/bowtie.geojson", "--floor", floor, "--server", s.url()});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "spaces[0] 'Lab 1'")) << r.err;
     EXPECT_TRUE(contains(r.err, "intersect")) << r.err;
@@ -106,22 +106,22 @@ TEST(CliPlan, ABadFileIsRefusedNamingTheFeatureAndNothingIsWritten) {
     json odd = two_rooms();
     odd["features"][2]["properties"]["feature"] = "window";
     write(dir + "/odd.geojson", odd.dump());
-    r = run_command({kCli, "plan", "import", dir + "/odd.geojson", "--floor", floor, "--server", s.url()});
+    r = run_command({LOCUS_CLI_BIN, "plan", "import", dir + "/odd.geojson", "--floor", floor, "--server", s.url()});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "features[2]")) << r.err;
 
     write(dir + "/text.geojson", "not json");
-    r = run_command({kCli, "plan", "import", dir + "/text.geojson", "--floor", floor, "--server", s.url()});
+    r = run_command({LOCUS_CLI_BIN, "plan", "import", dir + "/text.geojson", "--floor", floor, "--server", s.url()});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "is not JSON")) << r.err;
     EXPECT_EQ(s.get(plan_path(h.floor)).status, 404);  // nothing was stored
 
     // A sound file for a floor that does not exist: the server's answer, plainly.
     write(dir + "/good.geojson", two_rooms().dump());
-    r = run_command({kCli, "plan", "import", dir + "/good.geojson", "--floor", "999", "--server", s.url()});
+    r = run_command({LOCUS_CLI_BIN, "plan", "import", dir + "/good.geojson", "--floor", "999", "--server", s.url()});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "the server refused the plan of floor 999 (not_found)")) << r.err;
-    r = run_command({kCli, "plan", "export", "--floor", floor, "--server", s.url()});
+    r = run_command({LOCUS_CLI_BIN, "plan", "export", "--floor", floor, "--server", s.url()});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "has no plan")) << r.err;
 }
@@ -131,7 +131,7 @@ TEST(CliRoute, PrintsNumberedStepsLengthAndTime) {
     const auto h = locus::testing::make_hierarchy(s);
     ASSERT_EQ(s.put(plan_path(h.floor), two_rooms()).status, 200);
     const std::string floor = std::to_string(h.floor), map = std::to_string(h.map);
-    auto r = run_command({kCli, "route", "--server", s.url(), "--map", map, "--from", floor + ":1,2", "--to", floor + ":9,2"});
+    auto r = run_command({LOCUS_CLI_BIN, "route", "--server", s.url(), "--map", map, "--from", floor + ":1,2", "--to", floor + ":9,2"});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.out, "1. ")) << r.out;
     EXPECT_TRUE(contains(r.out, "2. ")) << r.out;
@@ -144,12 +144,12 @@ TEST(CliRoute, PrintsNumberedStepsLengthAndTime) {
     for (const auto& step : answer.at("steps")) expected += std::to_string(++n) + ". " + step.at("text").get<std::string>() + "\n";
     EXPECT_EQ(r.out.substr(0, expected.size()), expected);
 
-    r = run_command({kCli, "route", "--server", s.url(), "--map", map, "--from", floor + ":1,2", "--to", floor + ":9,2", "--json"});
+    r = run_command({LOCUS_CLI_BIN, "route", "--server", s.url(), "--map", map, "--from", floor + ":1,2", "--to", floor + ":9,2", "--json"});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(json::parse(r.out).at("steps"), answer.at("steps"));
 
     // Off the plan: the server's no_route message, and a non-zero exit.
-    r = run_command({kCli, "route", "--server", s.url(), "--map", map, "--from", floor + ":1,2", "--to", floor + ":60,50"});
+    r = run_command({LOCUS_CLI_BIN, "route", "--server", s.url(), "--map", map, "--from", floor + ":1,2", "--to", floor + ":60,50"});
     EXPECT_EQ(r.status, 2);
     EXPECT_TRUE(contains(r.err, "no route: ")) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
@@ -160,10 +160,10 @@ TEST(CliRoute, TheReadmesRouteOnTheDemoMap) {
     ServerProcess s{{"--demo"}};
     EXPECT_EQ(body_of(s.get("/v1/rooms/4")).at("name"), "Lab");
     EXPECT_EQ(body_of(s.get("/v1/rooms/8")).at("name"), "Server room");
-    auto r = run_command({kCli, "route", "--server", s.url(), "--map", "1", "--from", "room:4", "--to", "room:8"});
+    auto r = run_command({LOCUS_CLI_BIN, "route", "--server", s.url(), "--map", "1", "--from", "room:4", "--to", "room:8"});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.out, ". Take the stairs up to level 1\n")) << r.out;
-    r = run_command({kCli, "route", "--server", s.url(), "--map", "1", "--from", "room:4", "--to", "room:8", "--step-free"});
+    r = run_command({LOCUS_CLI_BIN, "route", "--server", s.url(), "--map", "1", "--from", "room:4", "--to", "room:8", "--step-free"});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.out, ". Take the elevator up to level 1\n")) << r.out;
     EXPECT_TRUE(contains(r.out, "\ntotal: ")) << r.out;
@@ -172,7 +172,7 @@ TEST(CliRoute, TheReadmesRouteOnTheDemoMap) {
 TEST(CliRoute, APlaceItCannotReadIsNamedWithTheFormsItTakes) {
     const std::string url = "http://127.0.0.1:1";  // never reached: the place is read first
     for (const std::string bad : {"lobby", "room:", "room:x", "poi:-3", "3:1", "3:1,", "3:a,b", "0:1,2", "hall:2", "3:1,2,3"}) {
-        const auto r = run_command({kCli, "route", "--server", url, "--map", "1", "--from", bad, "--to", "room:1"});
+        const auto r = run_command({LOCUS_CLI_BIN, "route", "--server", url, "--map", "1", "--from", bad, "--to", "room:1"});
         EXPECT_NE(r.status, 0) << bad;
         EXPECT_TRUE(contains(r.err, "--from '" + bad + "'")) << r.err;
         EXPECT_TRUE(contains(r.err, "a place is room:ID, poi:ID or FLOOR_ID:X,Y")) << r.err;
@@ -203,14 +203,14 @@ TEST(CliPlanFromImage, ThePutmcDrawingGivesACheckedPlanWhoseCorridorsJoinEverySu
     std::ostringstream scale;
     scale.precision(12);
     scale << px_per_m;
-    const auto r = run_command({kCli, "plan", "from-image", dir_in + "/floorplan.png", "--px-per-m", scale.str(), "--out", out});
+    const auto r = run_command({LOCUS_CLI_BIN, "plan", "from-image", dir_in + "/floorplan.png", "--px-per-m", scale.str(), "--out", out});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "3049 × 1049 px")) << r.err;
     // As it is, the server takes it.
     {
         ServerProcess s;
         const auto h = locus::testing::make_hierarchy(s);
-        const auto imported = run_command({kCli, "plan", "import", out, "--floor", std::to_string(h.floor), "--server", s.url()});
+        const auto imported = run_command({LOCUS_CLI_BIN, "plan", "import", out, "--floor", std::to_string(h.floor), "--server", s.url()});
         EXPECT_EQ(imported.status, 0) << imported.err;
         EXPECT_TRUE(contains(imported.err, "plan version 1 stored")) << imported.err;
     }

@@ -12,6 +12,7 @@
 #include "server_process.hpp"
 #include "text_file.hpp"
 #include "track_call.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::body_of;
 using locus::testing::make_temp_dir;
@@ -23,20 +24,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
-const std::string kFixture = LOCUS_TEST_FIXTURES "/ipin_import";
+const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/ipin_import";
 const std::string kT52 = kFixture + "/trials/IPIN2023_T3_TrainingTrial52_repetition01.txt";
 
 struct Imported {
     ServerProcess server{{"--quiet"}};
     std::string map_id;
     Imported() {
-        const auto r = run_command({kCli, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
+        const auto r = run_command({LOCUS_CLI_BIN, "import", "ipin", kFixture, "--server", server.url(), "--cell", "5", "--no-progress"});
         EXPECT_EQ(r.status, 0) << r.err;
         map_id = std::to_string(json::parse(r.out)["map_id"].get<std::int64_t>());
     }
     locus::testing::CommandResult replay(std::vector<std::string> extra, const std::string& file = kT52) const {
-        std::vector<std::string> cmd = {kCli, "replay", file, "--server", server.url(), "--map", map_id};
+        std::vector<std::string> cmd = {LOCUS_CLI_BIN, "replay", file, "--server", server.url(), "--map", map_id};
         cmd.insert(cmd.end(), extra.begin(), extra.end());
         return run_command(cmd);
     }
@@ -127,10 +127,10 @@ TEST(ReplayIpin, ALogWithoutPosiReplaysUnscored) {
 
 TEST(ReplayIpin, BadInputIsRefusedByName) {
     const Imported s;
-    const auto no_map = run_command({kCli, "replay", kT52, "--server", s.server.url()});
+    const auto no_map = run_command({LOCUS_CLI_BIN, "replay", kT52, "--server", s.server.url()});
     EXPECT_NE(no_map.status, 0);
     EXPECT_NE(no_map.err.find("a logfile replays against a map: --map ID"), std::string::npos) << no_map.err;
-    const auto radiomap = run_command({kCli, "replay", kT52, "--server", s.server.url(), "--radiomap", "1", "--map", s.map_id});
+    const auto radiomap = run_command({LOCUS_CLI_BIN, "replay", kT52, "--server", s.server.url(), "--radiomap", "1", "--map", s.map_id});
     EXPECT_NE(radiomap.status, 0);
     EXPECT_NE(radiomap.err.find("--radiomap is for a walk file"), std::string::npos) << radiomap.err;
     const auto rule = s.replay({"--rule", "midpoint"});
@@ -139,7 +139,7 @@ TEST(ReplayIpin, BadInputIsRefusedByName) {
     const auto live = s.replay({"--live", s.server.url(), "--live-map", s.map_id});
     EXPECT_NE(live.status, 0);
     EXPECT_NE(live.err.find("--live and --upload-survey take walk files"), std::string::npos) << live.err;
-    const auto no_floor = run_command({kCli, "replay", kT52, "--server", s.server.url(), "--map", "999"});
+    const auto no_floor = run_command({LOCUS_CLI_BIN, "replay", kT52, "--server", s.server.url(), "--map", "999"});
     EXPECT_NE(no_floor.status, 0);
 
     // A malformed line is named by file and line; nothing is posted.
@@ -159,7 +159,7 @@ TEST(ReplayIpin, BadInputIsRefusedByName) {
     // A walk file's --map is refused too.
     const std::string walk = dir + "/walk.json";
     std::ofstream(walk) << "{}";
-    const auto w = run_command({kCli, "replay", walk, "--server", s.server.url(), "--map", s.map_id});
+    const auto w = run_command({LOCUS_CLI_BIN, "replay", walk, "--server", s.server.url(), "--map", s.map_id});
     EXPECT_NE(w.status, 0);
     EXPECT_NE(w.err.find("--map is for a logfile"), std::string::npos) << w.err;
 }

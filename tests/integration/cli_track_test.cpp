@@ -2,11 +2,13 @@
 // on one floor (paced, a hundred times real time), each track holding one fix per scan of its walk at
 // the walk's true points (y flipped onto the floor), closed after the last fix; a map with
 // no floor and a missing walk are refused with a message and nothing posted.
+#include <httplib.h>
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
@@ -15,7 +17,6 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 const std::string kWalk = std::string(LOCUS_TEST_FIXTURES) + "/putmc/trajs/tiny_walk";
 
 std::int64_t created(const locus::testing::Response& r) { return body_of(r, 201).at("id").get<std::int64_t>(); }
@@ -40,7 +41,7 @@ TEST(CliTrack, TwoWalksAtOnceBecomeTwoLiveTracks) {
     const auto floor = created(s.post("/v1/buildings/" + std::to_string(building) + "/floors",
                                       {{"name", "1"}, {"level", 1}, {"width", 100.0}, {"height", height}}));
 
-    const auto r = run_command({kCli, "track", "--server", s.url(), "--map", std::to_string(map), "--speed", "100", kWalk, kWalk});
+    const auto r = run_command({LOCUS_CLI_BIN, "track", "--server", s.url(), "--map", std::to_string(map), "--speed", "100", kWalk, kWalk});
     ASSERT_EQ(r.status, 0) << r.err;
     std::vector<json> lines;
     std::size_t from = 0;
@@ -64,10 +65,10 @@ TEST(CliTrack, TwoWalksAtOnceBecomeTwoLiveTracks) {
 TEST(CliTrack, RefusesAMapWithNoFloorAndAMissingWalk) {
     ServerProcess s;
     const auto map = created(s.post("/v1/maps", {{"name", "Empty"}}));
-    auto r = run_command({kCli, "track", "--server", s.url(), "--map", std::to_string(map), "--speed", "0", kWalk});
+    auto r = run_command({LOCUS_CLI_BIN, "track", "--server", s.url(), "--map", std::to_string(map), "--speed", "0", kWalk});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("no floor"), std::string::npos) << r.err;
-    r = run_command({kCli, "track", "--server", s.url(), "--map", std::to_string(map), "/nonexistent/walk"});
+    r = run_command({LOCUS_CLI_BIN, "track", "--server", s.url(), "--map", std::to_string(map), "/nonexistent/walk"});
     EXPECT_NE(r.status, 0);
     EXPECT_EQ(r.out, "");
 }

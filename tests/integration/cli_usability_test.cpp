@@ -13,6 +13,7 @@
 
 #include "server_process.hpp"
 #include "text_file.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::make_temp_dir;
 using locus::testing::run_command;
@@ -24,7 +25,6 @@ using locus::testing::contains;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 const std::string kSource = LOCUS_SOURCE_DIR;
 const std::string kFixtures = LOCUS_TEST_FIXTURES;
 
@@ -43,13 +43,13 @@ int closed_port() {
 
 TEST(CliOptions, AMisspelledOptionIsNamedNotTakenForAFile) {
     // "--sever URL FILE" used to put URL into FILE: "File does not exist: http://...".
-    const auto r = run_command({kCli, "import", "uji", "--sever", "http://127.0.0.1:1", kFixtures + "/uji_tiny.csv"});
+    const auto r = run_command({LOCUS_CLI_BIN, "import", "uji", "--sever", "http://127.0.0.1:1", kFixtures + "/uji_tiny.csv"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "unknown option '--sever' for 'locus import uji'")) << r.err;
     EXPECT_TRUE(contains(r.err, "did you mean '--server'?")) << r.err;
     EXPECT_FALSE(contains(r.err, "File does not exist")) << r.err;
 
-    const auto e = run_command({kCli, "export", "--radiomap", "1", "--formt=csv"});
+    const auto e = run_command({LOCUS_CLI_BIN, "export", "--radiomap", "1", "--formt=csv"});
     EXPECT_NE(e.status, 0);
     EXPECT_TRUE(contains(e.err, "unknown option '--formt' for 'locus export'; did you mean '--format'?")) << e.err;
 }
@@ -57,7 +57,7 @@ TEST(CliOptions, AMisspelledOptionIsNamedNotTakenForAFile) {
 TEST(CliOptions, HelpShowsNoProgressAsAPlainFlag) {
     for (const std::vector<std::string>& cmd : {std::vector<std::string>{"import", "uji"}, {"import", "anyplace"},
                                                {"import", "find3"}, {"survey", "upload"}}) {
-        std::vector<std::string> argv{kCli};
+        std::vector<std::string> argv{LOCUS_CLI_BIN};
         argv.insert(argv.end(), cmd.begin(), cmd.end());
         argv.push_back("--help");
         const auto r = run_command(argv);
@@ -72,7 +72,7 @@ TEST(CliMessages, RssOutOfRangeIsPrintedPlainly) {
     std::ofstream(dir + "/bad.jsonl") << R"({"rp": "A", "x": 1, "y": 1, "readings": [{"bssid": "aa:bb:cc:00:00:01", "rss": 50}]})"
                                       << "\n";
     ServerProcess server{{"--quiet", "--demo"}};
-    const auto r = run_command({kCli, "survey", "upload", "--server", server.url(), "--radiomap", "1", "--no-progress",
+    const auto r = run_command({LOCUS_CLI_BIN, "survey", "upload", "--server", server.url(), "--radiomap", "1", "--no-progress",
                                 dir + "/bad.jsonl"});
     EXPECT_TRUE(contains(r.err, "'rss' = 50 dBm is outside [-120, 0]")) << r.err;
     std::filesystem::remove_all(dir);
@@ -80,12 +80,12 @@ TEST(CliMessages, RssOutOfRangeIsPrintedPlainly) {
 
 TEST(CliMessages, AServerThatIsDownIsNamed) {
     const std::string url = "http://127.0.0.1:" + std::to_string(closed_port());
-    const auto r = run_command({kCli, "export", "--server", url, "--radiomap", "1", "--retries", "2"});
+    const auto r = run_command({LOCUS_CLI_BIN, "export", "--server", url, "--radiomap", "1", "--retries", "2"});
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.err, "cannot connect to " + url + " (connection refused) after 2 attempts; is locus-server running?"))
         << r.err;
 
-    const auto b = run_command({kCli, "bench", "localize", "--server", url, "--radiomap", "1", "--retries", "2"});
+    const auto b = run_command({LOCUS_CLI_BIN, "bench", "localize", "--server", url, "--radiomap", "1", "--retries", "2"});
     EXPECT_EQ(b.status, 1);
     EXPECT_TRUE(contains(b.err, "cannot connect to " + url + " (connection refused) after 2 attempts; is locus-server running?"))
         << b.err;
@@ -93,7 +93,7 @@ TEST(CliMessages, AServerThatIsDownIsNamed) {
 
 TEST(CliMessages, BenchOnAMissingRadioMapSaysItDoesNotExist) {
     ServerProcess server{{"--quiet", "--demo"}};
-    const auto r = run_command({kCli, "bench", "localize", "--server", server.url(), "--radiomap", "999", "--requests", "10"});
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "localize", "--server", server.url(), "--radiomap", "999", "--requests", "10"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "radio map 999 does not exist")) << r.err;
     EXPECT_FALSE(contains(r.err, "cannot export")) << r.err;
@@ -103,9 +103,9 @@ TEST(CliMessages, ReplayAgainstARadioMapSharingNoApFails) {
     // The simulator's walk hears 02:10:... APs; the demo radio map has 00:1a:2b:... only.
     const std::string dir = make_temp_dir();
     const std::string walk = dir + "/walk.jsonl";
-    ASSERT_EQ(run_command({kCli, "sim", "--scenario", "basement", "--seed", "3", "--out", walk}).status, 0);
+    ASSERT_EQ(run_command({LOCUS_CLI_BIN, "sim", "--scenario", "basement", "--seed", "3", "--out", walk}).status, 0);
     ServerProcess server{{"--quiet", "--demo"}};
-    const auto r = run_command({kCli, "replay", "--server", server.url(), "--radiomap", "1", "--rule", "all", walk});
+    const auto r = run_command({LOCUS_CLI_BIN, "replay", "--server", server.url(), "--radiomap", "1", "--rule", "all", walk});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "no scan of " + walk + " matched any AP of radio map 1")) << r.err;
     std::filesystem::remove_all(dir);
@@ -115,7 +115,7 @@ TEST(CliExport, WritingAFilePrintsWhatWentIntoIt) {
     ServerProcess server{{"--quiet", "--demo"}};
     const std::string dir = make_temp_dir();
     const std::string file = dir + "/rm1.json";
-    const auto r = run_command({kCli, "export", "--server", server.url(), "--radiomap", "1", "-o", file});
+    const auto r = run_command({LOCUS_CLI_BIN, "export", "--server", server.url(), "--radiomap", "1", "-o", file});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out, "");  // the data is in the file
     const json doc = json::parse(slurp(file));
@@ -128,7 +128,7 @@ TEST(CliExport, WritingAFilePrintsWhatWentIntoIt) {
 
 TEST(CliImport, UjiNamesItsRadioMapsByBuildingAndFloorAndPrintsTheirIds) {
     ServerProcess server{{"--quiet"}};
-    const auto r = run_command({kCli, "import", "uji", "--server", server.url(), "--no-progress", kFixtures + "/uji_tiny.csv"});
+    const auto r = run_command({LOCUS_CLI_BIN, "import", "uji", "--server", server.url(), "--no-progress", kFixtures + "/uji_tiny.csv"});
     ASSERT_EQ(r.status, 0) << r.err;
     const json out = json::parse(r.out);
     ASSERT_EQ(out["radiomap_list"].size(), out["radiomaps"].get<std::size_t>());
@@ -148,7 +148,7 @@ TEST(CliImport, UjiNamesItsRadioMapsByBuildingAndFloorAndPrintsTheirIds) {
 TEST(CliDocs, SurveyExampleFilesUpload) {
     // docs/survey.md uploads docs/examples/walk1.jsonl and walk2.csv.
     ServerProcess server{{"--quiet", "--demo"}};
-    const auto r = run_command({kCli, "survey", "upload", "--server", server.url(), "--radiomap", "1", "--no-progress",
+    const auto r = run_command({LOCUS_CLI_BIN, "survey", "upload", "--server", server.url(), "--radiomap", "1", "--no-progress",
                                 kSource + "/docs/examples/walk1.jsonl", kSource + "/docs/examples/walk2.csv"});
     ASSERT_EQ(r.status, 0) << r.err;
     const json out = json::parse(r.out);
@@ -160,7 +160,7 @@ TEST(CliDocs, SurveyExampleFilesUpload) {
 TEST(CliDocs, PdrTrackSampleLogGivesATrack) {
     // docs/pdr.md runs `pdr track` on docs/examples/imu_walk.csv (20 s of a real Oxford walk,
     // 35 steps by its foot switches).
-    const auto r = run_command({kCli, "pdr", "track", kSource + "/docs/examples/imu_walk.csv"});
+    const auto r = run_command({LOCUS_CLI_BIN, "pdr", "track", kSource + "/docs/examples/imu_walk.csv"});
     ASSERT_EQ(r.status, 0) << r.err;
     std::istringstream lines(r.out);
     std::string line;

@@ -11,13 +11,13 @@
 #include <unistd.h>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::run_command;
 using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 
 // One floor of 30 m × 20 m, RPs every 2.5 m with 3 scans each (user 1) and every RP again
 // with one scan by user 2 (the held-out one). Four APs, positions known only to this file.
@@ -45,7 +45,7 @@ std::string write_survey() {
 
 TEST(EvalCalibration, FitsExplainAModelledSurveyAndItsMapsLocalize) {
     const std::string survey = write_survey();
-    const auto r = run_command({kCli, "eval", "calibration", "--train", survey, "--holdout-user", "2", "--json",
+    const auto r = run_command({LOCUS_CLI_BIN, "eval", "calibration", "--train", survey, "--holdout-user", "2", "--json",
                                 "--min-rss", "-100"});
     std::filesystem::remove(survey);
     ASSERT_EQ(r.status, 0) << r.err;
@@ -68,16 +68,16 @@ TEST(EvalCalibration, FitsExplainAModelledSurveyAndItsMapsLocalize) {
 
 TEST(EvalCalibration, BadArgumentsAreRefusedWithAReason) {
     const std::string survey = write_survey();
-    const auto both = run_command({kCli, "eval", "calibration", "--train", survey, "--holdout-user", "2", "--holdout-phone", "1"});
+    const auto both = run_command({LOCUS_CLI_BIN, "eval", "calibration", "--train", survey, "--holdout-user", "2", "--holdout-phone", "1"});
     EXPECT_NE(both.status, 0);
     EXPECT_NE(both.err.find("exactly one of"), std::string::npos) << both.err;
-    const auto few = run_command({kCli, "eval", "calibration", "--train", survey, "--holdout-user", "2", "--min-rps", "2"});
+    const auto few = run_command({LOCUS_CLI_BIN, "eval", "calibration", "--train", survey, "--holdout-user", "2", "--min-rps", "2"});
     EXPECT_NE(few.status, 0);
     EXPECT_NE(few.err.find("--min-rps"), std::string::npos) << few.err;
-    const auto nobody = run_command({kCli, "eval", "calibration", "--train", survey, "--holdout-user", "9"});
+    const auto nobody = run_command({LOCUS_CLI_BIN, "eval", "calibration", "--train", survey, "--holdout-user", "9"});
     EXPECT_NE(nobody.status, 0);
     EXPECT_NE(nobody.err.find("no training or no test rows"), std::string::npos) << nobody.err;
-    const auto step = run_command({kCli, "eval", "calibration", "--train", survey, "--holdout-user", "2", "--step", "0"});
+    const auto step = run_command({LOCUS_CLI_BIN, "eval", "calibration", "--train", survey, "--holdout-user", "2", "--step", "0"});
     EXPECT_NE(step.status, 0);
     EXPECT_NE(step.err.find("--step"), std::string::npos) << step.err;
     std::filesystem::remove(survey);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::make_temp_dir;
 using locus::testing::run_command;
@@ -16,13 +17,12 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 const std::string kDbs = std::string(LOCUS_TEST_FIXTURES) + "/fingerprint-dbs";
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 json run_json(const std::vector<std::string>& extra) {
-    std::vector<std::string> argv{kCli, "eval", "fingerprints", kDbs, "--json"};
+    std::vector<std::string> argv{LOCUS_CLI_BIN, "eval", "fingerprints", kDbs, "--json"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     const auto r = run_command(argv);
     EXPECT_EQ(r.status, 0) << r.err;
@@ -102,14 +102,14 @@ TEST(EvalFingerprints, CrossValidationUsesTheTrainingRowsOnly) {
     const std::string dir = make_temp_dir();
     std::filesystem::create_directories(dir + "/only-train");
     std::filesystem::copy_file(kDbs + "/hand/trainingData.csv", dir + "/only-train/trainingData.csv");
-    const auto r = run_command({kCli, "eval", "fingerprints", dir, "--cv", "5", "--algorithm", "wknn", "--json"});
+    const auto r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", dir, "--cv", "5", "--algorithm", "wknn", "--json"});
     ASSERT_EQ(r.status, 0) << r.err;
     const json rows = json::parse(r.out);
     ASSERT_EQ(rows.size(), 1u);
     EXPECT_EQ(rows[0]["queries"].get<int>(), 5);  // each training row queried once
     EXPECT_EQ(rows[0]["folds"].get<int>(), 5);
 
-    const auto no_test = run_command({kCli, "eval", "fingerprints", dir});
+    const auto no_test = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", dir});
     EXPECT_NE(no_test.status, 0);
     EXPECT_TRUE(contains(no_test.err, "only-train")) << no_test.err;
     EXPECT_TRUE(contains(no_test.err, "testData.csv")) << no_test.err;
@@ -124,7 +124,7 @@ TEST(EvalFingerprints, CvBlocksDealWholeBlocksToTheFolds) {
     std::filesystem::copy_file(kDbs + "/hand/trainingData.csv", dir + "/only-train/trainingData.csv");
     auto cv = [&](const std::string& blocks) {
         const auto r = run_command(
-            {kCli, "eval", "fingerprints", dir, "--cv", "5", "--cv-blocks", blocks, "--algorithm", "wknn", "--json"});
+            {LOCUS_CLI_BIN, "eval", "fingerprints", dir, "--cv", "5", "--cv-blocks", blocks, "--algorithm", "wknn", "--json"});
         EXPECT_EQ(r.status, 0) << r.err;
         return json::parse(r.out).at(0);
     };
@@ -139,30 +139,30 @@ TEST(EvalFingerprints, CvBlocksDealWholeBlocksToTheFolds) {
 }
 
 TEST(EvalFingerprints, BadInputIsNamed) {
-    auto r = run_command({kCli, "eval", "fingerprints", kDbs, "--algorithm", "knnn"});
+    auto r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", kDbs, "--algorithm", "knnn"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "knnn")) << r.err;
 
     for (const char* bad : {"spatial:0", "order:0", "cells:5", "spatial:-1"}) {
-        r = run_command({kCli, "eval", "fingerprints", kDbs, "--cv", "2", "--cv-blocks", bad});
+        r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", kDbs, "--cv", "2", "--cv-blocks", bad});
         EXPECT_NE(r.status, 0) << bad;
         EXPECT_TRUE(contains(r.err, "--cv-blocks")) << r.err;
         EXPECT_TRUE(contains(r.err, bad)) << r.err;
     }
     // Without --cv the test files would be read: blocks make no sense there.
-    r = run_command({kCli, "eval", "fingerprints", kDbs, "--cv-blocks", "spatial:10"});
+    r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", kDbs, "--cv-blocks", "spatial:10"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "needs --cv")) << r.err;
-    r = run_command({kCli, "eval", "fingerprints", kDbs, "--cv", "2", "--tune-blocks", "spatial:10"});
+    r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", kDbs, "--cv", "2", "--tune-blocks", "spatial:10"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "needs --tune")) << r.err;
-    r = run_command({kCli, "eval", "fingerprints", kDbs, "--cv", "2", "--tune", "--algorithm", "default",
+    r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", kDbs, "--cv", "2", "--tune", "--algorithm", "default",
                      "--tune-blocks", "spatial:x"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "--tune-blocks")) << r.err;
 
     const std::string empty = make_temp_dir();
-    r = run_command({kCli, "eval", "fingerprints", empty});
+    r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", empty});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "trainingData.csv")) << r.err;
 
@@ -170,7 +170,7 @@ TEST(EvalFingerprints, BadInputIsNamed) {
     std::filesystem::create_directories(broken + "/bad");
     std::ofstream(broken + "/bad/trainingData.csv") << "WAP001,LONGITUDE\n-50,1\n";
     std::ofstream(broken + "/bad/testData.csv") << "WAP001,LONGITUDE\n-50,1\n";
-    r = run_command({kCli, "eval", "fingerprints", broken});
+    r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", broken});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "bad")) << r.err;
     EXPECT_TRUE(contains(r.err, "line 1")) << r.err;
@@ -181,7 +181,7 @@ TEST(EvalFingerprints, BadInputIsNamed) {
 // --tune: the default is what match::tune picks on the training rows alone, and its row is
 // that setting's figures (the same as naming it).
 TEST(EvalFingerprints, TuneChoosesOnTheTrainingRowsAndReportsTheChoice) {
-    const auto r = run_command({kCli, "eval", "fingerprints", kDbs, "--json", "--algorithm", "default", "--tune"});
+    const auto r = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", kDbs, "--json", "--algorithm", "default", "--tune"});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "hand: tuned default: ")) << r.err;
     const json rows = json::parse(r.out);
@@ -200,7 +200,7 @@ TEST(EvalFingerprints, TuneChoosesOnTheTrainingRowsAndReportsTheChoice) {
 
     EXPECT_FALSE(row_of(run_json({"--algorithm", "default"}), "hand", "default").contains("tuned"));
     // With --cv each split tunes on its own training folds.
-    const auto cv = run_command({kCli, "eval", "fingerprints", kDbs, "--json", "--algorithm", "default", "--tune", "--cv", "2"});
+    const auto cv = run_command({LOCUS_CLI_BIN, "eval", "fingerprints", kDbs, "--json", "--algorithm", "default", "--tune", "--cv", "2"});
     ASSERT_EQ(cv.status, 0) << cv.err;
     EXPECT_EQ(row_of(json::parse(cv.out), "hand", "default")["tuned"].size(), 2u);
 }
@@ -208,15 +208,15 @@ TEST(EvalFingerprints, TuneChoosesOnTheTrainingRowsAndReportsTheChoice) {
 // `locus eval uji` shares the tune and its --tune-blocks with eval fingerprints.
 TEST(EvalUji, TuneBlocksAreAcceptedAndChecked) {
     const std::string train = kDbs + "/hand/trainingData.csv", test = kDbs + "/hand/testData.csv";
-    auto r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--algorithm", "default", "--tune",
+    auto r = run_command({LOCUS_CLI_BIN, "eval", "uji", "--train", train, "--test", test, "--algorithm", "default", "--tune",
                           "--tune-blocks", "spatial:100", "--json"});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "tuned default: ")) << r.err;
     EXPECT_EQ(json::parse(r.out)["algorithm"], "default");  // one method: one object
-    r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--tune-blocks", "spatial:100"});
+    r = run_command({LOCUS_CLI_BIN, "eval", "uji", "--train", train, "--test", test, "--tune-blocks", "spatial:100"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "needs --tune")) << r.err;
-    r = run_command({kCli, "eval", "uji", "--train", train, "--test", test, "--tune", "--tune-blocks", "order:0"});
+    r = run_command({LOCUS_CLI_BIN, "eval", "uji", "--train", train, "--test", test, "--tune", "--tune-blocks", "order:0"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "--tune-blocks")) << r.err;
     EXPECT_TRUE(contains(r.err, "order:0")) << r.err;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
@@ -18,7 +19,6 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 const std::string kData = LOCUS_DATA_DIR;
 
 #define REQUIRE_DATA(rel)                                                                              \
@@ -62,7 +62,7 @@ TEST(ImportFind3, OneRoomAndOneRpPerLabel) {
     REQUIRE_DATA("find3/testdb.learn.1439597065993.jsons");
     ServerProcess server{{"--quiet"}};
     const std::string file = kData + "/find3/testdb.learn.1439597065993.jsons";
-    const json first = run_ok({kCli, "import", "find3", "--server", server.url(), "--map", "Home", "--no-progress", file});
+    const json first = run_ok({LOCUS_CLI_BIN, "import", "find3", "--server", server.url(), "--map", "Home", "--no-progress", file});
     EXPECT_EQ(first["rps"], 3);  // three labels in the sample
     EXPECT_EQ(first["scans"], 343);
     EXPECT_EQ(first["malformed_lines"], 0);
@@ -73,7 +73,7 @@ TEST(ImportFind3, OneRoomAndOneRpPerLabel) {
     ASSERT_EQ(rps.size(), 3u);
     const Totals before = totals(server, first["map_id"].get<int>());
     EXPECT_EQ(before.scans, 343);
-    const json again = run_ok({kCli, "import", "find3", "--server", server.url(), "--map", "Home", "--no-progress", file});
+    const json again = run_ok({LOCUS_CLI_BIN, "import", "find3", "--server", server.url(), "--map", "Home", "--no-progress", file});
     EXPECT_EQ(again["already_uploaded"], 3);
     EXPECT_EQ(again["rooms_created"], 0);
     EXPECT_TRUE(totals(server, first["map_id"].get<int>()) == before);
@@ -97,7 +97,7 @@ TEST(ImportAnyplace, TwoFloorsInLocalMetres) {
             ++lines;
         }
     }
-    const json first = run_ok({kCli, "import", "anyplace", "--server", server.url(), "--map", "Hotels", "--no-progress", dir});
+    const json first = run_ok({LOCUS_CLI_BIN, "import", "anyplace", "--server", server.url(), "--map", "Hotels", "--no-progress", dir});
     EXPECT_EQ(first["floors"], 2);
     EXPECT_EQ(first["rps"].get<std::size_t>(), points.size());
     EXPECT_LE(first["readings"].get<std::size_t>(), lines);  // an AP repeated within one scan is kept once
@@ -113,7 +113,7 @@ TEST(ImportAnyplace, TwoFloorsInLocalMetres) {
         EXPECT_LT(f["width"].get<double>(), 500.0);
         EXPECT_LT(f["height"].get<double>(), 500.0);
     }
-    const json again = run_ok({kCli, "import", "anyplace", "--server", server.url(), "--map", "Hotels", "--no-progress", dir});
+    const json again = run_ok({LOCUS_CLI_BIN, "import", "anyplace", "--server", server.url(), "--map", "Hotels", "--no-progress", dir});
     EXPECT_EQ(again["applied"], 0);
     EXPECT_TRUE(totals(server, first["map_id"].get<int>()) == before);
 }
@@ -122,7 +122,7 @@ TEST(ImportUji, FullTrainingFileInterruptedThenResumed) {
     REQUIRE_DATA("ujiindoorloc/trainingData.csv");
     ServerProcess server{{"--quiet"}};
     const std::string file = kData + "/ujiindoorloc/trainingData.csv";
-    const std::vector<std::string> base{kCli, "import", "uji", "--server", server.url(), "--map", "UJI", "--no-progress"};
+    const std::vector<std::string> base{LOCUS_CLI_BIN, "import", "uji", "--server", server.url(), "--map", "UJI", "--no-progress"};
     auto with = [&](std::vector<std::string> extra) {
         auto argv = base;
         argv.insert(argv.end(), extra.begin(), extra.end());
@@ -149,7 +149,7 @@ TEST(ImportUji, LocalizeAnswersComeBackInCsvCoordinates) {
     REQUIRE_DATA("ujiindoorloc/trainingData.csv");
     ServerProcess server{{"--quiet"}};
     const std::string file = kData + "/ujiindoorloc/trainingData.csv";
-    const json out = run_ok({kCli, "import", "uji", "--server", server.url(), "--no-progress", file});
+    const json out = run_ok({LOCUS_CLI_BIN, "import", "uji", "--server", server.url(), "--no-progress", file});
     const int map = out["map_id"].get<int>();
     // The first data row of the CSV: building 1, floor 2 at (-7541.2643, 4864920.7782).
     const std::string rp_name = "b1f2_-7541.2643_4864920.7782";

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::ServerProcess;
 

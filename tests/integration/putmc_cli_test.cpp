@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::body_of;
 using locus::testing::run_command;
@@ -18,8 +19,7 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
-const std::string kFixture = LOCUS_TEST_FIXTURES "/putmc";
+const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/putmc";
 
 json run_ok(const std::vector<std::string>& argv) {
     const auto r = run_command(argv);
@@ -28,7 +28,7 @@ json run_ok(const std::vector<std::string>& argv) {
 }
 
 json import_fixture(const ServerProcess& server) {
-    return run_ok({kCli, "import", "putmc", "--server", server.url(), "--map", "PUTMC", "--no-progress", kFixture});
+    return run_ok({LOCUS_CLI_BIN, "import", "putmc", "--server", server.url(), "--map", "PUTMC", "--no-progress", kFixture});
 }
 
 }  // namespace
@@ -69,7 +69,7 @@ TEST(ImportPutmc, FloorImagePlanAndRpsOnceEach) {
 
 TEST(ImportPutmc, RefusesADirectoryWithoutTheSurvey) {
     ServerProcess server{{"--quiet"}};
-    const auto r = run_command({kCli, "import", "putmc", "--server", server.url(), "--no-progress", kFixture + "/trajs"});
+    const auto r = run_command({LOCUS_CLI_BIN, "import", "putmc", "--server", server.url(), "--no-progress", kFixture + "/trajs"});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("neither map/wifi.map"), std::string::npos) << r.err;
 }
@@ -78,7 +78,7 @@ TEST(EvalWalks, EveryMethodAtEveryScanThroughTheServer) {
     ServerProcess server{{"--quiet"}};
     const json imported = import_fixture(server);
     const std::string rm = std::to_string(imported["radiomap_id"].get<int>());
-    const json out = run_ok({kCli, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--json", "--smooth", kFixture});
+    const json out = run_ok({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--json", "--smooth", kFixture});
     ASSERT_EQ(out["walks"].size(), 1u);
     const auto& w = out["walks"][0];
     EXPECT_EQ(w["walk"], "tiny_walk");
@@ -101,7 +101,7 @@ TEST(EvalWalks, EveryMethodAtEveryScanThroughTheServer) {
     EXPECT_NEAR(w["truth"][2][1].get<double>(), 105 / 2.83988631094 - 22.48080166395504, 1e-9);
 
     // One method, as a table.
-    const auto r = run_command({kCli, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "walk_pf", kFixture});
+    const auto r = run_command({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "walk_pf", kFixture});
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("pooled (1 walks)"), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("kalman"), std::string::npos) << r.out;
@@ -111,10 +111,10 @@ TEST(EvalWalks, BadInputIsNamed) {
     ServerProcess server{{"--quiet"}};
     const json imported = import_fixture(server);
     const std::string rm = std::to_string(imported["radiomap_id"].get<int>());
-    auto r = run_command({kCli, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "nope", kFixture});
+    auto r = run_command({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "nope", kFixture});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("unknown --method 'nope'"), std::string::npos) << r.err;
-    r = run_command({kCli, "eval", "walks", "--server", server.url(), "--radiomap", rm, kFixture + "/map"});
+    r = run_command({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, kFixture + "/map"});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("no walk under"), std::string::npos) << r.err;
     // A truncated wifi.map: the error names the file and line.
@@ -125,7 +125,7 @@ TEST(EvalWalks, BadInputIsNamed) {
     {
         std::ofstream(dir / "wifi.map") << "484328393044 0 3\n64:66:b3:be:99:53\tVision\t-89.0 2462 19668092087\n";
     }
-    r = run_command({kCli, "eval", "walks", "--server", server.url(), "--radiomap", rm, dir.string()});
+    r = run_command({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, dir.string()});
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("wifi.map:1: truncated"), std::string::npos) << r.err;
     std::filesystem::remove_all(dir);
@@ -148,7 +148,7 @@ TEST(EvalWalks, UnsortedAndNanSamplesAreNamedAndAWalkWithoutScansIsSkipped) {
         return root / name;
     };
     const auto eval = [&](const fs::path& dir) {
-        return run_command({kCli, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "walk_pf", dir.string()});
+        return run_command({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "walk_pf", dir.string()});
     };
 
     // acc.map with its 3rd sample moved before the 2nd.

@@ -1,5 +1,6 @@
 // End to end: a simulated walk replayed against a real local server gives fixes from the
 // server's matcher, and the same figures as the in-process evaluation of that walk.
+#include <httplib.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +8,7 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;

@@ -1,6 +1,7 @@
 // Request bodies with a Content-Encoding: limited by their decoded size (413 naming the limit,
 // with the server's memory bounded), decoded before any handler reads them, and refused with
 // 415 where the coding or the route does not take one. Nothing of a refused body is stored.
+#include <httplib.h>
 #include <gtest/gtest.h>
 
 #include <string>

@@ -11,6 +11,7 @@
 
 #include "raw_connection.hpp"
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::raw_get;
 using locus::testing::raw_post;

@@ -19,6 +19,7 @@
 #include "raw_connection.hpp"
 #include "server_process.hpp"
 #include "test_database.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::RawConnection;
 using locus::testing::ServerProcess;

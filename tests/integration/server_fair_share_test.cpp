@@ -20,6 +20,7 @@
 #include "sse_listener.hpp"
 #include "test_database.hpp"
 #include "unix_time.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::Response;
 using locus::testing::run_command;

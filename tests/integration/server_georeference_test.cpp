@@ -7,6 +7,7 @@
 // Industriekultur, Nuremberg): about the floor maps' calibration centre (49.46115181 N,
 // 11.11114911 E), north = Δlat · 6 372 360 m and east = Δlon · 6 390 503 m · cos 49.46115°
 // (radians; the WGS84 radii of curvature there), good to about a centimetre over the venue.
+#include <httplib.h>
 #include <gtest/gtest.h>
 
 #include <cmath>

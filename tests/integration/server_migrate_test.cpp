@@ -8,6 +8,7 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::body_of;
 using locus::testing::SameDatabase;

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::body_of;
 using locus::testing::run_command;

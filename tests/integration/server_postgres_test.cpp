@@ -10,6 +10,7 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::ServerProcess;
 using nlohmann::json;

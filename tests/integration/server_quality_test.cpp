@@ -1,6 +1,7 @@
 // GET /v1/radiomaps/{id}/quality against the real server: an RP whose scans were taken
 // elsewhere (its fingerprint is another place's) stands out with the largest held-out error,
 // every RP is listed with its position, and bad input is refused.
+#include <httplib.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>

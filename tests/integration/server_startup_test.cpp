@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;

@@ -11,6 +11,7 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::FileSizeLimit;
 using locus::testing::Response;

@@ -182,7 +182,7 @@ TEST(ServerTracksBaro, BadPressureIsRefusedAndWritesNothing) {
 }
 
 // A 30 m x 4 m corridor with a lift at x = `lift_x` linked to the other floor's ("lift").
-json corridor_with_lift(std::int64_t other_floor, double lift_x) {
+static json corridor_with_lift(std::int64_t other_floor, double lift_x) {
     using locus::testing::feature;
     return {{"type", "FeatureCollection"},
             {"features",

@@ -10,6 +10,7 @@
 #include "locus/motion/fusion/ranging_ekf.hpp"
 #include "locus/motion/fusion/ranging_fix.hpp"
 
+#include <httplib.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -422,7 +423,7 @@ TEST(ServerTracksRanging, TheDeprecatedNameKalmanSeedOpensAKalmanTrilaterationTr
 }
 
 // The mean distance of a track's fused fixes at the walk's steps from the truth there.
-double mean_step_error(const json& fused, const Walk& w) {
+static double mean_step_error(const json& fused, const Walk& w) {
     double sum = 0;
     std::size_t n = 0;
     for (const auto& f : fused)

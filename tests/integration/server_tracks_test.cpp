@@ -6,6 +6,7 @@
 #include "locus/motion/fusion/particle_filter.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
 
+#include <httplib.h>
 #include <gtest/gtest.h>
 
 #include <atomic>

@@ -9,6 +9,7 @@
 
 #include "hierarchy.hpp"
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::ServerProcess;
 using locus::testing::body_of;

@@ -3,6 +3,7 @@
 // headers, a 304 for a known ETag; every path that could leave a root (.., encoded ..,
 // absolute, hidden files) is refused as raw bytes on the wire, whatever a client library
 // would have normalised, and a secret beside the root never comes back.
+#include <httplib.h>
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -14,6 +15,7 @@
 #include <sstream>
 
 #include "server_process.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::ServerProcess;
 using nlohmann::json;

@@ -11,6 +11,7 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 #include "text_file.hpp"
+#include "build_paths.hpp"
 
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
@@ -21,7 +22,6 @@ using locus::testing::slurp;
 
 namespace {
 
-const std::string kCli = LOCUS_CLI_BIN;
 std::string fixture(const std::string& name) { return std::string(LOCUS_TEST_FIXTURES) + "/survey/" + name; }
 
 // Header first, then the lines sorted: RP creation order depends on the upload threads.
@@ -58,13 +58,13 @@ protected:
     }
 
     locus::testing::CommandResult upload(const std::string& rm, std::vector<std::string> extra) {
-        std::vector<std::string> argv{kCli, "survey", "upload", "--server", server.url(), "--radiomap", rm, "--no-progress"};
+        std::vector<std::string> argv{LOCUS_CLI_BIN, "survey", "upload", "--server", server.url(), "--radiomap", rm, "--no-progress"};
         argv.insert(argv.end(), extra.begin(), extra.end());
         return run_command(argv);
     }
 
     std::string export_csv(const std::string& rm) {
-        const auto r = run_command({kCli, "export", "--server", server.url(), "--radiomap", rm, "--format", "csv"});
+        const auto r = run_command({LOCUS_CLI_BIN, "export", "--server", server.url(), "--radiomap", rm, "--format", "csv"});
         EXPECT_EQ(r.status, 0) << r.err;
         return sorted_lines(r.out);
     }
@@ -130,7 +130,7 @@ TEST_F(SurveyUpload, UploadSurvivesAServerRestartMidway) {
     const auto down = upload(rm, {"--retries", "2", fixture("walk.jsonl")});
     EXPECT_NE(down.status, 0);
     server.start();
-    const auto rest = run_command({kCli, "survey", "upload", "--server", server.url(), "--radiomap", rm, "--no-progress",
+    const auto rest = run_command({LOCUS_CLI_BIN, "survey", "upload", "--server", server.url(), "--radiomap", rm, "--no-progress",
                                    fixture("walk.jsonl")});
     ASSERT_EQ(rest.status, 0) << rest.err;
     EXPECT_EQ(export_csv(rm), sorted_lines(slurp(fixture("walk_export.csv"))));
@@ -161,7 +161,7 @@ TEST_F(SurveyUpload, StrictRefusesTheWholeFile) {
 TEST_F(SurveyUpload, ExportJsonReimportsToTheSameRadioMap) {
     const auto rm = radiomap("source");
     ASSERT_EQ(upload(rm, {fixture("walk.jsonl")}).status, 0);
-    const auto r = run_command({kCli, "export", "--server", server.url(), "--radiomap", rm, "--format", "json"});
+    const auto r = run_command({LOCUS_CLI_BIN, "export", "--server", server.url(), "--radiomap", rm, "--format", "json"});
     ASSERT_EQ(r.status, 0) << r.err;
     json doc = json::parse(r.out);
     EXPECT_EQ(doc["format"], "locus-radiomap/1");
@@ -178,7 +178,7 @@ TEST_F(SurveyUpload, PlanSkipsPointsOutsideRoomsAndCreatesOnce) {
                   .status,
               201);
     const auto rm = radiomap("grid");
-    std::vector<std::string> argv{kCli, "survey", "plan", "--server", server.url(), "--floor", std::to_string(floor),
+    std::vector<std::string> argv{LOCUS_CLI_BIN, "survey", "plan", "--server", server.url(), "--floor", std::to_string(floor),
                                   "--cell", "2", "--radiomap", rm, "--create"};
     const auto r = run_command(argv);
     ASSERT_EQ(r.status, 0) << r.err;
@@ -202,7 +202,7 @@ TEST_F(SurveyUpload, ApiKeyFromTheEnvironment) {
                                 {{"name", "F"}, {"level", 0}, {"width", 10.0}, {"height", 6.0}});
     const auto rm = secured.post("/v1/floors/" + std::to_string(f.body["id"].get<int>()) + "/radiomaps", {{"name", "R"}});
     ASSERT_EQ(rm.status, 201) << rm.raw;
-    const std::vector<std::string> argv{kCli, "survey", "upload", "--server", secured.url(), "--radiomap",
+    const std::vector<std::string> argv{LOCUS_CLI_BIN, "survey", "upload", "--server", secured.url(), "--radiomap",
                                         std::to_string(rm.body["id"].get<int>()), "--no-progress", fixture("walk.jsonl")};
     const auto denied = run_command(argv);
     EXPECT_NE(denied.status, 0);
@@ -261,7 +261,7 @@ TEST_F(SurveyUpload, AFailedUploadLeavesNoEmptyRp) {
         out << "rp,x,y,t,bssid,rss\n";
         for (int t = 0; t < 40; ++t) out << "BIG,1,1," << t << ",aa:bb:cc:00:00:01,-50\n";
     }
-    const std::vector<std::string> argv{kCli, "survey", "upload", "--server", small.url(), "--radiomap",
+    const std::vector<std::string> argv{LOCUS_CLI_BIN, "survey", "upload", "--server", small.url(), "--radiomap",
                                         std::to_string(h.radiomap), "--no-progress", file};
     for (int run = 0; run < 2; ++run) {
         const auto r = run_command(argv);

@@ -1,5 +1,6 @@
 #include "server_process.hpp"
 
+#include <httplib.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -14,10 +15,8 @@
 #include <stdexcept>
 #include <thread>
 #include "text_file.hpp"
+#include "build_paths.hpp"
 
-#ifndef LOCUS_SERVER_BIN
-#error "LOCUS_SERVER_BIN must point at the locus-server binary"
-#endif
 
 namespace locus::testing {
 
@@ -153,15 +152,18 @@ void ServerProcess::kill9() { stop(SIGKILL); }
 
 std::string ServerProcess::log() const { return slurp(log_path_); }
 
-httplib::Headers ServerProcess::headers() const {
+namespace {
+// What every request of a ServerProcess carries: its API key, when it has one.
+httplib::Headers key_headers(const std::string& api_key) {
     httplib::Headers h;
-    if (!api_key_.empty()) h.emplace("Authorization", "Bearer " + api_key_);
+    if (!api_key.empty()) h.emplace("Authorization", "Bearer " + api_key);
     return h;
 }
+}  // namespace
 
 Response ServerProcess::get(const std::string& path) const {
     auto c = client(port_);
-    return to_response(c.Get(path.c_str(), headers()));
+    return to_response(c.Get(path.c_str(), key_headers(api_key_)));
 }
 
 Response ServerProcess::post(const std::string& path, const nlohmann::json& body) const {
@@ -171,22 +173,22 @@ Response ServerProcess::post(const std::string& path, const nlohmann::json& body
 Response ServerProcess::post_raw(const std::string& path, const std::string& body,
                                  const std::string& content_type) const {
     auto c = client(port_);
-    return to_response(c.Post(path.c_str(), headers(), body, content_type.c_str()));
+    return to_response(c.Post(path.c_str(), key_headers(api_key_), body, content_type.c_str()));
 }
 
 Response ServerProcess::patch(const std::string& path, const nlohmann::json& body) const {
     auto c = client(port_);
-    return to_response(c.Patch(path.c_str(), headers(), body.dump(), "application/json"));
+    return to_response(c.Patch(path.c_str(), key_headers(api_key_), body.dump(), "application/json"));
 }
 
 Response ServerProcess::put(const std::string& path, const nlohmann::json& body) const {
     auto c = client(port_);
-    return to_response(c.Put(path.c_str(), headers(), body.dump(), "application/json"));
+    return to_response(c.Put(path.c_str(), key_headers(api_key_), body.dump(), "application/json"));
 }
 
 Response ServerProcess::del(const std::string& path) const {
     auto c = client(port_);
-    return to_response(c.Delete(path.c_str(), headers()));
+    return to_response(c.Delete(path.c_str(), key_headers(api_key_)));
 }
 
 nlohmann::json body_of(const Response& r, int status) {

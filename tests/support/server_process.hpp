@@ -2,7 +2,6 @@
 // Starts the real locus-server binary on 127.0.0.1 with an OS-chosen port and a temp SQLite
 // file (or, under scripts/with_postgres.sh, a fresh PostgreSQL database: test_database.hpp),
 // and talks HTTP to it. The db survives stop()/start() so restarts can be tested.
-#include <httplib.h>
 #include <sys/types.h>
 
 #include <memory>
@@ -11,6 +10,13 @@
 #include <vector>
 
 #include "test_database.hpp"
+
+// By reference and as a declared return type only: a test that talks HTTP itself includes
+// <httplib.h> (some 100,000 lines, most integration tests never need them).
+namespace httplib {
+class Client;
+class Result;
+}  // namespace httplib
 
 namespace locus::testing {
 
@@ -69,7 +75,6 @@ public:
     Response del(const std::string& path) const;
 
 private:
-    httplib::Headers headers() const;
     void init_db();
     std::vector<std::string> extra_args_;
     std::unique_ptr<TestDatabase> database_;  // PostgreSQL: owned by the server that created it

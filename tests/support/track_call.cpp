@@ -1,5 +1,7 @@
 #include "track_call.hpp"
 
+#include <httplib.h>
+
 namespace locus::testing {
 
 TrackTokens with_api_key(const std::string& api_key) {

@@ -13,6 +13,7 @@
 
 #include "datasets/ipin_log.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
+#include "build_paths.hpp"
 
 using namespace locus::fusion;
 

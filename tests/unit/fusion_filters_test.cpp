@@ -86,7 +86,7 @@ TEST(Kalman, FixCovarianceFromCandidateSpread) {
 // A straight corridor walked east; the PDR heading is 20° off and steps are 10 % long, as
 // in a disturbed area. Fixes every 5 steps are the truth plus 1.5 m noise.
 template <typename Filter, typename Step, typename Fix>
-double corridor_final_error(Filter& f, Step step, Fix fix, double* pdr_only_error) {
+static double corridor_final_error(Filter& f, Step step, Fix fix, double* pdr_only_error) {
     std::mt19937_64 rng(7);
     std::normal_distribution<double> noise(0.0, 1.5);
     Point truth{1.0, 1.0};

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "datasets/ipin_log.hpp"
+#include "build_paths.hpp"
 
 namespace ipin = locus::datasets::ipin;
 

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "datasets/uji_csv.hpp"
+#include "build_paths.hpp"
 
 namespace uji = locus::datasets::uji;
 

@@ -10,6 +10,7 @@
 #include "datasets/uji_csv.hpp"
 #include "http/api_error.hpp"
 #include "http/localize/plain_localize_request.hpp"
+#include "build_paths.hpp"
 
 using namespace locus;
 using namespace locus::http;

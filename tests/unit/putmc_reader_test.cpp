@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "datasets/putmc.hpp"
+#include "build_paths.hpp"
 
 namespace putmc = locus::datasets::putmc;
 
@@ -20,7 +21,7 @@ std::string error_of(auto&& f) {
     return "";
 }
 
-const std::string kFixtures = LOCUS_TEST_FIXTURES "/putmc";
+const std::string kFixtures = std::string(LOCUS_TEST_FIXTURES) + "/putmc";
 
 }  // namespace
 

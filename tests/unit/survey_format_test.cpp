@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "datasets/survey_format.hpp"
+#include "build_paths.hpp"
 
 using namespace locus;
 using namespace locus::datasets::survey;

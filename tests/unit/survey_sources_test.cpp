@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "datasets/survey_sources.hpp"
+#include "build_paths.hpp"
 
 using namespace locus;
 using namespace locus::datasets::survey;

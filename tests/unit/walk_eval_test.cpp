@@ -11,6 +11,7 @@
 #include "putmc_thin.hpp"
 #include "walk_eval.hpp"
 #include "walk_reality.hpp"
+#include "build_paths.hpp"
 
 namespace putmc = locus::datasets::putmc;
 namespace walks = locus::tools::walks;
@@ -83,7 +84,7 @@ void expect_causal(const putmc::Walk& walk) {
 }  // namespace
 
 TEST(WalkEval, CuttingTheWalkLeavesEarlierEstimatesUnchangedOnTheFixture) {
-    expect_causal(putmc::read_walk(LOCUS_TEST_FIXTURES "/putmc/trajs/tiny_walk"));
+    expect_causal(putmc::read_walk(std::string(LOCUS_TEST_FIXTURES) + "/putmc/trajs/tiny_walk"));
 }
 
 TEST(WalkEval, CuttingTheWalkLeavesEarlierEstimatesUnchangedOnARealWalk) {
@@ -93,7 +94,7 @@ TEST(WalkEval, CuttingTheWalkLeavesEarlierEstimatesUnchangedOnARealWalk) {
 }
 
 TEST(WalkEval, ScoresEveryScanAndWifiIsTheFixHeld) {
-    const auto walk = putmc::read_walk(LOCUS_TEST_FIXTURES "/putmc/trajs/tiny_walk");
+    const auto walk = putmc::read_walk(std::string(LOCUS_TEST_FIXTURES) + "/putmc/trajs/tiny_walk");
     const auto fixes = fixes_of(walk);
     const auto r = walks::evaluate_walk(walk, fixes, kHeight, std::nullopt, walks::Config{});
     EXPECT_EQ(r.truth.size(), 3u);
@@ -112,7 +113,7 @@ TEST(WalkEval, ScoresEveryScanAndWifiIsTheFixHeld) {
 }
 
 TEST(WalkEval, AWalkWithNoFixHasNoEstimate) {
-    const auto walk = putmc::read_walk(LOCUS_TEST_FIXTURES "/putmc/trajs/tiny_walk");
+    const auto walk = putmc::read_walk(std::string(LOCUS_TEST_FIXTURES) + "/putmc/trajs/tiny_walk");
     const std::vector<std::optional<locus::sim::Fix>> none(walk.scans.size());
     const auto r = walks::evaluate_walk(walk, none, kHeight, std::nullopt, walks::Config{});
     EXPECT_EQ(r.fixes, 0u);
@@ -122,7 +123,7 @@ TEST(WalkEval, AWalkWithNoFixHasNoEstimate) {
 TEST(WalkEval, SmoothersUseTheFutureAndAreLabelledSo) {
     // The offline smoothers are the only methods not causal: cutting the walk moves their
     // estimate at an earlier scan. The tuned rules are causal (expect_causal covers them).
-    const auto walk = putmc::read_walk(LOCUS_TEST_FIXTURES "/putmc/trajs/tiny_walk");
+    const auto walk = putmc::read_walk(std::string(LOCUS_TEST_FIXTURES) + "/putmc/trajs/tiny_walk");
     const auto fixes = fixes_of(walk);
     walks::Config cfg;
     cfg.smooth = true;
@@ -166,7 +167,7 @@ TEST(WalkReality, ErrorCorrelationIsOneForASharedErrorAndMinusOneForOpposite) {
 // A thin client's batches (tools/putmc_thin): one per scan, every step the detector confirmed
 // up to the last scan in exactly one batch, each after the previous scan and by its own.
 TEST(ThinBatches, EveryStepUpToTheLastScanInTheBatchOfItsScan) {
-    const std::string dir = LOCUS_DATA_DIR "/putmc/trajs/xperia_traj1";
+    const std::string dir = std::string(LOCUS_DATA_DIR) + "/putmc/trajs/xperia_traj1";
     if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " not found: the shared data folder is absent";
     const auto walk = putmc::read_walk(dir);
     const auto batches = walks::thin_batches(walk);
