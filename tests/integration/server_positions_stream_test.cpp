@@ -11,10 +11,13 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 #include "sse_listener.hpp"
+#include "track_call.hpp"
 #include "unix_time.hpp"
 
 using locus::testing::ServerProcess;
+using locus::testing::Track;
 using locus::testing::body_of;
+using locus::testing::open_track;
 using locus::testing::unix_now;
 using nlohmann::json;
 
@@ -27,16 +30,6 @@ int get_status(const ServerProcess& s, const std::string& path, const std::strin
     if (!api_key.empty()) h.emplace("Authorization", "Bearer " + api_key);
     const auto r = c.Get(path.c_str(), h);
     return r ? r->status : 0;
-}
-
-struct Track {
-    std::int64_t id = 0;
-    std::string token;
-};
-
-Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label) {
-    const json b = body_of(s.post("/v1/tracks", {{"map_id", map}, {"label", label}}), 201);
-    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
 }
 
 void post_fix(const ServerProcess& s, const Track& t, double time, std::int64_t floor, double x, double y, double accuracy = 1.5) {
@@ -76,7 +69,8 @@ TEST(ServerPositionsStream, AFollowedFloorSeesTracksComeMoveLeaveAndEnd) {
                                               {{"name", "First"}, {"level", 1}, {"width", 30.0}, {"height", 20.0}}),
                                        201)["id"];
     const double now = unix_now();
-    const Track ann = open_track(s, h.map, "ann"), bob = open_track(s, h.map, "bob");
+    const Track ann = open_track(s, {{"map_id", h.map}, {"label", "ann"}}),
+                bob = open_track(s, {{"map_id", h.map}, {"label", "bob"}});
     post_fix(s, ann, now - 5, h.floor, 1, 1);
     post_fix(s, bob, now - 5, upper, 2, 2);
     const std::string base = "/v1/maps/" + std::to_string(h.map) + "/positions/events";

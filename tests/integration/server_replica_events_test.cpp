@@ -21,24 +21,15 @@
 #include "unix_time.hpp"
 
 using locus::testing::body_of;
+using locus::testing::open_track;
 using locus::testing::SameDatabase;
 using locus::testing::ServerProcess;
+using locus::testing::Track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
 
 namespace {
-
-struct Track {
-    std::int64_t id = 0;
-    std::string token;
-    std::string path(const std::string& rest = "") const { return "/v1/tracks/" + std::to_string(id) + rest; }
-};
-
-Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label) {
-    const json b = body_of(s.post("/v1/tracks", {{"map_id", map}, {"label", label}}), 201);
-    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
-}
 
 json fix(double t, std::int64_t floor, double x) { return {{"t", t}, {"floor_id", floor}, {"x", x}, {"y", 1.0}, {"accuracy_m", 1.5}}; }
 
@@ -61,7 +52,7 @@ std::vector<double> fix_times(const std::vector<std::pair<std::string, json>>& e
 }
 
 Track open_with_fix(const ServerProcess& a, const locus::testing::Hierarchy& h, const std::string& label, double t) {
-    const Track out = open_track(a, h.map, label);
+    const Track out = open_track(a, {{"map_id", h.map}, {"label", label}});
     post_fixes(a, out, json::array({fix(t, h.floor, 0)}));
     return out;
 }
@@ -150,7 +141,7 @@ TEST_F(ReplicaEvents, ATrackOpenedOnOneServerAppearsOnTheOthersPositionsStream) 
     Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
     std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the stream is open, with nothing to show
     ASSERT_TRUE(map_stream.seen().empty());
-    const Track t = open_track(*a, h.map, "bob");
+    const Track t = open_track(*a, {{"map_id", h.map}, {"label", "bob"}});
     post_fixes(*a, t, json::array({fix(unix_now() - 1, h.floor, 3)}));
     ASSERT_TRUE(map_stream.wait_for(1, 1.0)) << "a track B never held did not appear on its positions stream";
     EXPECT_EQ(map_stream.seen()[0].first, "position");
@@ -165,7 +156,7 @@ TEST_F(ReplicaEvents, ATrackOpenedOnOneServerAppearsOnTheOthersPositionsStream) 
 
 TEST_F(ReplicaEvents, RevokingAShareOrDeletingOnOneServerEndsTheOthersStreams) {
     const auto h = locus::testing::make_hierarchy(*a);
-    const Track t = open_track(*a, h.map, "cat");
+    const Track t = open_track(*a, {{"map_id", h.map}, {"label", "cat"}});
     post_fixes(*a, t, json::array({fix(unix_now() - 5, h.floor, 1)}));
     const json share = body_of(track_call(*a, "POST", t.path("/shares"), {t.token}, "{}"), 201);
     Listener owner(b->port(), t.path("/events"), t.token);
@@ -206,7 +197,7 @@ TEST_F(ReplicaEvents, AFixWhoseNotificationNeverCameIsCaughtUp) {
 TEST_F(ReplicaEvents, AFixWrittenWhileTheListenerWasDownIsCaughtUpAtReconnect) {
     const auto h = locus::testing::make_hierarchy(*a);
     const double t0 = unix_now() - 30;
-    const Track t = open_track(*a, h.map, "hal");
+    const Track t = open_track(*a, {{"map_id", h.map}, {"label", "hal"}});
     post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
     Listener track_stream(b->port(), t.path("/events"), t.token);
     Listener map_stream(b->port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events", "");
@@ -226,7 +217,7 @@ TEST_F(ReplicaEvents, AFixWrittenWhileTheListenerWasDownIsCaughtUpAtReconnect) {
 TEST_F(ReplicaEvents, AThinClientsStepsTrackFusesAsOnOneServer) {
     const double t0 = unix_now() - 30;
     const auto h = locus::testing::make_hierarchy(*a);
-    const Track t = open_track(*a, h.map, "eve");
+    const Track t = open_track(*a, {{"map_id", h.map}, {"label", "eve"}});
     post_fixes(*a, t, json::array({fix(t0, h.floor, 2)}));
     Listener stream(b->port(), t.path("/events"), t.token);
     ASSERT_TRUE(stream.wait_for(1, 2.0));
@@ -248,7 +239,7 @@ TEST_F(ReplicaEvents, AThinClientsStepsTrackFusesAsOnOneServer) {
     // The same inputs on a server of its own (its own database, so the same track id and seed).
     ServerProcess single({"--quiet"});
     const auto h1 = locus::testing::make_hierarchy(single);
-    const Track t1 = open_track(single, h1.map, "eve");
+    const Track t1 = open_track(single, {{"map_id", h1.map}, {"label", "eve"}});
     ASSERT_EQ(t1.id, t.id);
     ASSERT_EQ(h1.floor, h.floor);
     post_fixes(single, t1, json::array({fix(t0, h1.floor, 2)}));
@@ -267,7 +258,7 @@ TEST_F(ReplicaEvents, AThinClientsStepsTrackFusesAsOnOneServer) {
 TEST_F(ReplicaEvents, ATrackClosedElsewhereUnnotifiedEndsAtTheSweep) {
     ServerProcess quick({"--quiet", "--track-heartbeat", "0.2", "--track-ttl", "1"}, SameDatabase{a->db()});
     const auto h = locus::testing::make_hierarchy(*a);
-    const Track t = open_track(*a, h.map, "fay");
+    const Track t = open_track(*a, {{"map_id", h.map}, {"label", "fay"}});
     post_fixes(*a, t, json::array({fix(unix_now() - 5, h.floor, 0)}));
     Listener stream(quick.port(), t.path("/events"), t.token);
     ASSERT_TRUE(stream.wait_for(1, 2.0));
@@ -283,7 +274,7 @@ TEST_F(ReplicaEvents, ATrackClosedElsewhereUnnotifiedEndsAtTheSweep) {
 TEST_F(ReplicaEvents, TheOthersFixCountFollowsRemotePostsOnceEach) {
     const auto h = locus::testing::make_hierarchy(*a);
     const double t0 = unix_now() - 60;
-    const Track t = open_track(*a, h.map, "gil");
+    const Track t = open_track(*a, {{"map_id", h.map}, {"label", "gil"}});
     post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
     Listener stream(b->port(), t.path("/events"), t.token);
     ASSERT_TRUE(stream.wait_for(1, 2.0));
@@ -301,7 +292,7 @@ TEST_F(ReplicaEvents, TheOthersFixCountFollowsRemotePostsOnceEach) {
 TEST_F(ReplicaEvents, ARefreshThatFailsOnTheTracksConnectionIsRetried) {
     const auto h = locus::testing::make_hierarchy(*a);
     const double t0 = unix_now() - 30;
-    const Track t = open_track(*a, h.map, "ida");
+    const Track t = open_track(*a, {{"map_id", h.map}, {"label", "ida"}});
     post_fixes(*a, t, json::array({fix(t0, h.floor, 0)}));
     Listener stream(b->port(), t.path("/events"), t.token);
     ASSERT_TRUE(stream.wait_for(1, 2.0));

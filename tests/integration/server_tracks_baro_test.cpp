@@ -16,7 +16,9 @@
 
 using locus::testing::Response;
 using locus::testing::ServerProcess;
+using locus::testing::Track;
 using locus::testing::body_of;
+using locus::testing::open_track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
@@ -56,16 +58,6 @@ Building three_floors(const ServerProcess& s, bool elevations) {
 
 std::string steps_path(std::int64_t track) { return "/v1/tracks/" + std::to_string(track) + "/steps"; }
 
-struct Track {
-    std::int64_t id = 0;
-    std::string token;
-};
-
-Track open_track(const ServerProcess& s, std::int64_t map) {
-    const json b = body_of(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", map}}.dump()), 201);
-    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
-}
-
 // A walk east on the ground floor: radio fixes there every 5 s for 20 s, steps every 0.6 s
 // until `walk_s`, and the barometer at 5 Hz, steady for 20 s, then 4.5 m down over 10 s (a
 // stair, or a lift when the steps have stopped), then steady again (±0.01 hPa of noise).
@@ -86,7 +78,7 @@ json walk_down_a_stair(const Building& b, double t0, double walk_s = 40.0) {
 TEST(ServerTracksBaro, PressureTakesTheTrackDownAStairToAFloorNoRadioMapCovers) {
     ServerProcess s({"--quiet"});
     const Building b = three_floors(s, true);
-    const Track t = open_track(s, b.h.map);
+    const Track t = open_track(s, {{"map_id", b.h.map}});
     const double t0 = std::floor(unix_now()) - 100;
     const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, walk_down_a_stair(b, t0).dump()));
     const json& fused = got["fused"];
@@ -120,7 +112,7 @@ TEST(ServerTracksBaro, PressureTakesTheTrackDownAStairToAFloorNoRadioMapCovers) 
 TEST(ServerTracksBaro, ARadioFixOnAFloorTheBarometerRulesOutMovesNothing) {
     ServerProcess s({"--quiet"});
     const Building b = three_floors(s, true);
-    const Track t = open_track(s, b.h.map);
+    const Track t = open_track(s, {{"map_id", b.h.map}});
     const double t0 = std::floor(unix_now()) - 100;
     const json walked = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, walk_down_a_stair(b, t0).dump()));
     const json last = walked["fused"].back();
@@ -139,7 +131,7 @@ TEST(ServerTracksBaro, ARadioFixOnAFloorTheBarometerRulesOutMovesNothing) {
 TEST(ServerTracksBaro, WithoutElevationsPressureChangesNoFloor) {
     ServerProcess s({"--quiet"});
     const Building b = three_floors(s, false);
-    const Track t = open_track(s, b.h.map);
+    const Track t = open_track(s, {{"map_id", b.h.map}});
     const double t0 = std::floor(unix_now()) - 100;
     const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, walk_down_a_stair(b, t0).dump()));
     ASSERT_FALSE(got["fused"].empty());
@@ -154,7 +146,7 @@ TEST(ServerTracksBaro, WithoutElevationsPressureChangesNoFloor) {
 TEST(ServerTracksBaro, BadPressureIsRefusedAndWritesNothing) {
     ServerProcess s({"--quiet"});
     const Building b = three_floors(s, true);
-    const Track t = open_track(s, b.h.map);
+    const Track t = open_track(s, {{"map_id", b.h.map}});
     const double t0 = std::floor(unix_now()) - 100;
     const json fix = {{"t", t0}, {"floor_id", b.h.floor}, {"x", 5.0}, {"y", 5.0}, {"accuracy_m", 2.0}};
     const auto refused = [&](const std::string& pressure, int status, const std::string& code) {
@@ -198,7 +190,7 @@ TEST(ServerTracksBaro, WhereThePlanHasALiftTheTrackComesOutAtItsOtherEnd) {
     // (x 3); the walker walks to x ≈ 25 and rides down.
     ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.h.floor) + "/plan", corridor_with_lift(b.mezzanine, 26)).status, 200);
     ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.mezzanine) + "/plan", corridor_with_lift(b.h.floor, 3)).status, 200);
-    const Track t = open_track(s, b.h.map);
+    const Track t = open_track(s, {{"map_id", b.h.map}});
     const double t0 = std::floor(unix_now()) - 100;
     const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, walk_down_a_stair(b, t0, 20.0).dump()));
     const json& fused = got["fused"];

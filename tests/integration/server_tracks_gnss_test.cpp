@@ -17,7 +17,9 @@
 
 using locus::testing::Response;
 using locus::testing::ServerProcess;
+using locus::testing::Track;
 using locus::testing::body_of;
+using locus::testing::open_track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
@@ -39,16 +41,6 @@ json floor_geo() { return {{"lat", kLat0}, {"lon", kLon0}, {"x", 0.0}, {"y", 0.0
 std::pair<double, double> lat_lon_of(double x, double y) { return {kLat0 - x / kMetresPerDegLat, kLon0 + y / kMetresPerDegLon}; }
 
 std::string steps_path(std::int64_t track) { return "/v1/tracks/" + std::to_string(track) + "/steps"; }
-
-struct Track {
-    std::int64_t id = 0;
-    std::string token;
-};
-
-Track open_track(const ServerProcess& s, std::int64_t map, const std::string& fusion = "walk_pf") {
-    const json b = body_of(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", map}, {"fusion", fusion}}.dump()), 201);
-    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
-}
 
 json fix_at(double t, std::int64_t floor, double x, double y, double accuracy_m = 2.0) {
     return {{"t", t}, {"floor_id", floor}, {"x", x}, {"y", y}, {"accuracy_m", accuracy_m}};
@@ -106,7 +98,8 @@ TEST(ServerTracksGnss, GnssPullsAWalkTowardsItOneFixPerTenSeconds) {
     ServerProcess s({"--quiet"});
     const Venue v = georeferenced(s);
     const double t0 = std::floor(unix_now()) - 100;
-    const Track plain = open_track(s, v.h.map), pulled = open_track(s, v.h.map);
+    const Track plain = open_track(s, {{"map_id", v.h.map}, {"fusion", "walk_pf"}}),
+                pulled = open_track(s, {{"map_id", v.h.map}, {"fusion", "walk_pf"}});
     const json without = body_of(track_call(s, "POST", steps_path(plain.id), {plain.token}, walk(v.h.floor, t0, false).dump()));
     const json with = body_of(track_call(s, "POST", steps_path(pulled.id), {pulled.token}, walk(v.h.floor, t0, true).dump()));
     // A fused fix per step and radio fix, and one per GNSS fix taken: 20 sent, 4 taken.
@@ -131,7 +124,7 @@ TEST(ServerTracksGnss, GnssAtOrBeforeWhatTheFilterRanIsSkipped) {
     ServerProcess s({"--quiet"});
     const Venue v = georeferenced(s);
     const double t0 = std::floor(unix_now()) - 100;
-    const Track t = open_track(s, v.h.map);
+    const Track t = open_track(s, {{"map_id", v.h.map}, {"fusion", "walk_pf"}});
     const json walked = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, walk(v.h.floor, t0, false).dump()));
     // The receiver's fixes of that walk, arriving late: the filter has run past them, and a late
     // fix must not move it back in time.
@@ -144,7 +137,7 @@ TEST(ServerTracksGnss, GnssInAnyOrderIsTakenInTimeOrder) {
     ServerProcess s({"--quiet"});
     const Venue v = georeferenced(s);
     const double t0 = std::floor(unix_now()) - 100;
-    const Track t = open_track(s, v.h.map);
+    const Track t = open_track(s, {{"map_id", v.h.map}, {"fusion", "walk_pf"}});
     json body = walk(v.h.floor, t0, true);
     std::reverse(body["gnss"].begin(), body["gnss"].end());  // as the other lists: sorted, not refused
     const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, body.dump()));
@@ -155,7 +148,7 @@ TEST(ServerTracksGnss, AFloorWithoutAGeoreferenceIgnoresGnss) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);  // no geo
     const double t0 = std::floor(unix_now()) - 100;
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"fusion", "walk_pf"}});
     const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, walk(h.floor, t0, true).dump()));
     ASSERT_EQ(got["fused"].size(), static_cast<std::size_t>(kSteps + 1)) << got.dump();
     EXPECT_EQ(at_half_seconds(got["fused"], t0), 0);
@@ -166,7 +159,7 @@ TEST(ServerTracksGnss, GnssAloneBeginsNoTrack) {
     ServerProcess s({"--quiet"});
     const Venue v = georeferenced(s);
     const double t0 = std::floor(unix_now()) - 100;
-    const Track t = open_track(s, v.h.map);
+    const Track t = open_track(s, {{"map_id", v.h.map}, {"fusion", "walk_pf"}});
     const json alone = body_of(track_call(s, "POST", steps_path(t.id), {t.token},
                                           json{{"gnss", {gnss_at(t0, 5.0, 5.0, 3.0), gnss_at(t0 + 20, 6.0, 5.0, 3.0)}}}.dump()));
     EXPECT_EQ(alone["fused"].size(), 0u) << alone.dump();
@@ -182,7 +175,7 @@ TEST(ServerTracksGnss, AKalmanTrackDropsAFixBeyondItsGate) {
     ServerProcess s({"--quiet"});
     const Venue v = georeferenced(s);
     const double t0 = std::floor(unix_now()) - 100;
-    const Track t = open_track(s, v.h.map, "kalman_trilateration");
+    const Track t = open_track(s, {{"map_id", v.h.map}, {"fusion", "kalman_trilateration"}});
     // Standing at (5, 5), sure of it to a few metres: a receiver fix 40 m off is 4 σ (σ 10 m) and
     // more, beyond the 99 % gate (χ² 9.21); one 4 m off, 10 s later, is taken.
     json body = {{"fixes", {fix_at(t0, v.h.floor, 5.0, 5.0)}},
@@ -198,7 +191,7 @@ TEST(ServerTracksGnss, AKalmanTrackDropsAFixBeyondItsGate) {
 TEST(ServerTracksGnss, BadGnssIsRefusedAndWritesNothing) {
     ServerProcess s({"--quiet", "--track-retention", "3600"});
     const Venue v = georeferenced(s);
-    const Track t = open_track(s, v.h.map);
+    const Track t = open_track(s, {{"map_id", v.h.map}, {"fusion", "walk_pf"}});
     const double t0 = std::floor(unix_now()) - 100;
     const json fix = fix_at(t0, v.h.floor, 5.0, 5.0);
     const std::string ok = gnss_at(t0 + 1, 5.0, 5.0, 5.0).dump();

@@ -19,7 +19,9 @@
 
 using locus::testing::Response;
 using locus::testing::ServerProcess;
+using locus::testing::Track;
 using locus::testing::body_of;
+using locus::testing::open_track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
@@ -91,16 +93,6 @@ json scans_body(const std::vector<Spot>& spots, double t0, int first, double off
     return {{"scans", scans}};
 }
 
-struct Track {
-    std::int64_t id = 0;
-    std::string token;
-};
-
-Track open_track(const ServerProcess& s, std::int64_t map) {
-    const json b = body_of(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", map}}.dump()), 201);
-    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
-}
-
 // What match::DeviceOffset would hold after n looks of exactly `look_db` each: their mean shrunk
 // by its prior of 5 looks of 0 dB (shared/include/locus/match/device_offset.hpp).
 double shrunk(double look_db, int n) { return look_db * n / (n + 5.0); }
@@ -113,7 +105,7 @@ TEST(ServerTracksOffset, AWalkPfTrackLearnsItsPhonesOffset) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
     survey(s, h);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}});
     const double t0 = std::floor(unix_now()) - 200;
     const std::vector<Spot> spots = loop_spots(72);
     // Three batches of 24 scans: the offset grows towards +8 dB, as far as the prior lets it
@@ -143,7 +135,7 @@ TEST(ServerTracksOffset, APhoneThatReadsAsTheSurveysLearnsNoOffset) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
     survey(s, h);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}});
     const double t0 = std::floor(unix_now()) - 200;
     const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, scans_body(loop_spots(48), t0, 0, 0.0).dump()));
     EXPECT_NEAR(got["rss_offset_db"].get<double>(), 0.0, 1.0) << got.dump();
@@ -153,7 +145,7 @@ TEST(ServerTracksOffset, ARefusedBatchTeachesNothing) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
     survey(s, h);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}});
     const std::int64_t id = t.id;
     const std::string token = t.token;
     const double t0 = std::floor(unix_now()) - 200;

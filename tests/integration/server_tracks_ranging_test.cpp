@@ -26,12 +26,15 @@
 #include "locus/ranging/path_loss.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "server_process.hpp"
+#include "track_call.hpp"
 #include "unix_time.hpp"
 
 using locus::Point;
 using locus::testing::Response;
 using locus::testing::ServerProcess;
+using locus::testing::Track;
 using locus::testing::body_of;
+using locus::testing::open_track;
 using locus::testing::unix_now;
 using nlohmann::json;
 namespace fusion = locus::fusion;
@@ -69,20 +72,6 @@ Response call(const ServerProcess& s, const std::string& method, const std::stri
     out.raw = r->body;
     out.body = json::parse(r->body, nullptr, false);
     return out;
-}
-
-struct Track {
-    std::int64_t id = 0;
-    std::string token;
-    std::string steps() const { return "/v1/tracks/" + std::to_string(id) + "/steps"; }
-    std::string self() const { return "/v1/tracks/" + std::to_string(id); }
-};
-
-Track open_track(const ServerProcess& s, std::int64_t map, const std::string& fusion, const json& options = nullptr) {
-    json req = {{"map_id", map}, {"fusion", fusion}};
-    if (!options.is_null()) req["fusion_options"] = options;
-    const json b = body_of(call(s, "POST", "/v1/tracks", "", req.dump()), 201);
-    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
 }
 
 void add_transmitters(const ServerProcess& s, std::int64_t floor, std::size_t n = kTxs.size()) {
@@ -281,7 +270,7 @@ json body(const std::vector<json>& steps, const std::vector<json>& scans) {
 }
 
 std::size_t stored_fixes(const ServerProcess& s, const Track& t) {
-    return body_of(call(s, "GET", t.self(), t.token))["fixes"].get<std::size_t>();
+    return body_of(call(s, "GET", t.path(), t.token))["fixes"].get<std::size_t>();
 }
 
 // The walk posted to `t` in two requests split at `mid`: each answer's fused fixes are `e`'s
@@ -295,12 +284,12 @@ template <class Filter>
 TwoAnswers post_in_two(const ServerProcess& s, const Track& t, const Walk& w, double mid, std::int64_t floor, Filter& e) {
     TwoAnswers out;
     const auto first_steps = slice(w.steps, w.t0, mid), first_scans = slice(w.scans, w.t0, mid);
-    out.first = body_of(call(s, "POST", t.steps(), t.token, body(first_steps, first_scans).dump()));
+    out.first = body_of(call(s, "POST", t.path("/steps"), t.token, body(first_steps, first_scans).dump()));
     expect_same(out.first["fused"], e.run(first_steps, first_scans));
     EXPECT_EQ(out.first["scan_fixes"].size(), first_scans.size());
     for (const auto& f : out.first["scan_fixes"]) EXPECT_EQ(f["floor_id"], floor);
     const auto rest_steps = slice(w.steps, mid, 1e300), rest_scans = slice(w.scans, mid, 1e300);
-    out.rest = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    out.rest = body_of(call(s, "POST", t.path("/steps"), t.token, body(rest_steps, rest_scans).dump()));
     out.expected_rest = e.run(rest_steps, rest_scans);
     expect_same(out.rest["fused"], out.expected_rest);
     return out;
@@ -318,10 +307,13 @@ struct HalfWalked {
 HalfWalked walk_half(const ServerProcess& s, const std::string& fusion, const json& options, double mid_s) {
     HalfWalked hw{locus::testing::make_hierarchy(s), make_walk(std::floor(unix_now()) - 60), {}, 0};
     add_transmitters(s, hw.h.floor);
-    hw.t = open_track(s, hw.h.map, fusion, options);
+    json opened = {{"map_id", hw.h.map}, {"fusion", fusion}};
+    if (!options.is_null()) opened["fusion_options"] = options;
+    hw.t = open_track(s, opened);
     hw.mid = hw.w.t0 + mid_s;
     const auto& w = hw.w;
-    body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(slice(w.steps, w.t0, hw.mid), slice(w.scans, w.t0, hw.mid)).dump()));
+    body_of(call(s, "POST", hw.t.path("/steps"), hw.t.token,
+                 body(slice(w.steps, w.t0, hw.mid), slice(w.scans, w.t0, hw.mid)).dump()));
     return hw;
 }
 
@@ -329,7 +321,7 @@ HalfWalked walk_half(const ServerProcess& s, const std::string& fusion, const js
 json restart(ServerProcess& s, const HalfWalked& hw, const std::string& fusion, const json& options) {
     s.stop();
     s.start();
-    const json info = body_of(call(s, "GET", hw.t.self(), hw.t.token));
+    const json info = body_of(call(s, "GET", hw.t.path(), hw.t.token));
     EXPECT_EQ(info["fusion"], fusion);
     EXPECT_EQ(info["fusion_options"], options);
     return info["latest"];
@@ -338,10 +330,10 @@ json restart(ServerProcess& s, const HalfWalked& hw, const std::string& fusion, 
 // On `other` (sharing the database): the latest stored fix, the last step's (t0 + 10), then the
 // answer to the rest of the walk posted there.
 std::pair<json, json> finish_on(const ServerProcess& other, const HalfWalked& hw) {
-    const json latest = body_of(call(other, "GET", hw.t.self(), hw.t.token))["latest"];
+    const json latest = body_of(call(other, "GET", hw.t.path(), hw.t.token))["latest"];
     EXPECT_EQ(latest["t"].get<double>(), hw.w.t0 + 10);
     const auto rest_steps = slice(hw.w.steps, hw.mid, 1e300), rest_scans = slice(hw.w.scans, hw.mid, 1e300);
-    return {latest, body_of(call(other, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()))};
+    return {latest, body_of(call(other, "POST", hw.t.path("/steps"), hw.t.token, body(rest_steps, rest_scans).dump()))};
 }
 
 }  // namespace
@@ -367,8 +359,10 @@ TEST(ServerTracksRanging, KalmanTracksFuseScansAsClientLibDoes) {
                                {"kalman_ranging", nullptr, fusion::ranging_kalman_config(), true}};
     for (const Case& c : cases) {
         SCOPED_TRACE(c.fusion);
-        const Track t = open_track(s, h.map, c.fusion, c.options);
-        const json info = body_of(call(s, "GET", t.self(), t.token));
+        json opened = {{"map_id", h.map}, {"fusion", c.fusion}};
+        if (!c.options.is_null()) opened["fusion_options"] = c.options;
+        const Track t = open_track(s, opened);
+        const json info = body_of(call(s, "GET", t.path(), t.token));
         EXPECT_EQ(info["fusion"], c.fusion);
         if (!c.options.is_null()) EXPECT_EQ(info["fusion_options"], c.options);
         else EXPECT_FALSE(info.contains("fusion_options"));
@@ -382,7 +376,7 @@ TEST(ServerTracksRanging, KalmanTracksFuseScansAsClientLibDoes) {
         EXPECT_LT(final_error, 1.5) << latest.dump();
         ::testing::Test::RecordProperty(std::string(c.fusion) + "_final_error_m", std::to_string(final_error));
         // A retry of the last request moves nothing: every input is at or before the last fused t.
-        const json retry = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+        const json retry = body_of(call(s, "POST", t.path("/steps"), t.token, body(rest_steps, rest_scans).dump()));
         EXPECT_TRUE(retry["fused"].empty()) << retry.dump();
         EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
     }
@@ -417,7 +411,7 @@ TEST(ServerTracksRanging, TheDeprecatedNameKalmanSeedOpensAKalmanTrilaterationTr
 
     s.stop();
     s.start();
-    const json info = body_of(call(s, "GET", t.self(), t.token));
+    const json info = body_of(call(s, "GET", t.path(), t.token));
     EXPECT_EQ(info["fusion"], "kalman_trilateration");
     EXPECT_EQ(info["fusion_options"], options);
 }
@@ -447,8 +441,8 @@ TEST(ServerTracksRanging, EkfTrackFusesReadingsAsClientLibDoes) {
     const double mid = w.t0 + 12.2;
     // This walker's steps are made when stamped (no lead), its shadowing is ±2 dB.
     const json options = {{"step_lead_s", 0.0}, {"reading_sigma_db", 3.0}};
-    const Track t = open_track(s, h.map, "ekf_ranging", options);
-    const json info = body_of(call(s, "GET", t.self(), t.token));
+    const Track t = open_track(s, {{"map_id", h.map}, {"fusion", "ekf_ranging"}, {"fusion_options", options}});
+    const json info = body_of(call(s, "GET", t.path(), t.token));
     EXPECT_EQ(info["fusion"], "ekf_ranging");
     EXPECT_EQ(info["fusion_options"], options);
     ExpectedEkf e;
@@ -463,16 +457,17 @@ TEST(ServerTracksRanging, EkfTrackFusesReadingsAsClientLibDoes) {
     const json latest = b["latest"];
     const double final_error = std::hypot(latest["x"].get<double>() - w.end.x, latest["y"].get<double>() - w.end.y);
     EXPECT_LT(final_error, 1.0) << latest.dump();
-    const json retry = body_of(call(s, "POST", t.steps(), t.token, body(rest_steps, rest_scans).dump()));
+    const json retry = body_of(call(s, "POST", t.path("/steps"), t.token, body(rest_steps, rest_scans).dump()));
     EXPECT_TRUE(retry["fused"].empty()) << retry.dump();
     EXPECT_EQ(stored_fixes(s, t), w.steps.size() + w.scans.size());
 
     // Against kalman_ranging (its defaults) on the same inputs in one request, ekf_ranging with
     // its defaults but for the step lead (this walker makes a step when it stamps it).
-    const Track k = open_track(s, h.map, "kalman_ranging");
-    const json kb = body_of(call(s, "POST", k.steps(), k.token, body(w.steps, w.scans).dump()));
-    const Track d = open_track(s, h.map, "ekf_ranging", {{"step_lead_s", 0.0}});
-    const json db = body_of(call(s, "POST", d.steps(), d.token, body(w.steps, w.scans).dump()));
+    const Track k = open_track(s, {{"map_id", h.map}, {"fusion", "kalman_ranging"}});
+    const json kb = body_of(call(s, "POST", k.path("/steps"), k.token, body(w.steps, w.scans).dump()));
+    const Track d =
+        open_track(s, {{"map_id", h.map}, {"fusion", "ekf_ranging"}, {"fusion_options", {{"step_lead_s", 0.0}}}});
+    const json db = body_of(call(s, "POST", d.path("/steps"), d.token, body(w.steps, w.scans).dump()));
     const double ekf_mean = mean_step_error(all, w), default_mean = mean_step_error(db["fused"], w);
     const double kalman_mean = mean_step_error(kb["fused"], w);
     ::testing::Test::RecordProperty("ekf_ranging_mean_error_m", std::to_string(default_mean));
@@ -496,7 +491,7 @@ TEST(ServerTracksRanging, EkfTakesPostedFixesAndScansHearingFewTransmitters) {
     const auto h = locus::testing::make_hierarchy(s);
     add_transmitters(s, h.floor);
     const Walk w = make_walk(std::floor(unix_now()) - 60);
-    const Track t = open_track(s, h.map, "ekf_ranging");
+    const Track t = open_track(s, {{"map_id", h.map}, {"fusion", "ekf_ranging"}});
     json two = w.scans[1];
     two["readings"] = json::array({w.scans[1]["readings"][0], w.scans[1]["readings"][2]});
     json none = w.scans[2];
@@ -505,7 +500,7 @@ TEST(ServerTracksRanging, EkfTakesPostedFixesAndScansHearingFewTransmitters) {
     const json fix1 = {{"t", w.t0 + 4.2}, {"floor_id", h.floor}, {"x", 5.5}, {"y", 3.0}, {"accuracy_m", 0.1}};
     json req = body(slice(w.steps, w.t0, w.t0 + 6), {two, none});
     req["fixes"] = {fix0, fix1};
-    const json got = body_of(call(s, "POST", t.steps(), t.token, req.dump()));
+    const json got = body_of(call(s, "POST", t.path("/steps"), t.token, req.dump()));
     EXPECT_EQ(got["scan_fixes"].size(), 0u) << got.dump();  // neither scan could be ranged alone
 
     ExpectedEkf e;
@@ -542,12 +537,12 @@ TEST(ServerTracksRanging, DirectRadioFixesTakeTheirAccuracyOrTheFixedR) {
         SCOPED_TRACE(method);
         const bool trilateration = std::string(method) == "kalman_trilateration";
         const json options = trilateration ? json{{"q_sigma_per_m", 0.1}} : json{{"r_floor_m", 0.8}, {"r_scale", 2.0}};
-        const Track t = open_track(s, h.map, method, options);
+        const Track t = open_track(s, {{"map_id", h.map}, {"fusion", method}, {"fusion_options", options}});
         const json req = {{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 3.0}, {"y", 4.0}, {"accuracy_m", 1.5}},
                                      {{"t", t0 + 2.5}, {"floor_id", h.floor}, {"x", 5.0}, {"y", 4.5}, {"accuracy_m", 3.0}}}},
                           {"steps", {{{"t", t0 + 1}, {"length_m", 0.8}, {"heading_deg", 90.0}},
                                      {{"t", t0 + 2}, {"length_m", 0.8}, {"heading_deg", 90.0}}}}};
-        const json got = body_of(call(s, "POST", t.steps(), t.token, req.dump()));
+        const json got = body_of(call(s, "POST", t.path("/steps"), t.token, req.dump()));
         auto config = trilateration ? fusion::trilateration_kalman_config() : fusion::ranging_kalman_config();
         if (trilateration) config.kalman.step_sigma_per_m = 0.1;
         else config.r_floor_m = 0.8, config.r_scale = 2.0;
@@ -579,7 +574,7 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
     add_transmitters(s, h.floor);
-    const Track first = open_track(s, h.map, "kalman_ranging");
+    const Track first = open_track(s, {{"map_id", h.map}, {"fusion", "kalman_ranging"}});
     // Unknown fusion, and fusion_options that are not the method's, or out of range, or not numbers.
     const std::vector<std::pair<json, std::string>> bad = {
         {{{"fusion", "kalman"}}, "fusion"},
@@ -610,9 +605,9 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
         EXPECT_NE(r.body["error"]["message"].get<std::string>().find(name), std::string::npos) << r.raw;
     }
     // Nothing was written: the next track takes the next id.
-    const Track next = open_track(s, h.map, "kalman_trilateration");
+    const Track next = open_track(s, {{"map_id", h.map}, {"fusion", "kalman_trilateration"}});
     EXPECT_EQ(next.id, first.id + 1);
-    const Track ekf = open_track(s, h.map, "ekf_ranging");
+    const Track ekf = open_track(s, {{"map_id", h.map}, {"fusion", "ekf_ranging"}});
 
     // A scan that hears two known transmitters (and an unknown one), alone or after good
     // input in the same request: 422 with the count, nothing stored, the filter not moved.
@@ -622,7 +617,7 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
                                    {{"type", "wifi"}, {"bssid", "bb:00:00:00:00:09"}, {"rss", -50.0}}});
     for (const Track& t : {first, next}) {
         for (const json& req : {body({}, {two}), body(slice(w.steps, w.t0, w.t0 + 3), {w.scans[0], two})}) {
-            const Response r = call(s, "POST", t.steps(), t.token, req.dump());
+            const Response r = call(s, "POST", t.path("/steps"), t.token, req.dump());
             EXPECT_EQ(r.status, 422) << r.raw;
             EXPECT_EQ(r.body["error"]["code"], "too_few_transmitters") << r.raw;
             const std::string message = r.body["error"]["message"].get<std::string>();
@@ -631,36 +626,38 @@ TEST(ServerTracksRanging, BadInputIsRefusedAndWritesNothing) {
             EXPECT_EQ(stored_fixes(s, t), 0u);
         }
         // The filter never started: the good scan alone now starts it.
-        const json ok = body_of(call(s, "POST", t.steps(), t.token, body({}, {w.scans[0]}).dump()));
+        const json ok = body_of(call(s, "POST", t.path("/steps"), t.token, body({}, {w.scans[0]}).dump()));
         EXPECT_EQ(ok["stored"], 1);
     }
 
     // ekf_ranging refuses such a scan only before it runs (it starts at a ranged one); after a
     // ranged scan in the same request it takes its two readings.
     {
-        const Response r = call(s, "POST", ekf.steps(), ekf.token, body({}, {two}).dump());
+        const Response r = call(s, "POST", ekf.path("/steps"), ekf.token, body({}, {two}).dump());
         EXPECT_EQ(r.status, 422) << r.raw;
         EXPECT_EQ(r.body["error"]["code"], "too_few_transmitters") << r.raw;
         const std::string message = r.body["error"]["message"].get<std::string>();
         EXPECT_NE(message.find("hears 2 known transmitters"), std::string::npos) << message;
         EXPECT_NE(message.find("ekf_ranging starts at a ranged scan"), std::string::npos) << message;
         EXPECT_EQ(stored_fixes(s, ekf), 0u);
-        EXPECT_EQ(call(s, "POST", ekf.steps(), ekf.token, body({w.steps[0]}, {}).dump()).status, 422);  // a step first
-        const json ok = body_of(call(s, "POST", ekf.steps(), ekf.token, body(slice(w.steps, w.t0, w.t0 + 3), {w.scans[0], two}).dump()));
+        // A step first.
+        EXPECT_EQ(call(s, "POST", ekf.path("/steps"), ekf.token, body({w.steps[0]}, {}).dump()).status, 422);
+        const json ok = body_of(call(s, "POST", ekf.path("/steps"), ekf.token,
+                                     body(slice(w.steps, w.t0, w.t0 + 3), {w.scans[0], two}).dump()));
         EXPECT_EQ(ok["stored"], 4) << ok.dump();
         EXPECT_EQ(ok["scan_fixes"].size(), 1u) << ok.dump();  // the scan of two gave readings, no fix
     }
 
     // A map whose floor has no transmitters: every scan hears none.
     const auto bare = locus::testing::make_hierarchy(s, "Bare");
-    const Track lonely = open_track(s, bare.map, "kalman_trilateration");
-    const Response r = call(s, "POST", lonely.steps(), lonely.token, body({}, {w.scans[0]}).dump());
+    const Track lonely = open_track(s, {{"map_id", bare.map}, {"fusion", "kalman_trilateration"}});
+    const Response r = call(s, "POST", lonely.path("/steps"), lonely.token, body({}, {w.scans[0]}).dump());
     EXPECT_EQ(r.status, 422) << r.raw;
     EXPECT_EQ(r.body["error"]["code"], "too_few_transmitters") << r.raw;
     EXPECT_NE(r.body["error"]["message"].get<std::string>().find("hears 0 known transmitters"), std::string::npos) << r.raw;
     EXPECT_EQ(stored_fixes(s, lonely), 0u);
     // A step before any fix cannot be fused.
-    EXPECT_EQ(call(s, "POST", lonely.steps(), lonely.token, body({w.steps[0]}, {}).dump()).status, 422);
+    EXPECT_EQ(call(s, "POST", lonely.path("/steps"), lonely.token, body({w.steps[0]}, {}).dump()).status, 422);
 }
 
 // A server that does not hold the track's filter (here: restarted) starts it again at the
@@ -673,7 +670,7 @@ TEST(ServerTracksRanging, ARestartResumesAtTheLatestStoredFix) {
     const json latest = restart(s, hw, "kalman_ranging", options);
     const auto rest_steps = slice(hw.w.steps, latest["t"].get<double>() - 2.5, 1e300);  // the first ones were run: skipped
     const auto rest_scans = slice(hw.w.scans, hw.mid, 1e300);
-    const json got = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()));
+    const json got = body_of(call(s, "POST", hw.t.path("/steps"), hw.t.token, body(rest_steps, rest_scans).dump()));
 
     auto config = fusion::ranging_kalman_config();
     config.r_floor_m = 0.7;
@@ -698,10 +695,10 @@ TEST(ServerTracksRanging, ARestartResumesAnEkfTrackAtTheLatestStoredFix) {
     e.resume(latest);
     // Steps alone first (the earliest were run before the restart: skipped), then the rest.
     const auto more_steps = slice(hw.w.steps, latest["t"].get<double>() - 2.5, hw.mid + 3);
-    const json got_steps = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(more_steps, {}).dump()));
+    const json got_steps = body_of(call(s, "POST", hw.t.path("/steps"), hw.t.token, body(more_steps, {}).dump()));
     expect_same(got_steps["fused"], e.run(slice(more_steps, hw.mid, 1e300), {}));
     const auto rest_steps = slice(hw.w.steps, hw.mid + 3, 1e300), rest_scans = slice(hw.w.scans, hw.mid + 3, 1e300);
-    const json got = body_of(call(s, "POST", hw.t.steps(), hw.t.token, body(rest_steps, rest_scans).dump()));
+    const json got = body_of(call(s, "POST", hw.t.path("/steps"), hw.t.token, body(rest_steps, rest_scans).dump()));
     const auto expected = e.run(rest_steps, rest_scans);
     expect_same(got["fused"], expected);
     EXPECT_EQ(got["fused"][0]["floor_id"], hw.h.floor);

@@ -26,25 +26,15 @@
 
 using locus::testing::Response;
 using locus::testing::ServerProcess;
+using locus::testing::Track;
 using locus::testing::body_of;
+using locus::testing::open_track;
 using locus::testing::track_call;
 using locus::testing::with_api_key;
 using locus::testing::unix_now;
 using nlohmann::json;
 
 namespace {
-
-struct Track {
-    std::int64_t id = 0;
-    std::string token;
-};
-
-Track open_track(const ServerProcess& s, std::int64_t map, const std::string& label = "phone", const std::string& fusion = "") {
-    json req = {{"map_id", map}, {"label", label}};
-    if (!fusion.empty()) req["fusion"] = fusion;
-    const json b = body_of(track_call(s, "POST", "/v1/tracks", {}, req.dump()), 201);
-    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
-}
 
 json fix(double t, std::int64_t floor, double x, double y, std::optional<double> heading = std::nullopt) {
     json f = {{"t", t}, {"floor_id", floor}, {"x", x}, {"y", y}, {"accuracy_m", 1.5}};
@@ -65,7 +55,7 @@ std::string path_of(const Track& t, const std::string& rest = "") { return "/v1/
 TEST(ServerTracks, FixesInAnyOrderAndTwiceMakeOneOrderedTrail) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     const double t0 = unix_now() - 10;
     json first = body_of(post_fixes(s, t, {fix(t0 + 2, h.floor, 2, 0), fix(t0, h.floor, 0, 0), fix(t0 + 1, h.floor, 1, 0, 90.0)}));
     EXPECT_EQ(first["stored"], 3);
@@ -89,7 +79,8 @@ TEST(ServerTracks, FixesInAnyOrderAndTwiceMakeOneOrderedTrail) {
 TEST(ServerTracks, AShareReadsOneTrackUntilRevoked) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
+    const Track a = open_track(s, {{"map_id", h.map}, {"label", "ann"}}),
+                b = open_track(s, {{"map_id", h.map}, {"label", "bob"}});
     body_of(post_fixes(s, a, {fix(unix_now(), h.floor, 1, 1)}));
     const json share = body_of(track_call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201);
     const std::string st = share["token"];
@@ -107,7 +98,7 @@ TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
     const auto other = locus::testing::make_hierarchy(s, "Elsewhere");
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     const double now = unix_now();
     auto code = [](const Response& r) { return r.body.is_object() ? r.body["error"]["code"].get<std::string>() : std::string("?"); };
 
@@ -168,7 +159,8 @@ TEST(ServerTracks, BadInputIsRefusedAndWritesNothing) {
 TEST(ServerTracks, RelativePositionMatchesHandComputedValues) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
+    const Track a = open_track(s, {{"map_id", h.map}, {"label", "ann"}}),
+                b = open_track(s, {{"map_id", h.map}, {"label", "bob"}});
     const double now = unix_now();
     const std::string rel = "/v1/tracks/" + std::to_string(a.id) + "/relative/" + std::to_string(b.id);
     body_of(post_fixes(s, a, {fix(now - 2, h.floor, 1, 1, 90.0)}));  // facing +x
@@ -198,8 +190,9 @@ TEST(ServerTracks, PositionsNeedTheApiKeyAndListLiveTracks) {
     s.set_api_key("k1");
     const auto h = locus::testing::make_hierarchy(s);
     s.set_api_key("");
-    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
-    open_track(s, h.map, "no fix yet");
+    const Track a = open_track(s, {{"map_id", h.map}, {"label", "ann"}}),
+                b = open_track(s, {{"map_id", h.map}, {"label", "bob"}});
+    open_track(s, {{"map_id", h.map}, {"label", "no fix yet"}});
     body_of(post_fixes(s, a, {fix(unix_now(), h.floor, 1, 1)}));
     body_of(post_fixes(s, b, {fix(unix_now(), h.floor, 2, 2)}));
     const std::string p = "/v1/maps/" + std::to_string(h.map) + "/positions";
@@ -267,7 +260,7 @@ struct Listener {
 TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
     ServerProcess s({"--quiet", "--track-heartbeat", "0.2", "--max-track-streams", "2"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     const double now = unix_now();
     body_of(post_fixes(s, t, {fix(now - 5, h.floor, 0, 0)}));
     const std::string share = body_of(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
@@ -302,7 +295,8 @@ TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
 TEST(ServerTracks, OneTrackCannotTakeEveryStreamSlot) {
     ServerProcess s({"--quiet", "--track-heartbeat", "0.1", "--max-streams-per-track", "2", "--max-track-streams", "10"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track a = open_track(s, h.map, "ann"), b = open_track(s, h.map, "bob");
+    const Track a = open_track(s, {{"map_id", h.map}, {"label", "ann"}}),
+                b = open_track(s, {{"map_id", h.map}, {"label", "bob"}});
     body_of(post_fixes(s, a, {fix(unix_now() - 1, h.floor, 0, 0)}));
     body_of(post_fixes(s, b, {fix(unix_now() - 1, h.floor, 1, 0)}));
     const std::string share = body_of(track_call(s, "POST", path_of(a, "/shares"), {a.token}, "{}"), 201)["token"];
@@ -333,13 +327,13 @@ TEST(ServerTracks, OneTrackCannotTakeEveryStreamSlot) {
 TEST(ServerTracks, OnlyLiveTracksFillTheTrackCap) {
     ServerProcess s({"--quiet", "--max-tracks", "3", "--track-ttl", "600"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track live = open_track(s, h.map, "live");
-    const Track closed = open_track(s, h.map, "closed");
+    const Track live = open_track(s, {{"map_id", h.map}, {"label", "live"}});
+    const Track closed = open_track(s, {{"map_id", h.map}, {"label", "closed"}});
     body_of(post_fixes(s, closed, {fix(unix_now() - 1, h.floor, 1, 1)}));
     body_of(track_call(s, "POST", path_of(closed, "/close"), {closed.token}, "{}"));
     std::vector<Track> deleted;
     for (int i = 0; i < 10; ++i) {  // well past the cap
-        deleted.push_back(open_track(s, h.map, "loop"));
+        deleted.push_back(open_track(s, {{"map_id", h.map}, {"label", "loop"}}));
         ASSERT_EQ(track_call(s, "DELETE", path_of(deleted.back()), {deleted.back().token}).status, 204) << i;
     }
     // Each open evicted the oldest tombstone: the latest one still answers its owner 404, an
@@ -351,9 +345,9 @@ TEST(ServerTracks, OnlyLiveTracksFillTheTrackCap) {
     EXPECT_EQ(kept["trail"].size(), 1u) << kept.dump();
 
     // With no tombstone left, the closed track gives way.
-    const Track second = open_track(s, h.map, "second");
+    const Track second = open_track(s, {{"map_id", h.map}, {"label", "second"}});
     EXPECT_EQ(track_call(s, "GET", path_of(closed), {closed.token}).status, 200);  // the last tombstone went first
-    const Track third = open_track(s, h.map, "third");
+    const Track third = open_track(s, {{"map_id", h.map}, {"label", "third"}});
     EXPECT_EQ(track_call(s, "GET", path_of(closed), {closed.token}).status, 403);
 
     // Live tracks alone fill it: an honest 503, and nothing given way.
@@ -378,16 +372,16 @@ TEST(ServerTracks, AnotherServerAnswersAnEvictedTrack403AndOneWhoseMapWent404) {
     const auto other = locus::testing::make_hierarchy(a, "Elsewhere");
 
     // Both servers hold both tracks in memory before anything happens to them.
-    const Track on_other_map = open_track(a, other.map, "elsewhere");
-    const Track closed = open_track(a, h.map, "closed");
+    const Track on_other_map = open_track(a, {{"map_id", other.map}, {"label", "elsewhere"}});
+    const Track closed = open_track(a, {{"map_id", h.map}, {"label", "closed"}});
     body_of(post_fixes(a, closed, {fix(unix_now() - 1, h.floor, 1, 1)}));
     body_of(track_call(a, "POST", path_of(closed, "/close"), {closed.token}, "{}"));
     EXPECT_EQ(body_of(track_call(b, "GET", path_of(closed), {closed.token}))["state"], "closed");
     EXPECT_EQ(body_of(track_call(b, "GET", path_of(on_other_map), {on_other_map.token}))["state"], "live");
 
     // At a's cap (3) the next open evicts the one closed track.
-    const Track live = open_track(a, h.map, "live");
-    const Track evicting = open_track(a, h.map, "evicting");
+    const Track live = open_track(a, {{"map_id", h.map}, {"label", "live"}});
+    const Track evicting = open_track(a, {{"map_id", h.map}, {"label", "evicting"}});
     EXPECT_EQ(track_call(a, "GET", path_of(closed), {closed.token}).status, 403);
     for (int i = 0; i < 2; ++i) {  // the second time from b's memory, the row being gone
         const Response r = track_call(b, "GET", path_of(closed), {closed.token});
@@ -411,7 +405,8 @@ TEST(ServerTracks, DeletingAMapEndsItsTracks) {
     ServerProcess s({"--quiet", "--track-heartbeat", "0.1"});
     const auto h = locus::testing::make_hierarchy(s);
     const auto other = locus::testing::make_hierarchy(s, "Elsewhere");
-    const Track t = open_track(s, h.map), kept = open_track(s, other.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}}),
+                kept = open_track(s, {{"map_id", other.map}, {"label", "phone"}});
     body_of(post_fixes(s, t, {fix(unix_now() - 1, h.floor, 1, 1)}));
     const std::string share = body_of(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
     Listener stream(s.port(), path_of(t, "/events"), t.token);
@@ -432,7 +427,7 @@ TEST(ServerTracks, DeletingAMapEndsItsTracks) {
 TEST(ServerTracks, RevokingAShareEndsTheStreamsItOpened) {
     ServerProcess s({"--quiet", "--track-heartbeat", "0.2"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     const double now = unix_now();
     body_of(post_fixes(s, t, {fix(now - 5, h.floor, 0, 0)}));
     const json share = body_of(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201);
@@ -455,7 +450,7 @@ TEST(ServerTracks, RevokingAShareEndsTheStreamsItOpened) {
 TEST(ServerTracks, ATrackClosesAfterItsTtlAndGoesAfterRetention) {
     ServerProcess s({"--quiet", "--track-ttl", "0.4", "--track-retention", "1.5"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     body_of(post_fixes(s, t, {fix(unix_now(), h.floor, 1, 1)}));
     const std::string share = body_of(track_call(s, "POST", path_of(t, "/shares"), {t.token}, "{}"), 201)["token"];
     std::string state;
@@ -484,7 +479,7 @@ TEST(ServerTracks, ATrackClosesAfterItsTtlAndGoesAfterRetention) {
 TEST(ServerTracks, ALongLiveTrackCountsOnlyTheFixesItKeeps) {
     ServerProcess s({"--quiet", "--track-ttl", "60", "--track-retention", "1"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     const double start = unix_now();
     body_of(post_fixes(s, t, {fix(start - 0.2, h.floor, 1, 1), fix(start - 0.1, h.floor, 2, 1)}));
     EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fixes"], 2);
@@ -511,7 +506,7 @@ TEST(ServerTracks, ServerFusionGivesClientLibsFixes) {
                                      feature("space", locus::testing::rect_polygon(0, 4, 8, 10), {{"name", "Lab"}}),
                                      feature("wall", locus::testing::line({{0, 4}, {8, 4}}))}}};
     ASSERT_EQ(s.put("/v1/floors/" + std::to_string(h.floor) + "/plan", plan).status, 200);
-    const Track t = open_track(s, h.map, "phone", "particle");
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}, {"fusion", "particle"}});
     EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fusion"], "particle");
     const double t0 = std::floor(unix_now()) - 30;
     const std::string p = path_of(t, "/steps");
@@ -586,7 +581,7 @@ TEST(ServerTracks, ServerFusionLocalizesScansLikeTheLocalizeEndpoint) {
         return json::array({{{"bssid", "AA:00:00:00:00:01"}, {"rss", ap1}}, {{"type", "wifi"}, {"bssid", "aa:00:00:00:00:02"}, {"rss", ap2}}});
     };
     const json west = readings(-40, -72), middle = readings(-55, -57);
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     const double t0 = std::floor(unix_now()) - 30;
     const std::string p = path_of(t, "/steps");
 
@@ -674,8 +669,9 @@ TEST(ServerTracks, ServerFusionLocalizesScansLikeTheLocalizeEndpoint) {
 TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);  // its floor has no plan
-    (void)open_track(s, h.map, "first");  // so this track's id, its seed, is not the default seed 1
-    const Track t = open_track(s, h.map);
+    // A track first, so this one's id, its seed, is not the default seed 1.
+    (void)open_track(s, {{"map_id", h.map}, {"label", "first"}});
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     ASSERT_NE(t.id, 1);
     EXPECT_EQ(body_of(track_call(s, "GET", path_of(t), {t.token}))["fusion"], "walk_pf");
     const double t0 = std::floor(unix_now()) - 30;
@@ -753,7 +749,7 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
     EXPECT_EQ(moved["fused"][1]["floor_id"], upstairs);
 
     // The particle filter walks on a plan: on this floor it refuses, and stores nothing.
-    const Track old = open_track(s, h.map, "old", "particle");
+    const Track old = open_track(s, {{"map_id", h.map}, {"label", "old"}, {"fusion", "particle"}});
     const Response no_plan = track_call(s, "POST", path_of(old, "/steps"), {old.token},
                                   json{{"steps", steps}, {"fixes", fixes}}.dump());
     EXPECT_EQ(no_plan.status, 422) << no_plan.raw;
@@ -767,7 +763,7 @@ TEST(ServerTracks, ServerFusionRunsWalkFilterByDefaultWithOrWithoutAPlan) {
 TEST(ServerTracks, AFilterTheServerDoesNotHoldResumesAtTheLatestStoredFix) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);  // no plan: walk_pf walks freely
-    const Track t = open_track(s, h.map);
+    const Track t = open_track(s, {{"map_id", h.map}, {"label", "phone"}});
     const double t0 = std::floor(unix_now()) - 30;
     const std::string p = path_of(t, "/steps");
     const json first = {{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 4.0}, {"y", 3.0}, {"accuracy_m", 1.5}}}},
@@ -797,7 +793,7 @@ TEST(ServerTracks, AFilterTheServerDoesNotHoldResumesAtTheLatestStoredFix) {
 TEST(ServerTracks, OpeningATrackRefusesAnUnknownFusion) {
     ServerProcess s({"--quiet"});
     const auto h = locus::testing::make_hierarchy(s);
-    const Track first = open_track(s, h.map, "a", "walk_pf");
+    const Track first = open_track(s, {{"map_id", h.map}, {"label", "a"}, {"fusion", "walk_pf"}});
     for (const json& bad : {json("kalman"), json("WALK_PF"), json(""), json(1), json(nullptr), json::array({"walk_pf"})}) {
         const Response r = track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}, {"fusion", bad}}.dump());
         EXPECT_EQ(r.status, 422) << bad.dump() << " " << r.raw;

@@ -14,23 +14,15 @@
 #include "unix_time.hpp"
 
 using locus::testing::body_of;
+using locus::testing::open_track;
 using locus::testing::Response;
 using locus::testing::ServerProcess;
+using locus::testing::Track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
 
 namespace {
-
-struct Track {
-    std::int64_t id = 0;
-    std::string token;
-};
-
-Track open_track(const ServerProcess& s, const json& body) {
-    const json b = body_of(track_call(s, "POST", "/v1/tracks", {}, body.dump()), 201);
-    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
-}
 
 // The walker's fixes pin the compass's rotation: a fix at (5, 10), ten 0.7 m steps east, a fix
 // at (12, 10) where they took it, ten more steps east, a fix at (19, 10); then ten more steps

@@ -22,4 +22,11 @@ Response track_call(const ServerProcess& s, const std::string& method, const std
                                             : c.Post(path.c_str(), h, body, "application/json"));
 }
 
+std::string Track::path(const std::string& rest) const { return "/v1/tracks/" + std::to_string(id) + rest; }
+
+Track open_track(const ServerProcess& s, const nlohmann::json& body, const TrackTokens& tokens) {
+    const nlohmann::json b = body_of(track_call(s, "POST", "/v1/tracks", tokens, body.dump()), 201);
+    return {b.at("id").get<std::int64_t>(), b.at("token").get<std::string>()};
+}
+
 }  // namespace locus::testing
