@@ -19,10 +19,11 @@ fi
 
 packages=(g++ cmake make pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev libsqlite3-dev
           libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libutf8proc-dev libopencv-imgproc-dev libpng-dev
-          libjpeg-dev libssl-dev zlib1g-dev libjs-leaflet libpq-dev postgresql
-          # Build speed only (taken when present): a compiler cache, a fast linker, a build tool that
-          # keeps both cores busy (CMakeLists.txt, scripts/configure.sh).
-          ccache mold ninja-build)
+          libjpeg-dev libssl-dev zlib1g-dev libjs-leaflet libpq-dev postgresql)
+# Build speed only, taken when present (CMakeLists.txt, scripts/configure.sh): a compiler cache, a
+# fast linker, a build tool that keeps both cores busy. The Docker image's one-off build does
+# without them.
+packages+=(ccache mold ninja-build)
 # The docs' shell blocks (scripts/docs_blocks.py, a test): Python, and the curl they use.
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && packages+=(python3 curl)
 [ "${LOCUS_DEVTOOLS:-0}" = 1 ] && ! command -v npm >/dev/null 2>&1 && packages+=(nodejs npm)

@@ -15,7 +15,7 @@ namespace locus::store {
 
 namespace {
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string in_quotes(const std::string& s) { return "'" + s + "'"; }
 
 // A POI's name as the API bounds it (kinds.cpp), which the names the plan makes must keep to.
 std::size_t poi_name_max_length() {
@@ -40,10 +40,10 @@ struct Keeper {
 
 std::string space_label(const plan::Plan& p, std::size_t i) {
     const std::string at = "spaces[" + std::to_string(i) + "]";
-    return p.spaces[i].name.empty() ? at : at + " " + quoted(p.spaces[i].name);
+    return p.spaces[i].name.empty() ? at : at + " " + in_quotes(p.spaces[i].name);
 }
 std::string connector_label(const plan::Plan& p, std::size_t i) {
-    return "connectors[" + std::to_string(i) + "] " + quoted(p.connectors[i].id);
+    return "connectors[" + std::to_string(i) + "] " + in_quotes(p.connectors[i].id);
 }
 
 bool same_rects(const std::vector<Rect>& a, const std::vector<Rect>& b) {
@@ -77,7 +77,7 @@ void assign(std::vector<Keeper>& keepers, const std::map<std::int64_t, Existing>
         if (it == free_by_name.end() || existing.at(it->second).kept_before) continue;
         throw PlanFeatureRefused(connector, k.first, k.label,
                                  std::string(singular) + " " + std::to_string(it->second) + " of floor " +
-                                     std::to_string(floor_id) + " is already named " + quoted(k.name) + ": give " +
+                                     std::to_string(floor_id) + " is already named " + in_quotes(k.name) + ": give " +
                                      (connector ? "this connector poi_id " : "this space room_id ") +
                                      std::to_string(it->second) + " to keep that " + singular + ", or rename one of them");
     }
@@ -117,11 +117,11 @@ void SqlStore::keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vector<C
             throw PlanFeatureRefused(false, i, space_label(plan, i), "room_id " + std::to_string(id) + " is not a room of floor " + std::to_string(floor_id));
         if (k.id && *k.id != id)
             throw PlanFeatureRefused(false, i, space_label(plan, i), "room_id " + std::to_string(id) + " differs from room_id " + std::to_string(*k.id) +
-                                                   " of another space named " + quoted(s.name) +
+                                                   " of another space named " + in_quotes(s.name) +
                                                    " (the spaces of one name keep one room)");
         if (const auto other = group_of_room.find(id); other != group_of_room.end() && other->second != it->second)
             throw PlanFeatureRefused(false, i, space_label(plan, i), "room_id " + std::to_string(id) + " is also kept by the space named " +
-                                                   quoted(keepers[other->second].name) + " (a room is kept by the spaces of one name)");
+                                                   in_quotes(keepers[other->second].name) + " (a room is kept by the spaces of one name)");
         k.id = id;
         group_of_room[id] = it->second;
     }
@@ -142,7 +142,7 @@ void SqlStore::keep_rooms(std::int64_t floor_id, plan::Plan& plan, std::vector<C
         if (fresh) keepers.push_back({room->second.name, id, i, space_label(plan, i)});
         else if (keepers[it->second].id)
             throw PlanFeatureRefused(false, i, space_label(plan, i),
-                                     "room_id " + std::to_string(id) + " is room " + quoted(room->second.name) +
+                                     "room_id " + std::to_string(id) + " is room " + in_quotes(room->second.name) +
                                          ", a name the spaces keeping room_id " + std::to_string(*keepers[it->second].id) +
                                          " give theirs");
         keepers[it->second].id = id;
@@ -237,7 +237,7 @@ void SqlStore::keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector<Ch
                                                   " bytes long: POI names are at most " + std::to_string(max) +
                                                   "; shorten the connector's name");
         if (!names.insert(name).second)
-            throw PlanFeatureRefused(true, i, connector_label(plan, i), "its POI would be named " + quoted(name) +
+            throw PlanFeatureRefused(true, i, connector_label(plan, i), "its POI would be named " + in_quotes(name) +
                                                   " as another connector's is: POI names are unique on a floor, rename one");
         if (c.poi_id) {
             if (!existing.count(*c.poi_id))
@@ -245,7 +245,7 @@ void SqlStore::keep_pois(std::int64_t floor_id, plan::Plan& plan, std::vector<Ch
                                                       std::to_string(floor_id));
             if (const auto other = keeper_of_poi.find(*c.poi_id); other != keeper_of_poi.end())
                 throw PlanFeatureRefused(true, i, connector_label(plan, i), "poi_id " + std::to_string(*c.poi_id) + " is also kept by connector " +
-                                                      quoted(plan.connectors[other->second].id) + " (a POI is kept by one connector)");
+                                                      in_quotes(plan.connectors[other->second].id) + " (a POI is kept by one connector)");
             keeper_of_poi[*c.poi_id] = i;
         }
         keepers.push_back({name, c.poi_id, i, connector_label(plan, i)});
@@ -293,7 +293,7 @@ void SqlStore::refuse_if_kept(const Kind& k, std::int64_t id) {
     s.bind(1, id);
     if (!s.step()) return;
     const auto floor_id = s.int64(0);
-    const std::string feature = s.text(1) + " " + quoted(s.text(2).empty() && !s.is_null(3) ? s.text(3) : s.text(2));
+    const std::string feature = s.text(1) + " " + in_quotes(s.text(2).empty() && !s.is_null(3) ? s.text(3) : s.text(2));
     throw KeptByPlan(std::string(k.singular) + " " + std::to_string(id) + " is kept by " + feature + " of floor " +
                          std::to_string(floor_id) + "'s plan",
                      floor_id);
