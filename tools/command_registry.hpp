@@ -1,6 +1,9 @@
 #pragma once
 // Each commands/*.cpp registers its subcommands with a static LOCUS_COMMAND(...) object;
-// main() installs them all into one CLI11 app.
+// main() installs them all into one CLI11 app. A command file puts everything, its
+// LOCUS_COMMANDs too, in a namespace named for the file (locus_cli_<file>): the CLI is a unity
+// build (CMakeLists.txt), and eight files' `Args`, `run` and using-directives would otherwise
+// meet in one unit.
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <stdexcept>

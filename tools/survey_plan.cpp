@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace locus::tools::survey {
+namespace locus::tools::survey_plan {
 
 Plan plan_grid(double width, double height, double cell, const std::vector<Room>& rooms) {
     if (!(width > 0) || !(height > 0) || !(cell > 0) || !std::isfinite(width) || !std::isfinite(height) || !std::isfinite(cell))
@@ -33,4 +33,4 @@ Plan plan_grid(double width, double height, double cell, const std::vector<Room>
     return plan;
 }
 
-}  // namespace locus::tools::survey
+}  // namespace locus::tools::survey_plan

@@ -9,7 +9,7 @@
 
 #include "locus/geometry.hpp"
 
-namespace locus::tools::survey {
+namespace locus::tools::survey_plan {
 
 struct PlannedRp {
     std::string name;  // "g<row>_<col>", rows from y = 0 upward, both zero-padded to 3 digits
@@ -26,4 +26,4 @@ struct Plan {
 // Throws std::invalid_argument for a non-positive size or cell, or more than 1e6 cells.
 Plan plan_grid(double width, double height, double cell, const std::vector<Room>& rooms = {});
 
-}  // namespace locus::tools::survey
+}  // namespace locus::tools::survey_plan

@@ -43,8 +43,8 @@ std::string_view unquoted(std::string_view s) {
 
 }  // namespace
 
-std::vector<survey::Landmark> parse_landmarks_csv(std::string_view text, const std::string& file) {
-    std::vector<survey::Landmark> out;
+std::vector<locus::survey::Landmark> parse_landmarks_csv(std::string_view text, const std::string& file) {
+    std::vector<locus::survey::Landmark> out;
     long line_no = 0;
     int col_t = -1, col_floor = -1, col_x = -1, col_y = -1;
     std::size_t columns = 0;
@@ -73,7 +73,7 @@ std::vector<survey::Landmark> parse_landmarks_csv(std::string_view text, const s
         }
         if (cells.size() != columns)
             fail(std::to_string(cells.size()) + " cells, the header has " + std::to_string(columns));
-        survey::Landmark l;
+        locus::survey::Landmark l;
         const char* names[] = {"t", "floor", "x", "y"};
         const int cols[] = {col_t, col_floor, col_x, col_y};
         double v[4];

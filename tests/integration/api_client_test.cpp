@@ -19,12 +19,13 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace api_client_test {
+namespace {
+
 using namespace locus;
 using locus::testing::ServerProcess;
 using nlohmann::json;
 using namespace std::chrono_literals;
-
-namespace {
 
 api::ClientOptions fast_retries(const std::string& url, int attempts = 8) {
     api::ClientOptions o;
@@ -72,8 +73,6 @@ Chain make_chain(api::Client& c) {
     ch.radiomap = c.ensure_radiomap(ch.floor.id, "wifi");
     return ch;
 }
-
-}  // namespace
 
 TEST(RetryPolicy, DoublesUpToTheCapAndHonoursJitter) {
     api::RetryPolicy p;
@@ -406,3 +405,6 @@ TEST(ApiClient, WaitsForAServerThatStartsLate) {
     }
     std::filesystem::remove_all(dir);
 }
+
+}  // namespace
+}  // namespace api_client_test

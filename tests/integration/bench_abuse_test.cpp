@@ -6,15 +6,14 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace bench_abuse_test {
+namespace {
+
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
 
-namespace {
-
 int count(const json& statuses, const char* status) { return statuses.value(status, 0); }
-
-}  // namespace
 
 TEST(BenchAbuse, TheHostileClientIsRefusedAndThePhonesAreNot) {
     ServerProcess s({"--demo", "--api-key", "k3y", "--quiet"});
@@ -45,3 +44,6 @@ TEST(BenchAbuse, TheHostileClientIsRefusedAndThePhonesAreNot) {
     EXPECT_LT(out.at("server").at("peak_above_idle_mb").get<double>(), 256.0) << out.dump();
 #endif
 }
+
+}  // namespace
+}  // namespace bench_abuse_test

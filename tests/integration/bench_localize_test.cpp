@@ -15,13 +15,14 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace bench_localize_test {
+namespace {
+
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using locus::tools::BenchConnection;
 using locus::tools::http_request;
 using nlohmann::json;
-
-namespace {
 
 json rp(const std::string& name, double x, double ap1, double ap2) {
     auto m = [](const char* bssid, double mean) {
@@ -44,8 +45,6 @@ struct Bench : ::testing::Test {
     std::string host_port() const { return "127.0.0.1:" + std::to_string(s.port()); }
 };
 
-}  // namespace
-
 TEST_F(Bench, ConnectionKeepsAliveAndReportsStatuses) {
     BenchConnection c("127.0.0.1", s.port());
     EXPECT_EQ(c.round_trip(http_request("GET", "/health", host_port())), 200);
@@ -64,8 +63,6 @@ TEST_F(Bench, ConnectionReopensAfterTheServerCloses) {
     for (int i = 0; i < 3; ++i) EXPECT_EQ(c.round_trip(closing), 200) << "round " << i;
     EXPECT_EQ(c.round_trip(http_request("GET", "/health", host_port())), 200);
 }
-
-namespace {
 
 // A loopback port nobody listens on: bound, then released.
 int free_port() {
@@ -126,8 +123,6 @@ private:
     int listener_ = -1, port_ = 0;
     std::thread thread_;
 };
-
-}  // namespace
 
 TEST(BenchConnectionRefused, NoServerIsANetworkError) {
     const int port = free_port();
@@ -262,3 +257,6 @@ TEST_F(Bench, ConnectionsRefusesAnUnknownRadioMapAndARemoteServer) {
     EXPECT_NE(remote.status, 0);
     EXPECT_NE(remote.err.find("loopback"), std::string::npos) << remote.err;
 }
+
+}  // namespace
+}  // namespace bench_localize_test

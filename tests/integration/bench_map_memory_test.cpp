@@ -7,15 +7,13 @@
 #include "text_file.hpp"
 #include "build_paths.hpp"
 
+namespace bench_map_memory_test {
+namespace {
+
 using locus::testing::contains;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
-
-namespace {
-
-
-}  // namespace
 
 TEST(BenchMapMemory, BuildsTheRadioMapAndReadsTheServersMemory) {
     ServerProcess server{{"--quiet"}};
@@ -53,3 +51,6 @@ TEST(BenchMapMemory, AProcessThatIsNotThereIsNamed) {
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "cannot read /proc/999999999/status")) << r.err;
 }
+
+}  // namespace
+}  // namespace bench_map_memory_test

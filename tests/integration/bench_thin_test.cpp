@@ -8,11 +8,12 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace bench_thin_test {
+namespace {
+
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
-
-namespace {
 
 const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/putmc";
 
@@ -21,8 +22,6 @@ std::string import_fixture(const ServerProcess& server) {
     if (r.status != 0) throw std::runtime_error("import putmc: " + r.err);
     return std::to_string(json::parse(r.out).at("map_id").get<int>());
 }
-
-}  // namespace
 
 TEST(BenchThin, TracksReplayTheWalkAndTheServerFusesEveryScan) {
     ServerProcess server{{"--quiet"}};
@@ -67,3 +66,6 @@ TEST(BenchThin, RefusesWhatItCannotReplay) {
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("no such process"), std::string::npos) << r.err;
 }
+
+}  // namespace
+}  // namespace bench_thin_test

@@ -16,6 +16,9 @@
 #include "text_file.hpp"
 #include "build_paths.hpp"
 
+namespace cli_backup_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::contains;
 using locus::testing::make_temp_dir;
@@ -23,9 +26,6 @@ using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
 namespace fs = std::filesystem;
-
-namespace {
-
 
 json one_scan(int i) {
     return json::array({json::array({{{"type", "wifi"}, {"bssid", "aa:bb:cc:00:00:01"}, {"rss", -40 - i % 50}}})});
@@ -48,8 +48,6 @@ std::vector<std::string> names_in(const std::string& dir) {
     std::sort(out.begin(), out.end());
     return out;
 }
-
-}  // namespace
 
 TEST(Backup, ACopyTakenDuringUploadsHoldsEveryUploadAcknowledgedBeforeIt) {
     if (locus::testing::on_postgres()) GTEST_SKIP() << "locus backup copies a SQLite file (pg_dump is PostgreSQL's tool)";
@@ -165,3 +163,6 @@ TEST(Backup, BadInputIsNamedAndLeavesNothingBehind) {
     EXPECT_EQ(names_in(dir), std::vector<std::string>{"junk.db"});
     fs::remove_all(dir);
 }
+
+}  // namespace
+}  // namespace cli_backup_test

@@ -7,12 +7,12 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace cli_hierarchy_test {
+namespace {
+
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
-
-namespace {
-}  // namespace
 
 TEST(CliHierarchy, AMapABuildingAndAFloorFromScratch) {
     ServerProcess s;
@@ -82,3 +82,6 @@ TEST(CliHierarchy, APlanExportedFromOneFloorImportsOnAnother) {
     EXPECT_EQ(rooms.body.at("total"), source_rooms.body.at("total"));
     std::filesystem::remove_all(dir);
 }
+
+}  // namespace
+}  // namespace cli_hierarchy_test

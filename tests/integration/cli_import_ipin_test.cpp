@@ -15,14 +15,15 @@
 #include "text_file.hpp"
 #include "build_paths.hpp"
 
+namespace cli_import_ipin_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::make_temp_dir;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
 namespace fs = std::filesystem;
-
-namespace {
 
 const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/ipin_import";
 const std::string kT01 = kFixture + "/trials/IPIN2023_T3_TrainingTrial01_repetition01.txt";
@@ -74,8 +75,6 @@ void replace_line(const std::string& path, int line_no, const std::string& text)
 }
 
 std::size_t map_count(const ServerProcess& s) { return body_of(s.get("/v1/maps"))["total"].get<std::size_t>(); }
-
-}  // namespace
 
 TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     ServerProcess server{{"--quiet"}};
@@ -329,3 +328,6 @@ TEST(SurveyWalkCli, LandmarksFromACsvOrFromPosiThroughTheFloorsGeoreference) {
     EXPECT_NE(badmap.err.find("expected FLOOR=ID"), std::string::npos) << badmap.err;
     EXPECT_EQ(items(server, "/v1/radiomaps/" + rmid + "/rps").size(), 11u);
 }
+
+}  // namespace
+}  // namespace cli_import_ipin_test

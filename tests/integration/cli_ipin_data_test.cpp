@@ -14,16 +14,15 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace cli_ipin_data_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
 
-namespace {
-
 const std::string kDir = std::string(LOCUS_DATA_DIR) + "/ipin2023";
-
-}  // namespace
 
 TEST(IpinData, ImportsASliceAndScoresAHeldOutRepetition) {
     if (!std::filesystem::exists(kDir + "/trials") || !std::filesystem::exists(kDir + "/supplementary/BLE_Locations.csv"))
@@ -150,3 +149,6 @@ TEST(IpinData, EachBeaconIsHeardNearWhereTheImportPutIt) {
     // The beacons move the track: the same walk scores differently without them.
     EXPECT_NE(n["pooled"]["walk_pf"]["mean_m"].get<double>(), e["pooled"]["walk_pf"]["mean_m"].get<double>());
 }
+
+}  // namespace
+}  // namespace cli_ipin_data_test

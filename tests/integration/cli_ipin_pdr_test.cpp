@@ -15,12 +15,13 @@
 #include "text_file.hpp"
 #include "build_paths.hpp"
 
+namespace cli_ipin_pdr_test {
+namespace {
+
 using locus::testing::contains;
 using locus::testing::make_temp_dir;
 using locus::testing::run_command;
 using nlohmann::json;
-
-namespace {
 
 const std::string kLog = std::string(LOCUS_TEST_FIXTURES) + "/ipin/T21_rep01_10s.txt";
 
@@ -31,8 +32,6 @@ std::vector<std::string> fields(const std::string& line) {
     while (std::getline(s, x, ';')) f.push_back(x);
     return f;
 }
-
-}  // namespace
 
 TEST(PdrIpinLog, StepsMatchTheSameAccelerometerAsCsv) {
     const auto r = run_command({LOCUS_CLI_BIN, "pdr", "steps", "--times", kLog});
@@ -121,3 +120,6 @@ TEST(PdrIpinLog, AMalformedLogfileNamesFileAndLine) {
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(contains(r.err, "no ACCE lines")) << r.err;
 }
+
+}  // namespace
+}  // namespace cli_ipin_pdr_test

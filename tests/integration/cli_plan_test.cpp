@@ -22,6 +22,9 @@
 #include "text_file.hpp"
 #include "build_paths.hpp"
 
+namespace cli_plan_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::feature;
 using locus::testing::line;
@@ -35,8 +38,6 @@ namespace plan = locus::plan;
 
 using locus::testing::slurp;
 using locus::testing::contains;
-
-namespace {
 
 const std::string kData = LOCUS_DATA_DIR;
 
@@ -281,3 +282,4 @@ TEST(CliPlanFromImage, ThePutmcDrawingGivesACheckedPlanWhoseCorridorsJoinEverySu
 }
 
 }  // namespace
+}  // namespace cli_plan_test

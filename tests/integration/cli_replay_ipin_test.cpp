@@ -14,6 +14,9 @@
 #include "track_call.hpp"
 #include "build_paths.hpp"
 
+namespace cli_replay_ipin_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::make_temp_dir;
 using locus::testing::run_command;
@@ -21,8 +24,6 @@ using locus::testing::ServerProcess;
 using locus::testing::track_call;
 using nlohmann::json;
 namespace fs = std::filesystem;
-
-namespace {
 
 const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/ipin_import";
 const std::string kT52 = kFixture + "/trials/IPIN2023_T3_TrainingTrial52_repetition01.txt";
@@ -52,8 +53,6 @@ std::string without_tag(const std::string& path, const std::string& tag) {
     std::ofstream(out) << all;
     return out;
 }
-
-}  // namespace
 
 TEST(ReplayIpin, TheTrackersAndTheServersAnswersScoreTheWalkOnBothFloors) {
     const Imported s;
@@ -163,3 +162,6 @@ TEST(ReplayIpin, BadInputIsRefusedByName) {
     EXPECT_NE(w.status, 0);
     EXPECT_NE(w.err.find("--map is for a logfile"), std::string::npos) << w.err;
 }
+
+}  // namespace
+}  // namespace cli_replay_ipin_test

@@ -10,12 +10,13 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace cli_track_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using locus::testing::run_command;
 using nlohmann::json;
-
-namespace {
 
 const std::string kWalk = std::string(LOCUS_TEST_FIXTURES) + "/putmc/trajs/tiny_walk";
 
@@ -30,8 +31,6 @@ json track(const ServerProcess& s, std::int64_t id, const std::string& token) {
     EXPECT_EQ(r->status, 200) << r->body;
     return json::parse(r->body, nullptr, false);
 }
-
-}  // namespace
 
 TEST(CliTrack, TwoWalksAtOnceBecomeTwoLiveTracks) {
     ServerProcess s;
@@ -72,3 +71,6 @@ TEST(CliTrack, RefusesAMapWithNoFloorAndAMissingWalk) {
     EXPECT_NE(r.status, 0);
     EXPECT_EQ(r.out, "");
 }
+
+}  // namespace
+}  // namespace cli_track_test

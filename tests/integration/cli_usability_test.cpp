@@ -15,6 +15,9 @@
 #include "text_file.hpp"
 #include "build_paths.hpp"
 
+namespace cli_usability_test {
+namespace {
+
 using locus::testing::make_temp_dir;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
@@ -22,8 +25,6 @@ using nlohmann::json;
 
 using locus::testing::slurp;
 using locus::testing::contains;
-
-namespace {
 
 const std::string kSource = LOCUS_SOURCE_DIR;
 const std::string kFixtures = LOCUS_TEST_FIXTURES;
@@ -173,3 +174,4 @@ TEST(CliDocs, PdrTrackSampleLogGivesATrack) {
 }
 
 }  // namespace
+}  // namespace cli_usability_test

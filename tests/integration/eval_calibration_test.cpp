@@ -13,11 +13,11 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
-using locus::testing::run_command;
-using nlohmann::json;
-
+namespace eval_calibration_test {
 namespace {
 
+using locus::testing::run_command;
+using nlohmann::json;
 
 // One floor of 30 m × 20 m, RPs every 2.5 m with 3 scans each (user 1) and every RP again
 // with one scan by user 2 (the held-out one). Four APs, positions known only to this file.
@@ -40,8 +40,6 @@ std::string write_survey() {
             }
     return path;
 }
-
-}  // namespace
 
 TEST(EvalCalibration, FitsExplainAModelledSurveyAndItsMapsLocalize) {
     const std::string survey = write_survey();
@@ -82,3 +80,6 @@ TEST(EvalCalibration, BadArgumentsAreRefusedWithAReason) {
     EXPECT_NE(step.err.find("--step"), std::string::npos) << step.err;
     std::filesystem::remove(survey);
 }
+
+}  // namespace
+}  // namespace eval_calibration_test

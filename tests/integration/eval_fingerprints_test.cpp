@@ -11,11 +11,12 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace eval_fingerprints_test {
+namespace {
+
 using locus::testing::make_temp_dir;
 using locus::testing::run_command;
 using nlohmann::json;
-
-namespace {
 
 const std::string kDbs = std::string(LOCUS_TEST_FIXTURES) + "/fingerprint-dbs";
 
@@ -176,8 +177,6 @@ TEST(EvalFingerprints, BadInputIsNamed) {
     EXPECT_TRUE(contains(r.err, "line 1")) << r.err;
 }
 
-}  // namespace
-
 // --tune: the default is what match::tune picks on the training rows alone, and its row is
 // that setting's figures (the same as naming it).
 TEST(EvalFingerprints, TuneChoosesOnTheTrainingRowsAndReportsTheChoice) {
@@ -221,3 +220,6 @@ TEST(EvalUji, TuneBlocksAreAcceptedAndChecked) {
     EXPECT_TRUE(contains(r.err, "--tune-blocks")) << r.err;
     EXPECT_TRUE(contains(r.err, "order:0")) << r.err;
 }
+
+}  // namespace
+}  // namespace eval_fingerprints_test

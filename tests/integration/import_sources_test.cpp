@@ -12,12 +12,13 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace import_sources_test {
+namespace {
+
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 const std::string kData = LOCUS_DATA_DIR;
 
@@ -178,3 +179,4 @@ TEST(ImportUji, LocalizeAnswersComeBackInCsvCoordinates) {
 }
 
 }  // namespace
+}  // namespace import_sources_test

@@ -10,9 +10,11 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace openapi_routes_test {
+namespace {
+
 using locus::testing::ServerProcess;
 
-namespace {
 struct Operation {
     std::string method, path;
 };
@@ -33,7 +35,6 @@ std::vector<Operation> documented_operations() {
     }
     return ops;
 }
-}  // namespace
 
 TEST(OpenApi, EveryDocumentedOperationIsServed) {
     const auto ops = documented_operations();
@@ -52,3 +53,6 @@ TEST(OpenApi, EveryDocumentedOperationIsServed) {
         EXPECT_LT(r.status, 500) << op.method << " " << path;
     }
 }
+
+}  // namespace
+}  // namespace openapi_routes_test

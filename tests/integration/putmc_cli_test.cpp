@@ -12,12 +12,13 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace putmc_cli_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
-
-namespace {
 
 const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/putmc";
 
@@ -30,8 +31,6 @@ json run_ok(const std::vector<std::string>& argv) {
 json import_fixture(const ServerProcess& server) {
     return run_ok({LOCUS_CLI_BIN, "import", "putmc", "--server", server.url(), "--map", "PUTMC", "--no-progress", kFixture});
 }
-
-}  // namespace
 
 TEST(ImportPutmc, FloorImagePlanAndRpsOnceEach) {
     ServerProcess server{{"--quiet"}};
@@ -192,3 +191,6 @@ TEST(EvalWalks, UnsortedAndNanSamplesAreNamedAndAWalkWithoutScansIsSkipped) {
     EXPECT_NE(r.out.find("walk_pf                         3"), std::string::npos) << r.out;  // the good walk's 3 scans
     fs::remove_all(root);
 }
+
+}  // namespace
+}  // namespace putmc_cli_test

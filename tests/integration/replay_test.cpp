@@ -10,6 +10,9 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace replay_test {
+namespace {
+
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
@@ -147,8 +150,6 @@ TEST(Replay, ARangingRuleNeedsAnchors) {
     EXPECT_NE(r.err.find("needs a walk with anchors"), std::string::npos) << r.err;
 }
 
-namespace {
-
 json feature(const std::string& kind, json geometry, json properties = json::object()) {
     properties["feature"] = kind;
     return {{"type", "Feature"}, {"geometry", std::move(geometry)}, {"properties", std::move(properties)}};
@@ -190,8 +191,6 @@ double max_x(const json& replay_out, const std::string& method) {
     ADD_FAILURE() << "no " << method << " track";
     return 0.0;
 }
-
-}  // namespace
 
 TEST(Replay, FiltersMapMatchOnTheServersPlanWhenTheFloorHasOne) {
     ServerProcess s;
@@ -324,3 +323,6 @@ TEST(Replay, LivePostsTheFusedTrackAsALiveTrack) {
     EXPECT_EQ(track["trail"][0]["floor_id"], h.floor);
     EXPECT_EQ(run_command({LOCUS_CLI_BIN, "replay", "--server", s.url(), "--radiomap", "1", "--live", s.url(), walk}).status == 0, false);
 }
+
+}  // namespace
+}  // namespace replay_test

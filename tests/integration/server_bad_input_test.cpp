@@ -11,12 +11,13 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_bad_input_test {
+namespace {
+
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 void expect_error(const Response& r, int status, const std::string& code, const std::string& context) {
     EXPECT_EQ(r.status, status) << context << ": " << r.raw;
@@ -47,8 +48,6 @@ std::string name_body(std::size_t length) {
 }
 
 json one_scan(const json& rss) { return json::array({json::array({{{"bssid", "aa:bb:cc:dd:ee:ff"}, {"rss", rss}}})}); }
-
-}  // namespace
 
 TEST_F(BadInput, MalformedJson) {
     for (const std::string body : {"{", "{\"name\": }", "not json", "", "{\"name\":\"a\"} trailing"})
@@ -356,3 +355,6 @@ TEST_F(BadInput, EveryMissingFieldIsNamedAtOnce) {
     EXPECT_EQ(poi.body["error"]["message"], "missing fields 'x' and 'y'") << poi.raw;
     EXPECT_EQ(body_of(s.get(floors)).at("total"), 1);
 }
+
+}  // namespace
+}  // namespace server_bad_input_test

@@ -12,6 +12,9 @@
 #include "raw_connection.hpp"
 #include "server_process.hpp"
 
+namespace server_body_coding_test {
+namespace {
+
 using locus::testing::RawConnection;
 using locus::testing::Response;
 using locus::testing::ServerProcess;
@@ -20,8 +23,6 @@ using locus::testing::body_of;
 using locus::tools::compress;
 using locus::tools::compress_stream;
 using nlohmann::json;
-
-namespace {
 
 Response post_encoded(const ServerProcess& s, const std::string& path, const std::string& body, const std::string& coding) {
     auto c = locus::testing::client(s.port());
@@ -55,8 +56,6 @@ struct BodyCoding : ::testing::Test {
     json measurements() { return body_of(s.get("/v1/rps/" + std::to_string(rp))).at("measurements"); }
     void TearDown() override { EXPECT_EQ(s.get("/health").status, 200) << "the server must keep serving"; }
 };
-
-}  // namespace
 
 TEST_F(BodyCoding, GzipAndDeflateBodiesAreDecodedBeforeTheRouteReadsThem) {
     const std::string upload = R"({"upload_id":"u1","scans":)" + kScan + "}";
@@ -151,3 +150,6 @@ TEST_F(BodyCoding, AChunkedGzipBodyIsDecoded) {
     EXPECT_EQ(answer->status, 200) << answer->body;
     EXPECT_EQ(measurements().size(), 2u);
 }
+
+}  // namespace
+}  // namespace server_body_coding_test

@@ -13,6 +13,9 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_connections_test {
+namespace {
+
 using locus::testing::raw_get;
 using locus::testing::raw_post;
 using locus::testing::RawConnection;
@@ -20,11 +23,7 @@ using locus::testing::ServerProcess;
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-namespace {
-
 json map_count(const ServerProcess& s) { return s.get("/v1/maps").body.at("total"); }
-
-}  // namespace
 
 // With cpp-httplib's fixed pool of --threads workers, that many idle keep-alive connections
 // left every other client waiting (8.7 s for /health behind 8 idle connections).
@@ -325,3 +324,6 @@ TEST(Connections, ShutdownDoesNotWaitForIdleConnections) {
     EXPECT_EQ(s.stop(), 0);
     EXPECT_LT(std::chrono::steady_clock::now() - start, 10s) << "shutdown waited for the keep-alive timeout";
 }
+
+}  // namespace
+}  // namespace server_connections_test

@@ -9,11 +9,12 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_densify_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 json rps_of(const ServerProcess& s, std::int64_t rm) {
     return body_of(s.get("/v1/radiomaps/" + std::to_string(rm) + "/rps?limit=1000"));
@@ -26,8 +27,6 @@ void add_ap(const ServerProcess& s, std::int64_t floor, const std::string& bssid
                    {{"type", "wifi"}, {"bssid", bssid}, {"x", x}, {"y", y}, {"tx_power", -40.0}, {"path_loss_exponent", 2.0}}),
             201);
 }
-
-}  // namespace
 
 TEST(Densify, FillsBetweenTheSurveyWithTheModelAndKeepsSurveyedRps) {
     ServerProcess s;
@@ -122,3 +121,6 @@ TEST(Densify, BadRequestsNameTheProblemAndAddNothing) {
     EXPECT_GE(r.status, 400) << r.raw;
     EXPECT_LT(r.status, 500) << r.raw;
 }
+
+}  // namespace
+}  // namespace server_densify_test

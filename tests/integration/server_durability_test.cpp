@@ -14,10 +14,11 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_durability_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using nlohmann::json;
-
-namespace {
 
 struct Upload {
     std::string id;
@@ -27,8 +28,6 @@ struct Upload {
 json one_scan_upload(const Upload& u) {
     return {{"upload_id", u.id}, {"scans", json::array({json::array({{{"bssid", "aa:bb:cc:00:00:01"}, {"rss", -60}}})})}};
 }
-
-}  // namespace
 
 TEST(Durability, AcknowledgedUploadsSurviveKill9AndRetriesApplyOnce) {
     ServerProcess s;
@@ -84,3 +83,6 @@ TEST(Durability, AcknowledgedUploadsSurviveKill9AndRetriesApplyOnce) {
         EXPECT_EQ(got.at("measurements")[0].at("count").get<std::int64_t>(), expected) << "rp " << rp;
     }
 }
+
+}  // namespace
+}  // namespace server_durability_test

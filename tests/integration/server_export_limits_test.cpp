@@ -21,14 +21,15 @@
 #include "test_database.hpp"
 #include "build_paths.hpp"
 
+namespace server_export_limits_test {
+namespace {
+
 using locus::testing::RawConnection;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using locus::testing::raw_get;
 using nlohmann::json;
 using namespace std::chrono_literals;
-
-namespace {
 
 constexpr int kStalledReceiveBuffer = 64 * 1024;  // small, yet read back fast once the test reads
 
@@ -89,8 +90,6 @@ std::vector<std::string> server_args(std::initializer_list<std::string> more) {
     args.insert(args.end(), more);
     return args;
 }
-
-}  // namespace
 
 TEST(ServerExportLimits, PastTheCapAnExportIsBusyUntilTheHeldOneIsLetGo) {
     ServerProcess s(server_args({"--max-exports", "1"}));
@@ -192,3 +191,6 @@ TEST(ServerExportLimits, AnExportFailingPartWayIsCutWithoutItsLastChunk) {
     ASSERT_EQ(later.status, 200) << later.raw;
     EXPECT_EQ(later.body.at("rps").size(), 1u);
 }
+
+}  // namespace
+}  // namespace server_export_limits_test

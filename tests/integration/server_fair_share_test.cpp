@@ -22,13 +22,14 @@
 #include "unix_time.hpp"
 #include "build_paths.hpp"
 
+namespace server_fair_share_test {
+namespace {
+
 using locus::testing::Response;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using locus::testing::SseListener;
 using nlohmann::json;
-
-namespace {
 
 constexpr const char* kSecond = "127.0.0.2";  // a second client on the loopback network
 
@@ -72,8 +73,6 @@ long retry_after(const ServerProcess& s, const std::string& method, const std::s
 
 std::string token_of(const Response& r) { return r.body.at("token").get<std::string>(); }
 std::string id_of(const Response& r) { return std::to_string(r.body.at("id").get<long long>()); }
-
-}  // namespace
 
 TEST(ServerFairShare, OneClientHoldsAtMostItsLiveTracks) {
     ServerProcess s({"--quiet", "--client-live-tracks", "3", "--track-ttl", "600"});
@@ -346,3 +345,6 @@ TEST(ServerFairShare, AClientWaitingForContinueIsChargedOnceAndRefusedFirst) {
     ASSERT_TRUE(refused.has_value());
     EXPECT_EQ(refused->status, 429) << "the third is refused before its body: " << refused->body;
 }
+
+}  // namespace
+}  // namespace server_fair_share_test

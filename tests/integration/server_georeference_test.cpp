@@ -20,12 +20,13 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_georeference_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using locus::testing::track_call;
 using nlohmann::json;
-
-namespace {
 
 constexpr double kRad = std::numbers::pi / 180.0;
 constexpr double kLat0 = 49.46115181, kLon0 = 11.11114911;
@@ -88,8 +89,6 @@ std::string refused(const locus::testing::Response& r, int status = 422) {
 json m(const std::string& bssid, double mean) {
     return {{"type", "wifi"}, {"bssid", bssid}, {"mean", mean}, {"variance", 4.0}, {"count", 10}};
 }
-
-}  // namespace
 
 TEST(ServerGeoreference, PatchedGeoIsReadBackAndSurvivesARestart) {
     ServerProcess s;
@@ -365,3 +364,6 @@ TEST(ServerGeoreference, BadControlPointsAreRefusedAndStoreNothing) {
 
     EXPECT_EQ(body_of(s.get(v.floor_path)), stored);
 }
+
+}  // namespace
+}  // namespace server_georeference_test

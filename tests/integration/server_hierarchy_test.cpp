@@ -8,13 +8,14 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_hierarchy_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
 
-namespace {
 std::string id_path(const char* kind, const json& row) { return std::string("/v1/") + kind + "/" + std::to_string(row.at("id").get<long long>()); }
-}  // namespace
 
 TEST(ServerHierarchy, HealthAnswersOk) {
     ServerProcess s;
@@ -183,3 +184,6 @@ TEST(ServerHierarchy, AccessLogHasOneStructuredLinePerRequest) {
     EXPECT_NE(log.find(line), std::string::npos) << log;
     EXPECT_NE(log.find(R"("us":)"), std::string::npos);
 }
+
+}  // namespace
+}  // namespace server_hierarchy_test

@@ -6,11 +6,12 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_localize_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 json m(const std::string& bssid, double mean) {
     return {{"type", "wifi"}, {"bssid", bssid}, {"mean", mean}, {"variance", 4.0}, {"count", 10}};
@@ -45,8 +46,6 @@ struct Localize : ::testing::Test {
         path = "/v1/radiomaps/" + std::to_string(rm) + "/localize";
     }
 };
-
-}  // namespace
 
 TEST_F(Localize, AnswersTheNearestRpWithRoomAndCandidates) {
     json body = scan(-41, -69);
@@ -213,3 +212,6 @@ TEST_F(Localize, BadRequestsAreRefused) {
     const auto raw = s.post_raw(path, "{\"scans\": [[{\"bssid\": \"aa\", \"rss\": NaN}]]}");
     EXPECT_EQ(raw.status, 400);
 }
+
+}  // namespace
+}  // namespace server_localize_test

@@ -10,6 +10,9 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_migrate_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::SameDatabase;
 using locus::testing::ServerProcess;
@@ -61,3 +64,6 @@ TEST(Migrate, ASqliteDatabaseMovesToPostgresWithItsIdsAndIsVerified) {
     EXPECT_NE(missing.err.find("cannot connect to PostgreSQL"), std::string::npos) << missing.err;
     [[maybe_unused]] int rc = std::system(("rm -rf '" + dir + "'").c_str());
 }
+
+}  // namespace
+}  // namespace server_migrate_test

@@ -7,11 +7,12 @@
 #include "raw_connection.hpp"
 #include "server_process.hpp"
 
+namespace server_optional_body_test {
+namespace {
+
 using locus::testing::RawConnection;
 using locus::testing::ServerProcess;
 using nlohmann::json;
-
-namespace {
 
 // A POST with no body and no length, as `curl -X POST URL` sends it.
 locus::testing::RawAnswer bare_post(int port, const std::string& path, const std::string& headers = {}) {
@@ -21,8 +22,6 @@ locus::testing::RawAnswer bare_post(int port, const std::string& path, const std
     EXPECT_TRUE(answer.has_value()) << path;
     return answer.value_or(locus::testing::RawAnswer{});
 }
-
-}  // namespace
 
 TEST(OptionalBody, ActionsTakeAPostWithNoBody) {
     ServerProcess s;
@@ -55,3 +54,6 @@ TEST(OptionalBody, RoutesThatNeedABodyStill411) {
     EXPECT_EQ(a.status, 411) << a.body;
     EXPECT_EQ(s.get("/v1/maps").body.at("total"), 0);
 }
+
+}  // namespace
+}  // namespace server_optional_body_test

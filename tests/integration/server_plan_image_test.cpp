@@ -14,11 +14,12 @@
 #include "images/test_images.hpp"
 #include "server_process.hpp"
 
+namespace server_plan_image_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 // A w × h grey PNG with a diagonal, written by libpng.
 std::string make_png(unsigned w, unsigned h) {
@@ -77,8 +78,6 @@ struct PlanImage : ::testing::Test {
         return to_raw(c.Get(path, headers));
     }
 };
-
-}  // namespace
 
 TEST_F(PlanImage, APngReadsBackIdenticalWithItsPlacement) {
     EXPECT_EQ(get(image).status, 404);
@@ -316,3 +315,6 @@ TEST_F(PlanImage, APatchMovesScalesOrTurnsTheImageWithoutSendingItAgain) {
     EXPECT_EQ(to_raw(c.Patch("/v1/floors/987654/image/placement", R"({"origin_x": 1})", "application/json")).error_code(),
               "not_found");
 }
+
+}  // namespace
+}  // namespace server_plan_image_test

@@ -10,13 +10,14 @@
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
 
+namespace server_plan_rooms_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using locus::testing::feature;
 using locus::testing::point;
 using nlohmann::json;
-
-namespace {
 
 json rect(double x0, double y0, double x1, double y1) { return locus::testing::rect_polygon(x0, y0, x1, y1); }
 
@@ -73,8 +74,6 @@ std::map<std::string, json> props_of(const json& plan) {
     }
     return out;
 }
-
-}  // namespace
 
 TEST_F(PlanRooms, APutCreatesTheRoomsAndPoisAndTheStoredPlanNamesThem) {
     const auto put = body_of(s.put(plan, office_plan()));
@@ -303,3 +302,6 @@ TEST_F(PlanRooms, LocalizeAnswersThePlansRoom) {
     ASSERT_EQ(s.put(plan, office_plan("Robotics lab")).status, 200);
     EXPECT_EQ(body_of(s.post(localize, scan)).at("room").at("name"), "Robotics lab");
 }
+
+}  // namespace
+}  // namespace server_plan_rooms_test

@@ -7,11 +7,12 @@
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
 
+namespace server_plan_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 using locus::testing::line;
 using locus::testing::point;
@@ -30,8 +31,6 @@ json two_rooms(json stairs_links = json::array()) {
 }
 
 std::string plan_path(std::int64_t floor) { return "/v1/floors/" + std::to_string(floor) + "/plan"; }
-
-}  // namespace
 
 TEST(ServerPlan, APlanReadsBackAsItWasPutAndEachPutReplacesIt) {
     ServerProcess s;
@@ -152,3 +151,6 @@ TEST(ServerPlan, DeletingTheFloorDeletesItsPlan) {
     ASSERT_EQ(s.del("/v1/floors/" + std::to_string(h.floor)).status, 204);
     EXPECT_EQ(s.get(plan_path(h.floor)).status, 404);
 }
+
+}  // namespace
+}  // namespace server_plan_test

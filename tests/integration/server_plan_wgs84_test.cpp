@@ -9,12 +9,13 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_plan_wgs84_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using nlohmann::json;
-
-namespace {
 
 const std::string kHint = std::string(LOCUS_SOURCE_DIR) + "/node_modules/.bin/geojsonhint";
 
@@ -26,8 +27,6 @@ struct PlanWgs84 : ::testing::Test {
         ASSERT_EQ(r.status, 200) << r.raw;
     }
 };
-
-}  // namespace
 
 TEST_F(PlanWgs84, TheDefaultSaysFloorMetres) {
     const json plan = body_of(s.get("/v1/floors/1/plan"));
@@ -95,3 +94,6 @@ TEST_F(PlanWgs84, WhatCannotBeReadIsRefusedAndChangesNothing) {
     EXPECT_EQ(on_plain_floor.body["error"]["code"], "not_georeferenced") << on_plain_floor.raw;
     EXPECT_EQ(body_of(s.get("/v1/floors/1/plan")).at("version"), before.at("version"));
 }
+
+}  // namespace
+}  // namespace server_plan_wgs84_test

@@ -14,14 +14,15 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_positions_stream_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::Track;
 using locus::testing::body_of;
 using locus::testing::open_track;
 using locus::testing::unix_now;
 using nlohmann::json;
-
-namespace {
 
 int get_status(const ServerProcess& s, const std::string& path, const std::string& api_key) {
     httplib::Client c("127.0.0.1", s.port());
@@ -46,8 +47,6 @@ struct Listener : locus::testing::SseListener {
     Listener(int port, const std::string& path, const std::string& api_key)
         : SseListener(port, path, httplib::Headers{{"Authorization", "Bearer " + api_key}}) {}
 };
-
-}  // namespace
 
 TEST(ServerPositionsStream, BadInputIsRefused) {
     ServerProcess s({"--quiet", "--api-key", "k1"});
@@ -129,3 +128,6 @@ TEST(ServerPositionsStream, AFollowedFloorSeesTracksComeMoveLeaveAndEnd) {
     EXPECT_EQ(events.back().first, "leave");
     EXPECT_EQ(ground.seen().size(), 5u);
 }
+
+}  // namespace
+}  // namespace server_positions_stream_test

@@ -12,10 +12,12 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_postgres_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using nlohmann::json;
 
-namespace {
 #define REQUIRE_POSTGRES()                                                                                   \
     if (!locus::testing::on_postgres())                                                                      \
     GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)"
@@ -23,7 +25,6 @@ namespace {
 json m(const std::string& bssid, double rss) { return {{"type", "wifi"}, {"bssid", bssid}, {"mean", rss}, {"variance", 1.0}, {"count", 10}}; }
 
 std::string database_of(const std::string& url) { return url.substr(url.rfind('/') + 1); }
-}  // namespace
 
 TEST(Postgres, AnUnreachableServerStopsTheStartNamingTheUrlWithoutItsPassword) {
     REQUIRE_POSTGRES();
@@ -88,3 +89,6 @@ TEST(Postgres, LostMidRunWritesAre503LocalizeServesAndWritesComeBack) {
     EXPECT_EQ(s.get("/ready").status, 200);
     EXPECT_EQ(s.get("/v1/maps").body.at("total"), 2) << "only the map before and the one after";
 }
+
+}  // namespace
+}  // namespace server_postgres_test

@@ -14,11 +14,12 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_quality_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 // Two APs at the ends of a 20 m line; a few scans a place, as a survey would take.
 void survey(const ServerProcess& s, std::int64_t rp, double at_x) {
@@ -28,8 +29,6 @@ void survey(const ServerProcess& s, std::int64_t rp, double at_x) {
                          {{"bssid", "aa:00:00:00:00:02"}, {"rss", -40 - 2.0 * (20 - at_x) - i}}});
     body_of(s.post("/v1/rps/" + std::to_string(rp) + "/scans", {{"scans", scans}}), 200);
 }
-
-}  // namespace
 
 TEST(ServerQuality, AnRpSurveyedElsewhereHasTheLargestError) {
     ServerProcess s({"--quiet"});
@@ -135,3 +134,6 @@ TEST(ServerQuality, ABurstIsBoundedNotQueued) {
     EXPECT_GE(busy, 1) << "8 simultaneous assessments of 2500 RPs all ran: nothing bounds them";
     EXPECT_EQ(s.get(p).status, 200);  // every slot was given back
 }
+
+}  // namespace
+}  // namespace server_quality_test

@@ -8,17 +8,18 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_ranging_cache_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
 
-namespace {
 struct Ap {
     std::string bssid;
     double x, y;
 };
 double rss(const Ap& a, double x, double y) { return -40 - 20 * std::log10(std::max(std::hypot(x - a.x, y - a.y), 0.1)); }
-}  // namespace
 
 TEST(RangingCache, AnswersFollowTransmitterWrites) {
     ServerProcess s;
@@ -52,3 +53,6 @@ TEST(RangingCache, AnswersFollowTransmitterWrites) {
     EXPECT_EQ(s.del("/v1/transmitters/" + std::to_string(ids[0])).status, 204);
     EXPECT_EQ(body_of(s.post(path, body)).at("transmitters_heard"), 3);
 }
+
+}  // namespace
+}  // namespace server_ranging_cache_test

@@ -20,6 +20,9 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_replica_events_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::open_track;
 using locus::testing::SameDatabase;
@@ -28,8 +31,6 @@ using locus::testing::Track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
-
-namespace {
 
 json fix(double t, std::int64_t floor, double x) { return {{"t", t}, {"floor_id", floor}, {"x", x}, {"y", 1.0}, {"accuracy_m", 1.5}}; }
 
@@ -86,8 +87,6 @@ struct ReplicaEvents : ::testing::Test {
     }
     std::unique_ptr<ServerProcess> a, b;
 };
-
-}  // namespace
 
 TEST_F(ReplicaEvents, FixesPostedOnOneServerReachTheOthersStreamsInOrderOnceEach) {
     Followed f(*a, *b, "ann", 60);
@@ -309,3 +308,6 @@ TEST_F(ReplicaEvents, ARefreshThatFailsOnTheTracksConnectionIsRetried) {
     ASSERT_TRUE(stream.wait_for(2, 3.0)) << "B dropped the fix its failed refresh was reading";
     EXPECT_EQ(stream.seen()[1].second.at("x"), 5.0);
 }
+
+}  // namespace
+}  // namespace server_replica_events_test

@@ -18,6 +18,9 @@
 #include "server_process.hpp"
 #include "track_call.hpp"
 
+namespace server_replicas_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::Response;
 using locus::testing::SameDatabase;
@@ -25,8 +28,6 @@ using locus::testing::ServerProcess;
 using locus::testing::track_call;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
-
-namespace {
 
 json m(const std::string& bssid, double rss) { return {{"type", "wifi"}, {"bssid", bssid}, {"mean", rss}, {"variance", 1.0}, {"count", 10}}; }
 
@@ -82,8 +83,6 @@ std::string id_of(std::initializer_list<int> parts, const char* prefix = "") {
     }
     return out;
 }
-
-}  // namespace
 
 TEST_F(Replicas, AWriteOnOneServerReachesLocalizeOnTheOtherWithinASecond) {
     const auto h = locus::testing::make_hierarchy(*a);
@@ -264,3 +263,6 @@ TEST_F(Replicas, ALiveTrackTakesFixesOnEitherServer) {
     EXPECT_EQ(refused.status, 409) << refused.raw;
     EXPECT_EQ(refused.body.at("error").at("code"), "track_closed") << refused.raw;
 }
+
+}  // namespace
+}  // namespace server_replicas_test

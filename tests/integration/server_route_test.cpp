@@ -11,11 +11,12 @@
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
 
+namespace server_route_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 using locus::testing::point;
 using locus::testing::feature;
@@ -59,8 +60,6 @@ Building make_building(ServerProcess& s) {
 }
 
 std::string route_path(const Building& b) { return "/v1/maps/" + std::to_string(b.h.map) + "/route"; }
-
-}  // namespace
 
 TEST(ServerRoute, FromARoomUpTheStairsToAPoi) {
     ServerProcess s;
@@ -150,7 +149,6 @@ TEST(ServerRoute, BadInputIsRefusedNamingWhat) {
     EXPECT_EQ(s.post_raw(route_path(b), "[1]").status, 400);
 }
 
-namespace {
 // The id of the room called `name` on the demo map's floor at `level` (0 or 1).
 std::int64_t demo_room(const ServerProcess& s, int level, const std::string& name) {
     const auto floors = body_of(s.get("/v1/buildings/1/floors")).at("items");
@@ -163,7 +161,6 @@ std::int64_t demo_room(const ServerProcess& s, int level, const std::string& nam
     ADD_FAILURE() << "the demo map has no room '" << name << "' at level " << level;
     return 0;
 }
-}  // namespace
 
 TEST(ServerRoute, TheDemoMapGoesUpstairsByTheStairsAndStepFreeByTheElevator) {
     ServerProcess s({"--demo"});
@@ -212,3 +209,6 @@ TEST(ServerRoute, TheDemoMapGoesUpstairsByTheStairsAndStepFreeByTheElevator) {
     EXPECT_TRUE(near(by_stairs.at("legs")[0].at("path").back(), at.at("stairs"))) << by_stairs.at("legs")[0].dump();
     EXPECT_TRUE(near(by_lift.at("legs")[0].at("path").back(), at.at("elevator"))) << by_lift.at("legs")[0].dump();
 }
+
+}  // namespace
+}  // namespace server_route_test

@@ -10,11 +10,12 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_scans_last_upload_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 // UTC now as the store writes it, to whole seconds: ISO-8601 texts of one form compare as
 // strings, so [floor(before), floor(after) + 1 s) brackets the server's clock reading.
@@ -30,8 +31,6 @@ std::string utc_now(int plus_seconds = 0) {
 json one_scan(const std::string& bssid, double rss) {
     return json::array({json::array({{{"type", "wifi"}, {"bssid", bssid}, {"rss", rss}}})});
 }
-
-}  // namespace
 
 TEST(ServerScansLastUpload, SetByAnUploadKeptByItsRepeatNullWithout) {
     ServerProcess s({"--quiet"});
@@ -87,3 +86,6 @@ TEST(ServerScansLastUpload, SetByAnUploadKeptByItsRepeatNullWithout) {
     EXPECT_EQ(patched.status, 200) << patched.raw;
     EXPECT_EQ(body_of(s.get(rp_path)).at("last_upload_at"), later);
 }
+
+}  // namespace
+}  // namespace server_scans_last_upload_test

@@ -8,11 +8,12 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_scans_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 json scans_of(const std::vector<double>& rss, const std::string& bssid) {
     json scans = json::array();
@@ -32,8 +33,6 @@ struct Fixture : ::testing::Test {
     std::int64_t rp = locus::testing::make_rp(s, h.radiomap, "rp-1", 2.0, 3.0);
     std::string scans_path = "/v1/rps/" + std::to_string(rp) + "/scans";
 };
-
-}  // namespace
 
 TEST_F(Fixture, TwoUploadsMergeToTheStatisticsOfAllSamples) {
     const std::vector<double> first{-60, -61, -65, -58}, second{-70, -72, -66};
@@ -157,3 +156,6 @@ TEST_F(Fixture, ALargeExportIsOneDocumentThatImportsBack) {
     const auto reexported = body_of(s.get("/v1/radiomaps/" + std::to_string(second.body.at("id").get<long long>()) + "/export"));
     EXPECT_EQ(reexported.at("rps"), exported.body.at("rps"));
 }
+
+}  // namespace
+}  // namespace server_scans_test

@@ -12,13 +12,14 @@
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
 
+namespace server_search_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using locus::testing::feature;
 using locus::testing::point;
 using nlohmann::json;
-
-namespace {
 
 json rect(double x0, double y0, double x1, double y1) { return locus::testing::rect_polygon(x0, y0, x1, y1); }
 
@@ -84,8 +85,6 @@ std::vector<std::string> names(const json& answer) {
     for (const auto& h : answer.at("hits")) out.push_back(h.at("name").get<std::string>());
     return out;
 }
-
-}  // namespace
 
 TEST(ServerSearch, FindsAccentsCasePrefixesAndTyposWithWhereToGo) {
     ServerProcess s;
@@ -261,3 +260,6 @@ TEST(ServerSearch, BadInputIsRefusedNamingWhat) {
     EXPECT_EQ(s.get(base + "?q=cafe&limit=100").status, 200);
     EXPECT_TRUE(body_of(s.get(base + "?q=" + encoded("?!"))).at("hits").empty());
 }
+
+}  // namespace
+}  // namespace server_search_test

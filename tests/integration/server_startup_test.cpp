@@ -8,10 +8,11 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_startup_test {
+namespace {
+
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
-
-namespace {
 
 // The server's last stderr line, which says why it stopped.
 std::string last_line(const std::string& err) {
@@ -19,8 +20,6 @@ std::string last_line(const std::string& err) {
     const std::size_t start = err.rfind('\n', end);
     return err.substr(start == std::string::npos ? 0 : start + 1, end - (start == std::string::npos ? 0 : start + 1) + 1);
 }
-
-}  // namespace
 
 TEST(Startup, AnOpenHostWithoutAKeyIsRefused) {
     const std::string dir = locus::testing::make_temp_dir();
@@ -55,3 +54,6 @@ TEST(Startup, APortInUseSaysWhatToDo) {
     EXPECT_NE(line.find("another --port"), std::string::npos) << line;
     EXPECT_EQ(first.get("/health").status, 200);
 }
+
+}  // namespace
+}  // namespace server_startup_test

@@ -13,12 +13,13 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_storage_test {
+namespace {
+
 using locus::testing::FileSizeLimit;
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using nlohmann::json;
-
-namespace {
 
 void expect_unavailable(const Response& r, const std::string& context) {
     EXPECT_EQ(r.status, 503) << context << ": " << r.raw;
@@ -53,8 +54,6 @@ void expect_refused_at_start(const std::string& db, const std::string& what) {
     EXPECT_NE(r.err.find(db), std::string::npos) << what << ": the log does not name " << db << ":\n" << r.err;
     EXPECT_NE(r.err.find("\"event\":\"error\""), std::string::npos) << what << ": " << r.err;
 }
-
-}  // namespace
 
 TEST(ServerStorage, ReadyWritesAndHealthDoesNot) {
     ServerProcess s{{"--quiet"}};
@@ -154,3 +153,6 @@ TEST(ServerStorage, ADatabaseThatCannotBeOpenedStopsTheServerNamingIt) {
     expect_refused_at_start(dir + "/missing/locus.db", "a path in a missing directory");
     std::filesystem::remove_all(dir);
 }
+
+}  // namespace
+}  // namespace server_storage_test

@@ -14,6 +14,9 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_tracks_baro_test {
+namespace {
+
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::Track;
@@ -22,8 +25,6 @@ using locus::testing::open_track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
-
-namespace {
 
 // Near sea level air pressure falls by about 0.12 hPa per metre of height (the hypsometric
 // equation at 15 °C: p/8434 m): the walk below goes 4.5 m down, 0.54 hPa up.
@@ -72,8 +73,6 @@ json walk_down_a_stair(const Building& b, double t0, double walk_s = 40.0) {
     }
     return {{"steps", steps}, {"fixes", fixes}, {"pressure", pressure}};
 }
-
-}  // namespace
 
 TEST(ServerTracksBaro, PressureTakesTheTrackDownAStairToAFloorNoRadioMapCovers) {
     ServerProcess s({"--quiet"});
@@ -206,3 +205,6 @@ TEST(ServerTracksBaro, WhereThePlanHasALiftTheTrackComesOutAtItsOtherEnd) {
     EXPECT_LT(fused[first_down]["x"].get<double>(), 10.0);  // the west end, not where the walker stood
     EXPECT_EQ(fused.back()["floor_id"], b.mezzanine);
 }
+
+}  // namespace
+}  // namespace server_tracks_baro_test

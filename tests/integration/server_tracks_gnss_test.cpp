@@ -15,6 +15,9 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_tracks_gnss_test {
+namespace {
+
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::Track;
@@ -23,8 +26,6 @@ using locus::testing::open_track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
-
-namespace {
 
 // The floor's georeference: floor point (0, 0) at 45° N 7° E, its +y axis pointing east
 // (bearing 90°), so its +x axis points south. Metres per degree at 45° from the usual series
@@ -91,8 +92,6 @@ Venue georeferenced(const ServerProcess& s) {
     EXPECT_EQ(s.patch(v.floor_path, {{"geo", floor_geo()}}).status, 200);
     return v;
 }
-
-}  // namespace
 
 TEST(ServerTracksGnss, GnssPullsAWalkTowardsItOneFixPerTenSeconds) {
     ServerProcess s({"--quiet"});
@@ -235,3 +234,6 @@ TEST(ServerTracksGnss, BadGnssIsRefusedAndWritesNothing) {
     const std::string body = R"({"fixes": [)" + fix.dump() + R"(], "gnss": )" + many.dump() + "}";
     EXPECT_EQ(track_call(s, "POST", steps_path(t.id), {t.token}, body).status, 200);
 }
+
+}  // namespace
+}  // namespace server_tracks_gnss_test

@@ -17,6 +17,9 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_tracks_offset_test {
+namespace {
+
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::Track;
@@ -25,8 +28,6 @@ using locus::testing::open_track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
-
-namespace {
 
 constexpr double kPhoneOffsetDb = -8.0;  // the track's phone reads this much below the survey's
 
@@ -98,8 +99,6 @@ json scans_body(const std::vector<Spot>& spots, double t0, int first, double off
 double shrunk(double look_db, int n) { return look_db * n / (n + 5.0); }
 
 std::string steps_path(std::int64_t track) { return "/v1/tracks/" + std::to_string(track) + "/steps"; }
-
-}  // namespace
 
 TEST(ServerTracksOffset, AWalkPfTrackLearnsItsPhonesOffset) {
     ServerProcess s({"--quiet"});
@@ -173,3 +172,6 @@ TEST(ServerTracksOffset, AKalmanTrackHasNoOffset) {
                                         json{{"fixes", {fix}}}.dump()));
     EXPECT_FALSE(got.contains("rss_offset_db")) << got.dump();
 }
+
+}  // namespace
+}  // namespace server_tracks_offset_test

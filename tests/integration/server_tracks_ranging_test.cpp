@@ -29,6 +29,9 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_tracks_ranging_test {
+namespace {
+
 using locus::Point;
 using locus::testing::Response;
 using locus::testing::ServerProcess;
@@ -39,8 +42,6 @@ using locus::testing::unix_now;
 using nlohmann::json;
 namespace fusion = locus::fusion;
 namespace ranging = locus::ranging;
-
-namespace {
 
 constexpr double kPhoneHeight = 1.2;  // the server's default: a transmitter's z is measured against it
 
@@ -335,8 +336,6 @@ std::pair<json, json> finish_on(const ServerProcess& other, const HalfWalked& hw
     const auto rest_steps = slice(hw.w.steps, hw.mid, 1e300), rest_scans = slice(hw.w.scans, hw.mid, 1e300);
     return {latest, body_of(call(other, "POST", hw.t.path("/steps"), hw.t.token, body(rest_steps, rest_scans).dump()))};
 }
-
-}  // namespace
 
 // Both Kalman methods, in two requests each: the server's fused fixes are client-lib's on the
 // same ranged scans and steps (to 1e-9), end within 1.5 m of the truth, and are stored.
@@ -734,3 +733,6 @@ TEST(ServerTracksRanging, AnotherServerSharingTheDatabaseResumesAnEkfTrack) {
     expect_same(got["fused"], e.run(slice(hw.w.steps, hw.mid, 1e300), slice(hw.w.scans, hw.mid, 1e300)));
     EXPECT_EQ(stored_fixes(a, hw.t), hw.w.steps.size() + hw.w.scans.size());
 }
+
+}  // namespace
+}  // namespace server_tracks_ranging_test

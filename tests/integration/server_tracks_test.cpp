@@ -24,6 +24,9 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_tracks_test {
+namespace {
+
 using locus::testing::Response;
 using locus::testing::ServerProcess;
 using locus::testing::Track;
@@ -33,8 +36,6 @@ using locus::testing::track_call;
 using locus::testing::with_api_key;
 using locus::testing::unix_now;
 using nlohmann::json;
-
-namespace {
 
 json fix(double t, std::int64_t floor, double x, double y, std::optional<double> heading = std::nullopt) {
     json f = {{"t", t}, {"floor_id", floor}, {"x", x}, {"y", y}, {"accuracy_m", 1.5}};
@@ -49,8 +50,6 @@ Response post_fixes(const ServerProcess& s, const Track& t, const std::vector<js
 }
 
 std::string path_of(const Track& t, const std::string& rest = "") { return "/v1/tracks/" + std::to_string(t.id) + rest; }
-
-}  // namespace
 
 TEST(ServerTracks, FixesInAnyOrderAndTwiceMakeOneOrderedTrail) {
     ServerProcess s({"--quiet"});
@@ -210,8 +209,6 @@ TEST(ServerTracks, PositionsNeedTheApiKeyAndListLiveTracks) {
     EXPECT_EQ(body_of(track_call(s, "GET", p, with_api_key("k1")))["positions"].size(), 1u);
 }
 
-namespace {
-
 // Reads an event stream on its own thread, keeping every `data:` line.
 struct Listener {
     std::mutex mu;
@@ -254,8 +251,6 @@ struct Listener {
         return count() >= n;
     }
 };
-
-}  // namespace
 
 TEST(ServerTracks, AnEventStreamSeesEachFixWithinASecond) {
     ServerProcess s({"--quiet", "--track-heartbeat", "0.2", "--max-track-streams", "2"});
@@ -812,7 +807,6 @@ TEST(ServerTracks, OpeningATrackRefusesAnUnknownFusion) {
     EXPECT_EQ(body_of(track_call(s, "GET", path_of(first), {first.token}))["fusion"], "walk_pf");
 }
 
-
 // The REST client's track calls against the real server.
 TEST(ServerTracks, ClientTrackCalls) {
     ServerProcess s({"--quiet", "--api-key", "k2"});
@@ -855,3 +849,6 @@ TEST(ServerTracks, ClientTrackCalls) {
         EXPECT_EQ(e.status(), 404);
     }
 }
+
+}  // namespace
+}  // namespace server_tracks_test

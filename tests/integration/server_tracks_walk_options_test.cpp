@@ -13,6 +13,9 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
+namespace server_tracks_walk_options_test {
+namespace {
+
 using locus::testing::body_of;
 using locus::testing::open_track;
 using locus::testing::Response;
@@ -21,8 +24,6 @@ using locus::testing::Track;
 using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
-
-namespace {
 
 // The walker's fixes pin the compass's rotation: a fix at (5, 10), ten 0.7 m steps east, a fix
 // at (12, 10) where they took it, ten more steps east, a fix at (19, 10); then ten more steps
@@ -43,8 +44,6 @@ double walked(const ServerProcess& s, const Track& t, std::int64_t floor) {
     const json& last = fused.back();
     return std::hypot(last["x"].get<double>() - before["x"].get<double>(), last["y"].get<double>() - before["y"].get<double>());
 }
-
-}  // namespace
 
 TEST(ServerTracksWalkOptions, AWalkPfTrackWalksByItsOwnStepScale) {
     ServerProcess s({"--quiet"});
@@ -107,3 +106,6 @@ TEST(ServerTracksWalkOptions, OptionsOfAnotherMethodOrOutOfRangeAreRefused) {
     // Nothing was opened: the first track is number 1.
     EXPECT_EQ(body_of(track_call(s, "POST", "/v1/tracks", {}, json{{"map_id", h.map}}.dump()), 201)["id"], 1);
 }
+
+}  // namespace
+}  // namespace server_tracks_walk_options_test

@@ -8,19 +8,18 @@
 #include "hierarchy.hpp"
 #include "server_process.hpp"
 
+namespace server_transmitter_export_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 json tx_list(const ServerProcess& s, std::int64_t floor) {
     return body_of(s.get("/v1/floors/" + std::to_string(floor) + "/transmitters?limit=1000"));
 }
 
 std::string import_path(std::int64_t floor) { return "/v1/floors/" + std::to_string(floor) + "/radiomaps/import"; }
-
-}  // namespace
 
 TEST(TransmitterExport, RoundTripsToAnotherFloorAndKeepsWhatIsThere) {
     ServerProcess s;
@@ -107,3 +106,6 @@ TEST(TransmitterExport, BadTransmittersRefuseTheWholeImport) {
     extra["colour"] = "red";
     refused(json::array({extra}), 422, "invalid_field", "colour");
 }
+
+}  // namespace
+}  // namespace server_transmitter_export_test

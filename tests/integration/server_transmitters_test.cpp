@@ -14,11 +14,12 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_transmitters_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 class Transmitters : public ::testing::Test {
 protected:
@@ -160,10 +161,6 @@ TEST_F(Transmitters, PatchAndPathsAreChecked) {
     EXPECT_EQ(server->post_raw(collection(), "{\"x\": NaN}").status, 400);
 }
 
-}  // namespace
-
-namespace {
-
 // Four APs in the corners of a 30 m × 20 m floor and two in the middle, each with its own model.
 struct Layout {
     std::string bssid;
@@ -290,10 +287,6 @@ TEST_F(RangingLocalize, BadRequestsNameTheProblem) {
     EXPECT_EQ(server->post("/v1/radiomaps/999999/localize", {{"algorithm", "multilateration"}, {"measurements", ms}}).status, 404);
 }
 
-}  // namespace
-
-namespace {
-
 // `locus import transmitters`: a file of APs and beacons, checked whole before any write;
 // a second import of it updates in place.
 TEST(ImportTransmitters, CsvIntoAFloorTwiceAndRefusedWhole) {
@@ -343,10 +336,6 @@ TEST(ImportTransmitters, CsvIntoAFloorTwiceAndRefusedWhole) {
         EXPECT_EQ(body_of(s.get("/v1/floors/" + floor + "/transmitters")).at("total"), 3) << "nothing written";
     }
 }
-
-}  // namespace
-
-namespace {
 
 // Calibration: a survey generated from known transmitters (two registered with a wrong
 // model, one not registered at all) gives back their models and the unknown one's position.
@@ -441,10 +430,6 @@ TEST(FitTransmitters, BadRequestsAreRefusedAndWriteNothing) {
     EXPECT_DOUBLE_EQ(body_of(s.get("/v1/transmitters/" + id)).at("tx_power").get<double>(), -40.0);
 }
 
-}  // namespace
-
-namespace {
-
 // A radio map with no survey: the floor's transmitters and its plan's walls.
 TEST(GenerateRadioMap, GridFromTransmittersAndWallsLocalizes) {
     ServerProcess s;
@@ -533,3 +518,4 @@ TEST(GenerateRadioMap, BadRequestsNameTheProblem) {
 }
 
 }  // namespace
+}  // namespace server_transmitters_test

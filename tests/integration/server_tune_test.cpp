@@ -11,11 +11,12 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_tune_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
-
-namespace {
 
 std::string ap(int i) {
     char buf[32];
@@ -64,8 +65,6 @@ struct Tune : ::testing::Test {
     }
     static std::string path(std::int64_t rm, const char* tail) { return "/v1/radiomaps/" + std::to_string(rm) + tail; }
 };
-
-}  // namespace
 
 TEST_F(Tune, StoresTheLowestErrorSettingAndLocalizeFollowsItAcrossARestart) {
     constexpr int nx = 8, ny = 6, aps = 6;
@@ -236,3 +235,6 @@ TEST_F(Tune, ATuneWhileRpsAreWrittenWorksOnOneSnapshot) {
     EXPECT_LE(queries, rps);
     EXPECT_EQ(body_of(s.get(path(rm, ""))).at("tune"), table);
 }
+
+}  // namespace
+}  // namespace server_tune_test

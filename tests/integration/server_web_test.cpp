@@ -17,11 +17,12 @@
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
+namespace server_web_test {
+namespace {
+
 using locus::testing::ServerProcess;
 using nlohmann::json;
 namespace fs = std::filesystem;
-
-namespace {
 
 void write_file(const fs::path& p, const std::string& text) {
     fs::create_directories(p.parent_path());
@@ -196,3 +197,4 @@ TEST(WebDefaultRoot, AnEmptyWebRootServesNoViewer) {
 }
 
 }  // namespace
+}  // namespace server_web_test

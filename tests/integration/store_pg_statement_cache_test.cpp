@@ -10,12 +10,14 @@
 #include "store/pg_detail.hpp"
 #include "test_database.hpp"
 
+namespace store_pg_statement_cache_test {
+namespace {
+
 using locus::store::Db;
 using locus::store::DbError;
 using locus::store::Stmt;
 using locus::store::Transaction;
 
-namespace {
 #define REQUIRE_POSTGRES()                                                                                   \
     if (!locus::testing::on_postgres())                                                                      \
     GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)"
@@ -34,7 +36,6 @@ std::int64_t prepared_on_server(Db& db) {
     EXPECT_TRUE(s.step());
     return s.int64(0);
 }
-}  // namespace
 
 TEST(PostgresStatementCache, AStatementDiscardedOnTheServerIsPreparedAgain) {
     REQUIRE_POSTGRES();
@@ -104,3 +105,6 @@ TEST(PostgresStatementCache, TextsBeyondTheBoundRunUnpreparedAndNothingIsEvicted
     EXPECT_EQ(run(bound - 1), 1) << "and the last one kept";
     EXPECT_EQ(prepared_on_server(db), bound);
 }
+
+}  // namespace
+}  // namespace store_pg_statement_cache_test

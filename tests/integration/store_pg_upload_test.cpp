@@ -15,13 +15,15 @@
 #include "temp_dir.hpp"
 #include "test_database.hpp"
 
+namespace store_pg_upload_test {
+namespace {
+
 using locus::RssStats;
 using locus::store::kind;
 using locus::Measurement;
 using locus::store::ScanBatch;
 using locus::store::SqlStore;
 
-namespace {
 #define REQUIRE_POSTGRES()                                                                                   \
     if (!locus::testing::on_postgres())                                                                      \
     GTEST_SKIP() << "needs PostgreSQL: run under scripts/with_postgres.sh (LOCUS_TEST_DB_URL)"
@@ -82,7 +84,6 @@ void expect_same(const locus::store::RpRecord& pg, const locus::store::RpRecord&
         EXPECT_EQ(p.stats.variance, l.stats.variance) << p.bssid.str();
     }
 }
-}  // namespace
 
 TEST(PostgresUpload, StoresAndAnswersWhatSqliteAndTheCoreMergeGive) {
     REQUIRE_POSTGRES();
@@ -220,3 +221,6 @@ TEST(PostgresUpload, ACommitAfterASwallowedFailureThrowsAndWritesNothing) {
     ASSERT_TRUE(rows.step());
     EXPECT_EQ(rows.int64(0), 0);
 }
+
+}  // namespace
+}  // namespace store_pg_upload_test

@@ -13,14 +13,15 @@
 #include "text_file.hpp"
 #include "build_paths.hpp"
 
+namespace survey_upload_test {
+namespace {
+
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
 using locus::testing::body_of;
 using nlohmann::json;
 
 using locus::testing::slurp;
-
-namespace {
 
 std::string fixture(const std::string& name) { return std::string(LOCUS_TEST_FIXTURES) + "/survey/" + name; }
 
@@ -275,3 +276,4 @@ TEST_F(SurveyUpload, AFailedUploadLeavesNoEmptyRp) {
 }
 
 }  // namespace
+}  // namespace survey_upload_test

@@ -6,6 +6,9 @@
 
 #include "locus/api/types.hpp"
 
+namespace api_types_test {
+namespace {
+
 using namespace locus;
 using nlohmann::json;
 
@@ -115,3 +118,6 @@ TEST(ApiTypes, ALocalizeAnswerReadsIntoTheMatchersResult) {
     EXPECT_EQ(r.raw, answer);
     EXPECT_FALSE(json::parse(R"({"x":1,"room":null})").get<api::LocalizeResult>().room);
 }
+
+}  // namespace
+}  // namespace api_types_test

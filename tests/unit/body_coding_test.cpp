@@ -8,6 +8,9 @@
 
 #include "compressed_body.hpp"
 
+namespace body_coding_test {
+namespace {
+
 using locus::http::BodyCoding;
 using locus::http::DecodedBody;
 using locus::http::decode_body;
@@ -74,3 +77,6 @@ TEST(BodyCoding, DamagedStreamsAreCorrupt) {
     EXPECT_EQ(decode_body("", BodyCoding::gzip, 1024).status, DecodedBody::Status::corrupt);
     EXPECT_EQ(decode_body("not compressed at all", BodyCoding::deflate, 1024).status, DecodedBody::Status::corrupt);
 }
+
+}  // namespace
+}  // namespace body_coding_test

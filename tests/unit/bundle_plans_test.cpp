@@ -14,11 +14,12 @@
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 
+namespace bundle_plans_test {
+namespace {
+
 using locus::store::kind;
 using locus::store::SqlStore;
 using nlohmann::json;
-
-namespace {
 
 using locus::testing::TempDir;
 
@@ -124,3 +125,4 @@ TEST(BundlePlans, ABadPlanIsRefusedNamingTheFloorAndTheFeature) {
 }
 
 }  // namespace
+}  // namespace bundle_plans_test

@@ -4,6 +4,9 @@
 
 #include "survey_connect.hpp"
 
+namespace cli_messages_test {
+namespace {
+
 using locus::tools::plain_numbers;
 
 TEST(PlainNumbers, SixDecimalNumbersLoseTheirTrailingZeros) {
@@ -17,3 +20,6 @@ TEST(PlainNumbers, OtherTextIsLeftAlone) {
     EXPECT_EQ(plain_numbers("1.5 m, 0.1234567 and 1.0000000"), "1.5 m, 0.1234567 and 1.0000000");
     EXPECT_EQ(plain_numbers(""), "");
 }
+
+}  // namespace
+}  // namespace cli_messages_test

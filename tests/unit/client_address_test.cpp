@@ -7,13 +7,14 @@
 
 #include "http/front/client_address.hpp"
 
+namespace client_address_test {
+namespace {
+
 using locus::http::client_of;
 using locus::http::parse_range;
 using locus::http::parse_trusted_proxies;
 
-namespace {
 const std::vector<locus::http::AddressRange> kNone;
-}
 
 TEST(ClientAddress, WithoutTrustedProxiesTheHeaderIsIgnored) {
     EXPECT_EQ(client_of("203.0.113.7", {"198.51.100.1"}, kNone), "203.0.113.7");
@@ -80,3 +81,6 @@ TEST(ClientAddress, BadProxyValuesAreRefusedByName) {
     EXPECT_EQ(parse_trusted_proxies({"10.0.0.5,172.16.0.0/12", "::1"}).size(), 3u);
     EXPECT_THROW(parse_trusted_proxies({"10.0.0.5,"}), std::invalid_argument);
 }
+
+}  // namespace
+}  // namespace client_address_test

@@ -7,12 +7,13 @@
 
 #include "http/front/client_buckets.hpp"
 
+namespace client_buckets_test {
+namespace {
+
 using locus::http::ClientBuckets;
 
-namespace {
 // "c12": appended, as GCC 12 misreads "c" + std::to_string(i) (-Wrestrict).
 std::string name(const char* prefix, int i) { return std::string(prefix).append(std::to_string(i)); }
-}  // namespace
 
 TEST(ClientBuckets, ABurstThenTheRate) {
     ClientBuckets b(2.0, 5, 100);  // 2 a second, 5 at once
@@ -83,3 +84,6 @@ TEST(ClientBuckets, BadParametersAreRefused) {
     EXPECT_THROW(ClientBuckets(1, 0.5, 1), std::invalid_argument);
     EXPECT_THROW(ClientBuckets(1, 1, 0), std::invalid_argument);
 }
+
+}  // namespace
+}  // namespace client_buckets_test

@@ -7,10 +7,11 @@
 #include "directory/service.hpp"
 #include "store/sql_store.hpp"
 
+namespace directory_service_test {
+namespace {
+
 using namespace locus;
 using locus::store::kind;
-
-namespace {
 
 plan::Space space(std::string name, std::vector<std::string> tags, double x0, double x1, std::optional<std::int64_t> room = {},
                   std::string space_kind = "room") {
@@ -41,8 +42,6 @@ struct Site {
         return db.create(kind("rooms"), on, store::Fields({{"name", name}}, std::move(rects))).id;
     }
 };
-
-}  // namespace
 
 TEST(DirectoryPlaces, RoomsTakeTheirSpacesTagsAndUnlinkedSpacesStandAlone) {
     Site s;
@@ -160,3 +159,6 @@ TEST(DirectoryService, AnIndexIsKeptUntilWhatItListsChanges) {
     EXPECT_TRUE(service.of_map(s.map)->places.empty());
     EXPECT_THROW(service.of_map(999), store::NotFound);
 }
+
+}  // namespace
+}  // namespace directory_service_test

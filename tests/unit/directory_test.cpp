@@ -7,9 +7,10 @@
 #include "locus/directory/index.hpp"
 #include "locus/directory/text.hpp"
 
-using namespace locus::directory;
-
+namespace directory_test {
 namespace {
+
+using namespace locus::directory;
 
 std::vector<std::string> names_of(const std::vector<Document>& docs, const std::vector<Hit>& hits) {
     std::vector<std::string> out;
@@ -49,8 +50,6 @@ std::vector<std::string> search(const std::string& q, std::size_t limit = 20) {
     static const Index index(building());
     return names_of(building(), index.search(q, limit));
 }
-
-}  // namespace
 
 TEST(DirectoryText, FoldsCaseAccentsAndCompatibilityForms) {
     EXPECT_EQ(fold("Café"), "cafe");
@@ -177,3 +176,6 @@ TEST(DirectorySearch, AQueryWithoutWordsFindsNothing) {
     EXPECT_TRUE(search(".,;!").empty());
     EXPECT_TRUE(Index().search("room", 10).empty());
 }
+
+}  // namespace
+}  // namespace directory_test

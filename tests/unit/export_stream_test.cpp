@@ -9,6 +9,9 @@
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 
+namespace export_stream_test {
+namespace {
+
 using locus::RssStats;
 using locus::http::ExportStream;
 using locus::store::kind;
@@ -17,8 +20,6 @@ using locus::store::SqlStore;
 using nlohmann::json;
 
 using locus::testing::TempDir;
-
-namespace {
 
 std::string drain(ExportStream& s) {
     std::string out;
@@ -63,8 +64,6 @@ Surveyed survey(SqlStore& repo) {
     return s;
 }
 
-}  // namespace
-
 TEST(ExportStream, WritesTheBytesOfTheWholeDocument) {
     TempDir t("export");
     SqlStore repo(t.path());
@@ -105,3 +104,6 @@ TEST(ExportStream, ReadsOneSnapshotAndHoldsNoWriterBack) {
     EXPECT_EQ(after["rps"].size(), 7u);  // one added, one removed
     EXPECT_EQ(after["rps"].back()["name"], "late");
 }
+
+}  // namespace
+}  // namespace export_stream_test

@@ -9,11 +9,13 @@
 #include "http/validation.hpp"
 #include "store/kinds.hpp"
 
+namespace floor_geo_fields_test {
+namespace {
+
 using nlohmann::json;
 namespace http = locus::http;
 namespace store = locus::store;
 
-namespace {
 const store::Kind& floors() { return store::kind("floors"); }
 const json kGeo = {{"lat", 49.46115181}, {"lon", 11.11114911}, {"x", 50.0}, {"y", 25.0}, {"bearing_deg", -20.736}};
 
@@ -25,7 +27,6 @@ std::string message_of(const json& body, bool create = false) {
     }
     return "ok";
 }
-}  // namespace
 
 TEST(FloorGeoFields, AnObjectBecomesFiveColumnsWithTheBearingInZeroTo360) {
     const auto v = http::validated_fields(floors(), {{"geo", kGeo}, {"elevation_m", -5.7}}, false);
@@ -102,3 +103,6 @@ TEST(FloorGeoFields, AMapBundleFloorCarriesGeoAndElevation) {
         EXPECT_NE(std::string(e.what()).find("buildings[0].floors[0]: 'geo.lat'"), std::string::npos) << e.what();
     }
 }
+
+}  // namespace
+}  // namespace floor_geo_fields_test

@@ -15,9 +15,10 @@
 #include "locus/motion/fusion/baro_floor.hpp"
 #include "build_paths.hpp"
 
-using namespace locus::fusion;
-
+namespace fusion_baro_floor_test {
 namespace {
+
+using namespace locus::fusion;
 
 constexpr double kGround = 1000.0;
 constexpr double kUp35 = 999.5851;  // +3.5 m
@@ -101,8 +102,6 @@ std::vector<Vote> votes_every(double from, double to, double every, int floor) {
 std::vector<Key> two_floor_climb() {
     return {{0, kGround}, {40, kGround}, {52, kUp35}, {82, kUp35}, {94, kUp70}, {124, kUp70}};
 }
-
-}  // namespace
 
 TEST(BaroFloor, HypsometricHeightsMatchTheHandValues) {
     EXPECT_NEAR(hypsometric_height_m(kUp35, kGround), 3.5, 0.002);
@@ -296,3 +295,6 @@ TEST(BaroFloorData, EveryWalksLandmarksFloorsFromPressureAndTheStartFloor) {
     EXPECT_EQ(walks, 37);
     EXPECT_EQ(landmarks, 528);
 }
+
+}  // namespace
+}  // namespace fusion_baro_floor_test

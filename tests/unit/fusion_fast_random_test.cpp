@@ -8,6 +8,9 @@
 
 #include "locus/motion/fusion/fast_random.hpp"
 
+namespace fusion_fast_random_test {
+namespace {
+
 using locus::fusion::FastRandom;
 
 TEST(FastRandom, NormalsHaveTheStandardNormalsMomentsAndTails) {
@@ -67,3 +70,6 @@ TEST(FastRandom, ASeedGivesOneStreamAndACopyContinuesIt) {
     FastRandom zero(0);
     EXPECT_NE(zero.next(), zero.next());  // seed 0 is a seed like any other
 }
+
+}  // namespace
+}  // namespace fusion_fast_random_test

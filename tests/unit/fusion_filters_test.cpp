@@ -11,10 +11,11 @@
 #include "locus/motion/fusion/particle_filter.hpp"
 #include "locus/motion/pdr/heading_convention.hpp"
 
+namespace fusion_filters_test {
+namespace {
+
 using locus::Point;
 using namespace locus::fusion;
-
-namespace {
 
 constexpr double kEast = std::numbers::pi / 2.0;  // θ clockwise from +y
 
@@ -36,8 +37,6 @@ Walkable two_rooms(bool door = true) {
     if (door) w.doors.push_back({{5.0, 4.0}, {5.0, 5.0}});
     return w;
 }
-
-}  // namespace
 
 TEST(Kalman, OneStepByHand) {
     KalmanConfig c;
@@ -213,3 +212,6 @@ TEST(ParticleFilter, SameSeedSameTrack) {
     EXPECT_EQ(a.position().x, b.position().x);
     EXPECT_EQ(a.position().y, b.position().y);
 }
+
+}  // namespace
+}  // namespace fusion_filters_test

@@ -14,10 +14,11 @@
 #include "plan_fixture.hpp"
 #include "sim/scenario.hpp"
 
+namespace fusion_plan_test {
+namespace {
+
 using locus::Point;
 using namespace locus::fusion;
-
-namespace {
 
 constexpr double kEast = std::numbers::pi / 2.0;  // θ clockwise from +y
 
@@ -33,8 +34,6 @@ bool through_the_wall(Point a, Point b) {
     const double y = a.y + (10.0 - a.x) * (b.y - a.y) / (b.x - a.x);
     return y < 3.55 || y > 4.45;
 }
-
-}  // namespace
 
 TEST(PlanWalkable, InsideIsTheSpacesOffTheWalls) {
     const auto w = two_rooms();
@@ -240,3 +239,6 @@ TEST(RoomsPlan, AnLShapedRoomHasNoWallBetweenItsRectangles) {
     EXPECT_TRUE(open_plan.doors.empty());
     EXPECT_TRUE(Walkable::from_plan(open_plan).can_move({1.0, 3.0}, {1.0, 5.0}));  // office 1 → corridor off the door
 }
+
+}  // namespace
+}  // namespace fusion_plan_test

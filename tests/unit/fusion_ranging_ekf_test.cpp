@@ -10,10 +10,11 @@
 #include "locus/motion/fusion/ranging_ekf.hpp"
 #include "locus/ranging/path_loss.hpp"
 
+namespace fusion_ranging_ekf_test {
+namespace {
+
 using namespace locus;
 using namespace locus::fusion;
-
-namespace {
 
 // Six anchors around a 20 m × 8 m room, 1.3 m above the phone (the Kalman-fusion paper's kind of
 // layout).
@@ -34,8 +35,6 @@ std::vector<AnchorReading> scan_at(const std::vector<RangingAnchor>& anchors, Po
     }
     return out;
 }
-
-}  // namespace
 
 TEST(RangingEkf, StaticPhoneNoiseFreeConvergesToTheTruth) {
     const auto anchors = six_anchors();
@@ -150,3 +149,6 @@ TEST(RangingEkf, RefusesAConfigThatWouldTurnTheStateNaN) {
     }
     EXPECT_NO_THROW(RangingEkf({0.0, 0.0}, none, RangingEkfConfig{}));
 }
+
+}  // namespace
+}  // namespace fusion_ranging_ekf_test

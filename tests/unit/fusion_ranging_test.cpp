@@ -13,9 +13,10 @@
 #include "locus/motion/fusion/ranging_fix.hpp"
 #include "locus/ranging/trilateration.hpp"
 
-using namespace locus;
-
+namespace fusion_ranging_test {
 namespace {
+
+using namespace locus;
 
 struct Errors {
     double multilateration = 0, trilateration = 0, pdr = 0, kalman = 0;
@@ -101,10 +102,6 @@ TEST(FusionRanging, CovarianceHasAFloorAndStaysFinite) {
     EXPECT_TRUE(std::isfinite(fusion::ranging_covariance(f).determinant()));
 }
 
-}  // namespace
-
-namespace {
-
 TEST(FusionRanging, MeasurementNoiseIsConfiguredOrTheFixs) {
     ranging::Fix f;
     f.sxx = 4.0;
@@ -133,3 +130,4 @@ TEST(FusionRanging, MeasurementNoiseIsConfiguredOrTheFixs) {
 }
 
 }  // namespace
+}  // namespace fusion_ranging_test

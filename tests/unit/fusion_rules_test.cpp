@@ -6,10 +6,11 @@
 
 #include "locus/motion/fusion/rules.hpp"
 
+namespace fusion_rules_test {
+namespace {
+
 using locus::Point;
 using namespace locus::fusion;
-
-namespace {
 
 FusionInput base(int aps = 5) {
     FusionInput in;
@@ -24,8 +25,6 @@ void expect_point(Point got, double x, double y) {
     EXPECT_NEAR(got.x, x, 1e-12);
     EXPECT_NEAR(got.y, y, 1e-12);
 }
-
-}  // namespace
 
 TEST(FusionRules, NamesRoundTrip) {
     for (Rule r : all_rules()) EXPECT_EQ(parse_rule(to_string(r)), r);
@@ -155,3 +154,6 @@ TEST(FusionRules, RejectsWeightsOutsideZeroToOne) {
     p.proportional2_min_r = -0.1;
     EXPECT_THROW(fuse(Rule::proportional2, base(), p), std::invalid_argument);
 }
+
+}  // namespace
+}  // namespace fusion_rules_test

@@ -21,9 +21,10 @@
 #include "temp_dir.hpp"
 #include "tracks/run_sources.hpp"
 
-namespace tracks = locus::tracks;
-
+namespace fusion_sessions_test {
 namespace {
+
+namespace tracks = locus::tracks;
 
 // A flag one thread raises and another waits for, at most `bound` (then false).
 class Flag {
@@ -93,8 +94,6 @@ struct Sessions : ::testing::Test {
     }
 };
 
-}  // namespace
-
 TEST_F(Sessions, AnotherTracksRunGoesOnWhileOneWaitsInsideItsRun) {
     WaitingSources waiting;
     auto first = std::async(std::launch::async, [&] { run_to_end(sessions, 1, 100.0, &waiting); });
@@ -147,3 +146,6 @@ TEST_F(Sessions, ATrackForgottenDuringItsRunKeepsNoFilter) {
     auto again = sessions.begin(2);
     EXPECT_EQ(again.run(tracks::FusionMethod::walk_pf, {}, std::nullopt, {{102.0, 0.7, 90.0}}, {}, {}, {}, nullptr, nullptr).size(), 1u);
 }
+
+}  // namespace
+}  // namespace fusion_sessions_test

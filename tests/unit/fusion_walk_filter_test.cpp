@@ -11,10 +11,11 @@
 #include "locus/motion/fusion/walk_filter.hpp"
 #include "locus/motion/pdr/heading_convention.hpp"
 
+namespace fusion_walk_filter_test {
+namespace {
+
 using locus::Point;
 namespace fusion = locus::fusion;
-
-namespace {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -30,8 +31,6 @@ const Leg kLoop[] = {{kPi / 2, 43}, {kPi, 14}, {-kPi / 2, 43}, {0.0, 14}, {kPi /
 double azimuth_of(double floor_heading, double offset, bool mirrored) {
     return locus::pdr::wrap_angle((mirrored ? -1.0 : 1.0) * (floor_heading - offset));
 }
-
-}  // namespace
 
 TEST(HeadingAlignment, RecoversRotationAndMirrorFromNoisyFixes) {
     for (const bool mirrored : {false, true}) {
@@ -180,3 +179,6 @@ TEST(WalkFilter, ChangingFloorMovesTheCloudAndKeepsWhatItLearnt) {
     EXPECT_NEAR(moves.position().x, stays.position().x + shift.x, 1e-3);
     EXPECT_NEAR(moves.position().y, stays.position().y + shift.y, 1e-3);
 }
+
+}  // namespace
+}  // namespace fusion_walk_filter_test

@@ -9,9 +9,10 @@
 
 #include "locus/motion/fusion/walk_runner.hpp"
 
-using namespace locus::fusion;
-
+namespace fusion_walk_runner_test {
 namespace {
+
+using namespace locus::fusion;
 
 WalkEvent ev(EventKind kind, double t, std::size_t index) { return {t, kind, index}; }
 
@@ -44,8 +45,6 @@ struct Log {
 };
 
 using Names = std::vector<std::string>;
-
-}  // namespace
 
 TEST(WalkRunner, StepsFirstTakesPressureThenStepsThenFixesThenTicksAtEqualTimes) {
     EXPECT_EQ(time_order(all_kinds()), kStepsFirstOrder);
@@ -192,3 +191,6 @@ TEST(WalkRunner, MergedSourcesTakeTheEarlierSourceFirstAtEqualTimes) {
     EXPECT_EQ(as_is.t, (std::vector<double>{3, 4, 2}));
     EXPECT_EQ(as_is.source, (std::vector<std::size_t>{1, 0, 0}));
 }
+
+}  // namespace
+}  // namespace fusion_walk_runner_test

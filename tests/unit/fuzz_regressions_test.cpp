@@ -12,9 +12,10 @@
 #include "http/crud/store_json.hpp"
 #include "store/sql_store.hpp"
 
-using namespace locus;
-
+namespace fuzz_regressions_test {
 namespace {
+
+using namespace locus;
 
 int status_of(const std::string& body) {
     try {
@@ -24,8 +25,6 @@ int status_of(const std::string& body) {
         return e.status;
     }
 }
-
-}  // namespace
 
 // An object nested in a misplaced object under "scans" opened a reading with no scan to hold
 // it: scans.back() on an empty list (fuzz/corpus/fuzz_localize_request/crash_reading_outside_scan).
@@ -66,3 +65,6 @@ TEST(FuzzRegressions, AHeadingJustBelowNorthIsNorth) {
     EXPECT_EQ(in.steps[0].heading_deg, 0.0);
     EXPECT_EQ(in.steps[1].heading_deg, 270.0);
 }
+
+}  // namespace
+}  // namespace fuzz_regressions_test

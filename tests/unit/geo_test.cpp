@@ -9,6 +9,7 @@
 #include "locus/geo/georeference.hpp"
 #include "locus/geo/tangent_plane.hpp"
 
+namespace geo_test {
 namespace {
 
 using namespace locus::geo;
@@ -189,3 +190,4 @@ TEST(NormaliseBearing, IntoZeroTo360) {
 }
 
 }  // namespace
+}  // namespace geo_test

@@ -15,6 +15,7 @@
 #include "images/test_images.hpp"
 #include "temp_dir.hpp"
 
+namespace image_file_test {
 namespace {
 
 using locus::testing::TempDir;
@@ -101,3 +102,4 @@ TEST(ImageFile, AnythingElseIsRefusedNamingTheFile) {
 }
 
 }  // namespace
+}  // namespace image_file_test

@@ -8,10 +8,11 @@
 #include "http/plans/image_header.hpp"
 #include "images/test_images.hpp"
 
+namespace image_header_test {
+namespace {
+
 using locus::http::ApiError;
 using locus::http::read_image_header;
-
-namespace {
 
 std::string png(unsigned w, unsigned h, png_uint_32 format) {
     png_image image{};
@@ -35,8 +36,6 @@ std::string refusal(const std::string& bytes, const std::string& type) {
     }
     return "accepted";
 }
-
-}  // namespace
 
 TEST(ImageHeader, PngsOfEveryFormatGiveTheirSize) {
     for (const png_uint_32 format : {png_uint_32{PNG_FORMAT_GRAY}, png_uint_32{PNG_FORMAT_RGB}, png_uint_32{PNG_FORMAT_RGBA}, png_uint_32{PNG_FORMAT_GA}}) {
@@ -100,3 +99,6 @@ TEST(ImageHeader, MediaTypesAreComparedWithoutParametersOrCase) {
     EXPECT_EQ(locus::http::media_type(" image/jpeg "), "image/jpeg");
     EXPECT_EQ(locus::http::media_type(""), "");
 }
+
+}  // namespace
+}  // namespace image_header_test

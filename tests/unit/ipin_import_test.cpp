@@ -12,10 +12,11 @@
 #include "datasets/walk_files.hpp"
 #include "walk_survey.hpp"
 
+namespace ipin_import_test {
+namespace {
+
 using namespace locus;
 using namespace locus::tools;
-
-namespace {
 
 std::string message_of(const std::function<void()>& f) {
     try {
@@ -25,8 +26,6 @@ std::string message_of(const std::function<void()>& f) {
     }
     return "";
 }
-
-}  // namespace
 
 TEST(IpinImport, ReadsTheBeaconsFile) {
     const auto b = datasets::parse_ipin_beacons(
@@ -154,3 +153,6 @@ TEST(WalkJobs, BinsBecomeNamedRpsOnTheirFloorsRadioMap) {
     EXPECT_EQ(cell_text(2.5), "2.5");
     EXPECT_EQ(cell_text(0), "0");
 }
+
+}  // namespace
+}  // namespace ipin_import_test

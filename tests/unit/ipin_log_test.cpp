@@ -14,9 +14,10 @@
 #include "datasets/ipin_log.hpp"
 #include "build_paths.hpp"
 
-namespace ipin = locus::datasets::ipin;
-
+namespace ipin_log_test {
 namespace {
+
+namespace ipin = locus::datasets::ipin;
 
 // One line of every tag the app's format header documents, values chosen to be told apart.
 const std::string kAllTags =
@@ -69,8 +70,6 @@ Failure failure_of(const std::string& text, const std::string& file = "walk.txt"
     }
     return {};
 }
-
-}  // namespace
 
 TEST(IpinLog, ReadsEveryTagWithItsValues) {
     const auto log = ipin::parse_log(kAllTags, "all.txt");
@@ -411,8 +410,6 @@ TEST(IpinLog, MissingFileIsALogError) {
 
 // --- The IPIN 2023 Track 3 walks (../shared/data/ipin2023) ---
 
-namespace {
-
 const std::string kTrials = std::string(LOCUS_DATA_DIR) + "/ipin2023/trials";
 
 // The README's local frame: equirectangular around lat 49.46115, lon 11.11115.
@@ -439,8 +436,6 @@ std::string expected_model(int route, int rep) {
     const bool s7 = s7_first ? rep != 3 : rep == 3;
     return s7 ? "SM-G930F" : "SM-A520F";
 }
-
-}  // namespace
 
 TEST(IpinLogData, ReadsTheIpin2023WalksAsTheReadmeDescribes) {
     if (!std::filesystem::is_directory(kTrials)) GTEST_SKIP() << "IPIN 2023 walks not found under " << kTrials;
@@ -572,3 +567,6 @@ TEST(IpinLogData, ReadsTheIpin2023WalksAsTheReadmeDescribes) {
     EXPECT_GE(median(all_sizes), 14.0);
     EXPECT_LE(median(all_sizes), 19.0);
 }
+
+}  // namespace
+}  // namespace ipin_log_test

@@ -8,10 +8,11 @@
 
 #include "ipin_track.hpp"
 
+namespace ipin_track_test {
+namespace {
+
 using namespace locus;
 using namespace locus::tools;
-
-namespace {
 
 // A walk east along y = 0 at 1.2 m/s from t = 10 s: a 0.6 m step every 0.5 s (confirmed at
 // its own time), compass pointing east (the venue frame north-up); a WiFi answer every 2 s
@@ -59,8 +60,6 @@ ipin::TrackerConfig north_up() {
     c.compass_offset_rad = 0.0;
     return c;
 }
-
-}  // namespace
 
 TEST(IpinTrack, PdrWithAKnownStartStandsOnItThenWalksTheCompass) {
     // Steps every 0.5 s from t = 1 s, 0.8 m each, due east; no answer, no barometer.
@@ -131,8 +130,6 @@ TEST(IpinTrack, WalkFilterTracksCloserThanTheAnswersItFuses) {
     EXPECT_LT(filter / n, 0.6 * answers / n) << "filter " << filter / n << " answers " << answers / n;
 }
 
-namespace {
-
 // The steps of Synthetic with no WiFi answer, from a known start at its truth at 10 s, and a
 // GNSS fix every second from 20 s on, `north_m` north of the truth, accuracy 10 m.
 struct GnssWalk {
@@ -149,8 +146,6 @@ struct GnssWalk {
         return ipin::track(tracker, in, kFloors, north_up());
     }
 };
-
-}  // namespace
 
 TEST(IpinTrack, GnssPullsKalmanAndTheWalkFilterAndLeavesPdrAlone) {
     const GnssWalk walk(8.0);
@@ -266,3 +261,6 @@ TEST(IpinTrack, LogBleKeepsEveryBeaconReadingInTimeOrder) {
     EXPECT_EQ(got[1].mac, Bssid("be:ac:20:23:00:02"));  // equal times keep the file's order
     EXPECT_EQ(got[2].mac, Bssid("be:ac:20:23:00:03"));
 }
+
+}  // namespace
+}  // namespace ipin_track_test

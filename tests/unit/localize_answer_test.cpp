@@ -8,13 +8,14 @@
 #include "http/localize/localize_answer.hpp"
 #include "match_fixture.hpp"
 
+namespace localize_answer_test {
+namespace {
+
 using namespace locus;
 using namespace locus::http;
 using locus::localize::Snapshot;
 using locus::match::testing::m;
 using locus::match::testing::rp;
-
-namespace {
 
 Snapshot corridor() {
     Snapshot s;
@@ -30,8 +31,6 @@ LocalizeRequest request(const char* algorithm) {
     return parse_localize_request(std::string(R"({"algorithm":")") + algorithm +
                                   R"(","scans":[[{"bssid":"a","rss":-42},{"bssid":"b","rss":-69}]]})");
 }
-
-}  // namespace
 
 TEST(LocalizeAnswer, PreRenderedCandidatesWriteTheSameBytes) {
     Snapshot plain = corridor();
@@ -65,3 +64,6 @@ TEST(LocalizeAnswer, NearestRpWithItsRoom) {
     EXPECT_EQ(j.at("room").at("name"), "Lab \"A\"");  // escaped on the way out, read back whole
     EXPECT_EQ(j.at("candidates").at(0).at("rp_id"), 11);
 }
+
+}  // namespace
+}  // namespace localize_answer_test

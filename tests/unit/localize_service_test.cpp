@@ -10,11 +10,12 @@
 #include "localize/service.hpp"
 #include "store/sql_store.hpp"
 
+namespace localize_service_test {
+namespace {
+
 using namespace locus;
 using locus::store::kind;
 using Scope = locus::localize::Service::Scope;
-
-namespace {
 
 struct World {
     store::SqlStore store{":memory:"};
@@ -31,8 +32,6 @@ struct World {
         return id;
     }
 };
-
-}  // namespace
 
 TEST(LocalizeService, IndexesFollowWritesMadeStraightToTheStore) {
     World w;
@@ -151,3 +150,6 @@ TEST(LocalizeService, DeletesShowAtOnceEvenInBigIndexes) {
     EXPECT_THROW(service.lookup(Scope::radiomap, w.radiomap), store::NotFound);
     EXPECT_EQ(service.lookup(Scope::map, w.map)->index.size(), 0u);
 }
+
+}  // namespace
+}  // namespace localize_service_test

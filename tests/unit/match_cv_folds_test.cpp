@@ -11,6 +11,7 @@
 
 #include "locus/match/cv_folds.hpp"
 
+namespace match_cv_folds_test {
 namespace {
 
 using namespace locus;
@@ -39,8 +40,6 @@ std::map<Key, int> position_folds(const std::vector<FoldSite>& sites, const std:
     }
     return out;
 }
-
-}  // namespace
 
 TEST(CvFolds, PositionBlocksAreRoundRobinInFirstAppearanceOrder) {
     // Positions A B A C D B E (A and B revisited later): A B C D E are positions 0..4.
@@ -169,3 +168,6 @@ TEST(CvFolds, CoordinatesBeyondACellIndexShareTheOutermostCell) {
     const std::set<int> distinct{folds[0], folds[2], folds[4], folds[5]};
     EXPECT_EQ(distinct.size(), 4u);  // blocks: +far, -far, cell 0, cell 1 on 7 folds
 }
+
+}  // namespace
+}  // namespace match_cv_folds_test

@@ -7,12 +7,13 @@
 
 #include "locus/match/device_offset.hpp"
 
+namespace match_device_offset_test {
+namespace {
+
 using namespace locus;
 using locus::match::DeviceOffset;
 using locus::match::DeviceOffsetConfig;
 using locus::match::Fingerprint;
-
-namespace {
 
 const Fingerprint kPlacedAt = {{"aa:00:00:00:00:01", -50.0}, {"aa:00:00:00:00:02", -60.0}, {"aa:00:00:00:00:03", -70.0},
                                {"aa:00:00:00:00:04", -80.0}};
@@ -24,8 +25,6 @@ Scan read_low(double low_db) {
     s.push_back({"wifi", "bb:00:00:00:00:09", -40.0});
     return s;
 }
-
-}  // namespace
 
 TEST(DeviceOffset, LearnsAPhoneThatReadsLowShrunkByThePrior) {
     DeviceOffset offset;  // prior: 5 looks of 0 dB
@@ -72,3 +71,6 @@ TEST(DeviceOffset, RefusesAConfigurationOutsideItsDomain) {
     EXPECT_THROW(DeviceOffset(DeviceOffsetConfig{3, -1.0, 15.0}), std::invalid_argument);
     EXPECT_THROW(DeviceOffset(DeviceOffsetConfig{3, 5.0, 0.0}), std::invalid_argument);
 }
+
+}  // namespace
+}  // namespace match_device_offset_test

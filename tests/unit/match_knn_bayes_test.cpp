@@ -7,11 +7,12 @@
 #include "locus/match/localize.hpp"
 #include "match_fixture.hpp"
 
+namespace match_knn_bayes_test {
+namespace {
+
 using namespace locus;
 using namespace locus::match;
 using namespace locus::match::testing;
-
-namespace {
 
 Query query(std::vector<std::pair<std::string, double>> aps) {
     std::vector<Reading> r;
@@ -39,8 +40,6 @@ Options knn_options(int k, Distance d = Distance::euclidean) {
     o.representation = Representation::positive;
     return o;
 }
-
-}  // namespace
 
 TEST(Knn, DistancesOverTheUnionOfAps) {
     const auto r = localize(three_rps(), kQuery, Algorithm::knn, knn_options(1));
@@ -128,7 +127,6 @@ TEST(Knn, ExpectedRepresentationScalesByDetectionRate) {
 //   A (0,0):  a mean -50 var 4, heard 10/10 (rate clamped to 0.98)
 //   B (10,0): a mean -60 var 4, heard 5/10;  b mean -70 var 9, heard 10/10 (0.98)
 // Query a -52: ll_A = ln .98 − ½ln(2π·4) − 4/8,  ll_B = ln .5 − ½ln(2π·4) − 64/8 + ln(1 − .98).
-namespace {
 IndexParams bayes_params() {
     IndexParams p;
     p.min_detection = 0.02;
@@ -154,7 +152,6 @@ Options bayes(double sigma_floor, BayesEstimate e, int k = 2) {
     o.outlier_sigmas = 0.0;  // the plain Gaussian; the cap has its own test
     return o;
 }
-}  // namespace
 
 TEST(Bayes, GaussianLogLikelihoodWithDetectionRates) {
     const auto r = localize(two_rps(), query({{"a", -52}}), Algorithm::bayes, bayes(1.0, BayesEstimate::map));
@@ -226,12 +223,10 @@ TEST(Bayes, OutlierCapBoundsEachApsResidual) {
 }
 
 // A whole map: building 1 floor 10 holds RP1 (0,0) and RP2 (4,0); floor 20 holds RP3 (2,0).
-namespace {
 Index whole_map() {
     return Index::build({rp(1, {0, 0}, {m("a", -50), m("b", -60)}, 10, 1), rp(2, {4, 0}, {m("a", -50), m("c", -60)}, 10, 1),
                          rp(3, {2, 0}, {m("a", -50), m("d", -60)}, 20, 1), rp(4, {2, 0}, {m("e", -50)}, 30, 2)});
 }
-}  // namespace
 
 TEST(FloorDetection, MajorityOfATiedSetAndOnlyItsRpsInTheCentroid) {
     const auto r = localize(whole_map(), query({{"a", -50}}), Algorithm::bsb);
@@ -303,7 +298,6 @@ TEST(Bayes, BayesKSizesThePosteriorMeanApartFromK) {
 // Query a -50 (variance 4, σ floor 1, T = 1): ll2 = ll3 = ll1 − 16/8, so the posterior shares
 // are floor 10: 1/(1 + 2e⁻²) = 0.787, floor 20: 0.213. Manhattan over positive reps: RP1 at
 // 0, RP2 and RP3 at 4, so the 3 nearest give floor 10 one third and floor 20 two thirds.
-namespace {
 Index split_floors() {
     return Index::build({rp(1, {0, 0}, {m("a", -50, 4.0)}, 10), rp(2, {10, 0}, {m("a", -54, 4.0)}, 20),
                          rp(3, {20, 0}, {m("a", -54, 4.0)}, 20)},
@@ -318,7 +312,6 @@ Options floor_vote(int floor_knn, double weight) {
     o.floor_aps = 0;
     return o;
 }
-}  // namespace
 
 TEST(FloorDetection, BayesFloorVoteMixesPosteriorAndKnnShares) {
     const Query q = query({{"a", -50}});
@@ -378,7 +371,6 @@ TEST(FloorDetection, FloorTemperatureFlattensOnlyTheFloorVote) {
 // home floor is 20, but with ll4 = ll1 − 20²/8 RP4 carries no posterior weight. The shares
 // stay floor 10: p10 = 1/(1 + 2e⁻² + e⁻⁵⁰) = 0.787, floor 20: 1 − p10. With the AP vote of
 // weight w, floor 20 wins once (1 − w)(2·p10 − 1) < w, i.e. w > 0.365.
-namespace {
 Index split_floors_with_loud_rp() {
     return Index::build({rp(1, {0, 0}, {m("a", -50, 4.0)}, 10), rp(2, {10, 0}, {m("a", -54, 4.0)}, 20),
                          rp(3, {20, 0}, {m("a", -54, 4.0)}, 20), rp(4, {30, 0}, {m("a", -30, 4.0)}, 20)},
@@ -390,7 +382,6 @@ Options ap_vote(double weight) {
     o.floor_ap_weight = weight;
     return o;
 }
-}  // namespace
 
 TEST(Index, StrongestRpOfAnAp) {
     const Index idx = split_floors_with_loud_rp();
@@ -461,3 +452,6 @@ TEST(FloorDetection, OneFloorIndexAnswersAsTheWholeMapDoesForThatFloor) {
     EXPECT_DOUBLE_EQ(near->at.x, 15.0);
     EXPECT_EQ(near->candidates.size(), 2u);
 }
+
+}  // namespace
+}  // namespace match_knn_bayes_test

@@ -6,6 +6,7 @@
 #include "locus/match/quality.hpp"
 #include "match_fixture.hpp"
 
+namespace match_quality_test {
 namespace {
 
 using namespace locus;
@@ -33,8 +34,6 @@ Setting knn1() {
 }
 
 long long level(long long floor) { return floor; }
-
-}  // namespace
 
 TEST(MatchQuality, EachRpGetsItsOwnErrorAndTheirMeanIsTunes) {
     auto rps = corridor(10);
@@ -74,3 +73,6 @@ TEST(MatchQuality, IsBoundedAndRefusesTooFewRps) {
     EXPECT_EQ(assessed, 12u);
     EXPECT_THROW(held_out_errors(corridor(1), Setting{}, level), TuneRefused);
 }
+
+}  // namespace
+}  // namespace match_quality_test

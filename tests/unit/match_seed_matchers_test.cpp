@@ -13,11 +13,12 @@
 #include "locus/match/localize.hpp"
 #include "match_fixture.hpp"
 
+namespace match_seed_matchers_test {
+namespace {
+
 using namespace locus;
 using namespace locus::match;
 using namespace locus::match::testing;
-
-namespace {
 
 Index three_rps() {
     return Index::build({rp(1, {0, 0}, {m("a", -50), m("b", -60), m("c", -70)}),
@@ -32,8 +33,6 @@ Query query(std::vector<std::pair<std::string, double>> aps) {
 }
 
 const Query kQuery = query({{"a", -52}, {"b", -62}});
-
-}  // namespace
 
 TEST(Bsb, ReportsEveryTiedRpAndAnswersTheirCentroid) {
     const auto r = localize(three_rps(), kQuery, Algorithm::bsb);
@@ -212,3 +211,6 @@ TEST(Names, ParseAndPrintRoundTrip) {
     EXPECT_EQ(parse_bayes_estimate("map"), BayesEstimate::map);
     EXPECT_FALSE(parse_distance("cosine"));
 }
+
+}  // namespace
+}  // namespace match_seed_matchers_test

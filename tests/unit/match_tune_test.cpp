@@ -6,6 +6,7 @@
 #include "locus/match/tune.hpp"
 #include "match_fixture.hpp"
 
+namespace match_tune_test {
 namespace {
 
 using namespace locus;
@@ -36,8 +37,6 @@ TuneCandidate knn(int k) {
 }
 
 long long level(long long floor) { return floor; }
-
-}  // namespace
 
 TEST(MatchTune, PicksTheSettingWithTheLowestCvErrorWhateverItsPlaceInTheGrid) {
     const auto rps = corridor(15);
@@ -138,3 +137,6 @@ TEST(MatchTune, BlocksThatLeaveOneFoldFallBackToTheShuffle) {
     for (std::size_t i = 0; i < grid.size(); ++i)
         EXPECT_DOUBLE_EQ(one_cell.rows[i].mean_error_m, shuffled.rows[i].mean_error_m) << grid[i].name;
 }
+
+}  // namespace
+}  // namespace match_tune_test

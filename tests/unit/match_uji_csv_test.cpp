@@ -10,11 +10,12 @@
 #include "datasets/uji_csv.hpp"
 #include "build_paths.hpp"
 
+namespace match_uji_csv_test {
+namespace {
+
 namespace uji = locus::datasets::uji;
 
-namespace {
 const std::string kTiny = std::string(LOCUS_TEST_FIXTURES) + "/uji_tiny.csv";
-}
 
 TEST(UjiCsv, ReadsRowsSkippingNotDetectedAndBadValues) {
     const uji::Data d = uji::read_file(kTiny);
@@ -143,3 +144,6 @@ TEST(UjiCsv, MinRssIsTheLowestValidReading) {
     EXPECT_EQ(uji::min_rss(d, {2}), -60.0);
     EXPECT_EQ(uji::min_rss(d, {3}), std::nullopt);
 }
+
+}  // namespace
+}  // namespace match_uji_csv_test

@@ -14,11 +14,12 @@
 #include "locus/match/workspace.hpp"
 #include "match_fixture.hpp"
 
+namespace match_workspace_test {
+namespace {
+
 using namespace locus;
 using namespace locus::match;
 using namespace locus::match::testing;
-
-namespace {
 
 // The AP at grid point (ax, ay) of a floor: "b0f1-24".
 std::string ap_name(int building, int floor, int ax, int ay) {
@@ -142,8 +143,6 @@ void expect_same(const Answers& got, const Answers& want) {
     }
 }
 
-}  // namespace
-
 // The fixture must make the comparisons below mean something: answers on several floors and
 // in both buildings, and bayes' floor vote with more than one floor to choose from.
 TEST(Workspace, FixtureAnswersOnEveryFloor) {
@@ -198,3 +197,6 @@ TEST(Workspace, OnePerThreadOnOneIndex) {
     for (auto& t : threads) t.join();
     for (const auto& out : got) expect_same(out, want);
 }
+
+}  // namespace
+}  // namespace match_workspace_test

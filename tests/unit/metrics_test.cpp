@@ -6,6 +6,7 @@
 
 #include "locus/metrics.hpp"
 
+namespace metrics_test {
 namespace {
 
 using locus::metrics::mean;
@@ -70,3 +71,4 @@ TEST(Mean, OfValues) {
 }
 
 }  // namespace
+}  // namespace metrics_test

@@ -7,9 +7,10 @@
 #include "locus/motion/pdr/heading_convention.hpp"
 #include "locus/motion/pdr/heading_estimator.hpp"
 
-using namespace locus::pdr;
-
+namespace pdr_heading_test {
 namespace {
+
+using namespace locus::pdr;
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.80665;
@@ -37,8 +38,6 @@ Vec3 gravity_reading(const Mat& r) { return to_device(r, {0, 0, kG}); }
 Vec3 field_reading(const Mat& r) { return to_device(r, kField); }
 
 double angle_diff(double a, double b) { return std::abs(wrap_angle(a - b)); }
-
-}  // namespace
 
 TEST(Compass, HandComputedFlatCases) {
     // Flat, screen up, +y to magnetic north.
@@ -94,8 +93,6 @@ TEST(LowPass3, SeedFilter) {
     EXPECT_DOUBLE_EQ(v.y, 2.0);
 }
 
-namespace {
-
 // Feeds a static device at azimuth psi for `seconds` at `rate` Hz (all three sensors), gyro w.
 void feed(HeadingEstimator& h, double& t, double seconds, double rate, const Mat& r, Vec3 w = {}, double field_scale = 1.0) {
     const int n = static_cast<int>(std::lround(seconds * rate));
@@ -106,8 +103,6 @@ void feed(HeadingEstimator& h, double& t, double seconds, double rate, const Mat
         h.push_gyro(t, w);
     }
 }
-
-}  // namespace
 
 TEST(HeadingEstimator, ComplementaryFilterCrossesTheWrapTheShortWay) {
     HeadingEstimator h;
@@ -203,3 +198,6 @@ TEST(HeadingEstimator, NorthOffsetAndLocalNorthCalibration) {
     // Without the floor offset the same calibration still holds relative to the new frame.
     EXPECT_LT(angle_diff(*h.heading(), deg(110)), 1e-9);
 }
+
+}  // namespace
+}  // namespace pdr_heading_test

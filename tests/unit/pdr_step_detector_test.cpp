@@ -8,9 +8,10 @@
 #include "locus/motion/pdr/step_detector.hpp"
 #include "locus/motion/pdr/vec3.hpp"
 
-using namespace locus::pdr;
-
+namespace pdr_step_detector_test {
 namespace {
+
+using namespace locus::pdr;
 
 constexpr double kG = 9.80665;
 constexpr double kPi = std::numbers::pi;
@@ -61,8 +62,6 @@ Run walk(StepDetector& d, const Walk& w, int steps, double t_start = 0.0) {
     while (auto e = d.poll()) r.events.push_back(*e);
     return r;
 }
-
-}  // namespace
 
 TEST(StepDetector, CountsSyntheticWalkAtSeveralRatesAndNoiseLevels) {
     for (double rate : {50.0, 100.0, 200.0, 400.0}) {
@@ -179,8 +178,6 @@ TEST(StepDetector, PlatformStepsCount) {
     EXPECT_DOUBLE_EQ(e1.amplitude(), 0.0);  // no accelerometer step seen yet
 }
 
-namespace {
-
 // Phone in a hand swinging like a pendulum from the shoulder: arm angle φ = φ0 sin(ωt) at the
 // stride frequency (half the step rate), plus the body's bounce at the step rate and a
 // stride-rate vertical sway that makes alternate bumps unequal. The accelerometer reads the hand's
@@ -212,8 +209,6 @@ std::uint64_t swinging_arm(double rate_hz, int strides, double sway, const StepD
     return d.steps();
 }
 
-}  // namespace
-
 // The pendulum's centripetal term L·φ'² peaks twice per swing, so |a| varies at the step rate
 // even though the arm swings at the stride rate: the peak detector must count steps, not strides
 // (a stride-rate count would be ~50 here). ±2 allows for the abrupt start and end of the swing.
@@ -241,3 +236,6 @@ TEST(StepDetector, SwingingArmAtStrideRateWhenStepsAreForbidden) {
     c.min_step_interval_s = 0.6;
     EXPECT_NEAR(static_cast<double>(swinging_arm(100.0, 50, 1.5, c)), 50.0, 2.0);
 }
+
+}  // namespace
+}  // namespace pdr_step_detector_test

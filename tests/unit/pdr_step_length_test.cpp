@@ -5,6 +5,9 @@
 
 #include "locus/motion/pdr/step_length.hpp"
 
+namespace pdr_step_length_test {
+namespace {
+
 using namespace locus::pdr;
 
 TEST(StepLength, StaticSsl) {
@@ -47,3 +50,6 @@ TEST(StepLength, ModelKindsAndFallback) {
     m.kind = StepLengthKind::weinberg;
     EXPECT_EQ(m.length(StepEvent{1.0, 0.0, 0.0}), kConstantStepLength);  // platform step, no amplitude
 }
+
+}  // namespace
+}  // namespace pdr_step_length_test

@@ -6,10 +6,12 @@
 #include "locus/motion/pdr/pipeline.hpp"
 #include "locus/motion/pdr/tracker.hpp"
 
+namespace pdr_tracker_test {
+namespace {
+
 using namespace locus;
 using namespace locus::pdr;
 
-namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.80665;
 
@@ -29,7 +31,6 @@ FloorPlan two_rooms() {
     p.pois.push_back({1, "Exit", "exit", {12.0, 2.0}});
     return p;
 }
-}  // namespace
 
 TEST(Tracker, StepsFollowTheSpecConvention) {
     Tracker t({5, 5}, nullptr, constant(0.7));
@@ -167,3 +168,6 @@ TEST(Pipeline, PlatformStepsUseTheCurrentHeading) {
     EXPECT_EQ(p.tracker().steps(), 2u);
     EXPECT_EQ(p.step_detector().steps(), 2u);
 }
+
+}  // namespace
+}  // namespace pdr_tracker_test

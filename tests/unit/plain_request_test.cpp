@@ -12,10 +12,11 @@
 #include "http/localize/plain_localize_request.hpp"
 #include "build_paths.hpp"
 
+namespace plain_request_test {
+namespace {
+
 using namespace locus;
 using namespace locus::http;
-
-namespace {
 
 std::optional<LocalizeRequest> full(const std::string& body) {
     try {
@@ -57,8 +58,6 @@ const std::vector<std::string> kPlain = {
     R"({"scans":[[{"bssid":"a","rss":0},{"bssid":"b","rss":-0},{"bssid":"c","rss":-120},{"bssid":"a","rss":-10.0}]]})",
     R"({"scans":[[{"type":"ble","bssid":")" + std::string(63, 'q') + R"(","rss":-99}]],"algorithm":"knn"})",
 };
-
-}  // namespace
 
 TEST(PlainRequest, TakesThePlainShapesAndAgreesWithTheFullParser) {
     for (const auto& body : kPlain) expect_fast(body);
@@ -153,3 +152,6 @@ TEST(PlainRequest, RealScansTakeTheFastPath) {
     }
     EXPECT_GT(checked, 150u);
 }
+
+}  // namespace
+}  // namespace plain_request_test

@@ -13,11 +13,12 @@
 #include "locus/plan/ring.hpp"
 #include "plan_fixture.hpp"
 
+namespace plan_barrier_cells_test {
+namespace {
+
 using locus::Point;
 using locus::Segment;
 using namespace locus::plan;
-
-namespace {
 
 // two_rooms (West x ∈ [0, 10], East x ∈ [10, 20], y ∈ [0, 8], door at (10, 4)) with a pillar
 // in West, a slanted wall in East and a wall running out of the floor on the south side.
@@ -34,8 +35,6 @@ std::vector<Segment> barriers_of(const WalkGrid& g) {
     all.insert(all.end(), g.jambs.begin(), g.jambs.end());
     return all;
 }
-
-}  // namespace
 
 TEST(BarrierCells, CrossingsAreThoseOfTestingEveryBarrier) {
     const WalkGrid g = build_walk_grid(busy_plan());
@@ -111,3 +110,6 @@ TEST(PlanWalkable, CellTestsAgreeWithTestingEveryPolygonAndWall) {
     EXPECT_TRUE(w.can_move({9.85, 4.0}, {10.15, 4.0}));
     EXPECT_GT(w.memory_bytes(), static_cast<std::size_t>(w.grid().cell_count()));
 }
+
+}  // namespace
+}  // namespace plan_barrier_cells_test

@@ -6,9 +6,10 @@
 #include "locus/plan/check.hpp"
 #include "plan_fixture.hpp"
 
-using namespace plan_fixture;
-
+namespace plan_check_test {
 namespace {
+
+using namespace plan_fixture;
 
 // The problems about `feature`, so a test sees that the right feature was blamed.
 std::vector<PlanProblem> about(const std::vector<PlanProblem>& all, const std::string& feature) {
@@ -25,8 +26,6 @@ void expect_only_problem(const Plan& p, const std::string& feature, const std::s
     EXPECT_EQ(problems[0].feature, feature);
     EXPECT_NE(problems[0].problem.find(words), std::string::npos) << problems[0].problem;
 }
-
-}  // namespace
 
 TEST(PlanCheck, WellFormedPlanHasNoProblems) {
     Plan p = two_rooms();
@@ -145,3 +144,6 @@ TEST(PlanCheckLinks, FloorGivenTwiceIsReported) {
     Plan a = two_rooms();
     EXPECT_EQ(about(check_links({{1, &a}, {1, &a}}), "floor 1").size(), 1u);
 }
+
+}  // namespace
+}  // namespace plan_check_test

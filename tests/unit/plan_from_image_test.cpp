@@ -12,6 +12,7 @@
 #include "locus/plan/route.hpp"
 #include "locus/plan/walk_grid.hpp"
 
+namespace plan_from_image_test {
 namespace {
 
 using locus::Point;
@@ -197,3 +198,4 @@ TEST(PlanFromImage, BadInputIsRefusedByName) {
 }
 
 }  // namespace
+}  // namespace plan_from_image_test

@@ -6,12 +6,13 @@
 
 #include "plan_fixture.hpp"
 
+namespace plan_geojson_test {
+namespace {
+
 using namespace locus;
 using namespace locus::plan;
 using namespace plan_fixture;
 using nlohmann::json;
-
-namespace {
 
 Plan every_feature_kind() {
     Plan p = two_rooms();
@@ -27,8 +28,6 @@ Plan every_feature_kind() {
     p.connectors.push_back(c);
     return p;
 }
-
-}  // namespace
 
 TEST(PlanGeoJson, EveryFeatureKindSurvivesTheRoundTrip) {
     const Plan p = every_feature_kind();
@@ -72,3 +71,6 @@ TEST(PlanGeoJson, ABadFeatureIsNamedByItsIndexAndName) {
     twice["features"].push_back(twice["features"].back());
     EXPECT_THROW(from_geojson(twice), GeoJsonError);  // connector id used twice
 }
+
+}  // namespace
+}  // namespace plan_geojson_test

@@ -5,10 +5,11 @@
 
 #include "locus/plan/instructions.hpp"
 
+namespace plan_instructions_test {
+namespace {
+
 using locus::Point;
 using namespace locus::plan;
-
-namespace {
 
 Leg leg(std::vector<Point> path) { return Leg{1, 0, std::move(path), 0.0}; }
 
@@ -17,8 +18,6 @@ std::vector<std::string> texts(const std::vector<Step>& steps) {
     for (const Step& s : steps) out.push_back(s.text);
     return out;
 }
-
-}  // namespace
 
 TEST(PlanInstructions, LShapedLegIsWalkTurnLeftWalkArrive) {
     const auto steps = instructions({leg({{0, 0}, {10, 0}, {10, 12}})}, {});
@@ -73,3 +72,6 @@ TEST(PlanInstructions, ConnectorsSayKindDirectionAndLevel) {
 TEST(PlanInstructions, ShortWalkIsAtLeastOneMetre) {
     EXPECT_EQ(instructions({leg({{0, 0}, {0.3, 0}})}, {})[0].text, "Walk 1 m");
 }
+
+}  // namespace
+}  // namespace plan_instructions_test

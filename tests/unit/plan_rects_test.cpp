@@ -6,9 +6,10 @@
 #include "locus/plan/rects.hpp"
 #include "plan_fixture.hpp"
 
-using namespace plan_fixture;
-
+namespace plan_rects_test {
 namespace {
+
+using namespace plan_fixture;
 
 double area(const std::vector<locus::Rect>& rs) {
     double a = 0;
@@ -26,8 +27,6 @@ bool disjoint(const std::vector<locus::Rect>& rs) {
         }
     return true;
 }
-
-}  // namespace
 
 TEST(PlanRects, ARectangleIsOneRect) {
     const auto rs = rects_of({rect(2, 1, 7, 4), {}});
@@ -148,3 +147,6 @@ TEST(PlanRects, ACombOfManyTeethIsJoinedAcrossItsNarrowestGaps) {
     EXPECT_FALSE(covered({5, bottom(24) + 1 + 2.5}));
     for (int i = 0; i < 50; ++i) EXPECT_TRUE(covered({5, bottom(i) + 0.5})) << "tooth " << i;
 }
+
+}  // namespace
+}  // namespace plan_rects_test

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+namespace plan_remap_test {
+namespace {
+
 using locus::plan::Connector;
 using locus::plan::ConnectorLink;
 using locus::plan::Plan;
@@ -52,3 +55,6 @@ TEST(PlanRemap, APlanOfTheSameFloorIsUnchanged) {
     EXPECT_EQ(plan.spaces[0].room_id, 4);
     EXPECT_FALSE(report.changed());
 }
+
+}  // namespace
+}  // namespace plan_remap_test

@@ -3,13 +3,14 @@
 
 #include "locus/plan/ring.hpp"
 
+namespace plan_ring_test {
+namespace {
+
 using locus::Point;
 using locus::plan::Polygon;
 using locus::plan::Ring;
 
-namespace {
 Ring rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}}; }
-}  // namespace
 
 TEST(PlanRing, InteriorPointOfAConvexSpaceIsItsCentroid) {
     const Point p = locus::plan::interior_point({rect(10, 4, 20, 10), {}});
@@ -27,3 +28,6 @@ TEST(PlanRing, InteriorPointOfAUOrACourtyardIsInsideIt) {
     const Point pr = locus::plan::interior_point(ring);
     EXPECT_TRUE(locus::plan::polygon_contains(ring, pr)) << pr.x << ", " << pr.y;
 }
+
+}  // namespace
+}  // namespace plan_ring_test

@@ -5,9 +5,10 @@
 #include "locus/plan/route.hpp"
 #include "plan_fixture.hpp"
 
-using namespace plan_fixture;
-
+namespace plan_route_test {
 namespace {
+
+using namespace plan_fixture;
 
 Building one_floor(Plan p) { return build_building({{1, 0, std::move(p)}}); }
 
@@ -66,8 +67,6 @@ Plan lab_or_corridor(bool with_corridor) {
     }
     return p;
 }
-
-}  // namespace
 
 TEST(PlanRoute, LCorridorLengthIsTheAnalyticShortestWithin2Percent) {
     const Building b = one_floor(l_corridor());
@@ -296,3 +295,6 @@ TEST(PlanRoute, AvoidByRoomId) {
     ASSERT_EQ(o.avoid.size(), 1u);
     EXPECT_GT(route(b, {1, {5, 5}}, {1, {25, 5}}, o).length_m, 30.0);
 }
+
+}  // namespace
+}  // namespace plan_route_test

@@ -3,9 +3,10 @@
 #include "locus/plan/walk_grid.hpp"
 #include "plan_fixture.hpp"
 
-using namespace plan_fixture;
-
+namespace plan_walk_grid_test {
 namespace {
+
+using namespace plan_fixture;
 
 // Every allowed move as a segment between cell centres.
 std::vector<locus::Segment> moves_of(const WalkGrid& g) {
@@ -15,8 +16,6 @@ std::vector<locus::Segment> moves_of(const WalkGrid& g) {
             if (g.moves[static_cast<std::size_t>(c)] & (1u << d)) out.push_back({g.centre(c), g.centre(c + kDirCol[d] + kDirRow[d] * g.cols)});
     return out;
 }
-
-}  // namespace
 
 TEST(PlanWalkGrid, FreeCellsKeepTheThresholdAndMovesCrossTheWallOnlyAtTheDoor) {
     const WalkGrid g = build_walk_grid(two_rooms());
@@ -93,3 +92,6 @@ TEST(PlanWalkGrid, BarrierTestsAreExact) {
     EXPECT_FALSE(g.keeps_clearance({9, 4.3}, {11, 4.3})) << "0.2 m past the jamb's clear radius";
     EXPECT_FALSE(g.keeps_clearance({2, 7.8}, {6, 7.8})) << "0.2 m from the outline";
 }
+
+}  // namespace
+}  // namespace plan_walk_grid_test

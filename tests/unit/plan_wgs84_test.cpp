@@ -7,12 +7,13 @@
 
 #include "locus/plan/geojson.hpp"
 
+namespace plan_wgs84_test {
+namespace {
+
 using locus::geo::FloorToEarth;
 using locus::geo::Georeference;
 using nlohmann::json;
 namespace plan = locus::plan;
-
-namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -34,8 +35,6 @@ double ring_area(const json& ring) {
         a += ring[i][0].get<double>() * ring[i + 1][1].get<double>() - ring[i + 1][0].get<double>() * ring[i][1].get<double>();
     return a;
 }
-
-}  // namespace
 
 TEST(PlanWgs84, PositionsAreLongitudeLatitudeWithSevenDecimals) {
     const json out = plan::plan_to_wgs84(square(false), nuremberg());
@@ -96,3 +95,6 @@ TEST(PlanWgs84, PositionsOutOfRangeNameTheirFeature) {
     doc["features"][1]["geometry"]["coordinates"] = {"a", 1};
     EXPECT_THROW(plan::plan_from_wgs84(doc, nuremberg()), plan::GeoJsonError);
 }
+
+}  // namespace
+}  // namespace plan_wgs84_test

@@ -8,6 +8,9 @@
 #include <chrono>
 #include <cmath>
 
+namespace proc_status_test {
+namespace {
+
 using locus::tools::proc_cpu_seconds;
 using locus::tools::proc_status_kb;
 
@@ -35,3 +38,6 @@ TEST(ProcStatus, AProcessThatIsNotThere) {
     EXPECT_EQ(proc_cpu_seconds(999'999'999), -1.0);
     EXPECT_EQ(proc_status_kb(999'999'999, "VmRSS:"), -1);
 }
+
+}  // namespace
+}  // namespace proc_status_test

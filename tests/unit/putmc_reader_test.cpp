@@ -8,9 +8,10 @@
 #include "datasets/putmc.hpp"
 #include "build_paths.hpp"
 
-namespace putmc = locus::datasets::putmc;
-
+namespace putmc_reader_test {
 namespace {
+
+namespace putmc = locus::datasets::putmc;
 
 std::string error_of(auto&& f) {
     try {
@@ -22,8 +23,6 @@ std::string error_of(auto&& f) {
 }
 
 const std::string kFixtures = std::string(LOCUS_TEST_FIXTURES) + "/putmc";
-
-}  // namespace
 
 TEST(PutmcReader, ParsesAccAndOrient) {
     const auto acc = putmc::parse_acc("1000000000 0.5 1.5 9.8\n\n2500000000 -1 0 9\n", "acc.map");
@@ -93,3 +92,6 @@ TEST(PutmcReader, ReadsTheFixture) {
     EXPECT_NEAR(walk.truth_of(walk.scans[2]).x, 68.45168629973317, 1e-9);
     EXPECT_NE(error_of([] { putmc::read_walk(kFixtures + "/nowhere"); }).find("cannot open"), std::string::npos);
 }
+
+}  // namespace
+}  // namespace putmc_reader_test

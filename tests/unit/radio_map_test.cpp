@@ -4,6 +4,9 @@
 
 #include "locus/radio_map.hpp"
 
+namespace radio_map_test {
+namespace {
+
 using namespace locus;
 
 TEST(RadioMap, AggregateScansKeepsFirstSeenOrderPerTypeAndBssid) {
@@ -63,3 +66,6 @@ TEST(RadioMap, ABssidIsAlwaysInItsNormalForm) {
     EXPECT_EQ(Bssid::stored("already:normal").str(), "already:normal");
     EXPECT_TRUE(Bssid().empty());
 }
+
+}  // namespace
+}  // namespace radio_map_test

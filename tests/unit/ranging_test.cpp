@@ -8,13 +8,16 @@
 #include <random>
 #include <vector>
 
+#include "locus/ranging/fit.hpp"
 #include "locus/ranging/path_loss.hpp"
+#include "locus/ranging/propagation.hpp"
 #include "locus/ranging/trilateration.hpp"
+
+namespace ranging_test {
+namespace {
 
 using namespace locus;
 using namespace locus::ranging;
-
-namespace {
 
 // The Kalman-fusion paper's layout: anchors around a 20 m × 6 m corridor.
 std::vector<Transmitter> corridor() {
@@ -149,12 +152,6 @@ TEST(Ellipse, AxesAndAngleOfACovariance) {
     EXPECT_NEAR(turned.semi_minor, 1.0, 1e-9);
 }
 
-}  // namespace
-
-#include "locus/ranging/fit.hpp"
-
-namespace {
-
 std::vector<Sample> survey_of(const Transmitter& t, double sigma, unsigned seed) {
     std::mt19937 rng(seed);
     std::normal_distribution<double> noise(0.0, sigma > 0 ? sigma : 1.0);
@@ -201,12 +198,6 @@ TEST(Fit, TooFewOrDegenerateSamplesAreNothing) {
     EXPECT_FALSE(fit_model(ring, t.at, 0.0));
 }
 
-}  // namespace
-
-#include "locus/ranging/propagation.hpp"
-
-namespace {
-
 TEST(Propagation, WallsCrossedMatchABruteForceCount) {
     std::vector<Segment> walls;
     std::mt19937 rng(5);
@@ -238,3 +229,4 @@ TEST(Propagation, EachWallCostsItsAttenuation) {
 }
 
 }  // namespace
+}  // namespace ranging_test

@@ -11,9 +11,10 @@
 
 #include "locus/motion/relative/acoustic.hpp"
 
-using namespace locus::relative;
-
+namespace relative_acoustic_test {
 namespace {
+
+using namespace locus::relative;
 
 struct Emission {
     double at;         // global time the chirp leaves the speaker (s)
@@ -34,8 +35,6 @@ std::vector<double> record(const ChirpParams& p, double start, std::size_t n, co
     }
     return x;
 }
-
-}  // namespace
 
 TEST(AcousticRanging, ChirpSweepsFromF0ToF1) {
     ChirpParams p;
@@ -112,3 +111,6 @@ TEST(AcousticRanging, Finds16BitPcmChirpsWhereTheyWerePlaced) {
     EXPECT_EQ(d[1].sample, 4000u);
     EXPECT_GT(d[0].strength, 5.0 * d[1].strength);
 }
+
+}  // namespace
+}  // namespace relative_acoustic_test

@@ -9,6 +9,9 @@
 #include "locus/motion/relative/direction_estimator.hpp"
 #include "locus/motion/relative/phone_rssi.hpp"
 
+namespace relative_direction_test {
+namespace {
+
 using namespace locus;
 using namespace locus::relative;
 
@@ -138,3 +141,6 @@ TEST(PhoneRssi, LogDistanceRoundTripAndMeanInDb) {
     EXPECT_NEAR(phone_distance(link, readings), 10.0, 1e-9);
     EXPECT_THROW(phone_distance(link, std::span<const double>{}), std::invalid_argument);
 }
+
+}  // namespace
+}  // namespace relative_direction_test

@@ -12,6 +12,9 @@
 #include "locus/motion/relative/range_fit.hpp"
 #include "locus/motion/relative/range_kalman.hpp"
 
+namespace relative_range_kalman_test {
+namespace {
+
 using namespace locus::relative;
 
 TEST(RangeKalman, SmoothsRssiOnAWalkAtTheTarget) {
@@ -77,3 +80,6 @@ TEST(RangeFit, AStraightWalkTakesThePreferredSide) {
     EXPECT_NEAR(right->y, -5.0, 0.05);
     EXPECT_NEAR(left->x, 12.0, 0.05);
 }
+
+}  // namespace
+}  // namespace relative_range_kalman_test

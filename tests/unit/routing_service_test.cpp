@@ -5,10 +5,11 @@
 #include "routing/service.hpp"
 #include "store/sql_store.hpp"
 
+namespace routing_service_test {
+namespace {
+
 using namespace locus;
 using locus::store::kind;
-
-namespace {
 
 plan::Plan corridor(double length) {
     plan::Plan p;
@@ -18,8 +19,6 @@ plan::Plan corridor(double length) {
     p.spaces.push_back(s);
     return p;
 }
-
-}  // namespace
 
 TEST(RoutingService, AGraphIsKeptUntilAPlanOrTheHierarchyChanges) {
     store::SqlStore db(":memory:");
@@ -54,3 +53,6 @@ TEST(RoutingService, AGraphIsKeptUntilAPlanOrTheHierarchyChanges) {
     EXPECT_TRUE(service.building(map)->floors.empty());
     EXPECT_THROW(service.building(999), store::NotFound);
 }
+
+}  // namespace
+}  // namespace routing_service_test

@@ -6,10 +6,12 @@
 
 #include "locus/rss_stats.hpp"
 
+namespace rss_stats_test {
+namespace {
+
 using locus::kMaxCount;
 using locus::RssStats;
 
-namespace {
 RssStats naive(const std::vector<double>& v) {
     double mean = 0.0;
     for (double x : v) mean += x;
@@ -18,7 +20,6 @@ RssStats naive(const std::vector<double>& v) {
     for (double x : v) m2 += (x - mean) * (x - mean);
     return {mean, m2 / static_cast<double>(v.size()), static_cast<std::int64_t>(v.size())};
 }
-}  // namespace
 
 TEST(RssStats, SingleSampleHasZeroVariance) {
     RssStats s;
@@ -94,3 +95,6 @@ TEST(RssStats, CanMergeStopsAtTheLargestStoredCount) {
     EXPECT_FALSE(full.can_merge(RssStats{-50.0, 1.0, 1}));
     EXPECT_TRUE(full.can_merge(RssStats{}));
 }
+
+}  // namespace
+}  // namespace rss_stats_test

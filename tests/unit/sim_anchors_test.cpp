@@ -15,6 +15,9 @@
 #include "sim/scenario.hpp"
 #include "sim/walk_io.hpp"
 
+namespace sim_anchors_test {
+namespace {
+
 using namespace locus;
 using namespace locus::sim;
 
@@ -120,3 +123,6 @@ TEST(SimAnchors, EachKalmanBeatsItsInputsOnTheMeanError) {
     EXPECT_LT(mean["ekf_ranging"], mean["multilateration"]);
     EXPECT_LT(mean["ekf_ranging"], mean["trilateration"]);
 }
+
+}  // namespace
+}  // namespace sim_anchors_test

@@ -5,6 +5,9 @@
 
 #include "sim/two_walkers.hpp"
 
+namespace sim_two_walkers_test {
+namespace {
+
 using namespace locus::sim;
 
 TEST(TwoWalkers, ExactRangingWalkingAtBPointsAtB) {
@@ -59,3 +62,6 @@ TEST(TwoWalkers, SmoothedRssiWithALongBaselinePointsAtB) {
     c.estimator.min_rho = 0.5;
     EXPECT_GT(evaluate_two_walkers(c, RelativeMethod::RssiKalman, 1, 40).median_error_deg, 2 * tuned.median_error_deg);
 }
+
+}  // namespace
+}  // namespace sim_two_walkers_test

@@ -12,6 +12,9 @@
 #include "sim/scenario.hpp"
 #include "sim/walk_io.hpp"
 
+namespace sim_walk_test {
+namespace {
+
 using namespace locus;
 using namespace locus::sim;
 
@@ -152,14 +155,12 @@ TEST(SimEvaluate, EveryMethodInTheIssueOrderAndPdrOnlyDriftsInTheBasement) {
     for (std::size_t i = 2; i < s.size(); ++i) EXPECT_LT(s[i].mean_error_m, s[0].mean_error_m) << s[i].method;
 }
 
-namespace {
 bool same_scan(const Scan& a, const Scan& b) {
     if (a.size() != b.size()) return false;
     for (std::size_t i = 0; i < a.size(); ++i)
         if (a[i].bssid != b[i].bssid || a[i].rss != b[i].rss) return false;
     return true;
 }
-}  // namespace
 
 TEST(SimWalk, SurveyDriftAndScanSweepChangeOnlyTheOnlineScans) {
     SimConfig still;
@@ -233,3 +234,6 @@ TEST(SimWalk, HeadingWalkTurnsOnlyTheCompassAndSendsPdrFurtherOff) {
     // 0.28 rad/√m over 26.5 m is ~1.4 rad at the end: PDR alone ends much further off.
     EXPECT_GT(pdr_wander, 1.5 * pdr_fixed);
 }
+
+}  // namespace
+}  // namespace sim_walk_test

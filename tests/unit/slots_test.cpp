@@ -8,6 +8,9 @@
 
 #include "http/api_error.hpp"
 
+namespace slots_test {
+namespace {
+
 using locus::http::ApiError;
 using locus::http::Slots;
 
@@ -41,3 +44,6 @@ TEST(Slots, ASlotComesBackWhenItsLastHolderGoes) {
     const auto again = slots.take(res, "busy");
     EXPECT_THROW((void)slots.take(res, "busy"), ApiError);
 }
+
+}  // namespace
+}  // namespace slots_test

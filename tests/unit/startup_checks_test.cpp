@@ -7,6 +7,9 @@
 
 #include "temp_dir.hpp"
 
+namespace startup_checks_test {
+namespace {
+
 using namespace locus::startup;
 
 TEST(StartupChecks, LoopbackHosts) {
@@ -38,3 +41,6 @@ TEST(StartupChecks, TheDatabaseDirectoryMustExist) {
     ASSERT_TRUE(not_dir);
     EXPECT_NE(not_dir->find("is not a directory"), std::string::npos) << *not_dir;
 }
+
+}  // namespace
+}  // namespace startup_checks_test

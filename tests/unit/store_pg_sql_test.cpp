@@ -6,6 +6,9 @@
 #include "store/pg_changes.hpp"
 #include "store/pg_detail.hpp"
 
+namespace store_pg_sql_test {
+namespace {
+
 using locus::store::pg::to_postgres;
 
 TEST(PgSql, PlaceholdersAreNumberedAndQuotedTextIsLeftAlone) {
@@ -95,3 +98,6 @@ TEST(PgChanges, ATooLongPayloadSaysEverythingChanged) {
     EXPECT_EQ(n.version, 5);
     EXPECT_TRUE(n.changes.empty());
 }
+
+}  // namespace
+}  // namespace store_pg_sql_test

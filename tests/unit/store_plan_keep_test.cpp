@@ -12,12 +12,13 @@
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 
+namespace store_plan_keep_test {
+namespace {
+
 using locus::store::Change;
 using locus::store::Fields;
 using locus::store::SqlStore;
 using locus::store::kind;
-
-namespace {
 
 using locus::testing::TempDir;
 
@@ -42,8 +43,6 @@ std::vector<std::pair<std::string, bool>> row_changes(const std::vector<Change>&
         if (!c.plan) out.emplace_back(std::string(c.kind->name), c.deleted);
     return out;
 }
-
-}  // namespace
 
 TEST(StorePlanKeep, APlanPutPublishesEveryRoomAndPoiItWritesAndNoOther) {
     TempDir t{"keep"};
@@ -163,3 +162,6 @@ TEST(StorePlanKeep, ImageBytesComeBackExactlyAndGoWithTheirFloor) {
     }
     EXPECT_THROW(st.remove_image(floor), locus::store::NotFound);
 }
+
+}  // namespace
+}  // namespace store_plan_keep_test

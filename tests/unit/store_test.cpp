@@ -10,12 +10,13 @@
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 
+namespace store_test {
+namespace {
+
 using locus::store::SqlStore;
 using locus::store::Fields;
 using locus::store::kind;
 using nlohmann::json;
-
-namespace {
 
 using locus::testing::TempDir;
 struct Chain {
@@ -31,7 +32,6 @@ Chain make_chain(SqlStore& repo) {
     c.rp = repo.create(kind("rps"), c.radiomap, {{"name", "p"}, {"x", 1.0}, {"y", 2.0}}).id;
     return c;
 }
-}  // namespace
 
 TEST(Store, MigratesToTheLatestVersionOnceAndKeepsData) {
     TempDir t{"store"};
@@ -129,13 +129,11 @@ TEST(Store, DemoBundleImports) {
     EXPECT_EQ(repo.rps_of_radiomap(ids[0]).size(), 12u);
 }
 
-namespace {
 std::int64_t count_rows(locus::store::Db& db, const std::string& table) {
     locus::store::Stmt s(db, "SELECT COUNT(*) FROM " + table);
     s.step();
     return s.int64(0);
 }
-}  // namespace
 
 // Regression: a deleted newest row's id went to the next row, so a client holding the old
 // id read another object. Every kind the API exposes: create two, delete the newer, create.
@@ -277,3 +275,6 @@ TEST(Store, EveryCommittedWriteIsPublishedOnceAndARefusedOneNever) {
     repo.remove(kind("maps"), c.map);
     EXPECT_EQ(seen.size(), 1u);
 }
+
+}  // namespace
+}  // namespace store_test

@@ -10,6 +10,7 @@
 #include "store/migrations.hpp"
 #include "temp_dir.hpp"
 
+namespace store_track_migration_test {
 namespace {
 
 using locus::testing::TempDir;
@@ -19,8 +20,6 @@ std::int64_t scalar(locus::store::Db& db, const std::string& sql) {
     EXPECT_TRUE(q.step()) << sql;
     return q.int64(0);
 }
-
-}  // namespace
 
 TEST(StoreTrackMigration, Version12TracksKeepTheirRowsIdsAndReferences) {
     TempDir t{"trackmig"};
@@ -68,3 +67,6 @@ TEST(StoreTrackMigration, Version12TracksKeepTheirRowsIdsAndReferences) {
     EXPECT_THROW(db.exec("INSERT INTO track_fixes (track_id, t, floor_id, x, y, accuracy_m) VALUES (42, 1, 1, 0, 0, 0)"),
                  locus::store::DbError);
 }
+
+}  // namespace
+}  // namespace store_track_migration_test

@@ -7,12 +7,13 @@
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 
+namespace store_write_rows_test {
+namespace {
+
 using locus::store::Fields;
 using locus::store::kind;
 using locus::store::RowWrite;
 using locus::store::SqlStore;
-
-namespace {
 
 using locus::testing::TempDir;
 std::int64_t make_floor(SqlStore& s) {
@@ -24,7 +25,6 @@ std::int64_t make_floor(SqlStore& s) {
 Fields tx(const std::string& bssid, double x) {
     return {{"type", std::string("wifi")}, {"bssid", bssid}, {"x", x}, {"y", 1.0}, {"tx_power", -40.0}};
 }
-}  // namespace
 
 TEST(StoreWriteRows, CreatesAndUpdatesInOrderAndPublishesEach) {
     TempDir t{"rows"};
@@ -69,3 +69,6 @@ TEST(StoreWriteRows, ARefusedRowMidwayLeavesEveryRowAsItWas) {
                  locus::store::NotFound);
     EXPECT_EQ(s.list(kind("transmitters"), floor, 10, 0).total, 2);
 }
+
+}  // namespace
+}  // namespace store_write_rows_test

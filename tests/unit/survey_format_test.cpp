@@ -8,10 +8,11 @@
 #include "datasets/survey_format.hpp"
 #include "build_paths.hpp"
 
+namespace survey_format_test {
+namespace {
+
 using namespace locus;
 using namespace locus::datasets::survey;
-
-namespace {
 
 std::string fixture(const std::string& name) {
     std::ifstream in(std::string(LOCUS_TEST_FIXTURES) + "/survey/" + name);
@@ -49,8 +50,6 @@ void expect_walk(const SurveyFile& f) {
     EXPECT_EQ(p->scans[0][0].type, "ble");
     EXPECT_EQ(p->scans[0][0].bssid, "beacon-1");
 }
-
-}  // namespace
 
 TEST(SurveyFormat, JsonLinesWalk) {
     const auto f = parse(fixture("walk.jsonl"), Format::JsonLines);
@@ -178,3 +177,6 @@ TEST(SurveyFormat, AJsonLineThatIsNotUtf8IsMalformed) {
     EXPECT_EQ(f.errors[0].line, 1u);
     EXPECT_TRUE(f.rps.empty());
 }
+
+}  // namespace
+}  // namespace survey_format_test

@@ -5,8 +5,11 @@
 
 #include "survey_plan.hpp"
 
+namespace survey_plan_test {
+namespace {
+
 using namespace locus;
-using namespace locus::tools::survey;
+using namespace locus::tools::survey_plan;
 
 TEST(SurveyPlan, ExactGridOnAnEmptyFloor) {
     // 10 m × 6 m, 2 m cells: A/c² = 60/4 = 15 = 5 × 3 cells.
@@ -47,3 +50,6 @@ TEST(SurveyPlan, RejectsNonsense) {
     EXPECT_THROW(plan_grid(-1.0, 6.0, 1.0), std::invalid_argument);
     EXPECT_THROW(plan_grid(1e4, 1e4, 0.001), std::invalid_argument);
 }
+
+}  // namespace
+}  // namespace survey_plan_test

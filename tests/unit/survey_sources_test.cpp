@@ -8,6 +8,9 @@
 #include "datasets/survey_sources.hpp"
 #include "build_paths.hpp"
 
+namespace survey_sources_test {
+namespace {
+
 using namespace locus;
 using namespace locus::datasets::survey;
 
@@ -75,3 +78,6 @@ TEST(Anyplace, RealHotelLogParsesCleanly) {
     EXPECT_TRUE(d.errors.empty());
     EXPECT_EQ(d.lines.size(), 9904u);  // wc -l of the file: no comment or bad line in it
 }
+
+}  // namespace
+}  // namespace survey_sources_test

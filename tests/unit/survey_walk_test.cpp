@@ -6,15 +6,14 @@
 
 #include "locus/survey/walk.hpp"
 
+namespace survey_walk_test {
+namespace {
+
 using namespace locus;
 using namespace locus::survey;
 
-namespace {
-
 // An L-shaped walk on floor 0: (0,0) at t=10, (10,0) at t=20, (10,20) at t=30.
 std::vector<Landmark> l_walk() { return {{10.0, 0, {0, 0}}, {20.0, 0, {10, 0}}, {30.0, 0, {10, 20}}}; }
-
-}  // namespace
 
 TEST(SurveyWalk, InterpolatesLinearlyInTimeOnOneFloor) {
     const auto p = place(l_walk(), 15.0);
@@ -141,3 +140,6 @@ TEST(SurveyWalk, BinsNeverCrossAFloorChange) {
     EXPECT_EQ(bins[1].floor, -2);
     EXPECT_EQ(bins[1].members.size(), 2u);
 }
+
+}  // namespace
+}  // namespace survey_walk_test

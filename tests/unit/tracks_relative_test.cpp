@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace locus::tracks {
+namespace locus::tracks::tracks_relative_test {
 namespace {
 
 Fix at(double x, double y) {
@@ -46,4 +46,4 @@ TEST(TracksRelative, DirectionTextNamesTheSideAndRoundedDegrees) {
 }
 
 }  // namespace
-}  // namespace locus::tracks
+}  // namespace locus::tracks::tracks_relative_test

@@ -9,18 +9,18 @@
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 
+namespace transmitter_cache_test {
+namespace {
+
 using locus::http::TransmitterCache;
 using locus::store::Fields;
 using locus::store::kind;
 using locus::store::SqlStore;
 
-namespace {
-
 using locus::testing::TempDir;
 Fields tx(const std::string& bssid, double x) {
     return {{"type", std::string("wifi")}, {"bssid", bssid}, {"x", x}, {"y", 1.0}, {"tx_power", -40.0}};
 }
-}  // namespace
 
 TEST(TransmitterCache, ReadsAFloorOnceAndFollowsEveryChange) {
     TempDir t{"txcache"};
@@ -56,3 +56,6 @@ TEST(TransmitterCache, ReadsAFloorOnceAndFollowsEveryChange) {
     s.remove(kind("floors"), other);
     EXPECT_THROW(cache.of_floor(other), locus::store::NotFound);
 }
+
+}  // namespace
+}  // namespace transmitter_cache_test

@@ -4,11 +4,13 @@
 #include "http/validation.hpp"
 #include "store/kinds.hpp"
 
+namespace validation_test {
+namespace {
+
 using locus::http::ApiError;
 using nlohmann::json;
 namespace http = locus::http;
 
-namespace {
 std::string code_of(const std::function<void()>& f) {
     try {
         f();
@@ -18,7 +20,6 @@ std::string code_of(const std::function<void()>& f) {
     return "ok";
 }
 const locus::store::Kind& floors() { return locus::store::kind("floors"); }
-}  // namespace
 
 TEST(Validation, ParseObjectRefusesAnythingButAnObject) {
     EXPECT_EQ(code_of([] { http::parse_object("{\"a\":1}"); }), "ok");
@@ -99,3 +100,6 @@ TEST(Validation, BssidWhiteSpaceIsTheSixAsciiSpaces) {
     EXPECT_EQ(locus::Bssid("\v AA-BB-CC-DD-EE-FF\r\n").str(), "aa:bb:cc:dd:ee:ff");
     EXPECT_EQ(locus::Bssid("\x1c" "ab").str(), "\x1c" "ab");  // a separator, not white space
 }
+
+}  // namespace
+}  // namespace validation_test

@@ -13,11 +13,12 @@
 #include "walk_reality.hpp"
 #include "build_paths.hpp"
 
+namespace walk_eval_test {
+namespace {
+
 namespace putmc = locus::datasets::putmc;
 namespace walks = locus::tools::walks;
 using locus::Point;
-
-namespace {
 
 constexpr double kHeight = 36.938098400633;  // the PUTMC floor's, as import putmc makes it
 
@@ -80,8 +81,6 @@ void expect_causal(const putmc::Walk& walk) {
         }
     }
 }
-
-}  // namespace
 
 TEST(WalkEval, CuttingTheWalkLeavesEarlierEstimatesUnchangedOnTheFixture) {
     expect_causal(putmc::read_walk(std::string(LOCUS_TEST_FIXTURES) + "/putmc/trajs/tiny_walk"));
@@ -191,3 +190,6 @@ TEST(ThinBatches, EveryStepUpToTheLastScanInTheBatchOfItsScan) {
     EXPECT_EQ(seen, all.size());
     EXPECT_GT(seen, 100u);  // a real walk of a few minutes
 }
+
+}  // namespace
+}  // namespace walk_eval_test

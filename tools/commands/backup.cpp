@@ -15,6 +15,7 @@
 
 #include "command_registry.hpp"
 
+namespace locus_cli_backup {
 namespace {
 
 using namespace locus::tools;
@@ -157,3 +158,5 @@ LOCUS_COMMAND("backup", [](CLI::App& app) {
     cmd->add_flag("--force", args->force, "replace FILE if it exists");
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_backup

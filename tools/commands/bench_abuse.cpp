@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -38,6 +39,7 @@
 #include "proc_status.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_bench_abuse {
 namespace {
 
 using namespace locus;
@@ -152,7 +154,9 @@ void run(const Args& a) {
 
     // The hostile client.
     StatusCounts bombs, tracks, streams, expensive;
-    std::vector<std::thread> hostile;
+    // A deque: its threads never move (a vector's reallocation draws a false -Warray-bounds from
+    // gcc 12 at -O3).
+    std::deque<std::thread> hostile;
     hostile.emplace_back([&] {
         BenchConnection c(target.host, target.port, a.hostile_address);
         for (std::size_t i = 0; running(); ++i) bombs.add(c.round_trip(i % 2 ? brotli : localize_bomb));
@@ -297,3 +301,5 @@ LOCUS_COMMAND("bench-abuse", [](CLI::App& app) {
     cmd->add_option("--server-pid", args->server_pid, "the server's process id, to report its peak resident memory (/proc)")->check(CLI::PositiveNumber);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_bench_abuse

@@ -30,6 +30,7 @@
 #include "command_registry.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_bench_connections {
 namespace {
 
 using namespace locus;
@@ -211,3 +212,5 @@ LOCUS_COMMAND("bench-connections", [](CLI::App& app) {
     cmd->add_option("--algorithm", args->algorithm, "the localize algorithm")->capture_default_str();
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_bench_connections

@@ -21,6 +21,7 @@
 #include "command_registry.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_bench_http {
 namespace {
 
 using namespace locus;
@@ -165,3 +166,5 @@ LOCUS_COMMAND("bench-localize", [](CLI::App& app) {
     cmd->add_option("--algorithm", args->algorithm, "bsb, nn, bsbnn, knn, wknn, bayes")->capture_default_str();
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_bench_http

@@ -23,6 +23,7 @@
 #include "proc_status.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_bench_map_memory {
 namespace {
 
 using namespace locus::tools;
@@ -172,3 +173,5 @@ LOCUS_COMMAND("bench-map-memory", [](CLI::App& app) {
                     "measure this existing radio map (a server just started on its database) instead of generating one");
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_bench_map_memory

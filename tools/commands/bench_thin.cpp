@@ -30,6 +30,7 @@
 #include "putmc_thin.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_bench_thin {
 namespace {
 
 using namespace locus;
@@ -233,3 +234,5 @@ LOCUS_COMMAND("bench-thin", [](CLI::App& app) {
     cmd->add_option("--pid", args->server_pid, "the server's process id, to report its CPU and memory from /proc")->check(CLI::PositiveNumber);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_bench_thin

@@ -21,6 +21,7 @@
 
 #include "command_registry.hpp"
 
+namespace locus_cli_bench_uploads {
 namespace {
 
 using namespace locus::tools;
@@ -162,3 +163,5 @@ LOCUS_COMMAND("bench-uploads", [](CLI::App& app) {
     cmd->add_option("--radiomap", args->radiomap, "add the RPs to this existing radio map (default: a new map)")->check(CLI::PositiveNumber);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_bench_uploads

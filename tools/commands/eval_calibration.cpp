@@ -28,6 +28,7 @@
 #include "locus/ranging/fit.hpp"
 #include "locus/ranging/propagation.hpp"
 
+namespace locus_cli_eval_calibration {
 namespace {
 
 using namespace locus;
@@ -202,3 +203,5 @@ LOCUS_COMMAND("eval calibration", [](CLI::App& app) {
     cmd->add_flag("--json", a->json, "print JSON: {fits: [...per building], maps: [...]}");
     cmd->callback([a] { run(*a); });
 });
+
+}  // namespace locus_cli_eval_calibration

@@ -23,6 +23,7 @@
 #include "locus/match/cv_folds.hpp"
 #include "locus/metrics.hpp"
 
+namespace locus_cli_eval_fingerprints {
 namespace {
 
 using namespace locus;
@@ -218,3 +219,5 @@ LOCUS_COMMAND("eval fingerprints", [](CLI::App& app) {
                     "shuffled single RPs");
     cmd->callback([a] { run(*a); });
 });
+
+}  // namespace locus_cli_eval_fingerprints

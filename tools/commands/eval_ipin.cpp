@@ -45,6 +45,7 @@
 #include "survey_connect.hpp"
 #include "walk_survey.hpp"
 
+namespace locus_cli_eval_ipin {
 namespace {
 
 using namespace locus;
@@ -351,3 +352,5 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");
     cmd->callback([a] { run(*a); });
 });
+
+}  // namespace locus_cli_eval_ipin

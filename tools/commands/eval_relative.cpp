@@ -10,6 +10,7 @@
 #include "command_registry.hpp"
 #include "sim/two_walkers.hpp"
 
+namespace locus_cli_eval_relative {
 namespace {
 
 using namespace locus;
@@ -70,3 +71,5 @@ LOCUS_COMMAND("eval-relative", [](CLI::App& app) {
     cmd->add_flag("--json", args->json, "print the figures as JSON");
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_eval_relative

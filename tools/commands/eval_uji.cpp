@@ -17,6 +17,7 @@
 #include "locus/match/localize.hpp"
 #include "locus/metrics.hpp"
 
+namespace locus_cli_eval_uji {
 namespace {
 
 using namespace locus;
@@ -191,3 +192,5 @@ LOCUS_COMMAND("eval uji", [](CLI::App& app) {
                     "(match::assign_folds) instead of shuffled single RPs");
     cmd->callback([a] { run(*a); });
 });
+
+}  // namespace locus_cli_eval_uji

@@ -25,6 +25,7 @@
 #include "walk_eval.hpp"
 #include "walk_reality.hpp"
 
+namespace locus_cli_eval_walks {
 namespace {
 
 using namespace locus;
@@ -333,3 +334,5 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_option("DIR", args->dir, "PUTMC directory (with trajs/) or one walk directory")->required()->check(CLI::ExistingDirectory);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_eval_walks

@@ -11,6 +11,7 @@
 #include "command_registry.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_export {
 namespace {
 
 using namespace locus::tools;
@@ -77,3 +78,5 @@ LOCUS_COMMAND("export", [](CLI::App& app) {
     cmd->add_option("--output,-o", args->output, "file to write (default: stdout)");
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_export

@@ -8,6 +8,7 @@
 #include "command_registry.hpp"
 #include "locus/motion/fusion/rules.hpp"
 
+namespace locus_cli_fuse {
 namespace {
 
 using namespace locus;
@@ -69,3 +70,5 @@ LOCUS_COMMAND("fuse", [](CLI::App& app) {
     cmd->add_option("--gamma", args->params.gamma, "proportional γ, natural number (default 2)");
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_fuse

@@ -13,6 +13,7 @@
 #include "command_registry.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_hierarchy {
 namespace {
 
 using namespace locus::tools;
@@ -94,3 +95,5 @@ LOCUS_COMMAND("floor-create", [](CLI::App& app) {
         create(*args, "/v1/buildings/" + std::to_string(args->parent) + "/floors", body);
     });
 });
+
+}  // namespace locus_cli_hierarchy

@@ -21,6 +21,7 @@
 #include "survey_connect.hpp"
 #include "survey_upload.hpp"
 
+namespace locus_cli_import_anyplace {
 namespace {
 
 using namespace locus;
@@ -158,3 +159,5 @@ LOCUS_COMMAND("import-anyplace", [](CLI::App& app) {
         ->check(CLI::ExistingPath);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_import_anyplace

@@ -17,6 +17,7 @@
 #include "survey_connect.hpp"
 #include "survey_upload.hpp"
 
+namespace locus_cli_import_find3 {
 namespace {
 
 using namespace locus;
@@ -103,3 +104,5 @@ LOCUS_COMMAND("import-find3", [](CLI::App& app) {
     cmd->add_option("FILE", args->file, "FIND3 .jsons export")->required()->check(CLI::ExistingFile);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_import_find3

@@ -28,6 +28,7 @@
 #include "survey_upload.hpp"
 #include "walk_survey.hpp"
 
+namespace locus_cli_import_ipin {
 namespace {
 
 using namespace locus;
@@ -268,3 +269,5 @@ LOCUS_COMMAND("import-ipin", [](CLI::App& app) {
     locus::tools::add_no_progress_flag(*cmd, args->progress);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_import_ipin

@@ -27,6 +27,7 @@
 #include "survey_connect.hpp"
 #include "survey_upload.hpp"
 
+namespace locus_cli_import_putmc {
 namespace {
 
 using namespace locus;
@@ -155,3 +156,5 @@ LOCUS_COMMAND("import-putmc", [](CLI::App& app) {
     cmd->add_option("DIR", args->dir, "the PUTMC directory (holding map/) or its map/ directory")->required()->check(CLI::ExistingDirectory);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_import_putmc

@@ -14,6 +14,7 @@
 #include "survey_connect.hpp"
 #include "transmitter_csv.hpp"
 
+namespace locus_cli_import_transmitters {
 namespace {
 
 using namespace locus;
@@ -87,3 +88,5 @@ LOCUS_COMMAND("import-transmitters", [](CLI::App& app) {
         ->check(CLI::ExistingFile);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_import_transmitters

@@ -24,6 +24,7 @@
 #include "survey_connect.hpp"
 #include "survey_upload.hpp"
 
+namespace locus_cli_import_uji {
 namespace {
 
 using namespace locus;
@@ -152,3 +153,5 @@ LOCUS_COMMAND("import-uji", [](CLI::App& app) {
     cmd->add_option("FILE", args->file, "trainingData.csv")->required()->check(CLI::ExistingFile);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_import_uji

@@ -9,6 +9,7 @@
 #include "store/copy.hpp"
 #include "store/migrations.hpp"
 
+namespace locus_cli_migrate {
 namespace {
 
 using namespace locus::tools;
@@ -49,3 +50,5 @@ LOCUS_COMMAND("migrate", [](CLI::App& app) {
     cmd->add_option("--to", args->to, "target (must be empty): postgresql://…, sqlite:PATH or a path")->required();
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_migrate

@@ -21,9 +21,11 @@
 
 using nlohmann::json;
 
-namespace locus::tools {
+namespace locus_cli_pdr {
 namespace {
 
+using namespace locus;
+using namespace locus::tools;
 using namespace locus::datasets;
 
 const char* signal_name(pdr::StepSignal s) { return s == pdr::StepSignal::vertical ? "vertical" : "magnitude"; }
@@ -174,11 +176,11 @@ void install_steps(CLI::App& pdr) {
     opts->add(cmd);
     cmd->callback([=] {
         guarded([&] {
-            std::optional<ipin::Log> log;
+            std::optional<datasets::ipin::Log> log;
             std::vector<AccelSample> samples;
-            if (ipin::file_looks_like_log(*file)) {
-                log = ipin::read_log(*file);
-                samples = ipin::accel_samples(*log);
+            if (datasets::ipin::file_looks_like_log(*file)) {
+                log = datasets::ipin::read_log(*file);
+                samples = datasets::ipin::accel_samples(*log);
                 if (samples.empty()) throw CommandError(*file + ": no ACCE lines");
             } else {
                 samples = read_accel_log(*file);
@@ -315,8 +317,8 @@ void install_track(CLI::App& pdr) {
     cmd->callback([a] {
         guarded([&] {
             std::vector<ImuSample> log;
-            if (ipin::file_looks_like_log(a->file)) {
-                log = ipin::imu_samples(ipin::read_log(a->file));
+            if (datasets::ipin::file_looks_like_log(a->file)) {
+                log = datasets::ipin::imu_samples(datasets::ipin::read_log(a->file));
                 if (log.empty()) throw CommandError(a->file + ": no ACCE, GYRO or MAGN lines");
             } else {
                 log = read_imu_log(a->file);
@@ -418,4 +420,4 @@ LOCUS_COMMAND("pdr", [](CLI::App& app) {
     install_track(pdr);
 });
 
-}  // namespace locus::tools
+}  // namespace locus_cli_pdr

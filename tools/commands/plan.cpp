@@ -17,6 +17,7 @@
 #include "plan_remap.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_plan {
 namespace {
 
 using namespace locus::tools;
@@ -203,3 +204,5 @@ LOCUS_COMMAND("plan", [](CLI::App& app) {
     exp->add_option("--out,-o", ea->out, "file to write (default: stdout)");
     exp->callback([ea] { export_plan(*ea); });
 });
+
+}  // namespace locus_cli_plan

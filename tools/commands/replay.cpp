@@ -24,6 +24,7 @@
 #include "sim/ranging_eval.hpp"
 #include "sim/walk_io.hpp"
 
+namespace locus_cli_replay {
 namespace {
 
 using namespace locus;
@@ -299,3 +300,5 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
 });
 
 }  // namespace
+
+}  // namespace locus_cli_replay

@@ -14,6 +14,7 @@
 #include "route_place.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_route {
 namespace {
 
 using namespace locus::tools;
@@ -77,3 +78,5 @@ LOCUS_COMMAND("route", [](CLI::App& app) {
     cmd->add_flag("--json", args->as_json, "print the server's answer as JSON");
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_route

@@ -26,6 +26,7 @@
 #include "sim/walk_io.hpp"
 #include "walk_reality.hpp"
 
+namespace locus_cli_sim {
 namespace {
 
 using namespace locus;
@@ -403,3 +404,5 @@ LOCUS_COMMAND("sim", [](CLI::App& app) {
         run(*args);
     });
 });
+
+}  // namespace locus_cli_sim

@@ -14,6 +14,7 @@
 #include "survey_plan.hpp"
 #include "survey_upload.hpp"
 
+namespace locus_cli_survey {
 namespace {
 
 using namespace locus;
@@ -34,9 +35,9 @@ void plan_survey(const PlanArgs& a) {
     const auto floor = client.floor(a.floor);
     std::vector<Room> rooms;
     for (const auto& r : client.rooms(a.floor)) rooms.push_back({r.id, r.name, r.rects});
-    survey::Plan p;
+    survey_plan::Plan p;
     try {
-        p = survey::plan_grid(floor.width, floor.height, a.cell, rooms);
+        p = survey_plan::plan_grid(floor.width, floor.height, a.cell, rooms);
     } catch (const std::invalid_argument& e) {
         throw CommandError(e.what());
     }
@@ -171,3 +172,5 @@ LOCUS_COMMAND("survey", [](CLI::App& app) {
     u->add_option("FILE", ua->files, "survey files")->required()->check(CLI::ExistingFile);
     u->callback([ua] { upload(*ua); });
 });
+
+}  // namespace locus_cli_survey

@@ -26,6 +26,7 @@
 #include "survey_upload.hpp"
 #include "walk_survey.hpp"
 
+namespace locus_cli_survey_walk {
 namespace {
 
 using namespace locus;
@@ -199,3 +200,5 @@ LOCUS_COMMAND("survey-walk", [](CLI::App& app) {
     w->add_option("PATH", a->paths, "logfiles, or folders of them")->required();
     w->callback([a] { run(*a); });
 });
+
+}  // namespace locus_cli_survey_walk

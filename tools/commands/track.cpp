@@ -18,6 +18,7 @@
 #include "survey_connect.hpp"
 #include "walk_points.hpp"
 
+namespace locus_cli_track {
 namespace {
 
 using namespace locus;
@@ -102,3 +103,5 @@ LOCUS_COMMAND("track", [](CLI::App& app) {
     cmd->add_option("walks", args->walks, "walk files (ours) or PUTMC walk directories")->required()->check(CLI::ExistingPath);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_track

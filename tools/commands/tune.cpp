@@ -17,6 +17,7 @@
 #include "command_registry.hpp"
 #include "survey_connect.hpp"
 
+namespace locus_cli_tune {
 namespace {
 
 using namespace locus::tools;
@@ -95,3 +96,5 @@ LOCUS_COMMAND("tune", [](CLI::App& app) {
     add_no_progress_flag(*cmd, args->progress);
     cmd->callback([args] { run(*args); });
 });
+
+}  // namespace locus_cli_tune

@@ -15,7 +15,7 @@ namespace locus::datasets {
 // time (s, the logger's AppTimestamp clock), floor number (as the radio-map mapping names
 // floors, a whole number within ±1000), x, y (metres in that floor's frame). Lines must be in
 // time order. At least one landmark.
-std::vector<survey::Landmark> parse_landmarks_csv(std::string_view text, const std::string& file);
+std::vector<locus::survey::Landmark> parse_landmarks_csv(std::string_view text, const std::string& file);
 
 // One row of IPIN 2023's supplementary/BLE_Locations.csv: `bleID,Lat,Lon,floor`
 // ("BLE1",49.46…,11.11…,00).

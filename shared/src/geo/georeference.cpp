@@ -5,10 +5,6 @@
 
 namespace locus::geo {
 
-namespace {
-constexpr double kRad = std::numbers::pi / 180.0;
-}
-
 double normalise_bearing(double deg) {
     double b = std::fmod(deg, 360.0);
     if (b < 0.0) b += 360.0;
@@ -17,7 +13,7 @@ double normalise_bearing(double deg) {
 }
 
 FloorToEarth::FloorToEarth(const Georeference& g)
-    : g_(g), plane_(g.at), sin_b_(std::sin(g.bearing_deg * kRad)), cos_b_(std::cos(g.bearing_deg * kRad)) {}
+    : g_(g), plane_(g.at), sin_b_(std::sin(g.bearing_deg * kRadPerDeg)), cos_b_(std::cos(g.bearing_deg * kRadPerDeg)) {}
 
 // The floor's +y is (sin b, cos b) in (east, north); its +x, a quarter turn clockwise from +y
 // in a right-handed frame, is (cos b, −sin b).
@@ -92,7 +88,7 @@ FitResult fit_georeference(const std::vector<ControlPoint>& points) {
     GeoreferenceFit fit;
     fit.scale = std::hypot(dot, cross) / ff;
     // A counter-clockwise turn α of the floor is a bearing of −α (clockwise from north).
-    fit.georeference = {plane.to_geodetic(wc), fc, normalise_bearing(-alpha / kRad)};
+    fit.georeference = {plane.to_geodetic(wc), fc, normalise_bearing(-alpha / kRadPerDeg)};
     // Residuals of what is stored, through the same conversion every answer uses.
     const FloorToEarth stored(fit.georeference);
     double sum2 = 0;

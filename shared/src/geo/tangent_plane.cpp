@@ -9,7 +9,6 @@ namespace locus::geo {
 namespace {
 constexpr double kE2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
 constexpr double kB = kWgs84A * (1.0 - kWgs84F);   // semi-minor axis
-constexpr double kRad = std::numbers::pi / 180.0;
 
 struct Ecef {
     double x, y, z;
@@ -17,19 +16,19 @@ struct Ecef {
 
 // A point of the ellipsoid (height 0) in Earth-centred, Earth-fixed coordinates.
 Ecef ecef_of(LatLon p) {
-    const double lat = p.lat * kRad, lon = p.lon * kRad;
+    const double lat = p.lat * kRadPerDeg, lon = p.lon * kRadPerDeg;
     const double n = prime_vertical_radius(p.lat);
     return {n * std::cos(lat) * std::cos(lon), n * std::cos(lat) * std::sin(lon), n * (1.0 - kE2) * std::sin(lat)};
 }
 }  // namespace
 
 double prime_vertical_radius(double lat_deg) {
-    const double s = std::sin(lat_deg * kRad);
+    const double s = std::sin(lat_deg * kRadPerDeg);
     return kWgs84A / std::sqrt(1.0 - kE2 * s * s);
 }
 
 double meridian_radius(double lat_deg) {
-    const double s = std::sin(lat_deg * kRad);
+    const double s = std::sin(lat_deg * kRadPerDeg);
     const double w = 1.0 - kE2 * s * s;
     return kWgs84A * (1.0 - kE2) / (w * std::sqrt(w));
 }
@@ -39,10 +38,10 @@ TangentPlane::TangentPlane(LatLon origin) : origin_(origin) {
     ox_ = o.x;
     oy_ = o.y;
     oz_ = o.z;
-    sin_lat_ = std::sin(origin.lat * kRad);
-    cos_lat_ = std::cos(origin.lat * kRad);
-    sin_lon_ = std::sin(origin.lon * kRad);
-    cos_lon_ = std::cos(origin.lon * kRad);
+    sin_lat_ = std::sin(origin.lat * kRadPerDeg);
+    cos_lat_ = std::cos(origin.lat * kRadPerDeg);
+    sin_lon_ = std::sin(origin.lon * kRadPerDeg);
+    cos_lon_ = std::cos(origin.lon * kRadPerDeg);
 }
 
 EastNorth TangentPlane::to_plane(LatLon p) const {
@@ -70,8 +69,8 @@ LatLon TangentPlane::to_geodetic(EastNorth p) const {
     const double u = denom > 0.0 ? -2.0 * qc / denom : -qb / (2.0 * qa);
     const double px = x + u * ux, py = y + u * uy, pz = z + u * uz;
     // On the ellipsoid the geodetic latitude is exact in closed form: tan φ = z / ((1 − e²)·p).
-    const double lat = std::atan2(pz, (1.0 - kE2) * std::hypot(px, py)) / kRad;
-    const double lon = std::atan2(py, px) / kRad;
+    const double lat = std::atan2(pz, (1.0 - kE2) * std::hypot(px, py)) / kRadPerDeg;
+    const double lon = std::atan2(py, px) / kRadPerDeg;
     return {lat, lon};
 }
 

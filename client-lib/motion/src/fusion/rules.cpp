@@ -14,7 +14,7 @@ constexpr std::array kRules{Rule::only_wifi, Rule::midpoint, Rule::midpoint_thre
 constexpr std::array<std::string_view, 5> kNames{"only_wifi", "midpoint", "midpoint_threshold", "proportional",
                                                  "proportional2"};
 
-Point lerp(Point pdr, Point wifi, double wifi_weight) {
+Point blend(Point pdr, Point wifi, double wifi_weight) {
     return {(1.0 - wifi_weight) * pdr.x + wifi_weight * wifi.x, (1.0 - wifi_weight) * pdr.y + wifi_weight * wifi.y};
 }
 
@@ -63,19 +63,19 @@ Point fuse(Rule rule, const FusionInput& in, const RuleParams& params) {
         case Rule::only_wifi:
             return in.wifi;
         case Rule::midpoint:
-            return lerp(in.pdr, in.wifi, params.midpoint_wifi_weight);
+            return blend(in.pdr, in.wifi, params.midpoint_wifi_weight);
         case Rule::midpoint_threshold:
             // Strict as in Traini 2017 (δ < λ, docs/spec.md §6.4): at δ == λ the PDR is deemed broken.
-            return distance(in.pdr, in.wifi) < params.lambda_m ? lerp(in.pdr, in.wifi, params.midpoint_wifi_weight) : in.wifi;
+            return distance(in.pdr, in.wifi) < params.lambda_m ? blend(in.pdr, in.wifi, params.midpoint_wifi_weight) : in.wifi;
         case Rule::proportional: {
             const double alpha = proportional_alpha(distance(in.pdr, prev), distance(in.wifi, prev), in.aps, params);
-            return lerp(in.pdr, in.wifi, 1.0 - alpha);
+            return blend(in.pdr, in.wifi, 1.0 - alpha);
         }
         case Rule::proportional2: {
             // Lu et al.: a fix identical to the previous one says the scan did not change, not
             // that the user stood still, so fusing would shorten the walked path.
             if (in.prev_wifi && in.prev_wifi->x == in.wifi.x && in.prev_wifi->y == in.wifi.y) return in.pdr;
-            return lerp(in.pdr, in.wifi,
+            return blend(in.pdr, in.wifi,
                         std::max(params.proportional2_min_r, proportional2_r(distance(in.pdr, prev), distance(in.wifi, prev))));
         }
     }

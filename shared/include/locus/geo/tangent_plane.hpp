@@ -6,7 +6,12 @@
 // geodesic ones by well under a centimetre (the projection shortens a distance d by about
 // d³/(2R²): 0.01 mm at 1 km). Heights are not modelled: every point is on the ellipsoid.
 // Pure functions; each conversion is a few dozen floating-point operations, no iteration.
+#include <numbers>
+
 namespace locus::geo {
+
+// Radians per degree: positions and bearings are in degrees, the trigonometry in radians.
+inline constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 // The WGS84 ellipsoid (NIMA TR8350.2): semi-major axis and flattening.
 inline constexpr double kWgs84A = 6378137.0;
