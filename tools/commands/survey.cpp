@@ -91,7 +91,7 @@ void upload(const UploadArgs& a) {
         client.radiomap(a.radiomap);  // fail early, with the server's message, on a wrong id
     }
     std::vector<RpJob> jobs;
-    std::size_t malformed = 0, refused = 0, parsed_scans = 0, parsed_readings = 0;
+    std::size_t malformed = 0, refused = 0;
     json files = json::array();
     for (const auto& path : a.files) {
         const std::string bytes = read_file(path);
@@ -114,8 +114,6 @@ void upload(const UploadArgs& a) {
             ++refused;
             continue;
         }
-        parsed_scans += parsed.scans;
-        parsed_readings += parsed.readings;
         for (auto& rp : parsed.rps) {
             RpJob job;
             job.radiomap_id = a.radiomap;
