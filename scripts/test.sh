@@ -19,5 +19,6 @@ cd "${LOCUS_BUILD_DIR:-build}"
 jobs="${LOCUS_TEST_JOBS:-$((2 * ${LOCUS_JOBS:-2}))}"
 phase "tests (SQLite)" ctest --output-on-failure -j"$jobs" "$@"
 # The integration tests (every one starts a real server), again on a throwaway PostgreSQL (the
-# replicas and PostgreSQL fault tests run only there).
-phase "integration tests (PostgreSQL)" "$root/scripts/with_postgres.sh" ctest --output-on-failure -j"$jobs" -L integration "$@"
+# replicas and PostgreSQL fault tests run only there); not the script tests whose servers take
+# an SQLite file whatever the cluster (label sqlite_only, tests/CMakeLists.txt).
+phase "integration tests (PostgreSQL)" "$root/scripts/with_postgres.sh" ctest --output-on-failure -j"$jobs" -L integration -LE sqlite_only "$@"
