@@ -392,7 +392,9 @@ TEST(ApiClient, WaitsForAServerThatStartsLate) {
         }
     });
     {
-        api::Client c(fast_retries("http://127.0.0.1:" + std::to_string(port), 12));
+        // 40 attempts: 3.7 to 7.3 s of back-off, for a sanitized server making its demo map
+        // with other tests on both cores (12, about a second, ran out once).
+        api::Client c(fast_retries("http://127.0.0.1:" + std::to_string(port), 40));
         std::vector<api::MapInfo> maps;
         EXPECT_NO_THROW(maps = c.maps());
         starter.join();
