@@ -51,12 +51,11 @@ struct Cluster {
     std::mutex mutex;
     PGconn* c = nullptr;
     PGconn* connection() {  // with `mutex` held
-        if (c && PQstatus(c) != CONNECTION_OK) PQreset(c);
-        if (!c || PQstatus(c) != CONNECTION_OK) {
+        if (c && PQstatus(c) != CONNECTION_OK) {
             PQfinish(c);
             c = nullptr;
-            c = open_connection(postgres_cluster_url());
         }
+        if (!c) c = open_connection(postgres_cluster_url());
         return c;
     }
 };
