@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <string>
 
-#include "http/transmitters/transmitter_cache.hpp"
 #include "store/sql_store.hpp"
 #include "transmitters/floor_transmitters.hpp"
+#include "transmitters/transmitter_cache.hpp"
 
 namespace {
 
@@ -51,7 +51,7 @@ BENCHMARK(BM_ReadFromStore)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicr
 
 void BM_CacheHit(benchmark::State& state) {
     Floor f(static_cast<int>(state.range(0)));
-    locus::http::TransmitterCache cache(*f.store);
+    locus::transmitters::TransmitterCache cache(*f.store);
     cache.of_floor(f.floor);
     for (auto _ : state) benchmark::DoNotOptimize(cache.of_floor(f.floor));
 }

@@ -1,5 +1,5 @@
 // The ranging side of the localize body ("algorithm": "trilateration" | "multilateration",
-// server/http/ranging_localize.*) and a transmitter's body (server/http/transmitter_fields.*),
+// server/http/localize/ranging_localize.*) and a transmitter's body (server/http/transmitter_fields.*),
 // then trilateration and multilateration on the parsed scan, each AP placed by its bssid's hash.
 //
 // Checks: the parsers throw nothing but http::ApiError 400/422; a request they accept has APs

@@ -78,6 +78,7 @@ LAYERS = [
     ("server/transmitters/", "server/transmitters"),
     ("server/tuning/", "server/tuning"),
     ("server/tracks/", "server/tracks"),
+    ("server/floors/", "server/floors"),
     ("server/http/", "server/http"),
     ("server/startup/", "server/startup"),
     ("server/main.cpp", "server/main"),
@@ -95,7 +96,7 @@ LAYERS = [
 MOTION = ["client-lib/pdr", "client-lib/fusion", "client-lib/relative"]
 CLIENT = MOTION + ["client-lib/api"]
 SERVER_SERVICES = ["server/store", "server/localize", "server/routing", "server/directory", "server/transmitters",
-                   "server/tuning", "server/tracks"]
+                   "server/tuning", "server/tracks", "server/floors"]
 SERVER = SERVER_SERVICES + ["server/http", "server/startup"]
 LIBRARIES = ["shared", "geojson", "imaging"] + CLIENT + ["datasets", "sim"]
 
@@ -115,8 +116,12 @@ ALLOWED = {
     "server/directory": ["shared", "server/store"],
     "server/transmitters": ["shared", "server/store"],
     "server/tuning": ["shared", "server/store"],
-    # Thin clients' fusion runs client-lib's filters on the server (tracks/fusion.hpp).
-    "server/tracks": ["shared", "server/store", "client-lib/pdr", "client-lib/fusion"],
+    # Thin clients' fusion runs client-lib's filters on the server (tracks/fusion.hpp); their
+    # scans are localized by the localize service's matcher or ranged on the transmitters, and
+    # their GNSS placed by the floors' georeferences (tracks/map_scans.hpp).
+    "server/tracks": ["shared", "server/store", "client-lib/pdr", "client-lib/fusion", "server/localize", "server/transmitters",
+                      "server/floors"],
+    "server/floors": ["shared", "server/store"],
     "server/http": ["shared", "geojson"] + SERVER_SERVICES,
     "server/startup": ["shared", "server/store"],
     "server/main": ["shared", "geojson"] + SERVER,
@@ -186,6 +191,7 @@ EXTERNAL_RULES = [
     ExternalRule("server/transmitters", denied={"json", "httplib"}, reason=TYPED),
     ExternalRule("server/tuning", denied={"json", "httplib"}, reason=TYPED),
     ExternalRule("server/tracks", denied={"json", "httplib"}, reason=TYPED),
+    ExternalRule("server/floors", denied={"json", "httplib"}, reason=TYPED),
     ExternalRule("server/startup", denied={"json", "httplib"}, reason=TYPED),
 ]
 

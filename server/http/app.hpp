@@ -17,13 +17,13 @@
 #include "http/radiomaps/radiomap_settings.hpp"
 #include "http/front/slots.hpp"
 #include "http/front/static_files.hpp"
-#include "http/transmitters/transmitter_cache.hpp"
 #include "localize/service.hpp"
 #include "locus/plan/route.hpp"
 #include "routing/service.hpp"
 #include "store/kinds.hpp"
 #include "store/db.hpp"
 #include "store/store.hpp"
+#include "transmitters/transmitter_cache.hpp"
 #include "tuning/service.hpp"
 
 namespace locus::tracks {
@@ -91,7 +91,7 @@ private:
     localize::Service& localizer_;
     routing::Service& router_;
     directory::Service& directory_;
-    TransmitterCache transmitters_{store_};  // for the ranging localize
+    transmitters::TransmitterCache transmitters_{store_};  // for the ranging localize and the thin clients' ranged scans
     FloorGeoCache geo_{store_};  // lat/lon in the answers of georeferenced floors
     tuning::Service tuning_{store_, settings_text()};  // tune and quality (tune_routes.cpp)
     AppOptions options_;

@@ -8,8 +8,8 @@
 // matched, and then teaches the offset with the match (match::DeviceOffset, as `locus eval
 // ipin`'s trackers do): phones of different makes read the same AP several dB apart. GNSS fixes
 // are converted on the track's floor through its georeference, during the run. The localizers
-// and georeferences themselves are the HTTP layer's (the localize endpoint's matcher and
-// ranging, the floors' georeference cache), behind ScanLocalizer.
+// and georeferences are behind ScanLocalizer: the server's are map_scans.hpp's (the localize
+// endpoint's matcher and ranging, the floors' georeference cache).
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -49,7 +49,8 @@ struct RangedScan {
 
 // How the track's map localizes a scan. One object serves one batch: it may read the map's
 // transmitters or radio-map snapshot once and keep them for the batch's other scans. Each
-// may throw the HTTP layer's own errors (a scan with no reading, no match), which pass through.
+// may throw CannotFuse for a scan it cannot localize (no reading, no match), which passes
+// through.
 class ScanLocalizer {
 public:
     virtual ~ScanLocalizer() = default;

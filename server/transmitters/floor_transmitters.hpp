@@ -1,7 +1,7 @@
 #pragma once
 // A floor's transmitters as the store keeps them (schema/009_transmitters.sql): what the fit,
 // the generated radio maps and the ranging localize read. One listing costs one store page
-// per 1000 transmitters; nothing is cached here (http/transmitters/transmitter_cache.hpp caches for localize).
+// per 1000 transmitters; nothing is cached here (transmitter_cache.hpp caches for localize).
 #include <cstdint>
 #include <vector>
 

@@ -5,14 +5,14 @@
 
 #include <filesystem>
 
-#include "http/transmitters/transmitter_cache.hpp"
+#include "transmitters/transmitter_cache.hpp"
 #include "store/sql_store.hpp"
 #include "temp_dir.hpp"
 
 namespace transmitter_cache_test {
 namespace {
 
-using locus::http::TransmitterCache;
+using locus::transmitters::TransmitterCache;
 using locus::store::Fields;
 using locus::store::kind;
 using locus::store::SqlStore;

@@ -1,6 +1,6 @@
 #include "http/localize/ranging_localize.hpp"
 
-#include <map>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -9,6 +9,7 @@
 #include "http/transmitters/transmitter_fields.hpp"
 #include "http/validation.hpp"
 #include "store/kinds.hpp"
+#include "transmitters/refused.hpp"
 
 namespace locus::http {
 
@@ -32,39 +33,7 @@ int int_option(const json& o, const char* field, int lo, int hi, int fallback) {
     return static_cast<int>(n);
 }
 
-void add_floor(TransmitterCache& cache, std::int64_t floor_id, double phone_height, std::map<std::string, KnownTransmitter>& out) {
-    const auto txs = cache.of_floor(floor_id);
-    for (const auto& r : *txs) {
-        const auto& f = r.fields;
-        KnownTransmitter k;
-        k.floor_id = floor_id;
-        k.tx.at = {f.get<double>("x"), f.get<double>("y")};
-        const auto& z = f.values.at("z");
-        k.tx.dz = std::holds_alternative<double>(z) ? std::get<double>(z) - phone_height : 0.0;
-        k.tx.model = {f.get<double>("tx_power"), f.get<double>("path_loss_exponent")};
-        out.emplace(transmitter_key(f.get<std::string>("type"), f.get<std::string>("bssid")), k);
-    }
-}
-
-std::vector<std::int64_t> floors_of_map(store::Store& store, std::int64_t map_id) {
-    std::vector<std::int64_t> floors;
-    store.get(store::kind("maps"), map_id);  // NotFound for an unknown map
-    const auto buildings = store.list(store::kind("buildings"), map_id, 1'000'000, 0);
-    for (const auto& b : buildings.items)
-        for (const auto& f : store.list(store::kind("floors"), b.id, 1'000'000, 0).items) floors.push_back(f.id);
-    return floors;
-}
-
-std::string number(double v) { return std::isfinite(v) ? json(v).dump() : "null"; }
-
 }  // namespace
-
-std::string transmitter_key(std::string_view type, std::string_view bssid) {
-    std::string k(type);
-    k += '|';
-    k += bssid;
-    return k;
-}
 
 std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     // The fingerprint matchers' bodies are the hot path: they never hold these names.
@@ -121,52 +90,14 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     return r;
 }
 
-KnownTransmitters known_transmitters(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, double phone_height) {
-    KnownTransmitters known;
-    known.map_scope = map_scope;
-    if (map_scope) {
-        for (std::int64_t floor : floors_of_map(store, id)) add_floor(cache, floor, phone_height, known.by_key);
-    } else {
-        const auto radiomap = store.get(store::kind("radiomaps"), id);
-        add_floor(cache, radiomap.parent_id.value(), phone_height, known.by_key);
+std::string ranging_answer(store::Store& store, transmitters::TransmitterCache& cache, bool map_scope, std::int64_t id,
+                           const RangingRequest& request) {
+    transmitters::Ranged ranged;
+    try {
+        ranged = transmitters::range_scan(transmitters::known_transmitters(store, cache, map_scope, id, request.phone_height), request);
+    } catch (const transmitters::Refused& e) {
+        throw ApiError(422, e.code, e.what());
     }
-    return known;
-}
-
-Ranged range_scan(const KnownTransmitters& known, const RangingRequest& request) {
-    const bool map_scope = known.map_scope;
-    // The heard transmitters by floor; the floor that hears most is where the phone is.
-    std::map<std::int64_t, std::vector<ranging::Heard>> by_floor;
-    for (const auto& ap : request.query.aps) {
-        const auto k = known.by_key.find(transmitter_key(ap.type, ap.bssid));
-        if (k != known.by_key.end()) by_floor[k->second.floor_id].push_back({k->second.tx, ap.rss});
-    }
-    std::int64_t floor_id = 0;
-    const std::vector<ranging::Heard>* heard = nullptr;
-    for (const auto& [f, h] : by_floor)
-        if (!heard || h.size() > heard->size()) {
-            floor_id = f;
-            heard = &h;
-        }
-    const std::size_t count = heard ? heard->size() : 0;
-    const char* algorithm = request.multilateration ? "multilateration" : "trilateration";
-    if (count < 3)
-        throw ApiError(422, "too_few_transmitters",
-                       "the scan hears " + std::to_string(count) + " known transmitter" + (count == 1 ? "" : "s") +
-                           (map_scope ? " on any floor of the map" : " of the radio map's floor") + "; " + algorithm +
-                           " needs at least 3");
-    const auto fix = request.multilateration ? ranging::multilaterate(*heard, request.multilateration_options)
-                                             : ranging::trilaterate(*heard, request.trilateration);
-    if (!fix)
-        throw ApiError(422, "no_fix",
-                       std::string(algorithm) + " found no position from the " + std::to_string(count) +
-                           " transmitters heard (fewer than 3 within the cutoff of " + number(request.trilateration.cutoff) +
-                           " m, or all in a line)");
-    return {floor_id, *fix, count};
-}
-
-std::string ranging_answer(store::Store& store, TransmitterCache& cache, bool map_scope, std::int64_t id, const RangingRequest& request) {
-    const Ranged ranged = range_scan(known_transmitters(store, cache, map_scope, id, request.phone_height), request);
     const std::int64_t floor_id = ranged.floor_id;
     const auto* fix = &ranged.fix;
     const std::size_t count = ranged.heard;

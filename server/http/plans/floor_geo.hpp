@@ -1,43 +1,15 @@
 #pragma once
-// Floors' georeferences (docs/geo.md) for the answers that place a position on a floor: a
-// localize answer, a track's fix, a route's points carry "lat"/"lon" when their floor has one.
-// FloorGeoCache reads a floor's row once and keeps its georeference (or that it has none)
-// until the change feed says the floor may have changed, so an answer does one hash lookup
-// under a mutex per floor, no query.
-#include <cstdint>
-#include <memory>
-#include <mutex>
+// "lat" and "lon" in the JSON answers that place a position on a georeferenced floor (the
+// georeferences themselves: floors/floor_geo.hpp).
 #include <nlohmann/json.hpp>
-#include <optional>
-#include <unordered_map>
 
-#include "locus/geo/georeference.hpp"
-#include "store/store.hpp"
+#include "floors/floor_geo.hpp"
+#include "locus/geometry.hpp"
 
 namespace locus::http {
 
-// The floor row's georeference; nullopt unless all of its geo_* columns are set.
-std::optional<geo::Georeference> georeference_of(const store::Record& floor);
-
-class FloorGeoCache {
-public:
-    explicit FloorGeoCache(store::Store& store);
-    ~FloorGeoCache();
-    FloorGeoCache(const FloorGeoCache&) = delete;
-    FloorGeoCache& operator=(const FloorGeoCache&) = delete;
-
-    // Null when the floor has no georeference or no longer exists.
-    std::shared_ptr<const geo::FloorToEarth> of_floor(std::int64_t floor_id);
-
-private:
-    void on_change(const store::Change& change);
-
-    store::Store& store_;
-    std::mutex mu_;
-    std::unordered_map<std::int64_t, std::shared_ptr<const geo::FloorToEarth>> floors_;  // null: none
-    std::uint64_t generation_ = 0;  // bumped by every invalidation: a read that raced a write is not kept
-    std::size_t token_ = 0;
-};
+using floors::FloorGeoCache;
+using floors::georeference_of;
 
 // Adds "lat" and "lon" of floor point `at` to `j` when the floor is georeferenced; leaves `j`
 // as it was otherwise.

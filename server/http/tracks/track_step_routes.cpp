@@ -1,10 +1,9 @@
 // POST /v1/tracks/{id}/steps {steps?: [{t, length_m, heading_deg}], fixes?, scans?: [{t, readings}],
 // pressure?: [{t, hpa}], gnss?: [{t, lat, lon, accuracy_m}]}: thin clients post raw PDR steps,
 // radio fixes, scans, their barometer's samples and GNSS fixes; the track's filter's fixes come back
-// (and are stored). The work is tracks/thin_client.hpp's, the scans localized by track_scan.hpp.
+// (and are stored). The work is tracks/map_scans.hpp's post_steps.
 // Eigen first: cpp-httplib (through app.hpp) pulls in <resolv.h>, whose `_res` macro breaks Eigen.
-#include "http/tracks/track_scan.hpp"
-#include "tracks/thin_client.hpp"
+#include "tracks/map_scans.hpp"
 
 #include "http/app.hpp"
 #include "http/tracks/track_json.hpp"
@@ -25,10 +24,9 @@ void App::install_track_step_routes() {
             const auto id = parse_id(req.matches[1].str(), "track");
             require_owner(svc, req, id, "a share token reads a track; only its owner's token posts steps");
             const auto input = parse_steps_request(parse_object(req.body), svc.options().retention_s);
-            MapScans scans(store_, transmitters_, localizer_, geo);
             tracks::StepsDone done;
             try {
-                done = tracks::post_steps(svc, id, input, scans);
+                done = tracks::post_steps(svc, id, input, {store_, transmitters_, localizer_, geo});
             } catch (const tracks::CannotFuse& e) {
                 throw ApiError(422, e.code, e.what());
             } catch (const tracks::ForeignFloor& e) {

@@ -1,9 +1,9 @@
-#include "http/transmitters/transmitter_cache.hpp"
+#include "transmitters/transmitter_cache.hpp"
 
 #include "store/kinds.hpp"
 #include "transmitters/floor_transmitters.hpp"
 
-namespace locus::http {
+namespace locus::transmitters {
 
 TransmitterCache::TransmitterCache(store::Store& store) : store_(store) {
     token_ = store_.subscribe([this](const store::Change& c) { on_change(c); });
@@ -30,10 +30,10 @@ std::shared_ptr<const std::vector<store::Record>> TransmitterCache::of_floor(std
         if (const auto it = floors_.find(floor_id); it != floors_.end()) return it->second;
         generation = generation_;
     }
-    auto read = std::make_shared<const std::vector<store::Record>>(transmitters::transmitters_of_floor(store_, floor_id));
+    auto read = std::make_shared<const std::vector<store::Record>>(transmitters_of_floor(store_, floor_id));
     std::lock_guard lock(mu_);
     if (generation == generation_) floors_[floor_id] = read;
     return read;
 }
 
-}  // namespace locus::http
+}  // namespace locus::transmitters

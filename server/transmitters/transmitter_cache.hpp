@@ -1,7 +1,8 @@
 #pragma once
-// The floors' transmitters for the ranging localize: read from the store once per floor and
-// kept until the change feed says they may have changed, so a localize by ranging does no
-// transmitter query (the fingerprint matchers keep their snapshots the same way).
+// The floors' transmitters for the ranging localize and a thin client's ranged scans: read from
+// the store once per floor and kept until the change feed says they may have changed, so a
+// localize by ranging does no transmitter query (the fingerprint matchers keep their
+// snapshots the same way).
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -10,7 +11,7 @@
 
 #include "store/store.hpp"
 
-namespace locus::http {
+namespace locus::transmitters {
 
 class TransmitterCache {
 public:
@@ -33,4 +34,4 @@ private:
     std::size_t token_ = 0;
 };
 
-}  // namespace locus::http
+}  // namespace locus::transmitters
