@@ -45,6 +45,7 @@ struct Flags {
     double keep_alive_s = 10, header_s = 10, read_s = 10;
     std::size_t max_exports = 2;
     double export_timeout_s = 600;
+    double max_route_graph_mb = 256;
     locus::tracks::Options tracks;
     locus::http::FairShareOptions fair;
     std::vector<std::string> trusted_proxies;
@@ -85,6 +86,10 @@ void add_server_flags(CLI::App& cli, Flags& f) {
     cli.add_option("--export-timeout", f.export_timeout_s,
                    "seconds an export may take; past it the answer is cut (no last chunk) and its snapshot let go")
         ->capture_default_str()->check(CLI::Range(0.1, 604800.0));
+    cli.add_option("--max-route-graph-mb", f.max_route_graph_mb,
+                   "largest route graph a map may have, estimated from its plans before it is built (a map past it: "
+                   "routes answer 422 route_graph_too_large)")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e6));
 }
 
 // Live tracks, per-client shares and the proxies trusted to name the client.
@@ -178,7 +183,7 @@ int serve(const Flags& f, const sigset_t& signals) {
         auto& store = *opened;
         if (f.demo && !store.has_maps()) create_demo_map(store);
         locus::localize::Service localizer(store, locus::http::prepare_answers);
-        locus::routing::Service router(store);
+        locus::routing::Service router(store, {f.max_route_graph_mb * 1024 * 1024, {}});
         locus::directory::Service directory(store);
         locus::tracks::Service tracks(store, f.tracks);
         locus::http::App app(store, localizer, router, directory,

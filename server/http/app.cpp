@@ -102,6 +102,8 @@ void App::guarded(const httplib::Request& req, httplib::Response& res, const std
         write_error(res, 409, "conflict", e.what());
     } catch (const store::OutOfRange& e) {
         write_error(res, 422, "out_of_range", e.what());
+    } catch (const routing::TooLarge& e) {
+        write_error(res, 422, "route_graph_too_large", e.what());
     } catch (const store::DbError& e) {
         // Constraint failures that validation did not catch are still the client's input.
         if (e.is_constraint()) write_error(res, 409, "conflict", e.what());

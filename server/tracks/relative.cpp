@@ -56,6 +56,8 @@ Relative relative(Service& svc, store::Store& store, const BuildingOf& building_
         else out.walking_problem = plan::to_string(r.status);
     } catch (const store::NotFound& e) {
         out.walking_problem = e.what();
+    } catch (const NoGraph& e) {
+        out.walking_problem = e.what();
     }
     return out;
 }

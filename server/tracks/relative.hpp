@@ -36,7 +36,14 @@ struct Relative {
     std::string walking_problem;                 // else why not
 };
 
-// The map's building graph (routing::Service::building); store::NotFound when it has none.
+// Why a map has no building graph to walk on (its message says why: a graph past the
+// server's bound); the answer then has no route but a walking_problem.
+struct NoGraph : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// The map's building graph (routing::Service::building); store::NotFound when the map is
+// gone, NoGraph when it has no graph to give.
 using BuildingOf = std::function<std::shared_ptr<const plan::Building>(std::int64_t map_id)>;
 
 // Tracks a and b as the Service has them (their access checked by the caller): throws

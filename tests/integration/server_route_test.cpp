@@ -4,12 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <utility>
 #include <map>
 #include <set>
 
 #include "hierarchy.hpp"
 #include "plan_geojson.hpp"
 #include "server_process.hpp"
+#include "track_call.hpp"
+#include "unix_time.hpp"
 
 namespace server_route_test {
 namespace {
@@ -113,6 +117,63 @@ TEST(ServerRoute, APlanChangeReroutesAndNoRouteSaysWhy) {
     EXPECT_EQ(none.status, 422) << none.raw;
     EXPECT_EQ(none.body.at("error").at("code"), "no_route");
     EXPECT_NE(none.raw.find("no walkable way"), std::string::npos) << none.raw;
+}
+
+// A map whose route graph would pass --max-route-graph-mb answers 422 route_graph_too_large,
+// naming the flag, and is not built; other maps route as before, and the map itself once its
+// plan shrinks. Two 30 m × 10 m floors: 2 × 4,800 cells of 0.25 m × (22 + 4 × 6) bytes, 0.4 MB;
+// a 400 m × 10 m hall: 64,000 cells × 38 bytes, 2.3 MB; 100 m: 0.6 MB.
+TEST(ServerRoute, AMapPastTheGraphBoundIsRefusedAndOthersRouteOn) {
+    ServerProcess s{{"--max-route-graph-mb", "2"}};
+    const auto b = make_building(s);
+    const json in_lab = {{"from", {{"room_id", b.lab_room}}}, {"to", {{"poi_id", b.poi}}}};
+    ASSERT_EQ(s.post(route_path(b), in_lab).status, 200);
+
+    const auto big = locus::testing::make_hierarchy(s, "Campus");
+    const auto hall = [](double length) {
+        return json{{"type", "FeatureCollection"}, {"features", {feature("space", rect(0, 0, length, 10), {{"name", "Hall"}})}}};
+    };
+    ASSERT_EQ(s.patch("/v1/floors/" + std::to_string(big.floor), {{"width", 400.0}, {"height", 10.0}}).status, 200);
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(big.floor) + "/plan", hall(400)).status, 200);
+    const std::string big_route = "/v1/maps/" + std::to_string(big.map) + "/route";
+    const json along = {{"from", {{"floor_id", big.floor}, {"x", 1.0}, {"y", 5.0}}}, {"to", {{"floor_id", big.floor}, {"x", 90.0}, {"y", 5.0}}}};
+    for (int i = 0; i < 2; ++i) {
+        const auto refused = s.post(big_route, along);
+        EXPECT_EQ(refused.status, 422) << refused.raw;
+        EXPECT_EQ(refused.body.at("error").at("code"), "route_graph_too_large") << refused.raw;
+        EXPECT_NE(refused.raw.find("--max-route-graph-mb"), std::string::npos) << refused.raw;
+        EXPECT_NE(refused.raw.find("64000 cells"), std::string::npos) << refused.raw;
+    }
+    EXPECT_EQ(s.post(route_path(b), in_lab).status, 200);
+    // Two phones on the big map: where one is from the other, without the walk.
+    const auto a_track = locus::testing::open_track(s, {{"map_id", big.map}, {"label", "ann"}}),
+               b_track = locus::testing::open_track(s, {{"map_id", big.map}, {"label", "bob"}});
+    const double now = locus::testing::unix_now();
+    for (const auto& [t, x] : {std::pair{a_track, 1.0}, std::pair{b_track, 90.0}}) {
+        const json fixes = {{"fixes", {{{"t", now - 1}, {"floor_id", big.floor}, {"x", x}, {"y", 5.0}, {"accuracy_m", 1.5}}}}};
+        ASSERT_EQ(locus::testing::track_call(s, "POST", t.path("/fixes"), {t.token}, fixes.dump()).status, 200);
+    }
+    const auto rel = locus::testing::track_call(s, "GET", a_track.path("/relative/" + std::to_string(b_track.id)), {a_track.token, b_track.token});
+    ASSERT_EQ(rel.status, 200) << rel.raw;
+    EXPECT_NEAR(rel.body.at("straight_distance_m").get<double>(), 89.0, 1e-9);
+    EXPECT_FALSE(rel.body.contains("walking_distance_m"));
+    EXPECT_NE(rel.body.value("walking_problem", "").find("--max-route-graph-mb"), std::string::npos) << rel.raw;
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(big.floor) + "/plan", hall(100)).status, 200);
+    const auto routed = s.post(big_route, along);
+    EXPECT_EQ(routed.status, 200) << routed.raw;
+}
+
+TEST(ServerRoute, ABadGraphBoundIsRefusedAtStart) {
+    const std::string dir = locus::testing::make_temp_dir();
+    for (const char* value : {"0", "-5", "x", "2000000"}) {
+        // `timeout`: a server that wrongly started is stopped rather than hanging the test.
+        const auto r = locus::testing::run_command(
+            {"/usr/bin/timeout", "10", LOCUS_SERVER_BIN, "--db", dir + "/never.db", "--port", "0", "--max-route-graph-mb", value});
+        EXPECT_NE(r.status, 0) << value;
+        EXPECT_NE(r.status, 124) << value << ": the server started";
+        EXPECT_NE(r.err.find("--max-route-graph-mb"), std::string::npos) << value << ": " << r.err;
+    }
+    std::filesystem::remove_all(dir);
 }
 
 TEST(ServerRoute, BadInputIsRefusedNamingWhat) {

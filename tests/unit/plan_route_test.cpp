@@ -121,6 +121,31 @@ TEST(PlanRoute, WallWithoutADoorLeavesNoRoute) {
     EXPECT_EQ(route(b, {1, {2, 4}}, {1, {8, 4}}).status, RouteStatus::ok);
 }
 
+// Two 40 m × 10 m floors with stairs and an elevator: 160 × 40 cells each, six landmarks
+// (two connectors, four corners), so 6,400 cells, 38,400 landmark distances and 6,400 × (22 + 24)
+// bytes a floor; the cells are those the grid really has.
+TEST(PlanRoute, ACostIsWorkedOutFromThePlansAsTheBuildingWillHoldIt) {
+    std::vector<FloorSpec> floors;
+    for (int level = 0; level < 2; ++level) {
+        Plan p;
+        p.spaces = {space("Hall", rect(0, 0, 40, 10))};
+        p.connectors.push_back(connector("S", ConnectorKind::stairs, {5, 5}, {{level == 0 ? 11 : 10, "S"}}));
+        p.connectors.push_back(connector("E", ConnectorKind::elevator, {35, 5}, {{level == 0 ? 11 : 10, "E"}}));
+        floors.push_back({10 + level, level, std::move(p)});
+    }
+    const BuildingCost cost = building_cost(floors);
+    EXPECT_DOUBLE_EQ(cost.cells, 2 * 6400.0);
+    EXPECT_DOUBLE_EQ(cost.landmark_cells, 2 * 6400.0 * 6);
+    EXPECT_DOUBLE_EQ(cost.bytes, 2 * 6400.0 * 46);
+    const Building built = build_building(floors);
+    for (const Floor& f : built.floors) {
+        EXPECT_EQ(f.grid.cell_count(), 6400);
+        EXPECT_EQ(f.landmarks.metres.size(), 6400u * 6);
+    }
+    EXPECT_DOUBLE_EQ(walk_grid_cells(floors[0].plan), 6400.0);
+    EXPECT_DOUBLE_EQ(building_cost({}).bytes, 0.0);
+}
+
 TEST(PlanRoute, StairsWhenShorterElevatorWhenStepFree) {
     const Building b = stairs_and_elevator();
     const Endpoint from{10, {6, 5}}, to{11, {7, 5}};

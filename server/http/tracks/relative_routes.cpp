@@ -28,7 +28,14 @@ void App::install_relative_routes() {
             svc.authorize(b_id, token_of(req, "X-Peer-Token"));
             tracks::Relative r;
             try {
-                r = tracks::relative(svc, store_, [this](std::int64_t map_id) { return router_.building(map_id); }, a_id, b_id);
+                const auto building_of = [this](std::int64_t map_id) {
+                    try {
+                        return router_.building(map_id);
+                    } catch (const routing::TooLarge& e) {
+                        throw tracks::NoGraph(e.what());
+                    }
+                };
+                r = tracks::relative(svc, store_, building_of, a_id, b_id);
             } catch (const tracks::Unrelated& e) {
                 if (e.why == tracks::Unrelated::Why::other_map) throw ApiError(422, "other_map", e.what());
                 throw ApiError(409, "no_fix", e.what());

@@ -355,6 +355,21 @@ Building build_building(std::vector<FloorSpec> specs, const GridOptions& options
     return b;
 }
 
+BuildingCost building_cost(const std::vector<FloorSpec>& floors, const GridOptions& options) {
+    // Per cell: the grid's flags, moves and space (6 bytes), a route's mark, g and parent (12),
+    // the landmark build's distances of one source at a time (4), and 4 per landmark.
+    constexpr double kCellBytes = 22.0, kLandmarkBytes = 4.0;
+    BuildingCost cost;
+    for (const FloorSpec& f : floors) {
+        const double cells = walk_grid_cells(f.plan, options);
+        const double landmarks = static_cast<double>(f.plan.connectors.size()) + 4.0;  // corner_cells: four
+        cost.cells += cells;
+        cost.landmark_cells += cells * landmarks;
+        cost.bytes += cells * (kCellBytes + kLandmarkBytes * landmarks);
+    }
+    return cost;
+}
+
 std::vector<SpaceRef> spaces_of_room(const Building& building, std::int64_t room_id) {
     std::vector<SpaceRef> out;
     for (const Floor& f : building.floors)

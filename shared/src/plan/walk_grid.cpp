@@ -290,13 +290,23 @@ double WalkGrid::clearance_threshold() const {
 
 double WalkGrid::door_clear_radius() const { return clearance_threshold() + 0.75 * options.cell; }
 
+namespace {
+// Cells across a side of the plan's box.
+double grid_span(double metres, const GridOptions& options) { return std::ceil(metres / options.cell); }
+}  // namespace
+
+double walk_grid_cells(const Plan& plan, const GridOptions& options) {
+    const Bounds all = plan_bounds(plan);
+    return std::max(1.0, grid_span(all.xmax - all.xmin, options)) * std::max(1.0, grid_span(all.ymax - all.ymin, options));
+}
+
 WalkGrid build_walk_grid(const Plan& plan, const GridOptions& options) {
     WalkGrid g;
     g.options = options;
     const Bounds all = plan_bounds(plan);
     g.origin = {all.xmin, all.ymin};
     // check_plan bounds a stored plan's area; a grid past it (or past int) is a caller's bug.
-    const double cols = std::ceil((all.xmax - all.xmin) / options.cell), rows = std::ceil((all.ymax - all.ymin) / options.cell);
+    const double cols = grid_span(all.xmax - all.xmin, options), rows = grid_span(all.ymax - all.ymin, options);
     if (!(cols * rows <= 4.0 * kMaxPlanArea / (options.cell * options.cell) + 1e6))
         throw std::length_error("a walk grid of " + std::to_string(cols * rows) + " cells: the plan is too large");
     g.cols = std::max(1, static_cast<int>(cols));

@@ -43,6 +43,18 @@ struct Building {
 
 Building build_building(std::vector<FloorSpec> floors, const GridOptions& options = {});
 
+// What build_building would hold, worked out from the plans alone (no grid is built): each
+// floor's walk grid cells (walk_grid_cells), and per cell a landmark distance (a float) from
+// each of its connectors and four corners, each of them also a Dijkstra over the whole floor.
+// bytes estimates the memory: the landmark floats, the grid's per-cell arrays and a route's
+// per-cell search arrays. Building time grows as `landmark_cells`.
+struct BuildingCost {
+    double cells = 0.0;
+    double landmark_cells = 0.0;  // Σ over floors of cells × landmarks
+    double bytes = 0.0;
+};
+BuildingCost building_cost(const std::vector<FloorSpec>& floors, const GridOptions& options = {});
+
 // A space to keep out of, by floor and index in that floor's plan.spaces.
 struct SpaceRef {
     std::int64_t floor_id = 0;

@@ -72,4 +72,8 @@ struct WalkGrid {
 // Expects a plan that passes check_plan (unchecked plans give a grid, not a meaningful one).
 WalkGrid build_walk_grid(const Plan& plan, const GridOptions& options = {});
 
+// The number of cells build_walk_grid gives the plan, without building it (a bounding box
+// over all of the plan's points); doubles, so a plan past int's cells still counts.
+double walk_grid_cells(const Plan& plan, const GridOptions& options = {});
+
 }  // namespace locus::plan
