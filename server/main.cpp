@@ -45,7 +45,7 @@ struct Flags {
     double keep_alive_s = 10, header_s = 10, read_s = 10;
     std::size_t max_exports = 2;
     double export_timeout_s = 600;
-    double max_route_graph_mb = 256;
+    double max_route_graph_mb = 192;
     locus::tracks::Options tracks;
     locus::http::FairShareOptions fair;
     std::vector<std::string> trusted_proxies;

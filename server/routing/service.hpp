@@ -29,7 +29,7 @@ struct TooLarge : std::runtime_error {
 };
 
 struct ServiceOptions {
-    double max_graph_bytes = 256.0 * 1024 * 1024;  // plan::BuildingCost::bytes
+    double max_graph_bytes = 192.0 * 1024 * 1024;  // plan::BuildingCost::bytes
     // What builds a graph; empty: plan::build_building. Tests hold a build here to see what
     // waits for it.
     std::function<plan::Building(std::vector<plan::FloorSpec>)> build;

@@ -45,5 +45,44 @@ TEST(BenchAbuse, TheHostileClientIsRefusedAndThePhonesAreNot) {
 #endif
 }
 
+// The route-build scenario: the big map is made, routed on by the hostile client (its first
+// route builds the graph) and deleted; the phones' demo-map routes all answer.
+TEST(BenchAbuse, TheRouteBuildScenarioRoutesOnABigMapAndRemovesIt) {
+    ServerProcess s({"--demo", "--api-key", "k3y", "--quiet"});
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "route-build", "--big-floor-m", "40", "--server",
+                                s.url(), "--api-key", "k3y", "--map", "1", "--phones", "2", "--seconds", "2", "--phone-interval",
+                                "0.25"});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    const json out = json::parse(r.out);
+    EXPECT_EQ(out.at("scenario"), "route-build");
+    const json& route = out.at("phones").at("route");
+    EXPECT_EQ(route.at("errors"), 0) << out.dump();
+    EXPECT_GE(route.at("requests").get<int>(), 8) << out.dump();  // 2 phones × 4 a second × 2 s, less the start
+    EXPECT_GT(count(out.at("hostile").at("routes"), "200"), 0) << out.dump();
+    EXPECT_GE(out.at("hostile").at("first_answer_s").get<double>(), 0.0);
+    // Only the demo map is left.
+    const auto maps = s.get("/v1/maps");
+    ASSERT_EQ(maps.status, 200);
+    EXPECT_EQ(maps.body.at("items").size(), 1u) << maps.raw;
+}
+
+TEST(BenchAbuse, AScenarioItCannotRunIsNamed) {
+    ServerProcess s({"--demo", "--api-key", "k3y", "--quiet"});
+    const auto unknown = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "flood", "--server", s.url(), "--map", "1"});
+    EXPECT_NE(unknown.status, 0);
+    EXPECT_NE(unknown.err.find("--scenario"), std::string::npos) << unknown.err;
+    const auto no_radiomap = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--server", s.url(), "--api-key", "k3y", "--map", "1"});
+    EXPECT_NE(no_radiomap.status, 0);
+    EXPECT_NE(no_radiomap.err.find("--radiomap"), std::string::npos) << no_radiomap.err;
+    // A map with no floor plan to route on.
+    s.set_api_key("k3y");
+    const auto empty = s.post("/v1/maps", {{"name", "Empty"}});
+    ASSERT_EQ(empty.status, 201) << empty.raw;
+    const auto no_plan = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "route-build", "--server", s.url(), "--api-key",
+                                      "k3y", "--map", std::to_string(empty.body.at("id").get<int>()), "--seconds", "1"});
+    EXPECT_NE(no_plan.status, 0);
+    EXPECT_NE(no_plan.err.find("no floor with a plan and two rooms"), std::string::npos) << no_plan.err;
+}
+
 }  // namespace
 }  // namespace bench_abuse_test

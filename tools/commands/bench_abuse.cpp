@@ -10,12 +10,18 @@
 // Meanwhile --phones well-behaved phones, each from its own address (127.0.0.3 and up), open a
 // track, then once per --phone-interval localize a scan and post the fix to their track.
 //
-// Prints one JSON object: what the phones saw (localize latency, refused track opens and
-// fixes) and what the hostile client got (answers by status), with the server's peak resident
-// memory above idle when --server-pid names it. Exits non-zero if a phone was refused or the
-// hostile client ever got a 5xx. Loopback only; bounded in time (≤ 120 s) and connections.
-// The setup reads (the radio map, its RPs) send --api-key; the phones and the hostile client
-// never do.
+// `--scenario route-build` instead: the setup (with --api-key) adds a map of two large floors
+// (--big-floor-m square, eight stairs between them, under the server's default route-graph
+// bound), which also drops every map's kept route graph; the hostile client then asks for
+// routes across that map back to back (the first builds its graph), while the phones route
+// between two rooms of --map once per --phone-interval (its graph rebuilt first). The map is
+// deleted at the end.
+//
+// Prints one JSON object: what the phones saw (localize or route latency, refused track opens
+// and fixes) and what the hostile client got (answers by status), with the server's peak
+// resident memory above idle when --server-pid names it. Exits non-zero if a phone was refused
+// or the hostile client ever got a 5xx. Loopback only; bounded in time (≤ 120 s) and
+// connections. The setup sends --api-key; the phones and the hostile client never do.
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -55,6 +61,8 @@ struct Args {
     std::string hostile_address = "127.0.0.2";
     int server_pid = 0;
     int max_streams = 200;  // streams the hostile client tries to hold at once
+    std::string scenario = "all";
+    double big_floor_m = 290.0;  // route-build: the big map's floors' side (180 MB, under the default bound)
 };
 
 // Answers by status, counted from several threads.
@@ -129,10 +137,125 @@ std::optional<int> open_stream(const Target& target, const std::string& source, 
     return std::stoi(head.substr(9, 3));
 }
 
-void run(const Args& a) {
+// Two rooms of the map's first floor that has a plan and two rooms: the phones' route.
+json room_route(api::Client& setup, std::int64_t map_id) {
+    for (const auto& b : setup.buildings(map_id))
+        for (const auto& f : setup.floors(b.id)) {
+            const auto rooms = setup.rooms(f.id);
+            if (rooms.size() >= 2 && setup.plan(f.id))
+                return {{"from", {{"room_id", rooms.front().id}}}, {"to", {{"room_id", rooms.back().id}}}};
+        }
+    throw CommandError("map " + std::to_string(map_id) + " has no floor with a plan and two rooms to route between");
+}
+
+// A floor plan: one side × side hall with eight stairs linked to the same stairs of `other`.
+json big_plan(double side, std::int64_t other) {
+    json ring = json::array();
+    for (const auto& [x, y] : {std::pair{0.0, 0.0}, {side, 0.0}, {side, side}, {0.0, side}, {0.0, 0.0}}) ring.push_back(json::array({x, y}));
+    json features = json::array();
+    features.push_back({{"type", "Feature"},
+                        {"properties", {{"feature", "space"}, {"name", "Hall"}}},
+                        {"geometry", {{"type", "Polygon"}, {"coordinates", json::array({ring})}}}});
+    for (int k = 0; k < 8; ++k) {
+        const std::string id = "s" + std::to_string(k);
+        features.push_back({{"type", "Feature"},
+                            {"properties", {{"feature", "connector"}, {"id", id}, {"kind", "stairs"}, {"links", {{{"floor_id", other}, {"connector", id}}}}}},
+                            {"geometry", {{"type", "Point"}, {"coordinates", {side * (k + 1) / 9.0, side * ((k * 5) % 8 + 1) / 9.0}}}}});
+    }
+    return {{"type", "FeatureCollection"}, {"features", features}};
+}
+
+void run_route_build(const Args& a) {
     const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
+    api::Client setup(a.server.client_options());
+    const std::string hp = target.host_port;
+    const json phone_body = room_route(setup, a.map);
+    const std::string phone_route = http_request("POST", "/v1/maps/" + std::to_string(a.map) + "/route", hp, phone_body.dump());
+
+    const auto big = setup.create_map("bench abuse route-build " + std::to_string(::getpid()) + " " +
+                                      std::to_string(std::chrono::system_clock::now().time_since_epoch().count()));
+    const auto building = setup.create_building(big.id, "Big");
+    std::int64_t floors[2];
+    for (int i = 0; i < 2; ++i) {
+        api::FloorInfo f;
+        f.building_id = building.id;
+        f.name = "Floor " + std::to_string(i);
+        f.level = i;
+        f.width = f.height = a.big_floor_m;
+        floors[i] = setup.create_floor(f).id;
+    }
+    for (int i = 0; i < 2; ++i) setup.put("/v1/floors/" + std::to_string(floors[i]) + "/plan", big_plan(a.big_floor_m, floors[1 - i]));
+    const double far = a.big_floor_m * 0.95;
+    const std::string hostile_route = http_request(
+        "POST", "/v1/maps/" + std::to_string(big.id) + "/route", hp,
+        json{{"from", {{"floor_id", floors[0]}, {"x", 1.0}, {"y", 1.0}}}, {"to", {{"floor_id", floors[1]}, {"x", far}, {"y", far}}}}.dump());
+
+    const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
+    const auto t0 = Clock::now();
+    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
+    auto running = [&] { return Clock::now() < deadline; };
+    StatusCounts hostile_routes;
+    std::atomic<double> first_answer_s{-1.0};
+    std::thread hostile([&] {
+        BenchConnection c(target.host, target.port, a.hostile_address);
+        while (running()) {
+            hostile_routes.add(c.round_trip(hostile_route));
+            double unset = -1.0;
+            first_answer_s.compare_exchange_strong(unset, std::chrono::duration<double>(Clock::now() - t0).count());
+        }
+    });
+    // The phones start once the hostile client's build is under way.
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    std::vector<std::vector<double>> route_ms(static_cast<std::size_t>(a.phones));
+    std::atomic<int> route_errors{0};
+    std::vector<std::thread> phones;
+    for (int p = 0; p < a.phones; ++p)
+        phones.emplace_back([&, p] {
+            BenchConnection c(target.host, target.port, phone_address(p));
+            std::this_thread::sleep_for(std::chrono::duration<double>(a.phone_interval * p / std::max(1, a.phones)));
+            auto next = Clock::now();
+            while (running()) {
+                const auto s = Clock::now();
+                if (c.round_trip(phone_route) == 200)
+                    route_ms[static_cast<std::size_t>(p)].push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
+                else
+                    ++route_errors;
+                next += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.phone_interval));
+                std::this_thread::sleep_until(std::min(next, deadline));
+            }
+        });
+    for (auto& t : phones) t.join();
+    hostile.join();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+    setup.del("/v1/maps/" + std::to_string(big.id));
+
+    std::vector<double> all;
+    for (auto& v : route_ms) all.insert(all.end(), v.begin(), v.end());
+    json route = latency_percentiles(all);
+    route["max_ms"] = all.empty() ? 0.0 : all.back();
+    route["requests"] = all.size() + static_cast<std::size_t>(route_errors.load());
+    route["errors"] = route_errors.load();
+    json out = {{"scenario", "route-build"},
+                {"seconds", elapsed},
+                {"big_map", {{"floors", 2}, {"side_m", a.big_floor_m}, {"stairs", 8}}},
+                {"phones", {{"n", a.phones}, {"route", route}}},
+                {"hostile", {{"address", a.hostile_address}, {"routes", hostile_routes.to_json()}, {"first_answer_s", first_answer_s.load()}}}};
+    if (a.server_pid) {
+        const long long peak = proc_status_kb(a.server_pid, "VmHWM:");
+        out["server"] = {{"rss_idle_mb", idle_rss_kb / 1024.0}, {"peak_mb", peak / 1024.0}, {"peak_above_idle_mb", (peak - idle_rss_kb) / 1024.0}};
+    }
+    std::cout << out.dump() << "\n";
+    if (route_errors > 0 || hostile_routes.any_server_error())
+        throw CommandError(std::to_string(route_errors.load()) + " phone routes refused" +
+                           (hostile_routes.any_server_error() ? "; the hostile client got a 5xx" : ""));
+}
+
+void run(const Args& a) {
     if (!a.hostile_address.starts_with("127.") || a.hostile_address == "127.0.0.1")
         throw CommandError("--hostile-address must be a loopback address other than 127.0.0.1 (e.g. 127.0.0.2)");
+    if (a.scenario == "route-build") return run_route_build(a);
+    if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario all: the phones localize against it");
+    const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
     api::Client setup(a.server.client_options());
     const std::int64_t floor_id = setup.radiomap(a.radiomap).floor_id;
     const auto bodies = localize_bodies(a.server, a.radiomap, "", "wknn");
@@ -292,12 +415,16 @@ LOCUS_COMMAND("bench-abuse", [](CLI::App& app) {
     auto args = std::make_shared<Args>();
     args->server.add_to(*cmd);
     cmd->add_option("--map", args->map, "the map the phones open tracks on")->required();
-    cmd->add_option("--radiomap", args->radiomap, "a radio map of that map, which the phones localize against")->required();
+    cmd->add_option("--radiomap", args->radiomap, "a radio map of that map, which the phones localize against (scenario all)");
     cmd->add_option("--phones", args->phones, "well-behaved phones, each from its own loopback address")->capture_default_str()->check(CLI::Range(1, 1000));
     cmd->add_option("--seconds", args->seconds, "how long the run lasts")->capture_default_str()->check(CLI::Range(1.0, 120.0));
     cmd->add_option("--phone-interval", args->phone_interval, "seconds between a phone's localize + fix")->capture_default_str()->check(CLI::Range(0.05, 60.0));
     cmd->add_option("--hostile-address", args->hostile_address, "the hostile client's loopback source address")->capture_default_str();
     cmd->add_option("--hostile-streams", args->max_streams, "event streams the hostile client tries to hold")->capture_default_str()->check(CLI::Range(1, 2000));
+    cmd->add_option("--scenario", args->scenario, "all: bombs, track, stream and route floods at once; route-build: routes on a large map's graph")
+        ->capture_default_str()->check(CLI::IsMember({"all", "route-build"}));
+    cmd->add_option("--big-floor-m", args->big_floor_m, "route-build: the side of the big map's two square floors, metres")
+        ->capture_default_str()->check(CLI::Range(10.0, 500.0));
     cmd->add_option("--server-pid", args->server_pid, "the server's process id, to report its peak resident memory (/proc)")->check(CLI::PositiveNumber);
     cmd->callback([args] { run(*args); });
 });
