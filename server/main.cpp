@@ -39,7 +39,7 @@ std::chrono::milliseconds ms(double seconds) { return std::chrono::milliseconds(
 struct Flags {
     std::string db_path = "locus.db", host = "127.0.0.1", api_key;
     int port = 8080;
-    bool demo = false, quiet = false, allow_open_writes = false;
+    bool demo = false, quiet = false, allow_open_writes = false, public_positions = false;
     locus::http::FrontOptions front;
     int threads = static_cast<int>(front.min_threads);
     double keep_alive_s = 10, header_s = 10, read_s = 10;
@@ -64,6 +64,9 @@ void add_server_flags(CLI::App& cli, Flags& f) {
     cli.add_flag("--allow-open-writes", f.allow_open_writes,
                  "listen beyond loopback without --api-key (writes then open to the network)");
     cli.add_flag("--demo", f.demo, "create the demo map when the database holds no map");
+    cli.add_flag("--public-positions", f.public_positions,
+                 "answer every live track's position (GET /v1/maps/{id}/positions and its stream) to anyone; without it "
+                 "they need --api-key's key, or with no key a client on this machine");
     cli.add_option("--max-body-bytes", f.front.max_body_bytes, "largest request body accepted (a chunked body: on the wire)")
         ->capture_default_str()->check(CLI::PositiveNumber);
     cli.add_option("--threads", f.threads, "HTTP workers kept when idle; one more starts per open connection")
@@ -188,7 +191,7 @@ int serve(const Flags& f, const sigset_t& signals) {
         locus::tracks::Service tracks(store, f.tracks);
         locus::http::App app(store, localizer, router, directory,
                              {f.api_key, !f.quiet, f.front, {f.web_root, f.leaflet_root}, &tracks, f.max_exports,
-                              ms(f.export_timeout_s), f.fair});
+                              ms(f.export_timeout_s), f.fair, f.public_positions});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(f.host, f.port, listen_error);

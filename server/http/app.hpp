@@ -43,6 +43,9 @@ struct AppOptions {
     std::size_t max_exports = 2;
     std::chrono::milliseconds export_timeout{600'000};
     FairShareOptions fair{};  // per-client rates (fair_share.hpp); requests with the API key are exempt
+    // GET /v1/maps/{id}/positions and its stream to anyone (--public-positions); else they need
+    // the API key, or with no key a client on this machine (position_routes.cpp).
+    bool public_positions = false;
 };
 
 class App {

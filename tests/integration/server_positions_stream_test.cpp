@@ -61,6 +61,65 @@ TEST(ServerPositionsStream, BadInputIsRefused) {
     EXPECT_EQ(get_status(s, p + "?floor_id=-3", "k1"), 400);
 }
 
+// Status of GET `path` with extra request headers and no key.
+int get_with(const ServerProcess& s, const std::string& path, const httplib::Headers& headers) {
+    httplib::Client c("127.0.0.1", s.port());
+    c.set_read_timeout(5, 0);
+    const auto r = c.Get(path.c_str(), headers);
+    return r ? r->status : 0;
+}
+
+// Everyone's positions are the operator's: the key where there is one; with none, a client on
+// this machine, as the trusted proxies name it (a proxy the server was not told of makes every
+// client look local, so its forwarding headers say "not local"); --public-positions: anyone.
+TEST(ServerPositionsStream, PositionsAreTheOperatorsUnlessMadePublic) {
+    for (const char* route : {"/positions", "/positions/events"}) {
+        {
+            ServerProcess s({"--quiet"});
+            const auto h = locus::testing::make_hierarchy(s);
+            const std::string p = "/v1/maps/" + std::to_string(h.map) + route;
+            if (std::string(route) == "/positions") {
+                EXPECT_EQ(get_status(s, p, ""), 200);  // (a stream answered 200 would not end)
+            }
+            EXPECT_EQ(get_with(s, p, {{"X-Forwarded-For", "203.0.113.7"}}), 403) << route;
+            EXPECT_EQ(get_with(s, p, {{"X-Forwarded-For", "127.0.0.1"}}), 403) << route;  // no proxy named: not believed
+            EXPECT_EQ(get_with(s, p, {{"Forwarded", "for=203.0.113.7"}}), 403) << route;
+            EXPECT_EQ(get_with(s, p, {{"X-Real-IP", "203.0.113.7"}}), 403) << route;
+        }
+        {
+            ServerProcess s({"--quiet", "--trusted-proxy", "127.0.0.1"});
+            const auto h = locus::testing::make_hierarchy(s);
+            const std::string p = "/v1/maps/" + std::to_string(h.map) + route;
+            EXPECT_EQ(get_with(s, p, {{"X-Forwarded-For", "203.0.113.7"}}), 403) << route;
+            EXPECT_EQ(get_with(s, p, {{"X-Forwarded-For", "127.0.0.1, 203.0.113.7"}}), 403) << route;
+            if (std::string(route) == "/positions") {
+                EXPECT_EQ(get_with(s, p, {{"X-Forwarded-For", "127.0.0.5"}}), 200);
+            }
+        }
+        {
+            ServerProcess s({"--quiet", "--api-key", "k1", "--public-positions"});
+            s.set_api_key("k1");
+            const auto h = locus::testing::make_hierarchy(s);
+            const std::string p = "/v1/maps/" + std::to_string(h.map) + route;
+            if (std::string(route) == "/positions") {
+                EXPECT_EQ(get_with(s, p, {{"X-Forwarded-For", "203.0.113.7"}}), 200);
+                EXPECT_EQ(get_status(s, p, ""), 200);
+            }
+            EXPECT_EQ(get_status(s, "/v1/maps/999" + std::string(route), ""), 404);
+        }
+    }
+    // The refusal says what to do.
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    httplib::Client c("127.0.0.1", s.port());
+    const auto r = c.Get(("/v1/maps/" + std::to_string(h.map) + "/positions").c_str(), {{"X-Forwarded-For", "203.0.113.7"}});
+    ASSERT_TRUE(r);
+    const json body = json::parse(r->body);
+    EXPECT_EQ(body["error"]["code"], "forbidden");
+    for (const char* flag : {"--api-key", "--trusted-proxy", "--public-positions"})
+        EXPECT_NE(body["error"]["message"].get<std::string>().find(flag), std::string::npos) << flag;
+}
+
 TEST(ServerPositionsStream, AFollowedFloorSeesTracksComeMoveLeaveAndEnd) {
     ServerProcess s({"--quiet", "--track-heartbeat", "0.2"});
     const auto h = locus::testing::make_hierarchy(s);

@@ -82,5 +82,22 @@ TEST(ClientAddress, BadProxyValuesAreRefusedByName) {
     EXPECT_THROW(parse_trusted_proxies({"10.0.0.5,"}), std::invalid_argument);
 }
 
+// Who is on this machine: loopback addresses of both families, after the proxies are walked.
+TEST(ClientAddress, LoopbackIsThisMachinesAddressesOnly) {
+    const auto loopback = [](const char* text) { return locus::http::is_loopback(*locus::http::parse_address(text)); };
+    for (const char* local : {"127.0.0.1", "127.0.0.2", "127.255.255.254", "::1", "::ffff:127.0.0.1"}) EXPECT_TRUE(loopback(local)) << local;
+    for (const char* other : {"10.0.0.1", "128.0.0.1", "126.255.255.255", "0.0.0.0", "::", "::2", "::ffff:10.0.0.1", "fe80::1", "2001:db8::1"})
+        EXPECT_FALSE(loopback(other)) << other;
+    const auto trusted = parse_trusted_proxies({"127.0.0.1"});
+    const auto through = [&](const std::vector<std::string>& forwarded) {
+        return locus::http::is_loopback(*locus::http::client_address("127.0.0.1", forwarded, trusted));
+    };
+    EXPECT_TRUE(through({}));
+    EXPECT_TRUE(through({"127.0.0.9"}));
+    EXPECT_FALSE(through({"203.0.113.7"}));
+    EXPECT_FALSE(through({"127.0.0.9, 203.0.113.7"}));
+    EXPECT_FALSE(locus::http::client_address("not an address", {}, trusted).has_value());
+}
+
 }  // namespace
 }  // namespace client_address_test

@@ -114,14 +114,29 @@ std::string client_key(const AddressRange& address) {
 
 std::string client_of(const std::string& remote, const std::vector<std::string>& forwarded,
                       const std::vector<AddressRange>& trusted) {
-    const auto peer = parse_address(remote);
     // A peer that is not an address (a Unix socket) is one client.
-    if (!peer) return remote;
+    const auto client = client_address(remote, forwarded, trusted);
+    return client ? client_key(*client) : remote;
+}
+
+bool is_loopback(const AddressRange& a) {
+    if (!a.v6) return a.bytes[0] == 127;
+    const auto zero = [&](int from, int to) {
+        return std::all_of(a.bytes.begin() + from, a.bytes.begin() + to, [](std::uint8_t b) { return b == 0; });
+    };
+    if (zero(0, 15) && a.bytes[15] == 1) return true;                                   // ::1
+    return zero(0, 10) && a.bytes[10] == 0xff && a.bytes[11] == 0xff && a.bytes[12] == 127;  // ::ffff:127.x.y.z
+}
+
+std::optional<AddressRange> client_address(const std::string& remote, const std::vector<std::string>& forwarded,
+                                           const std::vector<AddressRange>& trusted) {
+    const auto peer = parse_address(remote);
+    if (!peer) return std::nullopt;
     const auto is_trusted = [&](const AddressRange& a) {
         return std::any_of(trusted.begin(), trusted.end(), [&](const AddressRange& r) { return r.contains(a); });
     };
     AddressRange client = *peer;
-    if (trusted.empty() || !is_trusted(client)) return client_key(client);
+    if (trusted.empty() || !is_trusted(client)) return client;
     // Every value's entries, right to left; several headers count as one list in order.
     for (auto v = forwarded.rbegin(); v != forwarded.rend(); ++v) {
         std::string_view rest = *v;
@@ -130,15 +145,15 @@ std::string client_of(const std::string& remote, const std::vector<std::string>&
             const std::string_view entry = trim(comma == std::string_view::npos ? rest : rest.substr(comma + 1));
             if (!entry.empty()) {
                 const auto a = parse_address(entry);
-                if (!a) return client_key(client);  // not written by a proxy: the last one vouched for is the client
+                if (!a) return client;  // not written by a proxy: the last one vouched for is the client
                 client = *a;
-                if (!is_trusted(client)) return client_key(client);
+                if (!is_trusted(client)) return client;
             }
             if (comma == std::string_view::npos) break;
             rest = rest.substr(0, comma);
         }
     }
-    return client_key(client);  // every hop a trusted proxy: the left-most one
+    return client;  // every hop a trusted proxy: the left-most one
 }
 
 }  // namespace locus::http

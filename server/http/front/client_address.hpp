@@ -47,6 +47,11 @@ std::vector<AddressRange> parse_trusted_proxies(const std::vector<std::string>& 
 // address stops the walk: the proxy right of it is the client then.
 std::string client_of(const std::string& remote, const std::vector<std::string>& forwarded,
                       const std::vector<AddressRange>& trusted);
+// The client's address as client_of finds it; nullopt for a peer that is not an address.
+std::optional<AddressRange> client_address(const std::string& remote, const std::vector<std::string>& forwarded,
+                                           const std::vector<AddressRange>& trusted);
+// This machine: 127.0.0.0/8, ::1, or an IPv4 loopback address mapped into IPv6.
+bool is_loopback(const AddressRange& address);
 
 // The key of one address: IPv4 as written by inet_ntop, IPv6 as its /64 ("2001:db8:1:2::/64").
 std::string client_key(const AddressRange& address);

@@ -1,5 +1,6 @@
 #include "http/front/fair_share.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string_view>
 
@@ -55,14 +56,30 @@ bool FairShare::exempt(const httplib::Request& req) const {
     return auth.starts_with("Bearer ") && tracks::same_hash(std::string_view(auth).substr(7), api_key_);
 }
 
-std::optional<std::string> FairShare::client(const httplib::Request& req) const {
-    if (exempt(req)) return std::nullopt;
-    std::vector<std::string> forwarded;
+std::vector<std::string> FairShare::forwarded(const httplib::Request& req) const {
+    std::vector<std::string> out;
     if (!options_.trusted_proxies.empty()) {
         const auto n = req.get_header_value_count("X-Forwarded-For");
-        for (std::size_t i = 0; i < n; ++i) forwarded.push_back(req.get_header_value("X-Forwarded-For", i));
+        for (std::size_t i = 0; i < n; ++i) out.push_back(req.get_header_value("X-Forwarded-For", i));
     }
-    return client_of(req.remote_addr, forwarded, options_.trusted_proxies);
+    return out;
+}
+
+std::optional<std::string> FairShare::client(const httplib::Request& req) const {
+    if (exempt(req)) return std::nullopt;
+    return client_of(req.remote_addr, forwarded(req), options_.trusted_proxies);
+}
+
+bool FairShare::local(const httplib::Request& req) const {
+    const auto peer = parse_address(req.remote_addr);
+    if (!peer) return false;
+    const bool trusted_peer = std::any_of(options_.trusted_proxies.begin(), options_.trusted_proxies.end(),
+                                          [&](const AddressRange& r) { return r.contains(*peer); });
+    if (!trusted_peer)
+        for (const char* header : {"X-Forwarded-For", "Forwarded", "X-Real-IP"})
+            if (req.has_header(header)) return false;
+    const auto client = client_address(req.remote_addr, forwarded(req), options_.trusted_proxies);
+    return client && is_loopback(*client);
 }
 
 bool FairShare::refuse(const httplib::Request& req, httplib::Response& res) {

@@ -48,6 +48,11 @@ public:
     // The key the client of `req` is counted under, or nullopt when it carries the server's
     // API key ('Authorization: Bearer KEY'; never with no key configured): exempt.
     std::optional<std::string> client(const httplib::Request& req) const;
+    // Whether the client of `req` is on this machine: its address, as client() resolves it
+    // through the trusted proxies, is a loopback address, and no proxy the server does not
+    // trust forwarded it (a proxy on this machine that is not named makes every client look
+    // local, so a forwarding header from a peer that is not a trusted proxy says "not local").
+    bool local(const httplib::Request& req) const;
     // Before routing: true, with `res` holding the 429 (Retry-After, rate_limited), when the
     // request is on a rate-limited route and its client has no token left.
     bool refuse(const httplib::Request& req, httplib::Response& res);
@@ -56,6 +61,7 @@ public:
 
 private:
     bool exempt(const httplib::Request& req) const;
+    std::vector<std::string> forwarded(const httplib::Request& req) const;  // X-Forwarded-For values, when a proxy is trusted
 
     FairShareOptions options_;
     std::string api_key_;

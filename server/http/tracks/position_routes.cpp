@@ -1,5 +1,6 @@
-// Everyone's position on a map, for the operator (docs/tracks.md), so the API key is asked
-// even on these GETs:
+// Everyone's position on a map, for the operator (docs/tracks.md): these GETs need the API
+// key, or on a server without one a client on this machine (through the trusted proxies,
+// FairShare::local); --public-positions opens them to anyone.
 //
 //   GET    /v1/maps/{id}/positions?floor_id=          every live track's latest fix
 //   GET    /v1/maps/{id}/positions/events?floor_id=   their changes, Server-Sent Events
@@ -25,12 +26,19 @@ void App::install_position_routes() {
     FloorGeoCache& geo = geo_;
 
     const auto positions_scope = [this](const httplib::Request& req, httplib::Response& res) {
-        if (!options_.api_key.empty()) {
+        if (options_.public_positions) {
+            // Anyone's, as the operator chose.
+        } else if (!options_.api_key.empty()) {
             const std::string auth = req.get_header_value("Authorization");
             if (!auth.starts_with("Bearer ") || !tracks::same_hash(auth.substr(7), options_.api_key)) {
                 res.set_header("WWW-Authenticate", "Bearer");
                 throw ApiError(401, "unauthorized", "positions of every track need 'Authorization: Bearer <api key>'");
             }
+        } else if (!fair_share_.local(req)) {
+            throw ApiError(403, "forbidden",
+                           "positions of every track are the operator's: on a server without --api-key they are answered only to "
+                           "a client on the server's own machine (behind a proxy, name it with --trusted-proxy); start the "
+                           "server with --api-key, or with --public-positions to show them to anyone");
         }
         const auto map_id = parse_id(req.matches[1].str(), "map");
         (void)store_.get(store::kind("maps"), map_id);  // 404 for an unknown map
