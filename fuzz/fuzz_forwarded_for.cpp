@@ -4,7 +4,8 @@
 //
 // Checks: parse_trusted_proxies throws nothing but std::invalid_argument; client_of always
 // answers a key, and that key is the peer's own unless the peer is a trusted proxy; a key is
-// an IPv4 address or an IPv6 /64 when the peer is an address.
+// an IPv4 address or an IPv6 /64 when the peer is an address; client_address is the address
+// that key is of, and is loopback only when its text says so.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -60,5 +61,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     bool peer_trusted = false;
     for (const auto& r : trusted) peer_trusted = peer_trusted || r.contains(*peer_address);
     if (!peer_trusted && key != client_key(*peer_address)) fail("X-Forwarded-For was taken from an untrusted peer", input);
+    const auto address = client_address(peer, forwarded, trusted);
+    if (!address || client_key(*address) != key) fail("client_address is not the address of client_of's key", input);
+    const bool v4_loopback = !address->v6 && address->bytes[0] == 127;
+    if (!address->v6 && is_loopback(*address) != v4_loopback) fail("is_loopback disagrees with 127.0.0.0/8", input);
     return 0;
 }
