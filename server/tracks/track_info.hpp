@@ -62,6 +62,7 @@ struct Share {
 struct Events {
     std::vector<Fix> fixes;
     bool ended = false;
+    bool evicted = false;  // ended by the server to let another client's stream in (event_streams.hpp)
 };
 
 // What a map's positions stream is to write next (a stream may follow one floor):
@@ -77,6 +78,7 @@ struct MapEvent {
 struct MapEvents {
     std::vector<MapEvent> events;
     bool ended = false;
+    bool evicted = false;  // as Events::evicted
 };
 
 }  // namespace locus::tracks

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <iterator>
 #include <string>
 #include <thread>
@@ -186,6 +187,58 @@ TEST(ServerFairShare, OneClientHoldsAtMostItsStreams) {
     SseListener other_map(s.port(), positions, {}, kSecond);
     EXPECT_TRUE(other_track.wait_for(1, 5.0));
     EXPECT_TRUE(other_map.wait_for(1, 5.0));
+}
+
+// However many clients fill the server's streams, one holding fewer still opens its own: the
+// oldest stream of the client holding the most (at least two more) ends as evicted to let it
+// in; when every client holds about as many, the server is busy.
+TEST(ServerFairShare, AFullServerLetsAClientHoldingFewerIn) {
+    ServerProcess s({"--quiet", "--track-heartbeat", "0.1", "--max-track-streams", "4", "--client-streams", "3"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Response t = open_track(s, h.map);
+    ASSERT_EQ(t.status, 201);
+    const json fix = {{"fixes", {{{"t", locus::testing::unix_now() - 1}, {"floor_id", h.floor}, {"x", 1.0}, {"y", 1.0}, {"accuracy_m", 2.0}}}}};
+    ASSERT_EQ(call(s, "POST", "/v1/tracks/" + id_of(t) + "/fixes", fix, {"127.0.0.1", {{"X-Track-Token", token_of(t)}}}).status, 200);
+    const std::string events = "/v1/tracks/" + id_of(t) + "/events";
+    const std::string positions = "/v1/maps/" + std::to_string(h.map) + "/positions/events";
+    const httplib::Headers owner{{"X-Track-Token", token_of(t)}};
+    // Client A holds three, B one: the server's four.
+    std::vector<std::unique_ptr<SseListener>> a;
+    for (int i = 0; i < 3; ++i) {
+        a.push_back(std::make_unique<SseListener>(s.port(), events, owner, "127.0.0.2"));
+        ASSERT_TRUE(a.back()->wait_for(1, 5.0)) << "A's stream " << i;
+    }
+    SseListener b(s.port(), positions, {}, "127.0.0.3");
+    ASSERT_TRUE(b.wait_for(1, 5.0));
+    const auto evicted = [](SseListener& l) {
+        if (!l.ended(5.0)) return false;
+        const auto last = l.seen().back();
+        return last.second.value("reason", "").starts_with("evicted");
+    };
+    // C (none) gets in; A's oldest ends.
+    SseListener c(s.port(), events, owner, "127.0.0.4");
+    EXPECT_TRUE(c.wait_for(1, 5.0));
+    EXPECT_TRUE(evicted(*a[0]));
+    EXPECT_FALSE(a[1]->ended(0.3));
+    // B (one) does not take from A (two): two more are needed.
+    const auto busy = call(s, "GET", positions, nullptr, {"127.0.0.3"});
+    EXPECT_EQ(busy.status, 503) << busy.raw;
+    EXPECT_EQ(busy.body["error"]["code"], "server_busy") << busy.raw;
+    // D (none) takes A's next oldest, a positions stream as well as a track stream.
+    SseListener d(s.port(), positions, {}, "127.0.0.5");
+    EXPECT_TRUE(d.wait_for(1, 5.0));
+    EXPECT_TRUE(evicted(*a[1]));
+    EXPECT_FALSE(a[2]->ended(0.3));
+    EXPECT_FALSE(b.ended(0.1));
+    // Everyone holds one: a newcomer waits for a slot, and one closing frees it at once.
+    EXPECT_EQ(call(s, "GET", events, nullptr, {"127.0.0.6", owner}).status, 503);
+    a[2].reset();
+    bool opened = false;
+    for (int i = 0; i < 50 && !opened; ++i) {  // the closed stream's worker lets go at its next heartbeat
+        SseListener e(s.port(), events, owner, "127.0.0.6");
+        opened = e.wait_for(1, 0.5).has_value();
+    }
+    EXPECT_TRUE(opened);
 }
 
 TEST(ServerFairShare, TrackOpensAreRateLimited) {

@@ -82,7 +82,7 @@ void App::install_position_routes() {
                 }
             }
             if (batch.events.empty() && !batch.ended) out = ": heartbeat\n\n";
-            if (batch.ended) out += sse_event("end", json{{"reason", "the server is stopping"}});
+            if (batch.ended) out += sse_event("end", json{{"reason", batch.evicted ? kEvicted : "the server is stopping"}});
             if (!sink.write(out.data(), out.size())) return false;
             if (batch.ended) sink.done();
             return true;

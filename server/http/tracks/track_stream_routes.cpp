@@ -31,7 +31,8 @@ void App::install_track_stream_routes() {
             std::string out;
             for (const auto& f : events.fixes) out += sse_event("fix", fix_json(f, geo));
             if (events.fixes.empty() && !events.ended) out = ": heartbeat\n\n";
-            if (events.ended) out += sse_event("end", json{{"reason", "the track is no longer live, or the server is stopping"}});
+            if (events.ended)
+                out += sse_event("end", json{{"reason", events.evicted ? kEvicted : "the track is no longer live, or the server is stopping"}});
             if (!sink.write(out.data(), out.size())) return false;
             if (events.ended) sink.done();
             return true;
