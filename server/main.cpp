@@ -131,11 +131,18 @@ void add_client_flags(CLI::App& cli, Flags& f) {
     cli.add_option("--client-track-open-burst", f.fair.track_open_burst, "tracks one client may open at once before --client-track-opens applies")
         ->capture_default_str()->check(CLI::Range(1.0, 1e6));
     cli.add_option("--client-rate", f.fair.route_rate,
-                   "route, search, map localize and radio map quality requests one client may send a second, on average; past it, "
-                   "429 rate_limited")
+                   "route, search, map localize and radio map quality requests (and scans a track's /steps has localized) one "
+                   "client may send a second, on average; past it, 429 rate_limited")
         ->capture_default_str()->check(CLI::Range(0.0001, 1e6));
     cli.add_option("--client-burst", f.fair.route_burst, "such requests one client may send at once before --client-rate applies")
         ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+    cli.add_option("--client-track-bytes", f.fair.track_write_rate,
+                   "bytes of track fixes and steps (POST /v1/tracks/{id}/fixes, /steps) one client may post a second, on average; "
+                   "past it, 429 rate_limited")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e12));
+    cli.add_option("--client-track-bytes-burst", f.fair.track_write_burst,
+                   "bytes of track fixes and steps one client may post at once before --client-track-bytes applies")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e12));
     cli.add_option("--trusted-proxy", f.trusted_proxies,
                    "a reverse proxy's address or CIDR range (repeatable, or comma-separated): from it, the client is the "
                    "right-most X-Forwarded-For entry that is not a trusted proxy; without one, X-Forwarded-For is ignored")

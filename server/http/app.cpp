@@ -1,6 +1,7 @@
 #include "http/app.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 
@@ -88,6 +89,7 @@ void App::guarded(const httplib::Request& req, httplib::Response& res, const std
     try {
         body();
     } catch (const ApiError& e) {
+        if (e.retry_after_s > 0) res.set_header("Retry-After", std::to_string(retry_seconds(e.retry_after_s)));
         write_error(res, e.status, e.code, e.what());
     } catch (const store::NotFound& e) {
         write_error(res, 404, "not_found", e.what());

@@ -3,6 +3,10 @@
 // from its own address) are never refused, and the server's memory stays bounded.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <string>
+#include <vector>
+
 #include "server_process.hpp"
 #include "build_paths.hpp"
 
@@ -64,6 +68,45 @@ TEST(BenchAbuse, TheRouteBuildScenarioRoutesOnABigMapAndRemovesIt) {
     const auto maps = s.get("/v1/maps");
     ASSERT_EQ(maps.status, 200);
     EXPECT_EQ(maps.body.at("items").size(), 1u) << maps.raw;
+}
+
+// The streams scenario: ten clients hold what streams they may, more than the server's cap
+// together; a phone then opens its own track's stream.
+TEST(BenchAbuse, AfterTenClientsHoldTheStreamsAPhoneOpensItsOwn) {
+    ServerProcess s({"--demo", "--quiet", "--max-track-streams", "20", "--client-streams", "3", "--track-heartbeat", "0.5"});
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "streams", "--server", s.url(), "--map", "1",
+                                "--stream-holders", "10", "--seconds", "30"});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    const json out = json::parse(r.out);
+    EXPECT_EQ(out.at("scenario"), "streams");
+    EXPECT_EQ(out.at("holders").size(), 10u) << out.dump();
+    EXPECT_GE(out.at("held").get<int>(), 20) << out.dump();  // the cap was full before the phone came
+    for (const auto& h : out.at("holders")) EXPECT_LE(h.at("held").get<int>(), 3) << out.dump();
+    EXPECT_EQ(out.at("phone").at("stream_status"), 200) << out.dump();
+}
+
+// The fixes scenario: two anonymous tracks flood fixes; what is stored is the client's byte
+// budget's worth, and the phones are never refused.
+TEST(BenchAbuse, AFixFloodStoresOnlyTheClientsBudget) {
+    ServerProcess s({"--demo", "--api-key", "k3y", "--quiet"});
+    std::vector<std::string> args = {LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "fixes", "--server", s.url(), "--api-key", "k3y",
+                                     "--map", "1", "--radiomap", "1", "--phones", "3", "--seconds", "4", "--phone-interval", "0.5"};
+    const bool sqlite = !s.db_path().empty() && std::filesystem::exists(s.db_path());
+    if (sqlite) args.insert(args.end(), {"--db", s.db_path()});
+    const auto r = run_command(args);
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    const json out = json::parse(r.out);
+    EXPECT_EQ(out.at("scenario"), "fixes");
+    EXPECT_EQ(out.at("phones").at("fixes").at("refused"), 0) << out.dump();
+    EXPECT_EQ(out.at("phones").at("localize").at("errors"), 0) << out.dump();
+    const json& hostile = out.at("hostile");
+    EXPECT_GT(count(hostile.at("posts"), "200"), 0) << out.dump();
+    EXPECT_GT(count(hostile.at("posts"), "429"), 0) << out.dump();
+    for (const auto& [status, n] : hostile.at("posts").items()) EXPECT_NE(status[0], '5') << n << " × " << status;
+    // 1 MiB of burst and 4 s at 16 KiB a second, at some 60 bytes a fix: under 20,000.
+    EXPECT_GT(hostile.at("fixes_stored").get<long long>(), 5000) << out.dump();
+    EXPECT_LT(hostile.at("fixes_stored").get<long long>(), 20000) << out.dump();
+    if (sqlite) EXPECT_LT(out.at("database").at("growth_mb").get<double>(), 5.0) << out.dump();
 }
 
 TEST(BenchAbuse, AScenarioItCannotRunIsNamed) {

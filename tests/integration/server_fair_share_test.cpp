@@ -282,6 +282,69 @@ TEST(ServerFairShare, ExpensiveRoutesShareOneRate) {
     EXPECT_NE(call(s, "GET", quality, nullptr, {kSecond}).status, 429);
 }
 
+// A batch of `n` fixes one second apart from `t0`, at (x, 1).
+json fixes_batch(std::int64_t floor, double t0, int n) {
+    json fixes = json::array();
+    for (int i = 0; i < n; ++i) fixes.push_back({{"t", t0 + i}, {"floor_id", floor}, {"x", 1.0 + 0.01 * i}, {"y", 1.0}, {"accuracy_m", 2.0}});
+    return {{"fixes", fixes}};
+}
+
+TEST(ServerFairShare, WhatATrackWriterPostsIsMeteredInBytes) {
+    ServerProcess s({"--quiet", "--client-track-bytes", "10", "--client-track-bytes-burst", "6000"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Response t = open_track(s, h.map);
+    ASSERT_EQ(t.status, 201);
+    const Call owner{"127.0.0.1", {{"X-Track-Token", token_of(t)}}};
+    const std::string fixes = "/v1/tracks/" + id_of(t) + "/fixes";
+    const double t0 = locus::testing::unix_now() - 1000;
+    const json batch = fixes_batch(h.floor, t0, 30);
+    const std::size_t bytes = batch.dump().size();
+    ASSERT_GT(bytes, 1500u);
+    ASSERT_LT(bytes, 3000u);  // two fit in the burst, a third does not
+    EXPECT_EQ(call(s, "POST", fixes, batch, owner).status, 200);
+    EXPECT_EQ(call(s, "POST", fixes, fixes_batch(h.floor, t0 + 100, 30), owner).status, 200);
+    const json third = fixes_batch(h.floor, t0 + 200, 30);
+    expect_limited(call(s, "POST", fixes, third, owner), "rate_limited", "--client-track-bytes (10", "a third batch at once");
+    const long retry = retry_after(s, "POST", fixes, third, owner);
+    EXPECT_GE(retry, 10);  // what is missing of ~2 KB at 10 bytes a second
+    // Nothing of the refused batches was stored.
+    const Response info = call(s, "GET", "/v1/tracks/" + id_of(t), nullptr, owner);
+    ASSERT_EQ(info.status, 200) << info.raw;
+    EXPECT_EQ(info.body["fixes"], 60);
+    // Another client's track posts on its own share.
+    const Response other = open_track(s, h.map, {kSecond});
+    ASSERT_EQ(other.status, 201);
+    EXPECT_EQ(call(s, "POST", "/v1/tracks/" + id_of(other) + "/fixes", batch, {kSecond, {{"X-Track-Token", token_of(other)}}}).status, 200);
+}
+
+TEST(ServerFairShare, AThinClientsScansAreLocalizationsOfItsRate) {
+    ServerProcess s({"--quiet", "--client-rate", "0.05", "--client-burst", "3"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Response t = open_track(s, h.map);
+    ASSERT_EQ(t.status, 201);
+    const Call owner{"127.0.0.1", {{"X-Track-Token", token_of(t)}}};
+    const std::string steps = "/v1/tracks/" + id_of(t) + "/steps";
+    const double t0 = locus::testing::unix_now() - 100;
+    const auto scans = [&](int n, double from) {
+        json out = json::array();
+        for (int i = 0; i < n; ++i)
+            out.push_back({{"t", from + i}, {"readings", {{{"bssid", "aa:00:00:00:00:01"}, {"rss", -50}}}}});
+        return json{{"scans", out}};
+    };
+    // Five scans on a full bucket of three: admitted (whatever the fusion answers), and paid for after.
+    const Response five = call(s, "POST", steps, scans(5, t0), owner);
+    EXPECT_NE(five.status, 429) << five.raw;
+    expect_limited(call(s, "POST", steps, scans(1, t0 + 10), owner), "rate_limited", "--client-rate (0.05", "a scan after five");
+    const long retry = retry_after(s, "POST", steps, scans(1, t0 + 10), owner);
+    EXPECT_GE(retry, 59);  // three tokens short at 0.05 a second
+    EXPECT_LE(retry, 60);
+    // The same bucket as map localize; steps without scans localize nothing and pass.
+    const json scan = {{"scans", {{{{"bssid", "aa:00:00:00:00:01"}, {"rss", -50}}}}}};
+    expect_limited(call(s, "POST", "/v1/maps/" + std::to_string(h.map) + "/localize", scan), "rate_limited", "--client-rate", "map localize");
+    const Response fix = call(s, "POST", steps, fixes_batch(h.floor, t0 + 20, 1), owner);
+    EXPECT_NE(fix.status, 429) << fix.raw;
+}
+
 TEST(ServerFairShare, TheApiKeyIsExempt) {
     ServerProcess s({"--quiet", "--api-key", "s3cret", "--client-rate", "0.01", "--client-burst", "1", "--client-live-tracks", "1",
                      "--client-track-opens", "0.01", "--client-track-open-burst", "1", "--client-streams", "1", "--track-heartbeat", "0.1"});
@@ -360,6 +423,8 @@ TEST(ServerFairShare, BadFlagValuesAreRefusedAtStart) {
         {{"--client-streams", "-1"}, "--client-streams"},
         {{"--client-track-opens", "fast"}, "--client-track-opens"},
         {{"--client-track-open-burst", "0"}, "--client-track-open-burst"},
+        {{"--client-track-bytes", "0"}, "--client-track-bytes"},
+        {{"--client-track-bytes-burst", "0.5"}, "--client-track-bytes-burst"},
     };
     const std::string dir = locus::testing::make_temp_dir();
     for (const auto& c : cases) {

@@ -101,7 +101,8 @@ double shrunk(double look_db, int n) { return look_db * n / (n + 5.0); }
 std::string steps_path(std::int64_t track) { return "/v1/tracks/" + std::to_string(track) + "/steps"; }
 
 TEST(ServerTracksOffset, AWalkPfTrackLearnsItsPhonesOffset) {
-    ServerProcess s({"--quiet"});
+    // The walk's scans are posted back to back, faster than a phone's 10 localizations a second.
+    ServerProcess s({"--quiet", "--client-rate", "1000", "--client-burst", "1000"});
     const auto h = locus::testing::make_hierarchy(s);
     survey(s, h);
     const Track t = open_track(s, {{"map_id", h.map}});

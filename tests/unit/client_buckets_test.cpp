@@ -30,6 +30,27 @@ TEST(ClientBuckets, ABurstThenTheRate) {
     EXPECT_FALSE(b.take("a", 20.5).allowed);
 }
 
+TEST(ClientBuckets, ACostSpendsThatManyTokens) {
+    ClientBuckets b(10.0, 1000, 100);  // bytes, say: 10 a second, 1000 at once
+    EXPECT_TRUE(b.take("a", 0, 600).allowed);
+    const auto refused = b.take("a", 0, 600);  // 400 left
+    EXPECT_FALSE(refused.allowed);
+    EXPECT_DOUBLE_EQ(refused.wait_s, 20.0);  // 200 short at 10 a second
+    EXPECT_TRUE(b.take("a", 0, 400).allowed);
+    EXPECT_FALSE(b.take("a", 0, 1).allowed);
+}
+
+TEST(ClientBuckets, ACostAboveTheBurstIsTakenFromAFullBucketAndPaidAfter) {
+    ClientBuckets b(2.0, 5, 100);
+    EXPECT_TRUE(b.take("a", 0, 1).allowed);
+    EXPECT_FALSE(b.take("a", 0, 8).allowed);  // four left: a batch above the burst needs a full bucket
+    EXPECT_DOUBLE_EQ(b.take("a", 0, 8).wait_s, 0.5);
+    EXPECT_TRUE(b.take("a", 0.5, 8).allowed);  // full again: taken, leaving 5 - 8 = -3
+    const auto after = b.take("a", 0.5, 1);
+    EXPECT_FALSE(after.allowed);
+    EXPECT_DOUBLE_EQ(after.wait_s, 2.0);  // from -3 to 1 at 2 a second
+}
+
 TEST(ClientBuckets, EachClientHasItsOwn) {
     ClientBuckets b(1.0, 2, 100);
     EXPECT_TRUE(b.take("a", 0).allowed);

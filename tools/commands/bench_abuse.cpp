@@ -17,6 +17,15 @@
 // between two rooms of --map once per --phone-interval (its graph rebuilt first). The map is
 // deleted at the end.
 //
+// `--scenario streams`: --stream-holders clients (127.0.1.1 and up, no key) each open a track
+// and hold as many event streams on it as the server lets them; then a phone opens a track and
+// its own stream, which must be answered 200 (the holders' shares fill the server's cap, so it
+// takes the place of the biggest holder's oldest).
+//
+// `--scenario fixes`: the hostile client opens two tracks and posts 1,000-fix batches to them
+// back to back while the phones localize and post as above; with --db, how much the server's
+// SQLite file and its WAL grew.
+//
 // Prints one JSON object: what the phones saw (localize or route latency, refused track opens
 // and fixes) and what the hostile client got (answers by status), with the server's peak
 // resident memory above idle when --server-pid names it. Exits non-zero if a phone was refused
@@ -30,6 +39,8 @@
 #include <atomic>
 #include <chrono>
 #include <deque>
+#include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -62,6 +73,8 @@ struct Args {
     int server_pid = 0;
     int max_streams = 200;  // streams the hostile client tries to hold at once
     std::string scenario = "all";
+    int stream_holders = 10;  // streams: clients filling the server's streams
+    std::string db;  // fixes: the server's SQLite file, whose growth is reported
     double big_floor_m = 290.0;  // route-build: the big map's floors' side (180 MB, under the default bound)
 };
 
@@ -136,6 +149,79 @@ std::optional<int> open_stream(const Target& target, const std::string& source, 
     if (!head.starts_with("HTTP/1.1 ") || head.size() < 12) return std::nullopt;
     return std::stoi(head.substr(9, 3));
 }
+
+// --phones well-behaved phones, each from its own address: open a track, then once per
+// --phone-interval localize a scan on --radiomap and post the fix to the track.
+class LocalizingPhones {
+public:
+    LocalizingPhones(const Args& a, const Target& target, std::int64_t floor_id)
+        : a_(a),
+          target_(target),
+          floor_id_(floor_id),
+          bodies_(localize_bodies(a.server, a.radiomap, "", "wknn")),
+          localize_path_("/v1/radiomaps/" + std::to_string(a.radiomap) + "/localize"),
+          open_request_(http_request("POST", "/v1/tracks", target.host_port, json{{"map_id", a.map}}.dump())),
+          localize_ms_(static_cast<std::size_t>(a.phones)) {}
+
+    // Until running() says no; returns once every phone has stopped.
+    void run(const std::function<bool()>& running) {
+        const auto deadline = Clock::now() + std::chrono::seconds(130);  // past the longest --seconds
+        std::vector<std::thread> phones;
+        for (int p = 0; p < a_.phones; ++p)
+            phones.emplace_back([&, p] {
+                BenchConnection c(target_.host, target_.port, phone_address(p));
+                // Spread over the first interval, as phones arrive.
+                std::this_thread::sleep_for(std::chrono::duration<double>(a_.phone_interval * p / std::max(1, a_.phones)));
+                const auto track = open_track(c, open_request_);
+                if (!track) {
+                    ++opens_refused_;
+                    return;
+                }
+                ++opens_ok_;
+                auto next = Clock::now();
+                for (std::size_t i = static_cast<std::size_t>(p); running(); i += static_cast<std::size_t>(a_.phones)) {
+                    const auto s = Clock::now();
+                    std::string body;
+                    const auto status = c.round_trip(http_request("POST", localize_path_, target_.host_port, bodies_[i % bodies_.size()]), &body);
+                    if (status != 200) {
+                        ++localize_errors_;
+                    } else {
+                        localize_ms_[static_cast<std::size_t>(p)].push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
+                        const json fix = json::parse(body, nullptr, false);
+                        const auto posted =
+                            c.round_trip(fix_request(*track, floor_id_, fix.value("x", 0.0), fix.value("y", 0.0), target_.host_port));
+                        (posted == 200 || posted == 201 ? fixes_ok_ : fixes_refused_)++;
+                    }
+                    next += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a_.phone_interval));
+                    while (running() && Clock::now() < std::min(next, deadline)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+                }
+            });
+        for (auto& t : phones) t.join();
+    }
+
+    int refused() const { return opens_refused_ + fixes_refused_ + localize_errors_; }
+    json to_json() const {
+        std::vector<double> all;
+        for (const auto& v : localize_ms_) all.insert(all.end(), v.begin(), v.end());
+        json localize = latency_percentiles(all);
+        localize["max_ms"] = all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
+        localize["requests"] = all.size() + static_cast<std::size_t>(localize_errors_.load());
+        localize["errors"] = localize_errors_.load();
+        return {{"n", a_.phones},
+                {"localize", localize},
+                {"track_opens", {{"ok", opens_ok_.load()}, {"refused", opens_refused_.load()}}},
+                {"fixes", {{"ok", fixes_ok_.load()}, {"refused", fixes_refused_.load()}}}};
+    }
+
+private:
+    const Args& a_;
+    Target target_;
+    std::int64_t floor_id_;
+    std::vector<std::string> bodies_;
+    std::string localize_path_, open_request_;
+    std::vector<std::vector<double>> localize_ms_;
+    std::atomic<int> opens_ok_{0}, opens_refused_{0}, fixes_ok_{0}, fixes_refused_{0}, localize_errors_{0};
+};
 
 // Two rooms of the map's first floor that has a plan and two rooms: the phones' route.
 json room_route(api::Client& setup, std::int64_t map_id) {
@@ -250,10 +336,130 @@ void run_route_build(const Args& a) {
                            (hostile_routes.any_server_error() ? "; the hostile client got a 5xx" : ""));
 }
 
+void run_streams(const Args& a) {
+    const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
+    const std::string open_request = http_request("POST", "/v1/tracks", target.host_port, json{{"map_id", a.map}}.dump());
+    const auto t0 = Clock::now();
+    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
+    // Each holder opens streams on its own track until refused (or --hostile-streams in all).
+    std::vector<std::unique_ptr<HeldStream>> held;
+    json holders = json::array();
+    std::size_t total = 0;
+    for (int h = 0; h < a.stream_holders && Clock::now() < deadline; ++h) {
+        const std::string address = "127.0." + std::to_string(1 + h / 250) + "." + std::to_string(1 + h % 250);
+        BenchConnection c(target.host, target.port, address);
+        const auto track = open_track(c, open_request);
+        if (!track) throw CommandError("holder " + address + " could not open a track");
+        StatusCounts answers;
+        int n = 0;
+        while (total < static_cast<std::size_t>(a.max_streams) && Clock::now() < deadline) {
+            auto s = std::make_unique<HeldStream>();
+            const auto status = open_stream(target, address, "/v1/tracks/" + track->id + "/events?token=" + track->token, *s);
+            answers.add(status);
+            if (status != 200) break;
+            held.push_back(std::move(s));
+            ++n;
+            ++total;
+        }
+        holders.push_back({{"address", address}, {"held", n}, {"answers", answers.to_json()}});
+    }
+    // The phone: its own track and its own stream.
+    BenchConnection phone(target.host, target.port, phone_address(0));
+    const auto track = open_track(phone, open_request);
+    std::optional<int> status;
+    double open_ms = 0.0;
+    if (track) {
+        HeldStream own;
+        const auto s = Clock::now();
+        status = open_stream(target, phone_address(0), "/v1/tracks/" + track->id + "/events?token=" + track->token, own);
+        open_ms = std::chrono::duration<double, std::milli>(Clock::now() - s).count();
+    }
+    json out = {{"scenario", "streams"},
+                {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()},
+                {"holders", holders},
+                {"held", total},
+                {"phone", {{"track_opened", track.has_value()}, {"stream_status", status ? json(*status) : json(nullptr)}, {"open_ms", open_ms}}}};
+    std::cout << out.dump() << "\n";
+    if (!track || status != 200)
+        throw CommandError("the phone's own stream was not opened (" + (status ? std::to_string(*status) : std::string("no answer")) + ")");
+}
+
+// The database file's bytes with its write-ahead log; 0 for a file that is not there.
+std::uintmax_t database_bytes(const std::string& path) {
+    std::uintmax_t total = 0;
+    for (const auto& f : {path, path + "-wal"}) {
+        std::error_code ec;
+        const auto n = std::filesystem::file_size(f, ec);
+        if (!ec) total += n;
+    }
+    return total;
+}
+
+void run_fixes(const Args& a) {
+    if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario fixes: the phones localize against it");
+    const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
+    api::Client setup(a.server.client_options());
+    const std::int64_t floor_id = setup.radiomap(a.radiomap).floor_id;
+    const std::string open_request = http_request("POST", "/v1/tracks", target.host_port, json{{"map_id", a.map}}.dump());
+    std::vector<OpenedTrack> tracks;
+    {
+        BenchConnection c(target.host, target.port, a.hostile_address);
+        for (int k = 0; k < 2; ++k)
+            if (auto t = open_track(c, open_request)) tracks.push_back(*t);
+    }
+    if (tracks.empty()) throw CommandError("the hostile client could not open a track");
+    const std::uintmax_t db_before = a.db.empty() ? 0 : database_bytes(a.db);
+    const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
+    const auto t0 = Clock::now();
+    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
+    auto running = [&] { return Clock::now() < deadline; };
+    // Each batch a thousand fixes a millisecond apart, batch after batch a second apart, an
+    // hour ago: all new, all within the retention period.
+    const double start = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count() - 3600;
+    StatusCounts posts;
+    std::atomic<long long> stored{0};
+    std::vector<std::thread> hostile;
+    for (const auto& t : tracks)
+        hostile.emplace_back([&, t] {
+            BenchConnection c(target.host, target.port, a.hostile_address);
+            for (int batch = 0; running();) {
+                json fixes = json::array();
+                for (int i = 0; i < 1000; ++i)
+                    fixes.push_back({{"t", start + batch + i * 1e-3}, {"floor_id", floor_id}, {"x", 1.0 + i % 10}, {"y", 1.0}, {"accuracy_m", 3.0}});
+                std::string body;
+                const auto status = c.round_trip(http_request("POST", "/v1/tracks/" + t.id + "/fixes", target.host_port,
+                                                              json{{"fixes", fixes}}.dump(), "X-Track-Token: " + t.token + "\r\n"),
+                                                 &body);
+                posts.add(status);
+                if (status != 200) continue;
+                stored += json::parse(body, nullptr, false).value("stored", 0LL);
+                ++batch;  // the next second: refused batches would otherwise drift past the server's clock
+            }
+        });
+    LocalizingPhones phones(a, target, floor_id);
+    phones.run(running);
+    for (auto& t : hostile) t.join();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+    json out = {{"scenario", "fixes"},
+                {"seconds", elapsed},
+                {"phones", phones.to_json()},
+                {"hostile", {{"address", a.hostile_address}, {"tracks", tracks.size()}, {"posts", posts.to_json()}, {"fixes_stored", stored.load()}}}};
+    if (!a.db.empty()) out["database"] = {{"file", a.db}, {"growth_mb", (static_cast<double>(database_bytes(a.db)) - static_cast<double>(db_before)) / 1e6}};
+    if (a.server_pid) {
+        const long long peak = proc_status_kb(a.server_pid, "VmHWM:");
+        out["server"] = {{"rss_idle_mb", idle_rss_kb / 1024.0}, {"peak_mb", peak / 1024.0}, {"peak_above_idle_mb", (peak - idle_rss_kb) / 1024.0}};
+    }
+    std::cout << out.dump() << "\n";
+    if (phones.refused() > 0 || posts.any_server_error())
+        throw CommandError(std::to_string(phones.refused()) + " phone requests refused" + (posts.any_server_error() ? "; the hostile client got a 5xx" : ""));
+}
+
 void run(const Args& a) {
     if (!a.hostile_address.starts_with("127.") || a.hostile_address == "127.0.0.1")
         throw CommandError("--hostile-address must be a loopback address other than 127.0.0.1 (e.g. 127.0.0.2)");
     if (a.scenario == "route-build") return run_route_build(a);
+    if (a.scenario == "streams") return run_streams(a);
+    if (a.scenario == "fixes") return run_fixes(a);
     if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario all: the phones localize against it");
     const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
     api::Client setup(a.server.client_options());
@@ -341,53 +547,13 @@ void run(const Args& a) {
         });
 
     // The phones.
-    std::vector<std::vector<double>> localize_ms(static_cast<std::size_t>(a.phones));
-    std::atomic<int> opens_ok{0}, opens_refused{0}, fixes_ok{0}, fixes_refused{0}, localize_errors{0};
-    std::vector<std::thread> phones;
-    for (int p = 0; p < a.phones; ++p)
-        phones.emplace_back([&, p] {
-            BenchConnection c(target.host, target.port, phone_address(p));
-            // Spread over the first interval, as phones arrive.
-            std::this_thread::sleep_for(std::chrono::duration<double>(a.phone_interval * p / std::max(1, a.phones)));
-            const auto track = open_track(c, open_request);
-            if (!track) {
-                ++opens_refused;
-                return;
-            }
-            ++opens_ok;
-            auto next = Clock::now();
-            for (std::size_t i = static_cast<std::size_t>(p); running(); i += static_cast<std::size_t>(a.phones)) {
-                const auto s = Clock::now();
-                std::string body;
-                const auto status = c.round_trip(http_request("POST", localize_path, hp, bodies[i % bodies.size()]), &body);
-                if (status != 200) {
-                    ++localize_errors;
-                } else {
-                    localize_ms[static_cast<std::size_t>(p)].push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
-                    const json fix = json::parse(body, nullptr, false);
-                    const auto posted = c.round_trip(fix_request(*track, floor_id, fix.value("x", 0.0), fix.value("y", 0.0), hp));
-                    (posted == 200 || posted == 201 ? fixes_ok : fixes_refused)++;
-                }
-                next += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.phone_interval));
-                std::this_thread::sleep_until(std::min(next, deadline));
-            }
-        });
-    for (auto& t : phones) t.join();
+    LocalizingPhones phones(a, target, floor_id);
+    phones.run(running);
     for (auto& t : hostile) t.join();
     const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
 
-    std::vector<double> all;
-    for (auto& v : localize_ms) all.insert(all.end(), v.begin(), v.end());
-    json localize = latency_percentiles(all);
-    localize["max_ms"] = all.empty() ? 0.0 : all.back();
-    localize["requests"] = all.size() + static_cast<std::size_t>(localize_errors.load());
-    localize["errors"] = localize_errors.load();
     json out = {{"seconds", elapsed},
-                {"phones",
-                 {{"n", a.phones},
-                  {"localize", localize},
-                  {"track_opens", {{"ok", opens_ok.load()}, {"refused", opens_refused.load()}}},
-                  {"fixes", {{"ok", fixes_ok.load()}, {"refused", fixes_refused.load()}}}}},
+                {"phones", phones.to_json()},
                 {"hostile",
                  {{"address", a.hostile_address},
                   {"bombs", bombs.to_json()},
@@ -401,7 +567,7 @@ void run(const Args& a) {
     std::cout << out.dump() << "\n";
     const bool hostile_5xx = bombs.any_server_error() || tracks.any_server_error() || streams.any_server_error() ||
                              expensive.any_server_error();
-    const int refused = opens_refused + fixes_refused + localize_errors;
+    const int refused = phones.refused();
     if (refused > 0 || hostile_5xx)
         throw CommandError(std::to_string(refused) + " phone requests refused" +
                            (hostile_5xx ? "; the hostile client got a 5xx" : ""));
@@ -421,8 +587,13 @@ LOCUS_COMMAND("bench-abuse", [](CLI::App& app) {
     cmd->add_option("--phone-interval", args->phone_interval, "seconds between a phone's localize + fix")->capture_default_str()->check(CLI::Range(0.05, 60.0));
     cmd->add_option("--hostile-address", args->hostile_address, "the hostile client's loopback source address")->capture_default_str();
     cmd->add_option("--hostile-streams", args->max_streams, "event streams the hostile client tries to hold")->capture_default_str()->check(CLI::Range(1, 2000));
-    cmd->add_option("--scenario", args->scenario, "all: bombs, track, stream and route floods at once; route-build: routes on a large map's graph")
-        ->capture_default_str()->check(CLI::IsMember({"all", "route-build"}));
+    cmd->add_option("--scenario", args->scenario,
+                    "all: bombs, track, stream and route floods at once; route-build: routes on a large map's graph; streams: "
+                    "clients holding every stream they may, then a phone's own; fixes: two tracks posting 1,000-fix batches")
+        ->capture_default_str()->check(CLI::IsMember({"all", "route-build", "streams", "fixes"}));
+    cmd->add_option("--db", args->db, "fixes: the server's SQLite database file, to report how much it (and its WAL) grew");
+    cmd->add_option("--stream-holders", args->stream_holders, "streams: clients holding streams before the phone opens its own")
+        ->capture_default_str()->check(CLI::Range(1, 1000));
     cmd->add_option("--big-floor-m", args->big_floor_m, "route-build: the side of the big map's two square floors, metres")
         ->capture_default_str()->check(CLI::Range(10.0, 500.0));
     cmd->add_option("--server-pid", args->server_pid, "the server's process id, to report its peak resident memory (/proc)")->check(CLI::PositiveNumber);

@@ -9,7 +9,8 @@ ClientBuckets::ClientBuckets(double rate, double burst, std::size_t capacity) : 
     if (!(rate > 0) || !(burst >= 1) || capacity < 1) throw std::invalid_argument("ClientBuckets: rate > 0, burst >= 1, capacity >= 1");
 }
 
-ClientBuckets::Verdict ClientBuckets::take(const std::string& client, double now) {
+ClientBuckets::Verdict ClientBuckets::take(const std::string& client, double now, double cost) {
+    const double needed = std::min(cost, burst_);
     auto it = index_.find(client);
     double tokens = burst_;
     if (it != index_.end()) {
@@ -17,13 +18,13 @@ ClientBuckets::Verdict ClientBuckets::take(const std::string& client, double now
         // A clock that went back (it is steady, but a caller's may not be) refills nothing.
         tokens = std::min(burst_, b.tokens + std::max(0.0, now - b.at) * rate_);
     }
-    if (tokens < 1) {
+    if (tokens < needed) {
         // Not stored again: the refill is computed from the bucket's own time, and a refused
         // request must not postpone it.
         lru_.splice(lru_.begin(), lru_, it->second);
-        return {false, (1 - tokens) / rate_};
+        return {false, (needed - tokens) / rate_};
     }
-    tokens -= 1;
+    tokens -= cost;
     if (it == index_.end()) {
         if (lru_.size() >= capacity_) {
             index_.erase(lru_.back().client);

@@ -1,6 +1,7 @@
 #pragma once
 // Token buckets kept per client (docs/deploy.md "Per-client limits"): each client may spend
-// `burst` requests at once and then `rate` a second. Pure bookkeeping: the caller passes the
+// `burst` requests (or bytes, or localizations: whatever a token stands for) at once and then
+// `rate` a second. Pure bookkeeping: the caller passes the
 // time (seconds on a steady clock), so tests drive it without sleeping, and locks it.
 //
 // Memory is bounded whatever the number of clients: at most `capacity` buckets are held. A
@@ -28,8 +29,10 @@ public:
         bool allowed = true;
         double wait_s = 0;  // refused: seconds until a token is there again
     };
-    // Spends one of `client`'s tokens at time `now`, or says how long until one is there.
-    Verdict take(const std::string& client, double now);
+    // Spends `cost` of `client`'s tokens at time `now`, or says how long until they are there.
+    // A cost above the burst is allowed on a full bucket and leaves it in debt (negative), so
+    // a batch of many is admitted but the client's average rate stays `rate`.
+    Verdict take(const std::string& client, double now, double cost = 1);
 
     std::size_t size() const { return lru_.size(); }
     std::size_t capacity() const { return capacity_; }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "http/api_error.hpp"
 #include "http/app.hpp"
 #include "tracks/token.hpp"
 
@@ -48,7 +49,10 @@ FairShare::FairShare(FairShareOptions options, std::string api_key)
     : options_(std::move(options)),
       api_key_(std::move(api_key)),
       opens_(options_.track_open_rate, options_.track_open_burst, options_.table_capacity),
-      routes_(options_.route_rate, options_.route_burst, options_.table_capacity) {}
+      routes_(options_.route_rate, options_.route_burst, options_.table_capacity),
+      track_writes_(options_.track_write_rate, options_.track_write_burst, options_.table_capacity) {}
+
+double FairShare::now() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_).count(); }
 
 bool FairShare::exempt(const httplib::Request& req) const {
     if (api_key_.empty()) return false;
@@ -87,15 +91,14 @@ bool FairShare::refuse(const httplib::Request& req, httplib::Response& res) {
     if (what == Limited::none) return false;
     const auto who = client(req);
     if (!who) return false;
-    const double now = std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_).count();
     ClientBuckets::Verdict v;
     {
         std::lock_guard lock(mu_);
-        v = (what == Limited::track_open ? opens_ : routes_).take(*who, now);
+        v = (what == Limited::track_open ? opens_ : routes_).take(*who, now());
     }
     if (v.allowed) return false;
     // Whole seconds, rounded up: a retry at Retry-After finds a token.
-    const long long retry = std::max(1LL, static_cast<long long>(std::ceil(v.wait_s - 1e-9)));
+    const long long retry = retry_seconds(v.wait_s);
     res.set_header("Retry-After", std::to_string(retry));
     const std::string message =
         what == Limited::track_open
@@ -105,6 +108,30 @@ bool FairShare::refuse(const httplib::Request& req, httplib::Response& res) {
                   number_text(options_.route_rate) + " a second, bursts of --client-burst " + number_text(options_.route_burst) + ")";
     write_error(res, 429, "rate_limited", message + "; retry after " + std::to_string(retry) + " s");
     return true;
+}
+
+void FairShare::charge_track_write(const httplib::Request& req, std::size_t localizations) {
+    const auto who = client(req);
+    if (!who) return;
+    ClientBuckets::Verdict bytes, scans;
+    {
+        std::lock_guard lock(mu_);
+        const double t = now();
+        bytes = track_writes_.take(*who, t, static_cast<double>(req.body.size()));
+        if (bytes.allowed && localizations > 0) scans = routes_.take(*who, t, static_cast<double>(localizations));
+    }
+    if (!bytes.allowed)
+        throw ApiError(429, "rate_limited",
+                       "this client posted fixes and steps faster than --client-track-bytes (" + number_text(options_.track_write_rate) +
+                           " bytes a second, bursts of --client-track-bytes-burst " + number_text(options_.track_write_burst) +
+                           "): what it posts is stored; retry after " + std::to_string(retry_seconds(bytes.wait_s)) + " s",
+                       bytes.wait_s);
+    if (!scans.allowed)
+        throw ApiError(429, "rate_limited",
+                       "this client's scans to localize (" + std::to_string(localizations) + " in this request) come faster than --client-rate (" +
+                           number_text(options_.route_rate) + " localizations a second with map localize, route and search, bursts of --client-burst " +
+                           number_text(options_.route_burst) + "); retry after " + std::to_string(retry_seconds(scans.wait_s)) + " s",
+                       scans.wait_s);
 }
 
 }  // namespace locus::http

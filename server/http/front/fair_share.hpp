@@ -7,15 +7,17 @@
 // opens (POST /v1/tracks, --client-track-opens/--client-track-open-burst) and the expensive
 // anonymous reads (POST /v1/maps/{id}/route, GET /v1/maps/{id}/search, POST /v1/maps/{id}/localize,
 // GET /v1/radiomaps/{id}/quality; one bucket for the four, --client-rate/--client-burst).
-// What a client holds (live tracks, event streams) is counted where it is held, by the tracks
+// What a track's writer stores, and the scans a thin client has the server localize, are
+// charged by the routes once the body is read (charge_track_write). What a client holds (live tracks, event streams) is counted where it is held, by the tracks
 // service (tracks::Options; live tracks in the database, as a keyed hash); the routes ask
 // client() for the key it counts under.
 //
 // A request carrying the server's API key is the operator's and is exempt from all of these.
 //
 // Costs: client() parses the peer and X-Forwarded-For (client_address.hpp); refuse() adds a
-// regex-free path check and, for a limited route, one ClientBuckets::take under a mutex.
-// Memory: at most `table_capacity` buckets per table (two tables), whatever the clients.
+// regex-free path check and, for a limited route, one ClientBuckets::take under a mutex;
+// charge_track_write() at most two.
+// Memory: at most `table_capacity` buckets per table (three tables), whatever the clients.
 #include <httplib.h>
 
 #include <chrono>
@@ -37,6 +39,11 @@ struct FairShareOptions {
     // A phone localizes about once a second and routes or searches now and then.
     double route_rate = 10;  // per second
     double route_burst = 60;
+    // What a track's writer posts (fixes, a thin client's steps and scans) is stored for the
+    // retention period: its bytes are metered so one client cannot fill the disk. An hour of a
+    // phone's fixes uploaded at once is some 300 KB; a live phone posts about 1 KB a second.
+    double track_write_rate = 16 * 1024;  // bytes per second
+    double track_write_burst = 1024 * 1024;
     std::vector<AddressRange> trusted_proxies;  // --trusted-proxy; empty: X-Forwarded-For is ignored
     std::size_t table_capacity = 65'536;        // buckets held per table (client_buckets.hpp)
 };
@@ -57,6 +64,13 @@ public:
     // request is on a rate-limited route and its client has no token left.
     bool refuse(const httplib::Request& req, httplib::Response& res);
 
+    // Once a track write's body is read (POST /v1/tracks/{id}/fixes and /steps): its bytes
+    // against --client-track-bytes, then the scans it asks the server to localize against the
+    // bucket map localize takes from (--client-rate), one token each, a batch of more than
+    // the burst admitted on a full bucket and paid for after. Throws ApiError 429 rate_limited
+    // with retry_after_s; a request refused for its scans has spent its bytes (it was received).
+    void charge_track_write(const httplib::Request& req, std::size_t localizations);
+
     const FairShareOptions& options() const { return options_; }
 
 private:
@@ -66,7 +80,8 @@ private:
     FairShareOptions options_;
     std::string api_key_;
     std::mutex mu_;  // both tables
-    ClientBuckets opens_, routes_;
+    double now() const;
+    ClientBuckets opens_, routes_, track_writes_;
     std::chrono::steady_clock::time_point epoch_ = std::chrono::steady_clock::now();
 };
 

@@ -1,5 +1,6 @@
 // POST /v1/tracks/{id}/fixes {fixes: [{t, floor_id, x, y, accuracy_m, heading_deg?}]}: a phone
-// that runs client-lib posts its fused fixes (docs/tracks.md). The owner's token only.
+// that runs client-lib posts its fused fixes (docs/tracks.md). The owner's token only; the
+// body's bytes are the client's (FairShare::charge_track_write).
 #include <string>
 
 #include "http/app.hpp"
@@ -17,11 +18,12 @@ void App::install_track_fix_routes() {
     tracks::Service& svc = *options_.tracks;
     FloorGeoCache& geo = geo_;
 
-    server_.Post(R"(/v1/tracks/(\d+)/fixes)", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Post(R"(/v1/tracks/(\d+)/fixes)", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             require_owner(svc, req, id, "a share token reads a track; only its owner's token posts fixes");
             const auto fixes = parse_fixes(parse_object(req.body), svc.options().retention_s);
+            fair_share_.charge_track_write(req, 0);
             if (const auto floor = svc.misplaced_floor(id, fixes))
                 throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
             const auto posted = svc.post(id, fixes);
