@@ -48,6 +48,7 @@ struct Flags {
     double max_route_graph_mb = 192;
     locus::tracks::Options tracks;
     locus::http::FairShareOptions fair;
+    locus::http::BodyBudgetOptions bodies;
     std::vector<std::string> trusted_proxies;
     std::string web_root = locus::http::default_web_root(), leaflet_root = locus::http::default_leaflet_root;
 };
@@ -81,6 +82,19 @@ void add_server_flags(CLI::App& cli, Flags& f) {
         ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
     cli.add_option("--read-timeout", f.read_s, "seconds to wait for the next bytes of a request body")
         ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+    cli.add_option("--min-body-rate", f.front.min_body_rate,
+                   "bytes a second a request body must average: it must be read within --read-timeout plus its length "
+                   "at this rate, else it is dropped (408)")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e12));
+    // Request bodies being received and parsed at once (http/front/body_budget.hpp).
+    cli.add_option("--max-body-bytes-in-flight", f.bodies.total_bytes,
+                   "bytes of request bodies received and parsed at once, every client together (a chunked or encoded body "
+                   "counts as its route's limit); past it, 503 server_busy")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e15));
+    cli.add_option("--client-body-bytes-in-flight", f.bodies.client_bytes,
+                   "bytes of request bodies one client (address) has received and parsed at once; past it, 429 "
+                   "too_many_bodies (the API key: exempt)")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e15));
     cli.add_flag("--quiet", f.quiet, "no access log");
     cli.add_option("--max-exports", f.max_exports,
                    "radio map exports written at once (each holds a database connection and read snapshot); past it, "
@@ -198,7 +212,7 @@ int serve(const Flags& f, const sigset_t& signals) {
         locus::tracks::Service tracks(store, f.tracks);
         locus::http::App app(store, localizer, router, directory,
                              {f.api_key, !f.quiet, f.front, {f.web_root, f.leaflet_root}, &tracks, f.max_exports,
-                              ms(f.export_timeout_s), f.fair, f.public_positions});
+                              ms(f.export_timeout_s), f.fair, f.bodies, f.public_positions});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(f.host, f.port, listen_error);

@@ -165,6 +165,30 @@ bool App::refuse_before_body(const httplib::Request& req, httplib::Response& res
     return false;
 }
 
+bool App::refuse_body(const httplib::Request& req, httplib::Response& res) {
+    RequestFraming* f = Front::current();
+    if (!f || f->body_admitted) return false;
+    f->body_admitted = true;
+    // A length known before reading is what is held; a chunked or encoded body may grow to the
+    // route's limit (decoded) before that is known.
+    std::uint64_t bytes = f->content_length.value_or(0);
+    if (f->chunked || (!f->content_encoding.empty() && bytes > 0)) bytes = f->max_body_bytes;
+    const auto verdict = body_budget_.admit(fair_share_.client(req), bytes, f->body_ticket);
+    if (verdict == BodyBudget::Verdict::admitted) return false;
+    res.set_header("Retry-After", "1");
+    const auto& o = body_budget_.options();
+    if (verdict == BodyBudget::Verdict::server_full)
+        write_error(res, 503, "server_busy",
+                    "the server is receiving and parsing as many request bodies as it holds at once (--max-body-bytes-in-flight " +
+                        std::to_string(o.total_bytes) + " bytes); retry shortly");
+    else
+        write_error(res, 429, "too_many_bodies",
+                    "this client's request bodies being received and parsed reach its share (--client-body-bytes-in-flight " +
+                        std::to_string(o.client_bytes) + " bytes); send the next once an answer has come");
+    Front::close_after(res);  // the body is not read
+    return true;
+}
+
 void App::install_middleware() {
     // Before any body is read: bad framing, then the API key. Also asked for a request that
     // says `Expect: 100-continue`, so such a client is refused before it sends its body.
@@ -178,11 +202,17 @@ void App::install_middleware() {
         return fair_share_.refuse(req, res);
     };
     server_.set_pre_routing_handler([this, refuse_share](const httplib::Request& req, httplib::Response& res) {
-        return refuse_before_body(req, res) || refuse_share(req, res) ? httplib::Server::HandlerResponse::Handled
-                                                                      : httplib::Server::HandlerResponse::Unhandled;
+        return refuse_before_body(req, res) || refuse_share(req, res) || refuse_body(req, res)
+                   ? httplib::Server::HandlerResponse::Handled
+                   : httplib::Server::HandlerResponse::Unhandled;
     });
     server_.set_expect_100_continue_handler([this, refuse_share](const httplib::Request& req, httplib::Response& res) {
-        return refuse_before_body(req, res) || refuse_share(req, res) ? res.status : 100;
+        return refuse_before_body(req, res) || refuse_share(req, res) || refuse_body(req, res) ? res.status : 100;
+    });
+    // The body has been parsed and handled: its bytes go back before the answer is written, so
+    // a client that sends its next body as soon as it reads the answer finds them free.
+    server_.set_post_routing_handler([](const httplib::Request&, httplib::Response&) {
+        if (RequestFraming* f = Front::current()) f->body_ticket.reset();
     });
 
     // Called for every answer >= 400. httplib answers some failures itself (unknown route, a

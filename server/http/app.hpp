@@ -43,6 +43,7 @@ struct AppOptions {
     std::size_t max_exports = 2;
     std::chrono::milliseconds export_timeout{600'000};
     FairShareOptions fair{};  // per-client rates (fair_share.hpp); requests with the API key are exempt
+    BodyBudgetOptions bodies{};  // request bodies in flight (body_budget.hpp)
     // GET /v1/maps/{id}/positions and its stream to anyone (--public-positions); else they need
     // the API key, or with no key a client on this machine (position_routes.cpp).
     bool public_positions = false;
@@ -70,6 +71,9 @@ private:
     void install_health();
     // Answers a request that must be refused before its body is read; false if it may go on.
     bool refuse_before_body(const httplib::Request& req, httplib::Response& res) const;
+    // Admits the request's body against the body budget (once per request), or answers 503
+    // server_busy / 429 too_many_bodies with Retry-After before the body is read.
+    bool refuse_body(const httplib::Request& req, httplib::Response& res);
     void install_localize();         // localize_routes.cpp
     void install_crud();             // crud_routes.cpp
     void install_geo_routes();       // geo_routes.cpp
@@ -100,6 +104,7 @@ private:
     AppOptions options_;
     Slots export_slots_{options_.max_exports};
     FairShare fair_share_{options_.fair, options_.api_key};
+    BodyBudget body_budget_{options_.bodies};  // before server_: its connections' tickets point here
     Front server_;
 };
 

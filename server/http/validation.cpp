@@ -126,8 +126,29 @@ void reject_nul(std::string_view body) {
         throw ApiError(400, "invalid_json", "the request body is not valid JSON (it holds a NUL byte)");
 }
 
+void reject_deep(std::string_view body) {
+    std::size_t depth = 0;
+    bool in_string = false, escaped = false;
+    for (const char c : body) {
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                throw ApiError(400, "invalid_json",
+                               "the request body nests arrays and objects deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+}
+
 json parse_object(const std::string& body) {
     reject_nul(body);
+    reject_deep(body);
     json j = json::parse(body, nullptr, false);
     if (j.is_discarded()) throw ApiError(400, "invalid_json", "the request body is not valid JSON");
     if (!j.is_object()) throw ApiError(400, "invalid_json", "the request body must be a JSON object");

@@ -106,7 +106,30 @@ TEST(BenchAbuse, AFixFloodStoresOnlyTheClientsBudget) {
     // 1 MiB of burst and 4 s at 16 KiB a second, at some 60 bytes a fix: under 20,000.
     EXPECT_GT(hostile.at("fixes_stored").get<long long>(), 5000) << out.dump();
     EXPECT_LT(hostile.at("fixes_stored").get<long long>(), 20000) << out.dump();
-    if (sqlite) EXPECT_LT(out.at("database").at("growth_mb").get<double>(), 5.0) << out.dump();
+    if (sqlite) {
+        EXPECT_LT(out.at("database").at("growth_mb").get<double>(), 5.0) << out.dump();
+    }
+}
+
+// The bodies scenarios: 8 MiB bodies on several connections of one client, posted back to
+// back or held all but their last bytes; one client's bodies are admitted one at a time (429
+// too_many_bodies for the others), the phones are never refused, the memory stays bounded.
+TEST(BenchAbuse, ManyLargeBodiesFromOneClientAreAdmittedOneAtATime) {
+    for (const char* scenario : {"bodies", "slow-bodies"}) {
+        ServerProcess s({"--demo", "--api-key", "k3y", "--quiet"});
+        const auto r = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", scenario, "--server", s.url(), "--api-key", "k3y",
+                                    "--map", "1", "--radiomap", "1", "--phones", "2", "--seconds", "3", "--phone-interval", "0.25",
+                                    "--body-connections", "6", "--server-pid", std::to_string(s.pid())});
+        ASSERT_EQ(r.status, 0) << scenario << ": " << r.out << r.err;
+        const json out = json::parse(r.out);
+        EXPECT_EQ(out.at("scenario"), scenario);
+        EXPECT_EQ(out.at("phones").at("localize").at("errors"), 0) << out.dump();
+        EXPECT_EQ(out.at("phones").at("fixes").at("refused"), 0) << out.dump();
+        EXPECT_GT(count(out.at("hostile").at("answers"), "429"), 0) << out.dump();
+#ifndef LOCUS_SANITIZED
+        EXPECT_LT(out.at("server").at("peak_above_idle_mb").get<double>(), 300.0) << out.dump();
+#endif
+    }
 }
 
 TEST(BenchAbuse, AScenarioItCannotRunIsNamed) {

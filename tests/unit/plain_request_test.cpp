@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -10,6 +11,7 @@
 #include "datasets/uji_csv.hpp"
 #include "http/api_error.hpp"
 #include "http/localize/plain_localize_request.hpp"
+#include "http/validation.hpp"
 #include "build_paths.hpp"
 
 namespace plain_request_test {
@@ -155,3 +157,66 @@ TEST(PlainRequest, RealScansTakeTheFastPath) {
 
 }  // namespace
 }  // namespace plain_request_test
+
+namespace plain_request_limits_test {
+namespace {
+
+using namespace locus::http;
+
+std::string reading_text(int i) {
+    char bssid[18];
+    std::snprintf(bssid, sizeof bssid, "aa:bb:cc:%02x:%02x:%02x", (i >> 16) & 0xff, (i >> 8) & 0xff, i & 0xff);
+    return std::string(R"({"bssid":")") + bssid + R"(","rss":-60})";
+}
+
+// `scans` scans of `per_scan` readings each.
+std::string scans_body(std::size_t scans, std::size_t per_scan) {
+    std::string body = R"({"scans":[)";
+    for (std::size_t s = 0; s < scans; ++s) {
+        body += s ? ",[" : "[";
+        for (std::size_t r = 0; r < per_scan; ++r) body += (r ? "," : "") + reading_text(static_cast<int>(r));
+        body += "]";
+    }
+    return body + "]}";
+}
+
+std::string refusal(const std::string& body) {
+    try {
+        (void)parse_localize_request_in_full(body);
+        return "ok";
+    } catch (const ApiError& e) {
+        return std::to_string(e.status) + " " + e.code + ": " + e.what();
+    }
+}
+
+TEST(LocalizeRequestLimits, ScansAndReadingsAreCountedWhileParsing) {
+    EXPECT_EQ(refusal(scans_body(kMaxScans, 1)), "ok");
+    EXPECT_TRUE(parse_plain_localize_request(scans_body(kMaxScans, 1)).has_value());
+    EXPECT_EQ(refusal(scans_body(kMaxScans + 1, 1)), "422 out_of_range: 'scans' holds more than 1000 scans");
+    EXPECT_FALSE(parse_plain_localize_request(scans_body(kMaxScans + 1, 1)).has_value());  // the full parser words it
+    EXPECT_EQ(refusal(scans_body(1, kMaxReadings)), "ok");
+    EXPECT_EQ(refusal(scans_body(2, kMaxReadings + 1)), "422 out_of_range: 'scans[0]' holds more than 10000 readings");
+    EXPECT_FALSE(parse_plain_localize_request(scans_body(1, kMaxReadings + 1)).has_value());
+    std::string means = R"({"measurements":[)";
+    for (std::size_t r = 0; r <= kMaxReadings; ++r) means += (r ? "," : "") + reading_text(static_cast<int>(r));
+    EXPECT_EQ(refusal(means + "]}"), "422 out_of_range: 'measurements' holds more than 10000 readings");
+}
+
+TEST(LocalizeRequestLimits, MillionsOfEmptyScansStopAtTheLimit) {
+    // 8 MiB of `[],`: once read into millions of empty scans (some 110 MiB), now refused at the 1,001st.
+    std::string body = R"({"scans":[)";
+    for (int i = 0; i < 2'000'000; ++i) body += i ? ",[]" : "[]";
+    body += "]}";
+    EXPECT_EQ(refusal(body), "422 out_of_range: 'scans' holds more than 1000 scans");
+}
+
+TEST(LocalizeRequestLimits, NestingDeeperThanTheLimitIsRefusedBeforeParsing) {
+    const auto nested = [](std::size_t depth) {
+        return R"({"scans":[[)" + reading_text(1) + R"(]],"options":{"near":)" + std::string(depth, '[') + std::string(depth, ']') + "}}";
+    };
+    EXPECT_NE(refusal(nested(kMaxJsonDepth - 3)).find("400 invalid_json"), 0u);  // deep, within the limit: another answer
+    EXPECT_EQ(refusal(nested(kMaxJsonDepth)), "400 invalid_json: the request body nests arrays and objects deeper than 64 levels");
+}
+
+}  // namespace
+}  // namespace plain_request_limits_test

@@ -28,6 +28,16 @@ TEST(Validation, ParseObjectRefusesAnythingButAnObject) {
     EXPECT_EQ(code_of([] { http::parse_object("1e999"); }), "400 invalid_json");
 }
 
+TEST(Validation, NestingPastTheLimitIsRefusedAndBracketsInStringsAreText) {
+    const auto nested = [](std::size_t depth) { return "{\"a\":" + std::string(depth - 1, '[') + std::string(depth - 1, ']') + "}"; };
+    EXPECT_EQ(code_of([&] { http::parse_object(nested(http::kMaxJsonDepth)); }), "ok");
+    EXPECT_EQ(code_of([&] { http::parse_object(nested(http::kMaxJsonDepth + 1)); }), "400 invalid_json");
+    // Unclosed, as an attack sends it: refused before any tree is built.
+    EXPECT_EQ(code_of([] { http::parse_object("{\"a\":" + std::string(1'000'000, '[')); }), "400 invalid_json");
+    const std::string in_text = "{\"a\":\"" + std::string(200, '[') + "\\\"" + std::string(200, '{') + "\"}";
+    EXPECT_EQ(code_of([&] { http::parse_object(in_text); }), "ok");
+}
+
 TEST(Validation, CreateNeedsRequiredFieldsPatchDoesNot) {
     const json full = {{"name", "F"}, {"level", 2}, {"width", 10.5}, {"height", 3}};
     const auto v = http::validated_fields(floors(), full, true);

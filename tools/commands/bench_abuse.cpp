@@ -26,6 +26,10 @@
 // back to back while the phones localize and post as above; with --db, how much the server's
 // SQLite file and its WAL grew.
 //
+// `--scenario bodies`: --body-connections connections of the hostile client post 8 MiB
+// localize bodies of empty scans back to back; `--scenario slow-bodies`: each connection sends
+// all but the last bytes of one, then a byte every 4 s. The phones localize as above.
+//
 // Prints one JSON object: what the phones saw (localize or route latency, refused track opens
 // and fixes) and what the hostile client got (answers by status), with the server's peak
 // resident memory above idle when --server-pid names it. Exits non-zero if a phone was refused
@@ -38,7 +42,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <deque>
+#include <string_view>
 #include <filesystem>
 #include <functional>
 #include <iostream>
@@ -75,6 +81,7 @@ struct Args {
     std::string scenario = "all";
     int stream_holders = 10;  // streams: clients filling the server's streams
     std::string db;  // fixes: the server's SQLite file, whose growth is reported
+    int body_connections = 24;  // bodies, slow-bodies: the hostile client's connections
     double big_floor_m = 290.0;  // route-build: the big map's floors' side (180 MB, under the default bound)
 };
 
@@ -454,12 +461,101 @@ void run_fixes(const Args& a) {
         throw CommandError(std::to_string(phones.refused()) + " phone requests refused" + (posts.any_server_error() ? "; the hostile client got a 5xx" : ""));
 }
 
+// An 8 MiB localize body of empty scans, `{"scans":[[],[],…]}`: what the parser once read
+// into millions of empty scans (some 110 MiB a body).
+std::string empty_scans_body(std::size_t bytes) {
+    std::string body = R"({"scans":[[])";
+    while (body.size() + 5 < bytes) body += ",[]";
+    return body + "]}";
+}
+
+// The phones' figures, the hostile client's answers and the server's peak memory, as one
+// object; throws when a phone was refused or the hostile client got a 5xx other than 503.
+void report(json out, const LocalizingPhones& phones, const StatusCounts& hostile, const Args& a, long long idle_rss_kb) {
+    out["phones"] = phones.to_json();
+    out["hostile"] = {{"address", a.hostile_address}, {"answers", hostile.to_json()}};
+    if (a.server_pid) {
+        const long long peak = proc_status_kb(a.server_pid, "VmHWM:");
+        out["server"] = {{"rss_idle_mb", idle_rss_kb / 1024.0}, {"peak_mb", peak / 1024.0}, {"peak_above_idle_mb", (peak - idle_rss_kb) / 1024.0}};
+    }
+    std::cout << out.dump() << "\n";
+    const json answers = hostile.to_json();
+    bool server_error = false;
+    for (const auto& [status, n] : answers.items()) server_error = server_error || (status[0] == '5' && status != "503");
+    if (phones.refused() > 0 || server_error)
+        throw CommandError(std::to_string(phones.refused()) + " phone requests refused" + (server_error ? "; the hostile client got a 5xx" : ""));
+}
+
+// `--scenario bodies`: --body-connections connections of the hostile client post 8 MiB bodies
+// of empty scans back to back; `--scenario slow-bodies`: --body-connections connections each
+// send all but the last byte of one, then a byte every 4 s.
+void run_bodies(const Args& a, bool slow) {
+    if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario " + a.scenario + ": the phones localize against it");
+    const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
+    api::Client setup(a.server.client_options());
+    const std::int64_t floor_id = setup.radiomap(a.radiomap).floor_id;
+    const std::string request =
+        http_request("POST", "/v1/radiomaps/" + std::to_string(a.radiomap) + "/localize", target.host_port, empty_scans_body(8u << 20));
+    const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
+    const auto t0 = Clock::now();
+    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
+    auto running = [&] { return Clock::now() < deadline; };
+    StatusCounts answers;
+    std::vector<std::thread> hostile;
+    for (int k = 0; k < a.body_connections; ++k)
+        hostile.emplace_back([&] {
+            if (!slow) {
+                BenchConnection c(target.host, target.port, a.hostile_address);
+                while (running()) answers.add(c.round_trip(request));
+                return;
+            }
+            // All but the last byte, then a byte every 4 s: answered (refused, or cut at the
+            // body's time limit) or still held at the end.
+            HeldStream held;
+            held.fd = open_socket(target.host, target.port, a.hostile_address);
+            if (held.fd < 0) return answers.add(std::nullopt);
+            std::size_t sent = 0;
+            std::optional<int> status;
+            auto answered = [&] {
+                pollfd p{held.fd, POLLIN, 0};
+                if (::poll(&p, 1, 0) <= 0) return false;
+                char head[64] = {};
+                const ssize_t n = ::recv(held.fd, head, sizeof head - 1, 0);
+                if (n >= 12 && std::string_view(head, 9) == "HTTP/1.1 ") status = std::atoi(head + 9);
+                return true;
+            };
+            while (running() && sent + 1 < request.size() && !answered()) {
+                const std::size_t n = std::min<std::size_t>(64 * 1024, request.size() - 1 - sent);
+                const ssize_t w = ::send(held.fd, request.data() + sent, n, MSG_NOSIGNAL);
+                if (w <= 0) break;
+                sent += static_cast<std::size_t>(w);
+            }
+            auto next = Clock::now();
+            while (running() && !answered()) {
+                if (Clock::now() >= next && sent + 1 < request.size()) {
+                    if (::send(held.fd, request.data() + sent, 1, MSG_NOSIGNAL) <= 0) break;
+                    ++sent;
+                    next += std::chrono::seconds(4);
+                }
+                std::this_thread::sleep_for(std::chrono::milliseconds(50));
+            }
+            if (status) answers.add(status);
+            else answers.add(std::nullopt);
+        });
+    LocalizingPhones phones(a, target, floor_id);
+    phones.run(running);
+    for (auto& t : hostile) t.join();
+    report({{"scenario", a.scenario}, {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()}, {"connections", a.body_connections}},
+           phones, answers, a, idle_rss_kb);
+}
+
 void run(const Args& a) {
     if (!a.hostile_address.starts_with("127.") || a.hostile_address == "127.0.0.1")
         throw CommandError("--hostile-address must be a loopback address other than 127.0.0.1 (e.g. 127.0.0.2)");
     if (a.scenario == "route-build") return run_route_build(a);
     if (a.scenario == "streams") return run_streams(a);
     if (a.scenario == "fixes") return run_fixes(a);
+    if (a.scenario == "bodies" || a.scenario == "slow-bodies") return run_bodies(a, a.scenario == "slow-bodies");
     if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario all: the phones localize against it");
     const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
     api::Client setup(a.server.client_options());
@@ -589,8 +685,11 @@ LOCUS_COMMAND("bench-abuse", [](CLI::App& app) {
     cmd->add_option("--hostile-streams", args->max_streams, "event streams the hostile client tries to hold")->capture_default_str()->check(CLI::Range(1, 2000));
     cmd->add_option("--scenario", args->scenario,
                     "all: bombs, track, stream and route floods at once; route-build: routes on a large map's graph; streams: "
-                    "clients holding every stream they may, then a phone's own; fixes: two tracks posting 1,000-fix batches")
-        ->capture_default_str()->check(CLI::IsMember({"all", "route-build", "streams", "fixes"}));
+                    "clients holding every stream they may, then a phone's own; fixes: two tracks posting 1,000-fix batches; "
+                    "bodies: 8 MiB localize bodies on many connections; slow-bodies: 8 MiB bodies sent all but their last bytes")
+        ->capture_default_str()->check(CLI::IsMember({"all", "route-build", "streams", "fixes", "bodies", "slow-bodies"}));
+    cmd->add_option("--body-connections", args->body_connections, "bodies, slow-bodies: the hostile client's connections")
+        ->capture_default_str()->check(CLI::Range(1, 500));
     cmd->add_option("--db", args->db, "fixes: the server's SQLite database file, to report how much it (and its WAL) grew");
     cmd->add_option("--stream-holders", args->stream_holders, "streams: clients holding streams before the phone opens its own")
         ->capture_default_str()->check(CLI::Range(1, 1000));

@@ -38,10 +38,10 @@ void send_all(int fd, const std::string& bytes) {
 // for chunks of a few bytes, and a bound on what a client can make the server read.
 std::uint64_t chunked_budget(std::uint64_t max_body) { return 2 * max_body + 64 * 1024; }
 
-// The slowest body accepted: a phone on a poor link still sends 32 KiB/s; past that (and
-// past 10 minutes for any body) a body trickled a byte at a time stops holding a worker.
-std::chrono::milliseconds body_time(std::uint64_t budget, std::chrono::milliseconds read_timeout) {
-    const auto at_slow_rate = std::chrono::milliseconds(budget / 32);  // 32 bytes per ms
+// The time a body of `budget` bytes may take (FrontOptions::min_body_rate); past it, and past
+// 10 minutes for any body, a body trickled a byte at a time stops holding a worker.
+std::chrono::milliseconds body_time(std::uint64_t budget, std::chrono::milliseconds read_timeout, std::uint64_t min_rate) {
+    const auto at_slow_rate = std::chrono::milliseconds(budget * 1000 / std::max<std::uint64_t>(min_rate, 1));
     return std::min<std::chrono::milliseconds>(read_timeout + at_slow_rate, std::chrono::minutes(10));
 }
 
@@ -353,7 +353,7 @@ void Front::start_request(httplib::Request& req, RequestFraming& framing, Connec
     std::uint64_t budget = 0;
     if (framing.content_length && framing.valid_content_length) budget = *framing.content_length;
     else if (framing.chunked) budget = chunked_budget(framing.max_body_bytes);
-    stream.begin_body(budget, Clock::now() + body_time(budget, options_.read_timeout));
+    stream.begin_body(budget, Clock::now() + body_time(budget, options_.read_timeout, options_.min_body_rate));
 
     // `curl -d` sends JSON as a form; cpp-httplib parses forms and refuses them past 8 KiB.
     // Every body of this API is JSON, whatever the client calls it.

@@ -40,6 +40,7 @@
 #include <utility>
 #include <vector>
 
+#include "http/front/body_budget.hpp"
 #include "http/front/body_coding.hpp"
 
 namespace locus::http {
@@ -53,6 +54,10 @@ struct FrontOptions {
     std::size_t keep_alive_max_requests = 1000;
     std::chrono::milliseconds header_timeout{10'000};  // from a request's first byte to its blank line
     std::chrono::milliseconds read_timeout{10'000};    // longest wait for the next bytes of a body
+    // The slowest a body may come on the whole: it must be read within read_timeout plus its
+    // length at this rate (8 MiB: 42 s), so a body trickled a byte at a time is dropped well
+    // before minutes, while a phone on a poor link (2 Mbit/s) still sends a full one.
+    std::uint64_t min_body_rate = 256u * 1024u;  // bytes a second
     std::chrono::milliseconds write_timeout{10'000};
     std::size_t max_header_bytes = 64 * 1024;
     std::uint64_t max_body_bytes = 8u * 1024u * 1024u;
@@ -76,6 +81,8 @@ struct RequestFraming {
     std::uint64_t head_end = 0;                  // stream position where the body starts
     bool close = false;                          // end the connection after this answer
     bool share_taken = false;                    // the client's fair share was charged (app.cpp)
+    bool body_admitted = false;                  // the body budget was asked (app.cpp)
+    BodyBudget::Ticket body_ticket;              // the body's bytes in flight, given back with the framing
     ConnectionStream* stream = nullptr;
 
     // A Content-Length body not read to its end: its rest would be taken for a next request.

@@ -111,7 +111,10 @@ public:
 
     LocalizeRequest finish(const std::string& body) {
         reject_nul(body);
-        if (!json::sax_parse(body, this) || syntax_error_) throw ApiError(400, "invalid_json", "the request body is not valid JSON");
+        reject_deep(body);
+        const bool parsed = json::sax_parse(body, this);
+        if (too_many_) throw *error_;
+        if (!parsed || syntax_error_) throw ApiError(400, "invalid_json", "the request body is not valid JSON");
         if (error_) throw *error_;
         LocalizeRequest r;
         if (algorithm) {
@@ -168,6 +171,7 @@ public:
         if (depth_ == 1) return not_an_object();
         if (depth_ == 2 && (top_ == Top::scans || top_ == Top::means)) return true;
         if (depth_ == 3 && top_ == Top::scans) {
+            if (scans.size() >= kMaxScans) return too_many("'scans' holds more than " + std::to_string(kMaxScans) + " scans");
             scans.emplace_back();
             scan_open_ = true;
             return true;
@@ -293,9 +297,19 @@ private:
         if (!std::isfinite(pending_.rss)) return fail(invalid_field("'" + where() + ".rss' must be finite"));
         if (!valid_rss(pending_.rss)) return fail(out_of_range(where() + ".rss", pending_.rss, kMinRss, kMaxRss));
         r.rss = pending_.rss;
-        if (top_ == Top::scans) scans.back().push_back(std::move(r));
-        else means.push_back(std::move(r));
+        auto& list = top_ == Top::scans ? scans.back() : means;
+        if (list.size() >= kMaxReadings)
+            return too_many((top_ == Top::scans ? "'scans[" + std::to_string(scans.size() - 1) + "]'" : std::string("'measurements'")) +
+                            " holds more than " + std::to_string(kMaxReadings) + " readings");
+        list.push_back(std::move(r));
         return true;
+    }
+
+    // Past a count limit the parse stops there: what follows is not read into memory.
+    bool too_many(const std::string& message) {
+        error_ = ApiError(422, "out_of_range", message);
+        too_many_ = true;
+        return false;
     }
 
     // Where the current reading sits in the body, for error messages only.
@@ -357,6 +371,7 @@ private:
     std::vector<json*> stack_;
     std::optional<ApiError> error_;
     bool syntax_error_ = false;
+    bool too_many_ = false;  // a count limit stopped the parse (too_many)
 };
 
 }  // namespace

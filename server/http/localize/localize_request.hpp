@@ -1,6 +1,7 @@
 #pragma once
 // The localize request body: {"algorithm", "scans" | "measurements", "options"}.
 #include <nlohmann/json.hpp>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -14,6 +15,12 @@ namespace locus::http {
 // The matcher used when a request names none (chosen in locus/match/algorithm.hpp, where
 // `locus eval` reads it too).
 inline constexpr match::Algorithm kDefaultAlgorithm = match::kDefaultAlgorithm;
+
+// A localize body holds at most this many scans, and a scan (or the measurements) at most
+// this many readings: checked while parsing, which stops at the first one past them (422
+// out_of_range), so `{"scans": [[], [], …]}` is not read into millions of empty scans.
+inline constexpr std::size_t kMaxScans = 1000;
+inline constexpr std::size_t kMaxReadings = 10'000;
 
 struct LocalizeRequest {
     match::Algorithm algorithm = kDefaultAlgorithm;  // as named, else the built-in default

@@ -123,10 +123,13 @@ bool reading(Reader& in, match::ReadingView& out) {
 // list in order, which is what Query::from_scans averages over as well.
 bool scans(Reader& in, std::vector<match::ReadingView>& out) {
     if (!in.take('[')) return false;
+    std::size_t n = 0;
     do {
-        if (!in.take('[')) return false;
+        // Past a count limit the full parser words the refusal.
+        if (++n > kMaxScans || !in.take('[')) return false;
+        const std::size_t first = out.size();
         do {
-            if (!reading(in, out.emplace_back())) return false;
+            if (out.size() - first >= kMaxReadings || !reading(in, out.emplace_back())) return false;
         } while (in.take(','));
         if (!in.take(']')) return false;
     } while (in.take(','));

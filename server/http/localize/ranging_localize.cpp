@@ -38,6 +38,7 @@ int int_option(const json& o, const char* field, int lo, int hi, int fallback) {
 std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     // The fingerprint matchers' bodies are the hot path: they never hold these names.
     if (body.find("lateration") == std::string::npos) return std::nullopt;
+    reject_deep(body);
     json j = json::parse(body, nullptr, false);
     if (j.is_discarded() || !j.is_object()) return std::nullopt;  // the full parser words the error
     const auto it = j.find("algorithm");

@@ -1,0 +1,131 @@
+// Request bodies in flight (http/front/body_budget.hpp, docs/deploy.md "Request bodies"): a
+// client's bodies being received and parsed hold its share until answered (429
+// too_many_bodies past it), all clients' the server-wide budget (503 server_busy), each refused
+// before its body is read; and a body must come at --min-body-rate (408 past its time).
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+
+#include "hierarchy.hpp"
+#include "raw_connection.hpp"
+#include "server_process.hpp"
+#include "build_paths.hpp"
+
+namespace server_body_budget_test {
+namespace {
+
+using locus::testing::raw_post;
+using locus::testing::RawConnection;
+using locus::testing::ServerProcess;
+using nlohmann::json;
+
+// A localize body of about `bytes`: one scan, padded with whitespace (valid JSON).
+std::string body_of(std::size_t bytes) {
+    const std::string scan = R"({"scans":[[{"bssid":"aa:00:00:00:00:01","rss":-50}]]})";
+    return scan + std::string(bytes > scan.size() ? bytes - scan.size() : 0, ' ');
+}
+
+struct Answer {
+    int status = 0;
+    std::string code, message, retry_after;
+};
+
+Answer post_from(const ServerProcess& s, const std::string& source, const std::string& path, const std::string& body) {
+    httplib::Client c("127.0.0.1", s.port());
+    c.set_interface(source);
+    c.set_read_timeout(10, 0);
+    const auto r = c.Post(path.c_str(), body, "application/json");
+    if (!r) return {};
+    Answer a{r->status, "", "", r->get_header_value("Retry-After")};
+    const json j = json::parse(r->body, nullptr, false);
+    if (j.is_object() && j.contains("error")) {
+        a.code = j["error"].value("code", "");
+        a.message = j["error"].value("message", "");
+    }
+    return a;
+}
+
+// A request whose body is sent but for its last byte: the server holds it in flight.
+struct HeldBody {
+    HeldBody(const ServerProcess& s, const std::string& path, std::size_t bytes) : connection(s.port()), request(raw_post(path, body_of(bytes))) {
+        EXPECT_TRUE(connection.send(request.substr(0, request.size() - 1)));
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));  // read up to there: admitted
+    }
+    int finish() {
+        connection.send(request.substr(request.size() - 1));
+        const auto a = connection.read_answer();
+        return a ? a->status : 0;
+    }
+    RawConnection connection;
+    std::string request;
+};
+
+TEST(ServerBodyBudget, AClientsBodiesInFlightHoldItsShareUntilAnswered) {
+    ServerProcess s({"--quiet", "--client-body-bytes-in-flight", "300000", "--max-body-bytes-in-flight", "1000000"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string path = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
+    HeldBody held(s, path, 200'000);
+    const Answer over = post_from(s, "127.0.0.1", path, body_of(150'000));
+    EXPECT_EQ(over.status, 429);
+    EXPECT_EQ(over.code, "too_many_bodies");
+    EXPECT_NE(over.message.find("--client-body-bytes-in-flight 300000"), std::string::npos) << over.message;
+    EXPECT_EQ(over.retry_after, "1");
+    // What still fits the share, and another client's body, pass.
+    EXPECT_NE(post_from(s, "127.0.0.1", path, body_of(50'000)).status, 429);
+    EXPECT_NE(post_from(s, "127.0.0.2", path, body_of(150'000)).status, 429);
+    // Answered, the held body gives its bytes back.
+    const int held_status = held.finish();
+    EXPECT_NE(held_status, 0);
+    EXPECT_NE(held_status, 429);
+    EXPECT_NE(post_from(s, "127.0.0.1", path, body_of(150'000)).status, 429);
+}
+
+TEST(ServerBodyBudget, EveryClientTogetherMeetsTheServerWideBudget) {
+    ServerProcess s({"--quiet", "--client-body-bytes-in-flight", "300000", "--max-body-bytes-in-flight", "300000"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string path = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
+    HeldBody held(s, path, 200'000);
+    const Answer full = post_from(s, "127.0.0.2", path, body_of(150'000));
+    EXPECT_EQ(full.status, 503);
+    EXPECT_EQ(full.code, "server_busy");
+    EXPECT_NE(full.message.find("--max-body-bytes-in-flight 300000"), std::string::npos) << full.message;
+    EXPECT_EQ(full.retry_after, "1");
+    EXPECT_NE(held.finish(), 0);
+    EXPECT_NE(post_from(s, "127.0.0.2", path, body_of(150'000)).status, 503);
+}
+
+TEST(ServerBodyBudget, ABodySlowerThanTheMinimumRateIsDropped) {
+    // 100,000 bytes at 50,000 bytes a second, after a 1 s read timeout: 3 s to come.
+    ServerProcess s({"--quiet", "--min-body-rate", "50000", "--read-timeout", "1"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string request = raw_post("/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize", body_of(100'000));
+    RawConnection c(s.port());
+    ASSERT_TRUE(c.send(request.substr(0, request.size() - 200)));
+    const auto start = std::chrono::steady_clock::now();
+    // A byte every 0.3 s: never a pause as long as the read timeout, but far below the rate.
+    std::optional<locus::testing::RawAnswer> answer;
+    for (std::size_t i = request.size() - 200; i < request.size() - 1 && !answer; ++i) {
+        if (!c.send(request.substr(i, 1))) break;
+        answer = c.read_answer(std::chrono::milliseconds(300));
+    }
+    if (!answer) answer = c.read_answer(std::chrono::seconds(5));
+    const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_TRUE(answer.has_value()) << "no answer after " << waited << " s";
+    EXPECT_EQ(answer->status, 408) << answer->body;
+    EXPECT_LT(waited, 10.0);
+}
+
+TEST(ServerBodyBudget, BadValuesAreRefusedAtStart) {
+    for (const char* flag : {"--min-body-rate", "--max-body-bytes-in-flight", "--client-body-bytes-in-flight"}) {
+        const auto r = locus::testing::run_command({"/usr/bin/timeout", "10", LOCUS_SERVER_BIN, "--db", "/nonexistent/never.db",
+                                                    "--port", "0", "--quiet", flag, "0"});
+        EXPECT_NE(r.status, 0) << flag;
+        EXPECT_NE((r.err + r.out).find(flag), std::string::npos) << flag << ": " << r.err << r.out;
+    }
+}
+
+}  // namespace
+}  // namespace server_body_budget_test
