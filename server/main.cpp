@@ -49,6 +49,7 @@ struct Flags {
     locus::tracks::Options tracks;
     locus::http::FairShareOptions fair;
     locus::http::BodyBudgetOptions bodies;
+    locus::http::BodyBudgetOptions answers = locus::http::AppOptions{}.answers;
     std::vector<std::string> trusted_proxies;
     std::string web_root = locus::http::default_web_root(), leaflet_root = locus::http::default_leaflet_root;
 };
@@ -83,8 +84,9 @@ void add_server_flags(CLI::App& cli, Flags& f) {
     cli.add_option("--read-timeout", f.read_s, "seconds to wait for the next bytes of a request body")
         ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
     cli.add_option("--min-body-rate", f.front.min_body_rate,
-                   "bytes a second a request body must average: it must be read within --read-timeout plus its length "
-                   "at this rate, else it is dropped (408)")
+                   "bytes a second a request body, or a JSON answer, must average: a body must be read within --read-timeout "
+                   "plus its length at this rate, else it is dropped (408); an answer written within the write timeout plus "
+                   "its length at this rate, else the connection is cut")
         ->capture_default_str()->check(CLI::Range(1.0, 1e12));
     // Request bodies being received and parsed at once (http/front/body_budget.hpp).
     cli.add_option("--max-body-bytes-in-flight", f.bodies.total_bytes,
@@ -94,6 +96,14 @@ void add_server_flags(CLI::App& cli, Flags& f) {
     cli.add_option("--client-body-bytes-in-flight", f.bodies.client_bytes,
                    "bytes of request bodies one client (address) has received and parsed at once; past it, 429 "
                    "too_many_bodies (the API key: exempt)")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e15));
+    // Answers being written at once (the same accounting, app.hpp's AppOptions::answers).
+    cli.add_option("--max-answer-bytes-in-flight", f.answers.total_bytes,
+                   "bytes of JSON answers being written at once, every client together; past it, 503 server_busy")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e15));
+    cli.add_option("--client-answer-bytes-in-flight", f.answers.client_bytes,
+                   "bytes of JSON answers one client (address) has not yet read; past it, 429 too_many_answers (the API key: "
+                   "exempt)")
         ->capture_default_str()->check(CLI::Range(1.0, 1e15));
     cli.add_flag("--quiet", f.quiet, "no access log");
     cli.add_option("--max-exports", f.max_exports,
@@ -212,7 +222,7 @@ int serve(const Flags& f, const sigset_t& signals) {
         locus::tracks::Service tracks(store, f.tracks);
         locus::http::App app(store, localizer, router, directory,
                              {f.api_key, !f.quiet, f.front, {f.web_root, f.leaflet_root}, &tracks, f.max_exports,
-                              ms(f.export_timeout_s), f.fair, f.bodies, f.public_positions});
+                              ms(f.export_timeout_s), f.fair, f.bodies, f.answers, f.public_positions});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(f.host, f.port, listen_error);

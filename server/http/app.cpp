@@ -76,8 +76,18 @@ void App::respond(const httplib::Request& req, httplib::Response& res,
                   const std::function<std::pair<int, json>()>& body) {
     guarded(req, res, [&] {
         auto [status, out] = body();
+        if (status == 204) {
+            res.status = status;
+            return;
+        }
+        std::string text = json_text(out);
+        if (const auto refusal = Front::admit_answer(text.size())) {
+            res.set_header("Retry-After", "1");
+            write_error(res, refusal->status, refusal->code, refusal->message);
+            return;
+        }
         res.status = status;
-        if (status != 204) res.set_content(json_text(out), "application/json");
+        res.set_content(std::move(text), "application/json");
     });
 }
 
@@ -173,7 +183,9 @@ bool App::refuse_body(const httplib::Request& req, httplib::Response& res) {
     // route's limit (decoded) before that is known.
     std::uint64_t bytes = f->content_length.value_or(0);
     if (f->chunked || (!f->content_encoding.empty() && bytes > 0)) bytes = f->max_body_bytes;
-    const auto verdict = body_budget_.admit(fair_share_.client(req), bytes, f->body_ticket);
+    f->client = fair_share_.client(req);
+    f->answers = &answer_budget_;
+    const auto verdict = body_budget_.admit(f->client, bytes, f->body_ticket);
     if (verdict == BodyBudget::Verdict::admitted) return false;
     res.set_header("Retry-After", "1");
     const auto& o = body_budget_.options();

@@ -44,6 +44,8 @@ struct AppOptions {
     std::chrono::milliseconds export_timeout{600'000};
     FairShareOptions fair{};  // per-client rates (fair_share.hpp); requests with the API key are exempt
     BodyBudgetOptions bodies{};  // request bodies in flight (body_budget.hpp)
+    // Answers being written: a phone's plan or radio map at once, a slow reader's few of them.
+    BodyBudgetOptions answers{.total_bytes = 128u << 20, .client_bytes = 16u << 20, .small_bytes = 64u << 10, .client_small_bytes = 4u << 20};
     // GET /v1/maps/{id}/positions and its stream to anyone (--public-positions); else they need
     // the API key, or with no key a client on this machine (position_routes.cpp).
     bool public_positions = false;
@@ -105,6 +107,7 @@ private:
     Slots export_slots_{options_.max_exports};
     FairShare fair_share_{options_.fair, options_.api_key};
     BodyBudget body_budget_{options_.bodies};  // before server_: its connections' tickets point here
+    BodyBudget answer_budget_{options_.answers};
     Front server_;
 };
 

@@ -132,6 +132,24 @@ TEST(BenchAbuse, ManyLargeBodiesFromOneClientAreAdmittedOneAtATime) {
     }
 }
 
+// The slow-readers scenario: a client's readers of a large plan beyond its share of answers
+// being written are refused (429 too_many_answers), the phones never, and the map goes.
+TEST(BenchAbuse, SlowReadersOfALargePlanHoldOnlyTheirShare) {
+    ServerProcess s({"--demo", "--api-key", "k3y", "--quiet"});
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "slow-readers", "--server", s.url(), "--api-key", "k3y",
+                                "--map", "1", "--radiomap", "1", "--phones", "1", "--seconds", "4", "--phone-interval", "0.25",
+                                "--body-connections", "5"});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    const json out = json::parse(r.out);
+    EXPECT_EQ(out.at("scenario"), "slow-readers");
+    EXPECT_EQ(out.at("phones").at("localize").at("errors"), 0) << out.dump();
+    EXPECT_GT(count(out.at("hostile").at("answers"), "200"), 0) << out.dump();
+    EXPECT_GT(count(out.at("hostile").at("answers"), "429"), 0) << out.dump();  // 16 MiB holds two 5.6 MB answers
+    const auto maps = s.get("/v1/maps");
+    ASSERT_EQ(maps.status, 200);
+    EXPECT_EQ(maps.body.at("items").size(), 1u) << maps.raw;
+}
+
 TEST(BenchAbuse, AScenarioItCannotRunIsNamed) {
     ServerProcess s({"--demo", "--api-key", "k3y", "--quiet"});
     const auto unknown = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "flood", "--server", s.url(), "--map", "1"});

@@ -1,7 +1,10 @@
-// Request bodies in flight (http/front/body_budget.hpp, docs/deploy.md "Request bodies"): a
+// Request bodies and answers in flight (http/front/body_budget.hpp, docs/deploy.md "Request
+// bodies in flight"): a
 // client's bodies being received and parsed hold its share until answered (429
 // too_many_bodies past it), all clients' the server-wide budget (503 server_busy), each refused
-// before its body is read; and a body must come at --min-body-rate (408 past its time).
+// before its body is read; and a body must come at --min-body-rate (408 past its time). An
+// answer not yet read holds its client's answer share (429 too_many_answers) until written or
+// cut at its deadline.
 #include <gtest/gtest.h>
 #include <httplib.h>
 
@@ -10,6 +13,7 @@
 #include <thread>
 
 #include "hierarchy.hpp"
+#include "plan_geojson.hpp"
 #include "raw_connection.hpp"
 #include "server_process.hpp"
 #include "build_paths.hpp"
@@ -118,8 +122,55 @@ TEST(ServerBodyBudget, ABodySlowerThanTheMinimumRateIsDropped) {
     EXPECT_LT(waited, 10.0);
 }
 
+// A floor plan of `walls` walls: a GET of it answers some 100 bytes a wall.
+json many_walls(int walls) {
+    json features = json::array();
+    for (int i = 0; i < walls; ++i) {
+        const double x = 0.5 + (i % 230) * 0.125, y = 0.5 + (i / 230) * 0.0625;  // short decimals
+        features.push_back(locus::testing::feature("wall", locus::testing::line({{x, y}, {x, y + 0.03125}})));
+    }
+    return {{"type", "FeatureCollection"}, {"features", features}};
+}
+
+TEST(ServerAnswerBudget, AnAnswerNotReadHoldsItsClientsShareUntilCutAtItsDeadline) {
+    // A 6 MB answer (more than the kernel buffers on loopback) at 2 MB a second, after the 10 s
+    // write timeout: 13 s to be read.
+    ServerProcess s({"--quiet", "--client-answer-bytes-in-flight", "400000", "--min-body-rate", "2000000"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string plan = "/v1/floors/" + std::to_string(h.floor) + "/plan";
+    const json walls = many_walls(50'000);
+    ASSERT_LT(walls.dump().size(), 8'000'000u);
+    ASSERT_EQ(s.put(plan, walls).status, 200);
+    httplib::Client c("127.0.0.1", s.port());
+    const auto whole = c.Get(plan.c_str());
+    ASSERT_TRUE(whole);
+    ASSERT_EQ(whole->status, 200);
+    ASSERT_GT(whole->body.size(), 5'000'000u);
+    // A reader that never reads: the server's write blocks on a full socket.
+    RawConnection stuck(s.port(), 4096);
+    ASSERT_TRUE(stuck.send(locus::testing::raw_get(plan)));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const auto refused = c.Get(plan.c_str());
+    ASSERT_TRUE(refused);
+    EXPECT_EQ(refused->status, 429) << refused->body;
+    EXPECT_NE(refused->body.find("too_many_answers"), std::string::npos) << refused->body;
+    EXPECT_NE(refused->body.find("--client-answer-bytes-in-flight 400000"), std::string::npos) << refused->body;
+    EXPECT_EQ(refused->get_header_value("Retry-After"), "1");
+    httplib::Client other("127.0.0.1", s.port());
+    other.set_interface("127.0.0.2");
+    const auto theirs = other.Get(plan.c_str());
+    ASSERT_TRUE(theirs);
+    EXPECT_EQ(theirs->status, 200);
+    // Cut at its deadline, the stuck answer gives its bytes back.
+    EXPECT_TRUE(stuck.closed_within(std::chrono::seconds(20)));
+    const auto again = c.Get(plan.c_str());
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 200);
+}
+
 TEST(ServerBodyBudget, BadValuesAreRefusedAtStart) {
-    for (const char* flag : {"--min-body-rate", "--max-body-bytes-in-flight", "--client-body-bytes-in-flight"}) {
+    for (const char* flag : {"--min-body-rate", "--max-body-bytes-in-flight", "--client-body-bytes-in-flight",
+                             "--max-answer-bytes-in-flight", "--client-answer-bytes-in-flight"}) {
         const auto r = locus::testing::run_command({"/usr/bin/timeout", "10", LOCUS_SERVER_BIN, "--db", "/nonexistent/never.db",
                                                     "--port", "0", "--quiet", flag, "0"});
         EXPECT_NE(r.status, 0) << flag;

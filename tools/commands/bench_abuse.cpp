@@ -30,6 +30,9 @@
 // localize bodies of empty scans back to back; `--scenario slow-bodies`: each connection sends
 // all but the last bytes of one, then a byte every 4 s. The phones localize as above.
 //
+// `--scenario slow-readers`: the setup adds a map with a 5.6 MB plan; each connection asks for
+// it and reads 1 KB every 5 s. The map is deleted at the end.
+//
 // Prints one JSON object: what the phones saw (localize or route latency, refused track opens
 // and fixes) and what the hostile client got (answers by status), with the server's peak
 // resident memory above idle when --server-pid names it. Exits non-zero if a phone was refused
@@ -549,6 +552,88 @@ void run_bodies(const Args& a, bool slow) {
            phones, answers, a, idle_rss_kb);
 }
 
+// A plan of `walls` short walls on a 30 m × 20 m floor: some 110 bytes of answer a wall.
+json walls_plan(int walls) {
+    json features = json::array();
+    for (int i = 0; i < walls; ++i) {
+        const double x = 0.5 + (i % 230) * 0.125, y = 0.5 + (i / 230) * 0.0625;
+        features.push_back({{"type", "Feature"},
+                            {"properties", {{"feature", "wall"}}},
+                            {"geometry", {{"type", "LineString"}, {"coordinates", {{x, y}, {x, y + 0.03125}}}}}});
+    }
+    return {{"type", "FeatureCollection"}, {"features", features}};
+}
+
+// `--scenario slow-readers`: the setup (with the key) adds a map whose floor has a plan of
+// 50,000 walls (a 5.6 MB answer); --body-connections connections of the hostile client ask for
+// it and read 1 KB every 5 s. Each is cut when its answer's time is up (or refused at once);
+// the map is deleted at the end.
+void run_slow_readers(const Args& a) {
+    if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario slow-readers: the phones localize against it");
+    const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
+    api::Client setup(a.server.client_options());
+    const std::int64_t floor_id = setup.radiomap(a.radiomap).floor_id;
+    const auto big = setup.create_map("bench abuse slow-readers " + std::to_string(::getpid()));
+    const auto building = setup.create_building(big.id, "Big");
+    api::FloorInfo f;
+    f.building_id = building.id;
+    f.name = "Walls";
+    f.width = 30;
+    f.height = 20;
+    const std::int64_t plan_floor = setup.create_floor(f).id;
+    const std::string plan_path = "/v1/floors/" + std::to_string(plan_floor) + "/plan";
+    setup.put(plan_path, walls_plan(50'000));
+    const std::string request = http_request("GET", plan_path, target.host_port);
+
+    const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
+    const auto t0 = Clock::now();
+    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
+    auto running = [&] { return Clock::now() < deadline; };
+    StatusCounts answers;
+    std::atomic<int> cut{0}, held_to_end{0};
+    // The phones open their tracks first: the readers' answers then cost the server its CPU too.
+    LocalizingPhones phones(a, target, floor_id);
+    std::thread phone_thread([&] { phones.run(running); });
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    std::vector<std::thread> hostile;
+    for (int k = 0; k < a.body_connections; ++k)
+        hostile.emplace_back([&] {
+            HeldStream held;
+            held.fd = open_socket(target.host, target.port, a.hostile_address);
+            if (held.fd < 0) return answers.add(std::nullopt);
+            const int small = 4096;
+            ::setsockopt(held.fd, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
+            if (::send(held.fd, request.data(), request.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(request.size()))
+                return answers.add(std::nullopt);
+            char buf[1024];
+            bool first = true;
+            while (running()) {
+                pollfd p{held.fd, POLLIN, 0};
+                if (::poll(&p, 1, 100) <= 0) continue;
+                const ssize_t n = ::recv(held.fd, buf, sizeof buf, 0);
+                if (n <= 0) {
+                    ++cut;
+                    return;
+                }
+                if (first) {
+                    first = false;
+                    answers.add(n >= 12 && std::string_view(buf, 9) == "HTTP/1.1 " ? std::optional<int>(std::atoi(buf + 9)) : std::nullopt);
+                }
+                for (int w = 0; w < 50 && running(); ++w) std::this_thread::sleep_for(std::chrono::milliseconds(100));  // 5 s
+            }
+            ++held_to_end;
+        });
+    phone_thread.join();
+    for (auto& t : hostile) t.join();
+    setup.del("/v1/maps/" + std::to_string(big.id));
+    report({{"scenario", a.scenario},
+            {"seconds", std::chrono::duration<double>(Clock::now() - t0).count()},
+            {"connections", a.body_connections},
+            {"cut", cut.load()},
+            {"held_to_end", held_to_end.load()}},
+           phones, answers, a, idle_rss_kb);
+}
+
 void run(const Args& a) {
     if (!a.hostile_address.starts_with("127.") || a.hostile_address == "127.0.0.1")
         throw CommandError("--hostile-address must be a loopback address other than 127.0.0.1 (e.g. 127.0.0.2)");
@@ -556,6 +641,7 @@ void run(const Args& a) {
     if (a.scenario == "streams") return run_streams(a);
     if (a.scenario == "fixes") return run_fixes(a);
     if (a.scenario == "bodies" || a.scenario == "slow-bodies") return run_bodies(a, a.scenario == "slow-bodies");
+    if (a.scenario == "slow-readers") return run_slow_readers(a);
     if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario all: the phones localize against it");
     const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
     api::Client setup(a.server.client_options());
@@ -686,9 +772,10 @@ LOCUS_COMMAND("bench-abuse", [](CLI::App& app) {
     cmd->add_option("--scenario", args->scenario,
                     "all: bombs, track, stream and route floods at once; route-build: routes on a large map's graph; streams: "
                     "clients holding every stream they may, then a phone's own; fixes: two tracks posting 1,000-fix batches; "
-                    "bodies: 8 MiB localize bodies on many connections; slow-bodies: 8 MiB bodies sent all but their last bytes")
-        ->capture_default_str()->check(CLI::IsMember({"all", "route-build", "streams", "fixes", "bodies", "slow-bodies"}));
-    cmd->add_option("--body-connections", args->body_connections, "bodies, slow-bodies: the hostile client's connections")
+                    "bodies: 8 MiB localize bodies on many connections; slow-bodies: 8 MiB bodies sent all but their last bytes; "
+                    "slow-readers: a 5.6 MB plan read 1 KB every 5 s on many connections")
+        ->capture_default_str()->check(CLI::IsMember({"all", "route-build", "streams", "fixes", "bodies", "slow-bodies", "slow-readers"}));
+    cmd->add_option("--body-connections", args->body_connections, "bodies, slow-bodies, slow-readers: the hostile client's connections")
         ->capture_default_str()->check(CLI::Range(1, 500));
     cmd->add_option("--db", args->db, "fixes: the server's SQLite database file, to report how much it (and its WAL) grew");
     cmd->add_option("--stream-holders", args->stream_holders, "streams: clients holding streams before the phone opens its own")

@@ -220,6 +220,24 @@ void Front::limit_writes(Clock::time_point until) {
     if (current_framing && current_framing->stream) current_framing->stream->limit_writes(until);
 }
 
+std::optional<Refusal> Front::admit_answer(std::uint64_t bytes) {
+    RequestFraming* f = current_framing;
+    if (!f) return std::nullopt;
+    if (f->stream && f->min_rate > 0)
+        f->stream->limit_writes(Clock::now() + f->write_timeout + std::chrono::milliseconds(bytes * 1000 / f->min_rate));
+    if (!f->answers) return std::nullopt;
+    const auto verdict = f->answers->admit(f->client, bytes, f->answer_ticket);
+    if (verdict == BodyBudget::Verdict::admitted) return std::nullopt;
+    const auto& o = f->answers->options();
+    if (verdict == BodyBudget::Verdict::server_full)
+        return Refusal{503, "server_busy",
+                       "the server is writing as many answers as it holds at once (--max-answer-bytes-in-flight " +
+                           std::to_string(o.total_bytes) + " bytes); retry shortly"};
+    return Refusal{429, "too_many_answers",
+                   "this client's answers not yet read reach its share (--client-answer-bytes-in-flight " +
+                       std::to_string(o.client_bytes) + " bytes); read them before asking for more"};
+}
+
 std::optional<Refusal> Front::finish_body(const httplib::Request& req) {
     RequestFraming* f = current_framing;
     if (!f) return std::nullopt;
@@ -322,6 +340,8 @@ std::uint64_t Front::body_limit(const httplib::Request& req) const {
 void Front::start_request(httplib::Request& req, RequestFraming& framing, ConnectionStream& stream) const {
     framing.parsed = true;
     framing.head_end = stream.consumed();
+    framing.write_timeout = options_.write_timeout;
+    framing.min_rate = options_.min_body_rate;
     framing.head_problem = head_problem(stream.head());  // before begin_body, which keeps the head
     const RouteBodyLimit* route = route_limit(req);
     framing.max_body_bytes = route ? route->bytes : options_.max_body_bytes;

@@ -83,6 +83,13 @@ struct RequestFraming {
     bool share_taken = false;                    // the client's fair share was charged (app.cpp)
     bool body_admitted = false;                  // the body budget was asked (app.cpp)
     BodyBudget::Ticket body_ticket;              // the body's bytes in flight, given back with the framing
+    // The answer's: the budget it is admitted against and the client it counts for (set by
+    // the app before routing; none: not counted), its ticket, held until it is written.
+    BodyBudget* answers = nullptr;
+    std::optional<std::string> client;
+    BodyBudget::Ticket answer_ticket;
+    std::chrono::milliseconds write_timeout{0};  // the server's, for admit_answer's deadline
+    std::uint64_t min_rate = 0;
     ConnectionStream* stream = nullptr;
 
     // A Content-Length body not read to its end: its rest would be taken for a next request.
@@ -133,6 +140,11 @@ public:
     static void close_after(httplib::Response& res);
     // No write of the answer now being served waits past `until` (ConnectionStream::limit_writes).
     static void limit_writes(std::chrono::steady_clock::time_point until);
+    // Before an answer of `bytes` is handed to the connection: it must be written within the
+    // write timeout plus its size at --min-body-rate (a reader that does not keep up is cut),
+    // and its bytes are admitted against the answer budget the app named in the framing,
+    // held until written. The refusal (429 too_many_answers, 503 server_busy) if they do not fit.
+    static std::optional<Refusal> admit_answer(std::uint64_t bytes);
     // Once the body is read, before a handler sees it: a chunked body over its limit (its
     // length was not known before), then an encoded body decoded in place of the one read,
     // 413 if its decoded size is over the limit and 400 if it does not decode.
