@@ -50,6 +50,7 @@ struct Flags {
     locus::http::FairShareOptions fair;
     locus::http::BodyBudgetOptions bodies;
     locus::http::BodyBudgetOptions answers = locus::http::AppOptions{}.answers;
+    std::uint64_t client_requests = locus::http::AppOptions{}.client_requests;
     std::vector<std::string> trusted_proxies;
     std::string web_root = locus::http::default_web_root(), leaflet_root = locus::http::default_leaflet_root;
 };
@@ -97,6 +98,10 @@ void add_server_flags(CLI::App& cli, Flags& f) {
                    "bytes of request bodies one client (address) has received and parsed at once; past it, 429 "
                    "too_many_bodies (the API key: exempt)")
         ->capture_default_str()->check(CLI::Range(1.0, 1e15));
+    cli.add_option("--client-requests-in-flight", f.client_requests,
+                   "requests one client (address) has being handled at once (an event stream once it has begun: none); past "
+                   "it, 429 too_many_requests (the API key: exempt)")
+        ->capture_default_str()->check(CLI::Range(1, 100000));
     // Answers being written at once (the same accounting, app.hpp's AppOptions::answers).
     cli.add_option("--max-answer-bytes-in-flight", f.answers.total_bytes,
                    "bytes of JSON answers being written at once, every client together; past it, 503 server_busy")
@@ -222,7 +227,7 @@ int serve(const Flags& f, const sigset_t& signals) {
         locus::tracks::Service tracks(store, f.tracks);
         locus::http::App app(store, localizer, router, directory,
                              {f.api_key, !f.quiet, f.front, {f.web_root, f.leaflet_root}, &tracks, f.max_exports,
-                              ms(f.export_timeout_s), f.fair, f.bodies, f.answers, f.public_positions});
+                              ms(f.export_timeout_s), f.fair, f.bodies, f.answers, f.client_requests, f.public_positions});
         auto& server = app.server();
         std::string listen_error;
         const int bound = server.bind(f.host, f.port, listen_error);

@@ -185,9 +185,21 @@ bool App::refuse_body(const httplib::Request& req, httplib::Response& res) {
     if (f->chunked || (!f->content_encoding.empty() && bytes > 0)) bytes = f->max_body_bytes;
     f->client = fair_share_.client(req);
     f->answers = &answer_budget_;
-    const auto verdict = body_budget_.admit(f->client, bytes, f->body_ticket);
-    if (verdict == BodyBudget::Verdict::admitted) return false;
     res.set_header("Retry-After", "1");
+    // Each request being handled costs a worker's CPU and what its answer is built in: a client
+    // has a few at once, as a browser does (six connections to a host).
+    if (request_slots_.admit(f->client, 1, f->request_ticket) != BodyBudget::Verdict::admitted) {
+        write_error(res, 429, "too_many_requests",
+                    "this client has " + std::to_string(request_slots_.options().client_bytes) +
+                        " requests being handled at once (--client-requests-in-flight); send the next once an answer has come");
+        Front::close_after(res);
+        return true;
+    }
+    const auto verdict = body_budget_.admit(f->client, bytes, f->body_ticket);
+    if (verdict == BodyBudget::Verdict::admitted) {
+        res.headers.erase("Retry-After");
+        return false;
+    }
     const auto& o = body_budget_.options();
     if (verdict == BodyBudget::Verdict::server_full)
         write_error(res, 503, "server_busy",
@@ -224,7 +236,10 @@ void App::install_middleware() {
     // The body has been parsed and handled: its bytes go back before the answer is written, so
     // a client that sends its next body as soon as it reads the answer finds them free.
     server_.set_post_routing_handler([](const httplib::Request&, httplib::Response&) {
-        if (RequestFraming* f = Front::current()) f->body_ticket.reset();
+        if (RequestFraming* f = Front::current()) {
+            f->body_ticket.reset();
+            f->request_ticket.reset();  // a stream's handler has returned: it holds no slot while it streams
+        }
     });
 
     // Called for every answer >= 400. httplib answers some failures itself (unknown route, a

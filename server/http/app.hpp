@@ -46,6 +46,7 @@ struct AppOptions {
     BodyBudgetOptions bodies{};  // request bodies in flight (body_budget.hpp)
     // Answers being written: a phone's plan or radio map at once, a slow reader's few of them.
     BodyBudgetOptions answers{.total_bytes = 128u << 20, .client_bytes = 16u << 20, .small_bytes = 64u << 10, .client_small_bytes = 4u << 20};
+    std::uint64_t client_requests = 8;  // requests one client has handled at once (a browser opens six connections)
     // GET /v1/maps/{id}/positions and its stream to anyone (--public-positions); else they need
     // the API key, or with no key a client on this machine (position_routes.cpp).
     bool public_positions = false;
@@ -108,6 +109,9 @@ private:
     FairShare fair_share_{options_.fair, options_.api_key};
     BodyBudget body_budget_{options_.bodies};  // before server_: its connections' tickets point here
     BodyBudget answer_budget_{options_.answers};
+    // Requests being handled, one unit each (--client-requests-in-flight).
+    BodyBudget request_slots_{{.total_bytes = ~std::uint64_t{0}, .client_bytes = options_.client_requests, .small_bytes = 0,
+                               .client_small_bytes = 0}};
     Front server_;
 };
 

@@ -168,9 +168,32 @@ TEST(ServerAnswerBudget, AnAnswerNotReadHoldsItsClientsShareUntilCutAtItsDeadlin
     EXPECT_EQ(again->status, 200);
 }
 
+TEST(ServerRequestSlots, AClientHasAFewRequestsHandledAtOnce) {
+    ServerProcess s({"--quiet", "--client-requests-in-flight", "2"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string path = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
+    HeldBody a(s, path, 1000), b(s, path, 1000);  // two requests in flight, waiting on their last byte
+    httplib::Client mine("127.0.0.1", s.port());
+    const auto third = mine.Get("/v1/maps");
+    ASSERT_TRUE(third);
+    EXPECT_EQ(third->status, 429) << third->body;
+    EXPECT_NE(third->body.find("too_many_requests"), std::string::npos) << third->body;
+    EXPECT_NE(third->body.find("--client-requests-in-flight"), std::string::npos) << third->body;
+    EXPECT_EQ(third->get_header_value("Retry-After"), "1");
+    httplib::Client other("127.0.0.1", s.port());
+    other.set_interface("127.0.0.2");
+    const auto theirs = other.Get("/v1/maps");
+    ASSERT_TRUE(theirs);
+    EXPECT_EQ(theirs->status, 200);
+    EXPECT_NE(a.finish(), 0);
+    const auto after = mine.Get("/v1/maps");
+    ASSERT_TRUE(after);
+    EXPECT_EQ(after->status, 200);
+}
+
 TEST(ServerBodyBudget, BadValuesAreRefusedAtStart) {
     for (const char* flag : {"--min-body-rate", "--max-body-bytes-in-flight", "--client-body-bytes-in-flight",
-                             "--max-answer-bytes-in-flight", "--client-answer-bytes-in-flight"}) {
+                             "--max-answer-bytes-in-flight", "--client-answer-bytes-in-flight", "--client-requests-in-flight"}) {
         const auto r = locus::testing::run_command({"/usr/bin/timeout", "10", LOCUS_SERVER_BIN, "--db", "/nonexistent/never.db",
                                                     "--port", "0", "--quiet", flag, "0"});
         EXPECT_NE(r.status, 0) << flag;

@@ -83,6 +83,7 @@ struct RequestFraming {
     bool share_taken = false;                    // the client's fair share was charged (app.cpp)
     bool body_admitted = false;                  // the body budget was asked (app.cpp)
     BodyBudget::Ticket body_ticket;              // the body's bytes in flight, given back with the framing
+    BodyBudget::Ticket request_ticket;           // the client's request slot, while its handler runs
     // The answer's: the budget it is admitted against and the client it counts for (set by
     // the app before routing; none: not counted), its ticket, held until it is written.
     BodyBudget* answers = nullptr;
