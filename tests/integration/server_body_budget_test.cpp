@@ -52,6 +52,14 @@ Answer post_from(const ServerProcess& s, const std::string& source, const std::s
     return a;
 }
 
+// Refused before its body was read: `status` and `code`, the message naming `flag`, Retry-After: 1.
+void expect_refused(const Answer& a, int status, const std::string& code, const std::string& flag) {
+    EXPECT_EQ(a.status, status) << a.message;
+    EXPECT_EQ(a.code, code);
+    EXPECT_NE(a.message.find(flag), std::string::npos) << a.message;
+    EXPECT_EQ(a.retry_after, "1");
+}
+
 // A request whose body is sent but for its last byte: the server holds it in flight.
 struct HeldBody {
     HeldBody(const ServerProcess& s, const std::string& path, std::size_t bytes) : connection(s.port()), request(raw_post(path, body_of(bytes))) {
@@ -72,11 +80,7 @@ TEST(ServerBodyBudget, AClientsBodiesInFlightHoldItsShareUntilAnswered) {
     const auto h = locus::testing::make_hierarchy(s);
     const std::string path = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
     HeldBody held(s, path, 200'000);
-    const Answer over = post_from(s, "127.0.0.1", path, body_of(150'000));
-    EXPECT_EQ(over.status, 429);
-    EXPECT_EQ(over.code, "too_many_bodies");
-    EXPECT_NE(over.message.find("--client-body-bytes-in-flight 300000"), std::string::npos) << over.message;
-    EXPECT_EQ(over.retry_after, "1");
+    expect_refused(post_from(s, "127.0.0.1", path, body_of(150'000)), 429, "too_many_bodies", "--client-body-bytes-in-flight 300000");
     // What still fits the share, and another client's body, pass.
     EXPECT_NE(post_from(s, "127.0.0.1", path, body_of(50'000)).status, 429);
     EXPECT_NE(post_from(s, "127.0.0.2", path, body_of(150'000)).status, 429);
@@ -92,11 +96,7 @@ TEST(ServerBodyBudget, EveryClientTogetherMeetsTheServerWideBudget) {
     const auto h = locus::testing::make_hierarchy(s);
     const std::string path = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
     HeldBody held(s, path, 200'000);
-    const Answer full = post_from(s, "127.0.0.2", path, body_of(150'000));
-    EXPECT_EQ(full.status, 503);
-    EXPECT_EQ(full.code, "server_busy");
-    EXPECT_NE(full.message.find("--max-body-bytes-in-flight 300000"), std::string::npos) << full.message;
-    EXPECT_EQ(full.retry_after, "1");
+    expect_refused(post_from(s, "127.0.0.2", path, body_of(150'000)), 503, "server_busy", "--max-body-bytes-in-flight 300000");
     EXPECT_NE(held.finish(), 0);
     EXPECT_NE(post_from(s, "127.0.0.2", path, body_of(150'000)).status, 503);
 }
