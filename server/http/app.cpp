@@ -81,14 +81,28 @@ void App::respond(const httplib::Request& req, httplib::Response& res,
             return;
         }
         std::string text = json_text(out);
-        if (const auto refusal = Front::admit_answer(text.size())) {
-            res.set_header("Retry-After", "1");
-            write_error(res, refusal->status, refusal->code, refusal->message);
-            return;
-        }
+        if (refuse_answer(res, text.size())) return;
         res.status = status;
         res.set_content(std::move(text), "application/json");
     });
+}
+
+void App::respond_text(const httplib::Request& req, httplib::Response& res,
+                       const std::function<std::shared_ptr<const std::string>()>& body) {
+    guarded(req, res, [&] {
+        const auto text = body();
+        if (refuse_answer(res, text->size())) return;  // before the copy
+        res.status = 200;
+        res.set_content(*text, "application/json");
+    });
+}
+
+bool App::refuse_answer(httplib::Response& res, std::size_t bytes) {
+    const auto refusal = Front::admit_answer(bytes);
+    if (!refusal) return false;
+    res.set_header("Retry-After", "1");
+    write_error(res, refusal->status, refusal->code, refusal->message);
+    return true;
 }
 
 void App::guarded(const httplib::Request& req, httplib::Response& res, const std::function<void()>& body) {

@@ -7,11 +7,13 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "directory/service.hpp"
 #include "http/plans/floor_geo.hpp"
+#include "http/plans/plan_answers.hpp"
 #include "http/front/fair_share.hpp"
 #include "http/front/front.hpp"
 #include "http/radiomaps/radiomap_settings.hpp"
@@ -66,10 +68,16 @@ public:
     // finished (Front::finish_body: decoded, and 413 when over the limit once read).
     static void respond(const httplib::Request& req, httplib::Response& res,
                         const std::function<std::pair<int, nlohmann::json>()>& body);
+    // As respond, for a 200 whose JSON text is made and kept elsewhere (plan_answers.hpp): the
+    // answer is admitted (Front::admit_answer) before the text is copied into `res`.
+    static void respond_text(const httplib::Request& req, httplib::Response& res,
+                             const std::function<std::shared_ptr<const std::string>()>& body);
     // The same guard for a handler that writes its own answer into `res`.
     static void guarded(const httplib::Request& req, httplib::Response& res, const std::function<void()>& body);
 
 private:
+    // Admits an answer of `bytes` (Front::admit_answer), else writes its refusal into `res`.
+    static bool refuse_answer(httplib::Response& res, std::size_t bytes);
     void install_middleware();
     void install_health();
     // Answers a request that must be refused before its body is read; false if it may go on.
@@ -103,6 +111,7 @@ private:
     directory::Service& directory_;
     transmitters::TransmitterCache transmitters_{store_};  // for the ranging localize and the thin clients' ranged scans
     FloorGeoCache geo_{store_};  // lat/lon in the answers of georeferenced floors
+    PlanAnswers plan_answers_{store_};  // GET /v1/floors/{id}/plan's texts (plan_routes.cpp)
     tuning::Service tuning_{store_, settings_text()};  // tune and quality (tune_routes.cpp)
     AppOptions options_;
     Slots export_slots_{options_.max_exports};

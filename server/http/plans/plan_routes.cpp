@@ -1,7 +1,8 @@
 // A floor's plan: GET, PUT (whole document) and DELETE /v1/floors/{id}/plan. A PUT keeps the
 // floor's rooms and POIs in step with the plan (Store::put_plan), and answers every room_id
-// and poi_id it kept.
+// and poi_id it kept. A GET answers the text kept until anything changes (plan_answers.hpp).
 #include "http/app.hpp"
+#include "http/json_text.hpp"
 #include "http/plans/plan_json.hpp"
 #include "http/plans/plan_put.hpp"
 #include "http/validation.hpp"
@@ -65,12 +66,14 @@ json plan_answer(const store::StoredPlan& stored, bool wgs84, FloorGeoCache& geo
 void App::install_plan_routes() {
     const std::string path = R"(/v1/floors/(\d+)/plan)";
     server_.Get(path, [this](const httplib::Request& req, httplib::Response& res) {
-        respond(req, res, [&] {
+        respond_text(req, res, [&] {
             const auto floor_id = parse_id(req.matches[1].str(), "floor");
             const bool wgs84 = wants_wgs84(req);
-            const auto stored = store_.plan_of_floor(floor_id);
-            if (!stored) throw ApiError(404, "not_found", "floor " + std::to_string(floor_id) + " has no plan");
-            return std::pair{200, plan_answer(*stored, wgs84, geo_, floor_id)};
+            return plan_answers_.get(floor_id, wgs84, [&] {
+                const auto stored = store_.plan_of_floor(floor_id);
+                if (!stored) throw ApiError(404, "not_found", "floor " + std::to_string(floor_id) + " has no plan");
+                return json_text(plan_answer(*stored, wgs84, geo_, floor_id));
+            });
         });
     });
     server_.Put(path, [this](const httplib::Request& req, httplib::Response& res) {
