@@ -45,7 +45,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
 #include <deque>
 #include <string_view>
 #include <filesystem>
@@ -464,6 +463,17 @@ void run_fixes(const Args& a) {
         throw CommandError(std::to_string(phones.refused()) + " phone requests refused" + (posts.any_server_error() ? "; the hostile client got a 5xx" : ""));
 }
 
+// The status of an answer's first bytes ("HTTP/1.1 429 …"), or nullopt.
+std::optional<int> status_line(std::string_view head) {
+    if (head.size() < 12 || !head.starts_with("HTTP/1.1 ")) return std::nullopt;
+    int status = 0;
+    for (const char c : head.substr(9, 3)) {
+        if (c < '0' || c > '9') return std::nullopt;
+        status = status * 10 + (c - '0');
+    }
+    return status;
+}
+
 // An 8 MiB localize body of empty scans, `{"scans":[[],[],…]}`: what the parser once read
 // into millions of empty scans (some 110 MiB a body).
 std::string empty_scans_body(std::size_t bytes) {
@@ -524,7 +534,7 @@ void run_bodies(const Args& a, bool slow) {
                 if (::poll(&p, 1, 0) <= 0) return false;
                 char head[64] = {};
                 const ssize_t n = ::recv(held.fd, head, sizeof head - 1, 0);
-                if (n >= 12 && std::string_view(head, 9) == "HTTP/1.1 ") status = std::atoi(head + 9);
+                if (const auto got = status_line(std::string_view(head, static_cast<std::size_t>(std::max<ssize_t>(n, 0))))) status = got;
                 return true;
             };
             while (running() && sent + 1 < request.size() && !answered()) {
@@ -617,7 +627,7 @@ void run_slow_readers(const Args& a) {
                 }
                 if (first) {
                     first = false;
-                    answers.add(n >= 12 && std::string_view(buf, 9) == "HTTP/1.1 " ? std::optional<int>(std::atoi(buf + 9)) : std::nullopt);
+                    answers.add(status_line(std::string_view(buf, static_cast<std::size_t>(n))));
                 }
                 for (int w = 0; w < 50 && running(); ++w) std::this_thread::sleep_for(std::chrono::milliseconds(100));  // 5 s
             }
