@@ -1,7 +1,7 @@
 #include "http/app.hpp"
 
 #include <chrono>
-#include <cmath>
+#include <optional>
 #include <cstdio>
 #include <ctime>
 
@@ -199,30 +199,25 @@ bool App::refuse_body(const httplib::Request& req, httplib::Response& res) {
     if (f->chunked || (!f->content_encoding.empty() && bytes > 0)) bytes = f->max_body_bytes;
     f->client = fair_share_.client(req);
     f->answers = &answer_budget_;
-    res.set_header("Retry-After", "1");
     // Each request being handled costs a worker's CPU and what its answer is built in: a client
     // has a few at once, as a browser does (six connections to a host).
+    std::optional<Refusal> refusal;
     if (request_slots_.admit(f->client, 1, f->request_ticket) != BodyBudget::Verdict::admitted) {
-        write_error(res, 429, "too_many_requests",
-                    "this client has " + std::to_string(request_slots_.options().client_bytes) +
-                        " requests being handled at once (--client-requests-in-flight); send the next once an answer has come");
-        Front::close_after(res);
-        return true;
+        refusal = Refusal{429, "too_many_requests",
+                          "this client has " + std::to_string(request_slots_.options().client_bytes) +
+                              " requests being handled at once (--client-requests-in-flight); send the next once an answer has come"};
+    } else if (const auto verdict = body_budget_.admit(f->client, bytes, f->body_ticket); verdict == BodyBudget::Verdict::server_full) {
+        refusal = Refusal{503, "server_busy",
+                          "the server is receiving and parsing as many request bodies as it holds at once (--max-body-bytes-in-flight " +
+                              std::to_string(body_budget_.options().total_bytes) + " bytes); retry shortly"};
+    } else if (verdict == BodyBudget::Verdict::client_full) {
+        refusal = Refusal{429, "too_many_bodies",
+                          "this client's request bodies being received and parsed reach its share (--client-body-bytes-in-flight " +
+                              std::to_string(body_budget_.options().client_bytes) + " bytes); send the next once an answer has come"};
     }
-    const auto verdict = body_budget_.admit(f->client, bytes, f->body_ticket);
-    if (verdict == BodyBudget::Verdict::admitted) {
-        res.headers.erase("Retry-After");
-        return false;
-    }
-    const auto& o = body_budget_.options();
-    if (verdict == BodyBudget::Verdict::server_full)
-        write_error(res, 503, "server_busy",
-                    "the server is receiving and parsing as many request bodies as it holds at once (--max-body-bytes-in-flight " +
-                        std::to_string(o.total_bytes) + " bytes); retry shortly");
-    else
-        write_error(res, 429, "too_many_bodies",
-                    "this client's request bodies being received and parsed reach its share (--client-body-bytes-in-flight " +
-                        std::to_string(o.client_bytes) + " bytes); send the next once an answer has come");
+    if (!refusal) return false;
+    res.set_header("Retry-After", "1");
+    write_error(res, refusal->status, refusal->code, refusal->message);
     Front::close_after(res);  // the body is not read
     return true;
 }

@@ -82,8 +82,9 @@ private:
     void install_health();
     // Answers a request that must be refused before its body is read; false if it may go on.
     bool refuse_before_body(const httplib::Request& req, httplib::Response& res) const;
-    // Admits the request's body against the body budget (once per request), or answers 503
-    // server_busy / 429 too_many_bodies with Retry-After before the body is read.
+    // Admits the request (once per request) to its client's request slots, then its body to the
+    // body budget, or answers 429 too_many_requests, 429 too_many_bodies or 503 server_busy
+    // with Retry-After before the body is read.
     bool refuse_body(const httplib::Request& req, httplib::Response& res);
     void install_localize();         // localize_routes.cpp
     void install_crud();             // crud_routes.cpp

@@ -33,10 +33,7 @@ BodyBudget::Verdict BodyBudget::admit(const std::optional<std::string>& client, 
         Held& held = clients_[*client];
         std::uint64_t& mine = small ? held.small : held.large;
         const std::uint64_t share = small ? options_.client_small_bytes : options_.client_bytes;
-        if (mine > 0 && mine + bytes > share) {
-            if (held.large == 0 && held.small == 0) clients_.erase(*client);
-            return Verdict::client_full;
-        }
+        if (mine > 0 && mine + bytes > share) return Verdict::client_full;
         mine += bytes;
     }
     if (!small) total_ += bytes;

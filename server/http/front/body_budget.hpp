@@ -1,5 +1,5 @@
 #pragma once
-// The memory of request bodies in flight (docs/deploy.md "Request bodies"): a body is admitted
+// The memory of request bodies in flight (docs/deploy.md "Request bodies in flight"): a body is admitted
 // before it is read, against a server-wide budget and a per-client share of it, and holds its
 // bytes until its answer has been written. Parsing a body costs a few times its size (its JSON
 // document, the request's own types), so bounding the bytes being received and parsed at once
@@ -26,8 +26,9 @@
 namespace locus::http {
 
 struct BodyBudgetOptions {
-    // One body at the 8 MiB limit per client (a JSON document costs up to some 25 times its
-    // text: one client's is then within 300 MB), four clients' worth in all.
+    // One body at the 8 MiB limit per client (a JSON document costs up to some 30 times its
+    // text: one client's is then within 300 MB), four clients' worth in all. The answers being
+    // written and the requests being handled are counted by the same class (app.hpp).
     std::uint64_t total_bytes = 32u << 20;
     std::uint64_t client_bytes = 8u << 20;
     std::uint64_t small_bytes = 64u << 10;

@@ -8,9 +8,10 @@
 // anonymous reads (POST /v1/maps/{id}/route, GET /v1/maps/{id}/search, POST /v1/maps/{id}/localize,
 // GET /v1/radiomaps/{id}/quality; one bucket for the four, --client-rate/--client-burst).
 // What a track's writer stores, and the scans a thin client has the server localize, are
-// charged by the routes once the body is read (charge_track_write). What a client holds (live tracks, event streams) is counted where it is held, by the tracks
-// service (tracks::Options; live tracks in the database, as a keyed hash); the routes ask
-// client() for the key it counts under.
+// charged by the routes once the body is read (charge_track_write). What a client holds (live
+// tracks, event streams) is counted where it is held, by the tracks service (tracks::Options;
+// live tracks in the database, as a keyed hash); the routes ask client() for the key it
+// counts under.
 //
 // A request carrying the server's API key is the operator's and is exempt from all of these.
 //
@@ -76,11 +77,11 @@ public:
 private:
     bool exempt(const httplib::Request& req) const;
     std::vector<std::string> forwarded(const httplib::Request& req) const;  // X-Forwarded-For values, when a proxy is trusted
+    double now() const;  // seconds since the tables began, the buckets' clock
 
     FairShareOptions options_;
     std::string api_key_;
-    std::mutex mu_;  // both tables
-    double now() const;
+    std::mutex mu_;  // every table
     ClientBuckets opens_, routes_, track_writes_;
     std::chrono::steady_clock::time_point epoch_ = std::chrono::steady_clock::now();
 };

@@ -38,11 +38,15 @@ void send_all(int fd, const std::string& bytes) {
 // for chunks of a few bytes, and a bound on what a client can make the server read.
 std::uint64_t chunked_budget(std::uint64_t max_body) { return 2 * max_body + 64 * 1024; }
 
-// The time a body of `budget` bytes may take (FrontOptions::min_body_rate); past it, and past
-// 10 minutes for any body, a body trickled a byte at a time stops holding a worker.
+// How long `bytes` take at FrontOptions::min_body_rate, the slowest a body or an answer may go.
+std::chrono::milliseconds at_rate(std::uint64_t bytes, std::uint64_t min_rate) {
+    return std::chrono::milliseconds(bytes * 1000 / std::max<std::uint64_t>(min_rate, 1));
+}
+
+// The time a body of `budget` bytes may take; past it, and past 10 minutes for any body, a
+// body trickled a byte at a time stops holding a worker.
 std::chrono::milliseconds body_time(std::uint64_t budget, std::chrono::milliseconds read_timeout, std::uint64_t min_rate) {
-    const auto at_slow_rate = std::chrono::milliseconds(budget * 1000 / std::max<std::uint64_t>(min_rate, 1));
-    return std::min<std::chrono::milliseconds>(read_timeout + at_slow_rate, std::chrono::minutes(10));
+    return std::min<std::chrono::milliseconds>(read_timeout + at_rate(budget, min_rate), std::chrono::minutes(10));
 }
 
 // What cpp-httplib's head parser would skip or misread without a word: a line not ending in
@@ -223,8 +227,7 @@ void Front::limit_writes(Clock::time_point until) {
 std::optional<Refusal> Front::admit_answer(std::uint64_t bytes) {
     RequestFraming* f = current_framing;
     if (!f) return std::nullopt;
-    if (f->stream && f->min_rate > 0)
-        f->stream->limit_writes(Clock::now() + f->write_timeout + std::chrono::milliseconds(bytes * 1000 / f->min_rate));
+    if (f->stream && f->min_rate > 0) f->stream->limit_writes(Clock::now() + f->write_timeout + at_rate(bytes, f->min_rate));
     if (!f->answers) return std::nullopt;
     const auto verdict = f->answers->admit(f->client, bytes, f->answer_ticket);
     if (verdict == BodyBudget::Verdict::admitted) return std::nullopt;
