@@ -9,6 +9,7 @@
 #include <httplib.h>
 
 #include <chrono>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -35,21 +36,31 @@ std::string body_of(std::size_t bytes) {
 struct Answer {
     int status = 0;
     std::string code, message, retry_after;
+    std::size_t bytes = 0;  // of the body
 };
 
-Answer post_from(const ServerProcess& s, const std::string& source, const std::string& path, const std::string& body) {
+// One request on a connection of its own from `source`: a POST of `body`, or a GET without one.
+// Up to 120 s for its answer: a large plan's is built in seconds under sanitizers.
+Answer request_from(const ServerProcess& s, const std::string& source, const std::string& path, const std::optional<std::string>& body) {
     httplib::Client c("127.0.0.1", s.port());
     c.set_interface(source);
-    c.set_read_timeout(10, 0);
-    const auto r = c.Post(path.c_str(), body, "application/json");
+    c.set_read_timeout(120, 0);
+    const auto r = body ? c.Post(path.c_str(), *body, "application/json") : c.Get(path.c_str());
     if (!r) return {};
-    Answer a{r->status, "", "", r->get_header_value("Retry-After")};
+    Answer a{r->status, "", "", r->get_header_value("Retry-After"), r->body.size()};
     const json j = json::parse(r->body, nullptr, false);
     if (j.is_object() && j.contains("error")) {
         a.code = j["error"].value("code", "");
         a.message = j["error"].value("message", "");
     }
     return a;
+}
+
+Answer post_from(const ServerProcess& s, const std::string& source, const std::string& path, const std::string& body) {
+    return request_from(s, source, path, body);
+}
+Answer get_from(const ServerProcess& s, const std::string& source, const std::string& path) {
+    return request_from(s, source, path, std::nullopt);
 }
 
 // Refused before its body was read: `status` and `code`, the message naming `flag`, Retry-After: 1.
@@ -141,33 +152,18 @@ TEST(ServerAnswerBudget, AnAnswerNotReadHoldsItsClientsShareUntilCutAtItsDeadlin
     const json walls = many_walls(50'000);
     ASSERT_LT(walls.dump().size(), 8'000'000u);
     ASSERT_EQ(s.put(plan, walls).status, 200);
-    httplib::Client c("127.0.0.1", s.port());
-    c.set_read_timeout(120, 0);  // the first GET builds the answer: seconds under sanitizers
-    const auto whole = c.Get(plan.c_str());
-    ASSERT_TRUE(whole);
-    ASSERT_EQ(whole->status, 200);
-    ASSERT_GT(whole->body.size(), 5'000'000u);
+    const Answer whole = get_from(s, "127.0.0.1", plan);  // built, then kept
+    ASSERT_EQ(whole.status, 200);
+    ASSERT_GT(whole.bytes, 5'000'000u);
     // A reader that never reads: the server's write blocks on a full socket.
     RawConnection stuck(s.port(), 4096);
     ASSERT_TRUE(stuck.send(locus::testing::raw_get(plan)));
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    const auto refused = c.Get(plan.c_str());
-    ASSERT_TRUE(refused);
-    EXPECT_EQ(refused->status, 429) << refused->body;
-    EXPECT_NE(refused->body.find("too_many_answers"), std::string::npos) << refused->body;
-    EXPECT_NE(refused->body.find("--client-answer-bytes-in-flight 400000"), std::string::npos) << refused->body;
-    EXPECT_EQ(refused->get_header_value("Retry-After"), "1");
-    httplib::Client other("127.0.0.1", s.port());
-    other.set_interface("127.0.0.2");
-    other.set_read_timeout(120, 0);
-    const auto theirs = other.Get(plan.c_str());
-    ASSERT_TRUE(theirs);
-    EXPECT_EQ(theirs->status, 200);
+    expect_refused(get_from(s, "127.0.0.1", plan), 429, "too_many_answers", "--client-answer-bytes-in-flight 400000");
+    EXPECT_EQ(get_from(s, "127.0.0.2", plan).status, 200);
     // Cut at its deadline, the stuck answer gives its bytes back.
     EXPECT_TRUE(stuck.closed_within(std::chrono::seconds(20)));
-    const auto again = c.Get(plan.c_str());
-    ASSERT_TRUE(again);
-    EXPECT_EQ(again->status, 200);
+    EXPECT_EQ(get_from(s, "127.0.0.1", plan).status, 200);
 }
 
 TEST(ServerRequestSlots, AClientHasAFewRequestsHandledAtOnce) {
@@ -175,22 +171,10 @@ TEST(ServerRequestSlots, AClientHasAFewRequestsHandledAtOnce) {
     const auto h = locus::testing::make_hierarchy(s);
     const std::string path = "/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize";
     HeldBody a(s, path, 1000), b(s, path, 1000);  // two requests in flight, waiting on their last byte
-    httplib::Client mine("127.0.0.1", s.port());
-    const auto third = mine.Get("/v1/maps");
-    ASSERT_TRUE(third);
-    EXPECT_EQ(third->status, 429) << third->body;
-    EXPECT_NE(third->body.find("too_many_requests"), std::string::npos) << third->body;
-    EXPECT_NE(third->body.find("--client-requests-in-flight"), std::string::npos) << third->body;
-    EXPECT_EQ(third->get_header_value("Retry-After"), "1");
-    httplib::Client other("127.0.0.1", s.port());
-    other.set_interface("127.0.0.2");
-    const auto theirs = other.Get("/v1/maps");
-    ASSERT_TRUE(theirs);
-    EXPECT_EQ(theirs->status, 200);
+    expect_refused(get_from(s, "127.0.0.1", "/v1/maps"), 429, "too_many_requests", "--client-requests-in-flight");
+    EXPECT_EQ(get_from(s, "127.0.0.2", "/v1/maps").status, 200);
     EXPECT_NE(a.finish(), 0);
-    const auto after = mine.Get("/v1/maps");
-    ASSERT_TRUE(after);
-    EXPECT_EQ(after->status, 200);
+    EXPECT_EQ(get_from(s, "127.0.0.1", "/v1/maps").status, 200);
 }
 
 TEST(ServerBodyBudget, BadValuesAreRefusedAtStart) {

@@ -74,6 +74,8 @@ long retry_after(const ServerProcess& s, const std::string& method, const std::s
 
 std::string token_of(const Response& r) { return r.body.at("token").get<std::string>(); }
 std::string id_of(const Response& r) { return std::to_string(r.body.at("id").get<long long>()); }
+// The owner of opened track `t`, calling from `source`.
+Call owner_of(const Response& t, const std::string& source = "127.0.0.1") { return {source, {{"X-Track-Token", token_of(t)}}}; }
 
 TEST(ServerFairShare, OneClientHoldsAtMostItsLiveTracks) {
     ServerProcess s({"--quiet", "--client-live-tracks", "3", "--track-ttl", "600"});
@@ -92,7 +94,7 @@ TEST(ServerFairShare, OneClientHoldsAtMostItsLiveTracks) {
     // Another client is not refused.
     EXPECT_EQ(open_track(s, h.map, {kSecond}).status, 201);
     // A closed track is no longer held.
-    const Response closed = call(s, "POST", "/v1/tracks/" + id_of(mine[0]) + "/close", nullptr, {"127.0.0.1", {{"X-Track-Token", token_of(mine[0])}}});
+    const Response closed = call(s, "POST", "/v1/tracks/" + id_of(mine[0]) + "/close", nullptr, owner_of(mine[0]));
     ASSERT_EQ(closed.status, 200) << closed.raw;
     EXPECT_EQ(open_track(s, h.map).status, 201);
     EXPECT_EQ(open_track(s, h.map).status, 429);
@@ -111,7 +113,7 @@ TEST(ServerFairShare, TheLiveTrackCountOutlivesARestart) {
     s.start();
     expect_limited(open_track(s, h.map), "too_many_live_tracks", "--client-live-tracks 2", "after a restart");
     EXPECT_EQ(open_track(s, h.map, {kSecond}).status, 201);
-    const Response closed = call(s, "POST", "/v1/tracks/" + id_of(first) + "/close", nullptr, {"127.0.0.1", {{"X-Track-Token", token_of(first)}}});
+    const Response closed = call(s, "POST", "/v1/tracks/" + id_of(first) + "/close", nullptr, owner_of(first));
     ASSERT_EQ(closed.status, 200) << closed.raw;
     EXPECT_EQ(open_track(s, h.map).status, 201);
     if (s.db_path().empty()) return;  // PostgreSQL: no file to read
@@ -138,7 +140,7 @@ TEST(ServerFairShare, ReplicasCountAClientsLiveTracksTogether) {
     expect_limited(open_track(a, h.map), "too_many_live_tracks", "--client-live-tracks 3", "a fourth, on the first");
     EXPECT_EQ(open_track(b, h.map, {kSecond}).status, 201);
     // Closed on one replica, its slot is free on the other.
-    ASSERT_EQ(call(a, "POST", "/v1/tracks/" + id_of(third) + "/close", nullptr, {"127.0.0.1", {{"X-Track-Token", token_of(third)}}}).status, 200);
+    ASSERT_EQ(call(a, "POST", "/v1/tracks/" + id_of(third) + "/close", nullptr, owner_of(third)).status, 200);
     EXPECT_EQ(open_track(b, h.map).status, 201);
 }
 
@@ -154,7 +156,7 @@ TEST(ServerFairShare, TheServerWideCapDecidesWhenItIsLower) {
     EXPECT_EQ(busy.status, 503) << busy.raw;
     EXPECT_EQ(busy.body["error"]["code"], "server_busy");
     const json fix = {{"fixes", {{{"t", locus::testing::unix_now() - 1}, {"floor_id", h.floor}, {"x", 1.0}, {"y", 1.0}, {"accuracy_m", 2.0}}}}};
-    const Call owner{"127.0.0.1", {{"X-Track-Token", token_of(t)}}};
+    const Call owner = owner_of(t);
     ASSERT_EQ(call(s, "POST", "/v1/tracks/" + id_of(t) + "/fixes", fix, owner).status, 200);
     SseListener first(s.port(), "/v1/maps/" + std::to_string(h.map) + "/positions/events");
     ASSERT_TRUE(first.wait_for(1, 5.0));  // its stream holds the one slot
@@ -169,7 +171,7 @@ TEST(ServerFairShare, OneClientHoldsAtMostItsStreams) {
     const Response t = open_track(s, h.map);
     ASSERT_EQ(t.status, 201);
     const json fix = {{"fixes", {{{"t", locus::testing::unix_now() - 1}, {"floor_id", h.floor}, {"x", 1.0}, {"y", 1.0}, {"accuracy_m", 2.0}}}}};
-    ASSERT_EQ(call(s, "POST", "/v1/tracks/" + id_of(t) + "/fixes", fix, {"127.0.0.1", {{"X-Track-Token", token_of(t)}}}).status, 200);
+    ASSERT_EQ(call(s, "POST", "/v1/tracks/" + id_of(t) + "/fixes", fix, owner_of(t)).status, 200);
     const std::string events = "/v1/tracks/" + id_of(t) + "/events";
     const std::string positions = "/v1/maps/" + std::to_string(h.map) + "/positions/events";
     // One stream of each kind: both count.
@@ -177,7 +179,7 @@ TEST(ServerFairShare, OneClientHoldsAtMostItsStreams) {
     SseListener map_stream(s.port(), positions);
     ASSERT_TRUE(track_stream.wait_for(1, 5.0));
     ASSERT_TRUE(map_stream.wait_for(1, 5.0));
-    const Call owner{"127.0.0.1", {{"X-Track-Token", token_of(t)}}};
+    const Call owner = owner_of(t);
     expect_limited(call(s, "GET", events, nullptr, owner), "too_many_client_streams", "--client-streams 2", "a third track stream");
     expect_limited(call(s, "GET", positions), "too_many_client_streams", "--client-streams 2", "a third positions stream");
     const long retry = retry_after(s, "GET", positions, nullptr, {});
@@ -198,7 +200,7 @@ TEST(ServerFairShare, AFullServerLetsAClientHoldingFewerIn) {
     const Response t = open_track(s, h.map);
     ASSERT_EQ(t.status, 201);
     const json fix = {{"fixes", {{{"t", locus::testing::unix_now() - 1}, {"floor_id", h.floor}, {"x", 1.0}, {"y", 1.0}, {"accuracy_m", 2.0}}}}};
-    ASSERT_EQ(call(s, "POST", "/v1/tracks/" + id_of(t) + "/fixes", fix, {"127.0.0.1", {{"X-Track-Token", token_of(t)}}}).status, 200);
+    ASSERT_EQ(call(s, "POST", "/v1/tracks/" + id_of(t) + "/fixes", fix, owner_of(t)).status, 200);
     const std::string events = "/v1/tracks/" + id_of(t) + "/events";
     const std::string positions = "/v1/maps/" + std::to_string(h.map) + "/positions/events";
     const httplib::Headers owner{{"X-Track-Token", token_of(t)}};
@@ -294,7 +296,7 @@ TEST(ServerFairShare, WhatATrackWriterPostsIsMeteredInBytes) {
     const auto h = locus::testing::make_hierarchy(s);
     const Response t = open_track(s, h.map);
     ASSERT_EQ(t.status, 201);
-    const Call owner{"127.0.0.1", {{"X-Track-Token", token_of(t)}}};
+    const Call owner = owner_of(t);
     const std::string fixes = "/v1/tracks/" + id_of(t) + "/fixes";
     const double t0 = locus::testing::unix_now() - 1000;
     const json batch = fixes_batch(h.floor, t0, 30);
@@ -314,7 +316,7 @@ TEST(ServerFairShare, WhatATrackWriterPostsIsMeteredInBytes) {
     // Another client's track posts on its own share.
     const Response other = open_track(s, h.map, {kSecond});
     ASSERT_EQ(other.status, 201);
-    EXPECT_EQ(call(s, "POST", "/v1/tracks/" + id_of(other) + "/fixes", batch, {kSecond, {{"X-Track-Token", token_of(other)}}}).status, 200);
+    EXPECT_EQ(call(s, "POST", "/v1/tracks/" + id_of(other) + "/fixes", batch, owner_of(other, kSecond)).status, 200);
 }
 
 TEST(ServerFairShare, AThinClientsScansAreLocalizationsOfItsRate) {
@@ -322,7 +324,7 @@ TEST(ServerFairShare, AThinClientsScansAreLocalizationsOfItsRate) {
     const auto h = locus::testing::make_hierarchy(s);
     const Response t = open_track(s, h.map);
     ASSERT_EQ(t.status, 201);
-    const Call owner{"127.0.0.1", {{"X-Track-Token", token_of(t)}}};
+    const Call owner = owner_of(t);
     const std::string steps = "/v1/tracks/" + id_of(t) + "/steps";
     const double t0 = locus::testing::unix_now() - 100;
     const auto scans = [&](int n, double from) {
@@ -370,12 +372,12 @@ TEST(ServerFairShare, TheApiKeyIsExempt) {
     const Response t = tracks[0];
     SseListener mine(s.port(), "/v1/tracks/" + id_of(t) + "/events", {{"X-Track-Token", token_of(t)}});
     const json fix = {{"fixes", {{{"t", locus::testing::unix_now() - 1}, {"floor_id", h.floor}, {"x", 1.0}, {"y", 1.0}, {"accuracy_m", 2.0}}}}};
-    ASSERT_EQ(call(s, "POST", "/v1/tracks/" + id_of(t) + "/fixes", fix, {"127.0.0.1", {{"X-Track-Token", token_of(t)}}}).status, 200);
+    ASSERT_EQ(call(s, "POST", "/v1/tracks/" + id_of(t) + "/fixes", fix, owner_of(t)).status, 200);
     EXPECT_TRUE(a.wait_for(1, 5.0));
     EXPECT_TRUE(b.wait_for(1, 5.0));
     EXPECT_TRUE(mine.wait_for(1, 5.0));
     // The anonymous client's one stream is taken: a second is refused.
-    const Response refused = call(s, "GET", "/v1/tracks/" + id_of(t) + "/events", nullptr, {"127.0.0.1", {{"X-Track-Token", token_of(t)}}});
+    const Response refused = call(s, "GET", "/v1/tracks/" + id_of(t) + "/events", nullptr, owner_of(t));
     EXPECT_EQ(refused.status, 429) << refused.raw;
 }
 
