@@ -20,6 +20,13 @@ namespace {
 
 using nlohmann::json;
 
+json parse_fusion_options(const std::string& text) {
+    json j = json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.is_object())
+        throw CommandError("--fusion-options takes a JSON object, e.g. '{\"step_scale\": 1.2}'");
+    return j;
+}
+
 // The map's floor of `level` (its id and frame), the first one when several buildings have it.
 const std::pair<const long long, MapFloors::Floor>* floor_of_level(const MapFloors& floors, int level) {
     for (const auto& entry : floors.by_id)
@@ -42,19 +49,13 @@ std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFl
     if (!lw.pressure.empty()) last_t = std::max(last_t, lw.pressure.back().t_s);
     if (!lw.gnss.empty()) last_t = std::max(last_t, lw.gnss.back().t);
     const double base = std::floor(now - last_t - 1.0);
-    // A step's heading is clockwise from the floor's +y axis: the compass azimuth less the
-    // floor's bearing (the floors `locus import ipin` makes share one georeference).
-    double bearing_deg = 0.0;
-    for (const auto& [id, f] : floors.by_id)
-        if (f.frame) {
-            bearing_deg = f.frame->georeference().bearing_deg;
-            break;
-        }
     // The track's walk filter takes the IPIN trackers' priors (ipin_walk_filter(): these phones'
     // step scale, answers off by more than PUTMC's, the compass's rotation known from the
-    // georeference) unless the server's own are asked for.
+    // georeference), or the options given, unless the server's own are asked for.
     json body = {{"map_id", o.map}, {"label", "replay " + lw.label + " (thin)"}};
-    if (!o.server_defaults) {
+    if (!o.fusion_options.empty()) {
+        body["fusion_options"] = parse_fusion_options(o.fusion_options);
+    } else if (!o.server_defaults) {
         const fusion::WalkFilterConfig c = ipin_walk_filter();
         body["fusion_options"] = {{"step_scale", c.scale_mean},
                                   {"step_scale_sigma", c.scale_sigma},
@@ -65,6 +66,17 @@ std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFl
                                   {"rotation_sigma_deg", c.hint_sigma_rad * 180.0 / std::numbers::pi},
                                   {"rotation_walk_deg", c.offset_walk_rad * 180.0 / std::numbers::pi}};
     }
+    // A step's heading is the compass azimuth as the phone reads it (clockwise from north), the
+    // server turning it into the floor's frame (docs/tracks.md), unless the options say the
+    // headings are the floor's already (rotation_sigma_deg): then the azimuth less the floor's
+    // bearing (the floors `locus import ipin` makes share one georeference).
+    double bearing_deg = 0.0;
+    if (body.contains("fusion_options") && body["fusion_options"].contains("rotation_sigma_deg"))
+        for (const auto& [id, f] : floors.by_id)
+            if (f.frame) {
+                bearing_deg = f.frame->georeference().bearing_deg;
+                break;
+            }
     const json track = client.post("/v1/tracks", body);
     const api::TrackKey key{track.at("id").get<std::int64_t>(), track.at("token").get<std::string>()};
     out["track"] = {{"id", key.id}, {"token", key.token}};

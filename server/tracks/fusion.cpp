@@ -42,23 +42,33 @@ fusion::RangingEkfConfig ekf_config(const FusionOptions& options) {
     return c;
 }
 
-ThinFusion::ThinFusion(FusionMethod method, std::uint64_t seed, const FusionOptions& options)
-    : method_(method), walk_config_(fusion::WalkFilterConfig::real_walks()) {
-    config_.seed = seed;
-    walk_config_.seed = seed;
-    if (options.step_scale) walk_config_.scale_mean = *options.step_scale;
-    if (options.step_scale_sigma) walk_config_.scale_sigma = *options.step_scale_sigma;
-    if (options.fix_sigma_m) walk_config_.fix_sigma_m = *options.fix_sigma_m;
-    if (options.reseed_fraction) walk_config_.reseed_fraction = *options.reseed_fraction;
-    if (options.reseed_max_fraction) walk_config_.reseed_max_fraction = *options.reseed_max_fraction;
-    if (options.rotation_sigma_deg) {
-        // As `locus eval ipin`'s walk_pf with a georeferenced floor (tools/ipin_track.hpp): most
-        // fresh particles draw the rotation round the known one, a few anywhere.
-        walk_config_.hint_share = 0.95;
-        walk_config_.hint_sigma_rad = *options.rotation_sigma_deg * std::numbers::pi / 180.0;
-        rotation_known_ = true;
+fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t seed, bool compass_north) {
+    fusion::WalkFilterConfig c = fusion::WalkFilterConfig::real_walks();
+    c.seed = seed;
+    if (compass_north || options.rotation_sigma_deg) {
+        // The rotation from the steps' headings to the floor is known but for the compass's own
+        // error: most fresh particles draw it round that one, a few anywhere (as `locus eval
+        // ipin`'s walk_pf), it drifts slowly, and few particles need re-drawing round a fix to
+        // find it (they are what finds an unknown rotation).
+        c.hint_share = 0.95;
+        c.hint_sigma_rad = kCompassSigmaDeg * std::numbers::pi / 180.0;
+        c.offset_walk_rad = kCompassWalkDeg * std::numbers::pi / 180.0;
+        c.reseed_fraction = kKnownRotationReseed;
+        c.reseed_max_fraction = kKnownRotationReseedMax;
     }
-    if (options.rotation_walk_deg) walk_config_.offset_walk_rad = *options.rotation_walk_deg * std::numbers::pi / 180.0;
+    if (options.step_scale) c.scale_mean = *options.step_scale;
+    if (options.step_scale_sigma) c.scale_sigma = *options.step_scale_sigma;
+    if (options.fix_sigma_m) c.fix_sigma_m = *options.fix_sigma_m;
+    if (options.reseed_fraction) c.reseed_fraction = *options.reseed_fraction;
+    if (options.reseed_max_fraction) c.reseed_max_fraction = *options.reseed_max_fraction;
+    if (options.rotation_sigma_deg) c.hint_sigma_rad = *options.rotation_sigma_deg * std::numbers::pi / 180.0;
+    if (options.rotation_walk_deg) c.offset_walk_rad = *options.rotation_walk_deg * std::numbers::pi / 180.0;
+    return c;
+}
+
+ThinFusion::ThinFusion(FusionMethod method, std::uint64_t seed, const FusionOptions& options)
+    : method_(method), options_(options), seed_(seed) {
+    config_.seed = seed;
     if (is_kalman(method)) kalman_config_ = kalman_config(method, options);
     if (method == FusionMethod::ekf_ranging) ekf_config_ = ekf_config(options);
 }
@@ -73,7 +83,7 @@ Eigen::Matrix2d ThinFusion::kalman_r(const RadioFix& r) const {
     return fusion::ranging_measurement_noise(f, kalman_config_);
 }
 
-void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resumed) {
+void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resumed, std::optional<double> bearing_deg) {
     const Point at{r.x, r.y};
     if (method_ == FusionMethod::ekf_ranging) {
         // At the fix, as sure of it as the fix is (floored as a posted fix's R is); resumed, as
@@ -97,8 +107,13 @@ void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resume
         if (method_ == FusionMethod::kalman_ranging && w) plan = w->floor_plan;
         kalman_.emplace(at, c, std::move(plan));
     } else if (method_ == FusionMethod::walk_pf) {
-        walk_.emplace(w ? std::optional<fusion::Walkable>(*w) : std::nullopt, walk_config_);
-        if (rotation_known_) walk_->hint(0.0, false);
+        // A step's heading is the compass's azimuth, clockwise from north; the floor's +y axis
+        // points bearing_deg clockwise from north, so the heading on the floor is the azimuth
+        // less the bearing (docs/tracks.md). With rotation_sigma_deg the client turned it itself.
+        const bool compass_north = bearing_deg && !options_.rotation_sigma_deg;
+        walk_.emplace(w ? std::optional<fusion::Walkable>(*w) : std::nullopt, walk_config(options_, seed_, compass_north));
+        if (options_.rotation_sigma_deg) walk_->hint(0.0, false);
+        else if (compass_north) walk_->hint(-*bearing_deg * std::numbers::pi / 180.0, false);
         walk_->fix(at, fix_covariance(r.accuracy_m));
     } else {
         if (!w) throw std::invalid_argument("floor " + std::to_string(r.floor_id) + " has no plan: the particle filter walks on one (walk_pf does not need one)");

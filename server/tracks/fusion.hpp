@@ -160,10 +160,11 @@ public:
     // Starts the filter at a fix the track already stored (its latest), as if it were a radio
     // fix, and counts inputs up to its t as run: for a track whose filter this server does not
     // hold (a restart, or a request that reached another server sharing the database).
+    // bearing_deg: the stored fix's floor's georeferenced bearing (nullopt: none), as in run().
     template <typename WalkableOf>
-    void resume(const Fix& stored, WalkableOf&& walkable_of) {
+    void resume(const Fix& stored, WalkableOf&& walkable_of, std::optional<double> bearing_deg = std::nullopt) {
         std::shared_ptr<const fusion::Walkable> w = walkable_of(stored.floor_id);
-        start(w.get(), RadioFix(stored), true);
+        start(w.get(), RadioFix(stored), true, bearing_deg);
         heading_deg_ = stored.heading_deg;
         done_t_ = stored.t;
     }
@@ -171,7 +172,9 @@ public:
 private:
     Fix fused(double t, std::optional<double> heading_deg) const;
     // resumed: `r` is a fused fix the track stored, whose accuracy_m is the filter's own σ then.
-    void start(const fusion::Walkable* w, const RadioFix& r, bool resumed = false);
+    // bearing_deg: the floor's georeferenced bearing (walk_pf reads the steps' headings as
+    // compass azimuths on it), nullopt when the floor has no georeference.
+    void start(const fusion::Walkable* w, const RadioFix& r, bool resumed = false, std::optional<double> bearing_deg = std::nullopt);
     // The barometer's floor when it names one other than the filter's: the filter moves there,
     // through the stairs or lift `floors` gives (walk_pf keeps its cloud; the others restart at
     // their estimate). True when it moved.
@@ -181,6 +184,11 @@ private:
     // (gated for the Kalman methods). True when the filter took it.
     template <typename Floors>
     bool take_gnss(const Gnss& g, Floors&& floors);
+    template <typename Floors>
+    static std::optional<double> bearing_of(Floors&& floors, std::int64_t floor_id) {
+        const std::shared_ptr<const geo::FloorToEarth> frame = floors.georeference(floor_id);
+        return frame ? std::optional<double>(frame->georeference().bearing_deg) : std::nullopt;
+    }
     bool gnss_update(Point at, double sigma_m);
     // The index in baro_ids_ of a floor (nullopt: not one of the barometer's).
     std::optional<int> baro_index(std::int64_t floor_id) const;
@@ -190,8 +198,8 @@ private:
 
     FusionMethod method_;
     fusion::ParticleConfig config_;
-    fusion::WalkFilterConfig walk_config_;
-    bool rotation_known_ = false;  // walk_pf: the steps' headings are the floor's (rotation_sigma_deg)
+    FusionOptions options_;
+    std::uint64_t seed_ = 1;
     std::optional<fusion::ParticleFilter> filter_;  // copyable: a request runs on a copy
     std::optional<fusion::WalkFilter> walk_;        // one of the three, by method_
     fusion::RangingKalmanConfig kalman_config_;
@@ -211,6 +219,20 @@ private:
     std::optional<double> gnss_t_;             // the latest GNSS fix the interval let through
     match::DeviceOffset rss_offset_;
 };
+
+// walk_pf on a floor with a georeference, where a step's heading is the compass's azimuth
+// (docs/tracks.md, "walk_pf's priors"): the compass's error against the floor's north (σ, and
+// its random walk per step), and the share of the cloud re-drawn round a fix, which need not
+// search for the rotation. Chosen on the IPIN 2023 walks (docs/results.md).
+inline constexpr double kCompassSigmaDeg = 11.46;
+inline constexpr double kCompassWalkDeg = 2.865;
+inline constexpr double kKnownRotationReseed = 0.02;
+inline constexpr double kKnownRotationReseedMax = 0.1;
+
+// walk_pf's configuration: WalkFilterConfig::real_walks(), the known-rotation settings above
+// when compass_north (the floor's georeference gives the rotation) or the options give the
+// rotation, the track's options over them.
+fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t seed, bool compass_north);
 
 // The radio fix's covariance: its accuracy as a 1-sigma radius.
 Eigen::Matrix2d fix_covariance(double accuracy_m);
@@ -317,7 +339,7 @@ std::vector<Fix> ThinFusion::run(const std::vector<Step>& steps, const std::vect
                 follow_baro(t, walkable_of, floors);
             } else if (!started() || r.floor_id != floor_id_) {
                 std::shared_ptr<const fusion::Walkable> w = walkable_of(r.floor_id);
-                start(w.get(), r);
+                start(w.get(), r, false, bearing_of(floors, r.floor_id));
                 // Another building's floor: its barometer is asked for at the next pressure sample.
                 if (baro_ && !baro_index(r.floor_id)) baro_.reset();
             } else if (ekf_) {

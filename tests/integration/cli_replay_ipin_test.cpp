@@ -109,6 +109,16 @@ TEST(ReplayIpin, TheThinClientPathRunsTheServersFilterOnALiveTrack) {
     EXPECT_NEAR(known["estimates"][0]["x"].get<double>(), 70.0, 0.5);
     EXPECT_NEAR(known["estimates"][0]["y"].get<double>(), 40.0, 0.5);
     EXPECT_EQ(known["estimates"][0]["floor"], 0);
+
+    // Other settings: the track is opened with the options given, and keeps them.
+    const auto own = s.replay({"--rule", "thin", "--fusion-options", R"({"step_scale": 1.2, "fix_sigma_m": 4})"});
+    ASSERT_EQ(own.status, 0) << own.err;
+    const json mine = json::parse(own.out);
+    const json expected = {{"step_scale", 1.2}, {"fix_sigma_m", 4}};
+    EXPECT_EQ(mine["fusion_options"], expected);
+    const json opened =
+        body_of(track_call(s.server, "GET", "/v1/tracks/" + mine["track"]["id"].dump(), {mine["track"]["token"].get<std::string>()}));
+    EXPECT_EQ(opened["fusion_options"], expected);
 }
 
 TEST(ReplayIpin, ALogWithoutPosiReplaysUnscored) {
@@ -140,6 +150,15 @@ TEST(ReplayIpin, BadInputIsRefusedByName) {
     EXPECT_NE(live.err.find("--live and --upload-survey take walk files"), std::string::npos) << live.err;
     const auto no_floor = run_command({LOCUS_CLI_BIN, "replay", kT52, "--server", s.server.url(), "--map", "999"});
     EXPECT_NE(no_floor.status, 0);
+    // --fusion-options: a JSON object, each option checked by the server, which names it.
+    const auto not_json = s.replay({"--rule", "thin", "--fusion-options", "step_scale=1"});
+    EXPECT_NE(not_json.status, 0);
+    EXPECT_NE(not_json.err.find("--fusion-options takes a JSON object"), std::string::npos) << not_json.err;
+    const auto out_of_range = s.replay({"--rule", "thin", "--fusion-options", R"({"step_scale": 9})"});
+    EXPECT_NE(out_of_range.status, 0);
+    EXPECT_NE(out_of_range.err.find("fusion_options.step_scale"), std::string::npos) << out_of_range.err;
+    const auto both = s.replay({"--rule", "thin", "--server-defaults", "--fusion-options", "{}"});
+    EXPECT_NE(both.status, 0);
 
     // A malformed line is named by file and line; nothing is posted.
     const std::string dir = make_temp_dir();

@@ -53,14 +53,15 @@ json gnss_at(double t, double x, double y, double accuracy_m) {
 }
 
 // A walk along +x from (5, 5): a radio fix there at t0, then a 0.7 m step each second for 40 s
-// (heading 90°, clockwise from the floor's +y: along +x). With `gnss`, a receiver fix every 2 s
+// (heading 180°, the compass azimuth as a phone reads it on a georeferenced floor: south, the
+// floor's +x). With `gnss`, a receiver fix every 2 s
 // at half seconds, 30 m off to +y beside where the walker is, claiming 5 m (σ 10 m for the
 // filter): one every 10 s is taken, at t0 + 1.5, 11.5, 21.5 and 31.5.
 constexpr int kSteps = 40;
 constexpr int kGnssTaken = 4;
 json walk(std::int64_t floor, double t0, bool gnss) {
     json steps = json::array(), fixes = json::array({fix_at(t0, floor, 5.0, 5.0)}), g = json::array();
-    for (int i = 1; i <= kSteps; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    for (int i = 1; i <= kSteps; ++i) steps.push_back({{"t", t0 + i}, {"length_m", 0.7}, {"heading_deg", 180.0}});
     for (int k = 0; k < 20; ++k) {
         const double dt = 1.5 + 2 * k;
         g.push_back(gnss_at(t0 + dt, 5.0 + 0.7 * dt, 35.0, 5.0));
@@ -108,10 +109,13 @@ TEST(ServerTracksGnss, GnssPullsAWalkTowardsItOneFixPerTenSeconds) {
     EXPECT_EQ(at_half_seconds(with["fused"], t0), kGnssTaken);
     const json& a = without["fused"].back();
     const json& b = with["fused"].back();
-    // Steps alone keep the walker near y = 5; the receiver, 30 m off at y = 35, pulls it that way.
+    // Steps alone keep the walker near y = 5; the receiver, 30 m off at y = 35, pulls it that way,
+    // at most onto its line: the rotation known from the georeference, the particles re-drawn
+    // round a fix walk on as the cloud does, and the next fix keeps them (as in `locus eval
+    // ipin`'s walk_pf); the steps after the last fix spread them by a metre or two.
     EXPECT_LT(std::abs(a["y"].get<double>() - 5.0), 2.0) << a.dump();
     EXPECT_GT(b["y"].get<double>() - a["y"].get<double>(), 5.0) << "without " << a.dump() << ", with " << b.dump();
-    EXPECT_LT(b["y"].get<double>(), 35.0);
+    EXPECT_LT(b["y"].get<double>(), 37.0);
     // The same batch again is a retry: nothing moves, nothing more is stored.
     const json again = body_of(track_call(s, "POST", steps_path(pulled.id), {pulled.token}, walk(v.h.floor, t0, true).dump()));
     EXPECT_EQ(again["fused"].size(), 0u) << again.dump();

@@ -2,7 +2,8 @@
 // the step scale's prior, a fix's σ and the re-drawn share, against the real server. A track
 // opened with them keeps and answers them; its filter walks by them (ten 0.7 m steps after one
 // fix carry it twice as far at twice the scale); an option of another method, or out of range,
-// is refused by name and opens nothing.
+// is refused by name and opens nothing. On a georeferenced floor the headings are compass
+// azimuths, turned by the floor's bearing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -80,6 +81,26 @@ TEST(ServerTracksWalkOptions, AKnownRotationWalksWhereTheHeadingsLead) {
     const json got = body_of(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/steps", {t.token}, body.dump()));
     EXPECT_NEAR(got["fused"].back()["x"].get<double>(), 17.0, 1.0) << got["fused"].back().dump();
     EXPECT_NEAR(got["fused"].back()["y"].get<double>(), 10.0, 1.0) << got["fused"].back().dump();
+}
+
+// Without options, on a floor with a georeference the steps' headings are compass azimuths: the
+// floor's +y axis points east here (bearing 90°), so ten 0.7 m steps at azimuth 90° from a fix at
+// (10, 10) lead along +y, to (10, 17), not along +x as the floor's own headings would. The
+// known rotation needs no options; the step scale's is set so that the ten steps are 7 m.
+TEST(ServerTracksWalkOptions, OnAGeoreferencedFloorTheHeadingsAreCompassAzimuths) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const json geo = {{"lat", 45.0}, {"lon", 7.0}, {"x", 0.0}, {"y", 0.0}, {"bearing_deg", 90.0}};
+    ASSERT_EQ(s.patch("/v1/floors/" + std::to_string(h.floor), {{"geo", geo}}).status, 200);
+    const Track t = open_track(s, {{"map_id", h.map}, {"fusion_options", {{"step_scale", 1.0}, {"step_scale_sigma", 0.02}}}});
+    const double t0 = std::floor(unix_now()) - 60;
+    json steps = json::array();
+    for (int i = 1; i <= 10; ++i) steps.push_back({{"t", t0 + 0.5 * i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    const json body = {{"fixes", json::array({{{"t", t0}, {"floor_id", h.floor}, {"x", 10.0}, {"y", 10.0}, {"accuracy_m", 0.5}}})},
+                       {"steps", steps}};
+    const json got = body_of(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/steps", {t.token}, body.dump()));
+    EXPECT_NEAR(got["fused"].back()["x"].get<double>(), 10.0, 1.0) << got["fused"].back().dump();
+    EXPECT_NEAR(got["fused"].back()["y"].get<double>(), 17.0, 1.0) << got["fused"].back().dump();
 }
 
 TEST(ServerTracksWalkOptions, OptionsOfAnotherMethodOrOutOfRangeAreRefused) {

@@ -48,6 +48,7 @@ struct Args {
     // A GetSensorData/IPIN logfile (tools/ipin_replay.hpp): the map it walks, and what the trackers take.
     std::int64_t map = 0;
     bool known_start = false, no_gnss = false, no_ble = false, no_offset = false, server_defaults = false;
+    std::string fusion_options;  // --rule thin: the track's fusion_options (a JSON object)
 };
 
 // What the filters map-match on, and where it came from (said on stderr and in the JSON).
@@ -250,6 +251,7 @@ void run_log(const Args& a) {
     o.ble = !a.no_ble;
     o.offset = !a.no_offset;
     o.server_defaults = a.server_defaults;
+    o.fusion_options = a.fusion_options;
     std::cout << tools::ipin::replay_log(client, o, std::cerr).dump() << "\n";
 }
 
@@ -264,6 +266,9 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_flag("--no-gnss", args->no_gnss, "a logfile's GNSS fixes left out");
     cmd->add_flag("--no-ble", args->no_ble, "a logfile's beacon readings left out");
     cmd->add_flag("--server-defaults", args->server_defaults, "--rule thin: the server's walk_pf priors, not the IPIN trackers'");
+    cmd->add_option("--fusion-options", args->fusion_options,
+                    "--rule thin: the track's fusion_options, a JSON object (docs/tracks.md), instead of the IPIN trackers' priors")
+        ->excludes(cmd->get_option("--server-defaults"));
     cmd->add_flag("--no-offset", args->no_offset, "a logfile's scans sent as read (the trackers learn no phone offset)");
     cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, "
                     "or all; for a logfile walk_pf, kalman, pdr, wifi or thin (the server's live-track filter); for a walk with anchors also trilateration, multilateration, kalman_trilateration (alias: kalman_seed, "
