@@ -185,10 +185,11 @@ static json corridor_with_lift(std::int64_t other_floor, double lift_x) {
 TEST(ServerTracksBaro, WhereThePlanHasALiftTheTrackComesOutAtItsOtherEnd) {
     ServerProcess s({"--quiet"});
     const Building b = three_floors(s, true);
-    // The ground floor's lift stands near its east end (x 26), the mezzanine's at its west end
-    // (x 3); the walker walks to x ≈ 25 and rides down.
+    // The ground floor's lift stands near its east end (x 26), the mezzanine's near its west end
+    // (x 6, so that the walker, who may stand a few metres west of the lift, comes out clear of
+    // the wall at x 0); the walker walks to x ≈ 25 and rides down.
     ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.h.floor) + "/plan", corridor_with_lift(b.mezzanine, 26)).status, 200);
-    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.mezzanine) + "/plan", corridor_with_lift(b.h.floor, 3)).status, 200);
+    ASSERT_EQ(s.put("/v1/floors/" + std::to_string(b.mezzanine) + "/plan", corridor_with_lift(b.h.floor, 6)).status, 200);
     const Track t = open_track(s, {{"map_id", b.h.map}});
     const double t0 = std::floor(unix_now()) - 100;
     const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, walk_down_a_stair(b, t0, 20.0).dump()));
@@ -200,7 +201,7 @@ TEST(ServerTracksBaro, WhereThePlanHasALiftTheTrackComesOutAtItsOtherEnd) {
     // Standing dx from the ground floor's lift, the walker comes out dx from the mezzanine's.
     const json& before = fused[first_down - 1];
     EXPECT_GT(before["x"].get<double>(), 20.0);
-    EXPECT_NEAR(fused[first_down]["x"].get<double>(), 3.0 + (before["x"].get<double>() - 26.0), 1.0);
+    EXPECT_NEAR(fused[first_down]["x"].get<double>(), 6.0 + (before["x"].get<double>() - 26.0), 1.0);
     EXPECT_NEAR(fused[first_down]["y"].get<double>(), before["y"].get<double>(), 1.0);
     EXPECT_LT(fused[first_down]["x"].get<double>(), 10.0);  // the west end, not where the walker stood
     EXPECT_EQ(fused.back()["floor_id"], b.mezzanine);
