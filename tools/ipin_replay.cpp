@@ -49,23 +49,9 @@ std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFl
     if (!lw.pressure.empty()) last_t = std::max(last_t, lw.pressure.back().t_s);
     if (!lw.gnss.empty()) last_t = std::max(last_t, lw.gnss.back().t);
     const double base = std::floor(now - last_t - 1.0);
-    // The track's walk filter takes the IPIN trackers' priors (ipin_walk_filter(): these phones'
-    // step scale, answers off by more than PUTMC's, the compass's rotation known from the
-    // georeference), or the options given, unless the server's own are asked for.
+    // The track is opened as a phone opens it (the server's defaults), or with the options given.
     json body = {{"map_id", o.map}, {"label", "replay " + lw.label + " (thin)"}};
-    if (!o.fusion_options.empty()) {
-        body["fusion_options"] = parse_fusion_options(o.fusion_options);
-    } else if (!o.server_defaults) {
-        const fusion::WalkFilterConfig c = ipin_walk_filter();
-        body["fusion_options"] = {{"step_scale", c.scale_mean},
-                                  {"step_scale_sigma", c.scale_sigma},
-                                  {"fix_sigma_m", c.fix_sigma_m},
-                                  {"reseed_fraction", c.reseed_fraction},
-                                  {"reseed_max_fraction", c.reseed_max_fraction},
-                                  // the headings posted are the floor's: the compass's rotation is known
-                                  {"rotation_sigma_deg", c.hint_sigma_rad * 180.0 / std::numbers::pi},
-                                  {"rotation_walk_deg", c.offset_walk_rad * 180.0 / std::numbers::pi}};
-    }
+    if (!o.fusion_options.empty()) body["fusion_options"] = parse_fusion_options(o.fusion_options);
     // A step's heading is the compass azimuth as the phone reads it (clockwise from north), the
     // server turning it into the floor's frame (docs/tracks.md), unless the options say the
     // headings are the floor's already (rotation_sigma_deg): then the azimuth less the floor's

@@ -9,9 +9,8 @@
 //  - thin: the log posted as a thin client posts it to a live track on the map, one request per
 //    WiFi scan (the steps, pressure and GNSS since the last, then the scan:
 //    POST /v1/tracks/{id}/steps), the server's filter (docs/tracks.md) answering the fixes; the
-//    track opened with the IPIN trackers' walk filter priors as its fusion_options, or with the
-//    options given, or with none (server_defaults: what a phone sends, headings as the compass
-//    reads them, from north).
+//    track opened as a phone opens it (no fusion_options: the server's defaults, headings as the
+//    compass reads them, from north), or with the options given.
 // The estimates are printed with their floor level, position in the venue's frame and WGS84;
 // when the log has POSI landmarks they are scored as the competition scores them
 // (tools/ipin_eval.hpp). A log without POSI replays (no score).
@@ -36,9 +35,8 @@ struct ReplayOptions {
     bool gnss = true;
     bool ble = true;
     bool offset = true;            // the trackers' phone offset (thin: the server learns its own)
-    bool server_defaults = false;  // thin: the server's walk_pf priors, not the IPIN trackers'
-    // thin: the track's fusion_options as given (a JSON object, the server checks each), instead
-    // of the IPIN trackers' priors; empty: those priors, or none with server_defaults.
+    // thin: the track's fusion_options as given (a JSON object, the server checks each); empty:
+    // none, the server's defaults.
     std::string fusion_options;
 };
 

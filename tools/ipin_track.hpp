@@ -52,27 +52,12 @@ std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource sou
 
 enum class Tracker { pdr, kalman, walk_pf };
 
-// The walk filter on these walks: WalkFilterConfig::real_walks() changed where the IPIN 2023
-// folds (docs/results.md, "IPIN 2023": chosen on the folds reported, so the figures are
-// optimistic) disagreed with the PUTMC walks it was chosen on. The detected steps here cover
-// 1.15-1.2 times the landmark-to-landmark distance (PUTMC's walker: 0.6), so the scale prior sits
-// at 0.9 with a tight spread; the server's 5 m-cell answers are off by 4-6 m with errors that
-// last for several scans, so a fix says little (σ 5 m) and almost no particle is re-drawn round
-// it (2-10 %: re-drawing is what made the track follow the answers); the compass rotation is
-// known from the georeference (TrackerConfig::compass_offset_rad), so fresh particles draw it
-// there (95 %, ±0.2 rad) and it wanders 0.05 rad per step (the rotation vector's drift).
-inline fusion::WalkFilterConfig ipin_walk_filter() {
-    fusion::WalkFilterConfig c = fusion::WalkFilterConfig::real_walks();
-    c.scale_mean = 0.9;
-    c.scale_sigma = 0.1;
-    c.fix_sigma_m = 5.0;
-    c.reseed_fraction = 0.02;
-    c.reseed_max_fraction = 0.1;
-    c.offset_walk_rad = 0.05;
-    c.hint_share = 0.95;
-    c.hint_sigma_rad = 0.2;
-    return c;
-}
+// The walk filter on these walks: the server's live tracks' own default on a floor whose
+// georeference gives the compass's rotation (TrackerConfig::compass_offset_rad), the real-walk
+// setting with the rotation known (client-lib's WalkFilterConfig::known_rotation(real_walks())),
+// so that what `locus eval ipin` reports is what a phone gets (docs/results.md, "What a phone
+// gets").
+inline fusion::WalkFilterConfig ipin_walk_filter() { return fusion::WalkFilterConfig::known_rotation(fusion::WalkFilterConfig::real_walks()); }
 
 struct TrackerConfig {
     fusion::WalkFilterConfig walk_filter = ipin_walk_filter();

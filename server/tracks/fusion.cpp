@@ -45,17 +45,7 @@ fusion::RangingEkfConfig ekf_config(const FusionOptions& options) {
 fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t seed, bool compass_north) {
     fusion::WalkFilterConfig c = fusion::WalkFilterConfig::real_walks();
     c.seed = seed;
-    if (compass_north || options.rotation_sigma_deg) {
-        // The rotation from the steps' headings to the floor is known but for the compass's own
-        // error: most fresh particles draw it round that one, a few anywhere (as `locus eval
-        // ipin`'s walk_pf), it drifts slowly, and few particles need re-drawing round a fix to
-        // find it (they are what finds an unknown rotation).
-        c.hint_share = 0.95;
-        c.hint_sigma_rad = kCompassSigmaDeg * std::numbers::pi / 180.0;
-        c.offset_walk_rad = kCompassWalkDeg * std::numbers::pi / 180.0;
-        c.reseed_fraction = kKnownRotationReseed;
-        c.reseed_max_fraction = kKnownRotationReseedMax;
-    }
+    if (compass_north || options.rotation_sigma_deg) c = fusion::WalkFilterConfig::known_rotation(c);
     if (options.step_scale) c.scale_mean = *options.step_scale;
     if (options.step_scale_sigma) c.scale_sigma = *options.step_scale_sigma;
     if (options.fix_sigma_m) c.fix_sigma_m = *options.fix_sigma_m;

@@ -220,18 +220,10 @@ private:
     match::DeviceOffset rss_offset_;
 };
 
-// walk_pf on a floor with a georeference, where a step's heading is the compass's azimuth
-// (docs/tracks.md, "walk_pf's priors"): the compass's error against the floor's north (σ, and
-// its random walk per step), and the share of the cloud re-drawn round a fix, which need not
-// search for the rotation. Chosen on the IPIN 2023 walks (docs/results.md).
-inline constexpr double kCompassSigmaDeg = 11.46;
-inline constexpr double kCompassWalkDeg = 2.865;
-inline constexpr double kKnownRotationReseed = 0.02;
-inline constexpr double kKnownRotationReseedMax = 0.1;
-
-// walk_pf's configuration: WalkFilterConfig::real_walks(), the known-rotation settings above
-// when compass_north (the floor's georeference gives the rotation) or the options give the
-// rotation, the track's options over them.
+// walk_pf's configuration: WalkFilterConfig::real_walks(), known_rotation() of it when
+// compass_north (the floor's georeference gives the rotation: a step's heading is the compass's
+// azimuth there, docs/tracks.md) or the options say the headings are the floor's, and the
+// track's options over them.
 fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t seed, bool compass_north);
 
 // The radio fix's covariance: its accuracy as a 1-sigma radius.

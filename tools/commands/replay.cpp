@@ -250,7 +250,6 @@ void run_log(const Args& a) {
     o.gnss = !a.no_gnss;
     o.ble = !a.no_ble;
     o.offset = !a.no_offset;
-    o.server_defaults = a.server_defaults;
     o.fusion_options = a.fusion_options;
     std::cout << tools::ipin::replay_log(client, o, std::cerr).dump() << "\n";
 }
@@ -265,9 +264,9 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_flag("--known-start", args->known_start, "a logfile's first POSI landmark given to the tracker");
     cmd->add_flag("--no-gnss", args->no_gnss, "a logfile's GNSS fixes left out");
     cmd->add_flag("--no-ble", args->no_ble, "a logfile's beacon readings left out");
-    cmd->add_flag("--server-defaults", args->server_defaults, "--rule thin: the server's walk_pf priors, not the IPIN trackers'");
+    cmd->add_flag("--server-defaults", args->server_defaults, "--rule thin: the track opened with no fusion_options, as a phone opens it (the default)");
     cmd->add_option("--fusion-options", args->fusion_options,
-                    "--rule thin: the track's fusion_options, a JSON object (docs/tracks.md), instead of the IPIN trackers' priors")
+                    "--rule thin: the track's fusion_options, a JSON object (docs/tracks.md), instead of the server's defaults")
         ->excludes(cmd->get_option("--server-defaults"));
     cmd->add_flag("--no-offset", args->no_offset, "a logfile's scans sent as read (the trackers learn no phone offset)");
     cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, "
