@@ -65,6 +65,16 @@ TEST(ServerTracksWalkOptions, AWalkPfTrackWalksByItsOwnStepScale) {
     EXPECT_NEAR(far_m / near_m, 2.0, 0.4) << near_m << " " << far_m;
 }
 
+// One fix at (10, 10), σ 0.5 m, then ten 0.7 m steps at heading 90°: the last fused fix.
+json ten_steps_at_90(const ServerProcess& s, const Track& t, std::int64_t floor) {
+    const double t0 = std::floor(unix_now()) - 60;
+    json steps = json::array();
+    for (int i = 1; i <= 10; ++i) steps.push_back({{"t", t0 + 0.5 * i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+    const json body = {{"fixes", json::array({{{"t", t0}, {"floor_id", floor}, {"x", 10.0}, {"y", 10.0}, {"accuracy_m", 0.5}}})},
+                       {"steps", steps}};
+    return body_of(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/steps", {t.token}, body.dump()))["fused"].back();
+}
+
 // Headings already the floor's (rotation_sigma_deg): after one fix at (10, 10) and ten 0.7 m
 // steps east the track is where they lead, (17, 10); without it the filter knows no rotation
 // from one fix (measured at (12.5, 13.8) without it).
@@ -73,14 +83,9 @@ TEST(ServerTracksWalkOptions, AKnownRotationWalksWhereTheHeadingsLead) {
     const auto h = locus::testing::make_hierarchy(s);
     const json options = {{"step_scale", 1.0}, {"step_scale_sigma", 0.02}, {"rotation_sigma_deg", 3.0}, {"rotation_walk_deg", 1.0}};
     const Track t = open_track(s, {{"map_id", h.map}, {"fusion_options", options}});
-    const double t0 = std::floor(unix_now()) - 60;
-    json steps = json::array();
-    for (int i = 1; i <= 10; ++i) steps.push_back({{"t", t0 + 0.5 * i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
-    const json body = {{"fixes", json::array({{{"t", t0}, {"floor_id", h.floor}, {"x", 10.0}, {"y", 10.0}, {"accuracy_m", 0.5}}})},
-                       {"steps", steps}};
-    const json got = body_of(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/steps", {t.token}, body.dump()));
-    EXPECT_NEAR(got["fused"].back()["x"].get<double>(), 17.0, 1.0) << got["fused"].back().dump();
-    EXPECT_NEAR(got["fused"].back()["y"].get<double>(), 10.0, 1.0) << got["fused"].back().dump();
+    const json last = ten_steps_at_90(s, t, h.floor);
+    EXPECT_NEAR(last["x"].get<double>(), 17.0, 1.0) << last.dump();
+    EXPECT_NEAR(last["y"].get<double>(), 10.0, 1.0) << last.dump();
 }
 
 // Without options, on a floor with a georeference the steps' headings are compass azimuths: the
@@ -93,14 +98,9 @@ TEST(ServerTracksWalkOptions, OnAGeoreferencedFloorTheHeadingsAreCompassAzimuths
     const json geo = {{"lat", 45.0}, {"lon", 7.0}, {"x", 0.0}, {"y", 0.0}, {"bearing_deg", 90.0}};
     ASSERT_EQ(s.patch("/v1/floors/" + std::to_string(h.floor), {{"geo", geo}}).status, 200);
     const Track t = open_track(s, {{"map_id", h.map}, {"fusion_options", {{"step_scale", 1.0}, {"step_scale_sigma", 0.02}}}});
-    const double t0 = std::floor(unix_now()) - 60;
-    json steps = json::array();
-    for (int i = 1; i <= 10; ++i) steps.push_back({{"t", t0 + 0.5 * i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
-    const json body = {{"fixes", json::array({{{"t", t0}, {"floor_id", h.floor}, {"x", 10.0}, {"y", 10.0}, {"accuracy_m", 0.5}}})},
-                       {"steps", steps}};
-    const json got = body_of(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/steps", {t.token}, body.dump()));
-    EXPECT_NEAR(got["fused"].back()["x"].get<double>(), 10.0, 1.0) << got["fused"].back().dump();
-    EXPECT_NEAR(got["fused"].back()["y"].get<double>(), 17.0, 1.0) << got["fused"].back().dump();
+    const json last = ten_steps_at_90(s, t, h.floor);
+    EXPECT_NEAR(last["x"].get<double>(), 10.0, 1.0) << last.dump();
+    EXPECT_NEAR(last["y"].get<double>(), 17.0, 1.0) << last.dump();
 }
 
 TEST(ServerTracksWalkOptions, OptionsOfAnotherMethodOrOutOfRangeAreRefused) {
