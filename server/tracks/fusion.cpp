@@ -42,10 +42,10 @@ fusion::RangingEkfConfig ekf_config(const FusionOptions& options) {
     return c;
 }
 
-fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t seed, bool compass_north) {
+fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t seed, bool rotation_known) {
     fusion::WalkFilterConfig c = fusion::WalkFilterConfig::real_walks();
     c.seed = seed;
-    if (compass_north || options.rotation_sigma_deg) c = fusion::WalkFilterConfig::known_rotation(c);
+    if (rotation_known) c = fusion::WalkFilterConfig::known_rotation(c);
     if (options.step_scale) c.scale_mean = *options.step_scale;
     if (options.step_scale_sigma) c.scale_sigma = *options.step_scale_sigma;
     if (options.fix_sigma_m) c.fix_sigma_m = *options.fix_sigma_m;
@@ -57,7 +57,7 @@ fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t
 }
 
 ThinFusion::ThinFusion(FusionMethod method, std::uint64_t seed, const FusionOptions& options)
-    : method_(method), options_(options), seed_(seed) {
+    : method_(method), options_(options) {
     config_.seed = seed;
     if (is_kalman(method)) kalman_config_ = kalman_config(method, options);
     if (method == FusionMethod::ekf_ranging) ekf_config_ = ekf_config(options);
@@ -100,10 +100,11 @@ void ThinFusion::start(const fusion::Walkable* w, const RadioFix& r, bool resume
         // A step's heading is the compass's azimuth, clockwise from north; the floor's +y axis
         // points bearing_deg clockwise from north, so the heading on the floor is the azimuth
         // less the bearing (docs/tracks.md). With rotation_sigma_deg the client turned it itself.
-        const bool compass_north = bearing_deg && !options_.rotation_sigma_deg;
-        walk_.emplace(w ? std::optional<fusion::Walkable>(*w) : std::nullopt, walk_config(options_, seed_, compass_north));
-        if (options_.rotation_sigma_deg) walk_->hint(0.0, false);
-        else if (compass_north) walk_->hint(-*bearing_deg * std::numbers::pi / 180.0, false);
+        std::optional<double> rotation_rad;
+        if (options_.rotation_sigma_deg) rotation_rad = 0.0;
+        else if (bearing_deg) rotation_rad = -*bearing_deg * std::numbers::pi / 180.0;
+        walk_.emplace(w ? std::optional<fusion::Walkable>(*w) : std::nullopt, walk_config(options_, config_.seed, rotation_rad.has_value()));
+        if (rotation_rad) walk_->hint(*rotation_rad, false);
         walk_->fix(at, fix_covariance(r.accuracy_m));
     } else {
         if (!w) throw std::invalid_argument("floor " + std::to_string(r.floor_id) + " has no plan: the particle filter walks on one (walk_pf does not need one)");

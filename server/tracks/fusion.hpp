@@ -184,11 +184,6 @@ private:
     // (gated for the Kalman methods). True when the filter took it.
     template <typename Floors>
     bool take_gnss(const Gnss& g, Floors&& floors);
-    template <typename Floors>
-    static std::optional<double> bearing_of(Floors&& floors, std::int64_t floor_id) {
-        const std::shared_ptr<const geo::FloorToEarth> frame = floors.georeference(floor_id);
-        return frame ? std::optional<double>(frame->georeference().bearing_deg) : std::nullopt;
-    }
     bool gnss_update(Point at, double sigma_m);
     // The index in baro_ids_ of a floor (nullopt: not one of the barometer's).
     std::optional<int> baro_index(std::int64_t floor_id) const;
@@ -198,8 +193,7 @@ private:
 
     FusionMethod method_;
     fusion::ParticleConfig config_;
-    FusionOptions options_;
-    std::uint64_t seed_ = 1;
+    FusionOptions options_;  // walk_pf's, read at each (re)start: the floor's georeference decides too
     std::optional<fusion::ParticleFilter> filter_;  // copyable: a request runs on a copy
     std::optional<fusion::WalkFilter> walk_;        // one of the three, by method_
     fusion::RangingKalmanConfig kalman_config_;
@@ -221,10 +215,18 @@ private:
 };
 
 // walk_pf's configuration: WalkFilterConfig::real_walks(), known_rotation() of it when
-// compass_north (the floor's georeference gives the rotation: a step's heading is the compass's
-// azimuth there, docs/tracks.md) or the options say the headings are the floor's, and the
-// track's options over them.
-fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t seed, bool compass_north);
+// rotation_known (the floor's georeference gives the rotation: a step's heading is the
+// compass's azimuth there, docs/tracks.md; or the options say the headings are the floor's),
+// and the track's options over them.
+fusion::WalkFilterConfig walk_config(const FusionOptions& options, std::uint64_t seed, bool rotation_known);
+
+// The georeferenced bearing of a floor (`floors.georeference(floor_id)`, as ThinFusion::run's
+// `floors` answers it), nullopt when it has none.
+template <typename Floors>
+std::optional<double> bearing_of(Floors&& floors, std::int64_t floor_id) {
+    const std::shared_ptr<const geo::FloorToEarth> frame = floors.georeference(floor_id);
+    return frame ? std::optional<double>(frame->georeference().bearing_deg) : std::nullopt;
+}
 
 // The radio fix's covariance: its accuracy as a 1-sigma radius.
 Eigen::Matrix2d fix_covariance(double accuracy_m);

@@ -92,10 +92,7 @@ std::vector<Fix> FusionSessions::Run::run(FusionMethod method, const FusionOptio
     next_ = continues ? std::make_shared<ThinFusion>(*kept)
                       : std::make_shared<ThinFusion>(method, static_cast<std::uint64_t>(id_), options);
     next_->set_anchors(std::move(anchors));
-    if (!continues && latest) {
-        const std::shared_ptr<const geo::FloorToEarth> frame = sources ? sources->georeference(latest->floor_id) : nullptr;
-        next_->resume(*latest, walkable_of, frame ? std::optional<double>(frame->georeference().bearing_deg) : std::nullopt);
-    }
+    if (!continues && latest) next_->resume(*latest, walkable_of, bearing_of(Floors{sessions_, sources}, latest->floor_id));
     // The scans are localized only now: each with the offset this very filter has learnt.
     std::vector<RadioFix> merged;
     const std::vector<RadioFix>* all = &radio;
