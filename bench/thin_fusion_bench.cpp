@@ -112,7 +112,8 @@ std::size_t first_fix(const Replay& r) {
 // one request: a walk's requests in turn, then the next walk's, round the twelve (a walk's
 // first request, with no filter to continue, starts it untimed at its fix). Counters: steps
 // per request; error_m, the mean distance from a request's last answer to its scan's truth
-// (a check that the replay is a real walk's); track_bytes, the most one track held.
+// (a check that the replay is a real walk's); track_bytes, the most one track held, and
+// mean_track_bytes its mean over the requests (an adaptive cloud's size).
 void BM_ThinFusionRequest(benchmark::State& state) {
     const auto method = state.range(0) ? tracks::FusionMethod::particle : tracks::FusionMethod::walk_pf;
     std::shared_ptr<const fusion::Walkable> plan;
@@ -127,6 +128,7 @@ void BM_ThinFusionRequest(benchmark::State& state) {
     std::size_t walk = 0, next = 0, answered = 0, steps = 0;
     double error_sum = 0.0;
     std::size_t most_bytes = 0;
+    double bytes_sum = 0.0;
     for (auto _ : state) {
         if (!track || next == walks[walk].size()) {
             state.PauseTiming();
@@ -148,11 +150,13 @@ void BM_ThinFusionRequest(benchmark::State& state) {
         }
         track = std::move(copy);
         most_bytes = std::max(most_bytes, track->memory_bytes());
+        bytes_sum += static_cast<double>(track->memory_bytes());
     }
     if (answered) state.counters["error_m"] = error_sum / static_cast<double>(answered);
     state.counters["steps"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kAvgIterations);
     // (On the plan) what the floor's tracks share.
     state.counters["track_bytes"] = static_cast<double>(most_bytes);
+    state.counters["mean_track_bytes"] = benchmark::Counter(bytes_sum, benchmark::Counter::kAvgIterations);
     if (plan) state.counters["floor_bytes"] = static_cast<double>(plan->floor_plan->memory_bytes());
 }
 // Run with --benchmark_min_time=3 to go round the walks' ~250 requests at least twice (the

@@ -26,16 +26,17 @@ using locus::testing::track_call;
 using locus::testing::unix_now;
 using nlohmann::json;
 
-// The walker's fixes pin the compass's rotation: a fix at (5, 10), ten 0.7 m steps east, a fix
-// at (12, 10) where they took it, ten more steps east, a fix at (19, 10); then ten more steps
-// east with no fix. Answers how far the track's estimate moved over those last ten steps.
+// The walker's fixes pin the compass's rotation: a fix at (2, 10), ten 0.5 m steps east, a fix
+// at (7, 10) where they took it, ten more steps east, a fix at (12, 10); then ten more steps
+// east with no fix, which end well inside the 30 m floor even at twice the scale. Answers how
+// far the track's estimate moved over those last ten steps.
 double walked(const ServerProcess& s, const Track& t, std::int64_t floor) {
     const double t0 = std::floor(unix_now()) - 60;
     json steps = json::array(), fixes = json::array();
     for (int leg = 0; leg < 3; ++leg) {
         const double start = t0 + 6.0 * leg;
-        fixes.push_back({{"t", start}, {"floor_id", floor}, {"x", 5.0 + 7.0 * leg}, {"y", 10.0}, {"accuracy_m", 1.0}});
-        for (int i = 1; i <= 10; ++i) steps.push_back({{"t", start + 0.5 * i}, {"length_m", 0.7}, {"heading_deg", 90.0}});
+        fixes.push_back({{"t", start}, {"floor_id", floor}, {"x", 2.0 + 5.0 * leg}, {"y", 10.0}, {"accuracy_m", 1.0}});
+        for (int i = 1; i <= 10; ++i) steps.push_back({{"t", start + 0.5 * i}, {"length_m", 0.5}, {"heading_deg", 90.0}});
     }
     const json body = {{"fixes", fixes}, {"steps", steps}};
     const json got = body_of(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/steps", {t.token}, body.dump()));
@@ -55,13 +56,13 @@ TEST(ServerTracksWalkOptions, AWalkPfTrackWalksByItsOwnStepScale) {
     const json info = body_of(track_call(s, "GET", "/v1/tracks/" + std::to_string(own.id), {own.token}));
     EXPECT_EQ(info["fusion"], "walk_pf");
     EXPECT_EQ(info["fusion_options"], options);
-    // The last ten steps carry the track about scale × 7 m (measured 6.5 m at 1.0, 12.2 m at 2.0:
-    // the fixes before pull the cloud a little).
+    // The last ten steps carry the track about scale × 5 m (the fixes before pull the cloud a
+    // little).
     json twice = options;
     twice["step_scale"] = 2.0;
     const Track far = open_track(s, {{"map_id", h.map}, {"fusion", "walk_pf"}, {"fusion_options", twice}});
     const double near_m = walked(s, own, h.floor), far_m = walked(s, far, h.floor);
-    EXPECT_NEAR(near_m, 7.0, 1.5);
+    EXPECT_NEAR(near_m, 5.0, 1.5);
     EXPECT_NEAR(far_m / near_m, 2.0, 0.4) << near_m << " " << far_m;
 }
 

@@ -157,6 +157,64 @@ TEST(WalkFilter, ModeEstimateStaysWithTheLargerGroupWhereTheMeanFallsBetween) {
     EXPECT_LT(std::abs(mode.y), 1.0);
 }
 
+// KLD-resampling: a cloud in one bin (one place to a centimetre, one rotation) needs no more
+// than min_particles; a fixed-size filter (min_particles ≥ particles) keeps them all.
+TEST(WalkFilter, ACloudInOneBinShrinksToItsLeastAFixedOneDoesNot) {
+    const auto size_after_two_fixes = [](int min_particles) {
+        fusion::WalkFilterConfig c;
+        c.min_particles = min_particles;
+        c.initial_sigma_m = 0.01;
+        c.hint_share = 1.0;
+        c.hint_sigma_rad = 1e-4;
+        c.reseed_fraction = 0.0;
+        fusion::WalkFilter f(std::nullopt, c);
+        f.hint(0.0, false);
+        f.fix({0.5, 0.5}, Eigen::Matrix2d::Identity() * 1e-4);
+        EXPECT_EQ(f.size(), 2000u) << "a filter starts with all its particles";
+        f.fix({0.5, 0.5}, Eigen::Matrix2d::Identity() * 1e-4);
+        return f.size();
+    };
+    EXPECT_EQ(size_after_two_fixes(150), 150u);
+    EXPECT_EQ(size_after_two_fixes(2000), 2000u);
+    EXPECT_EQ(size_after_two_fixes(5000), 2000u);
+}
+
+// The size follows what the cloud knows: walking the same straight line with the same fixes,
+// a cloud told the compass's rotation settles on a few bins (of place; one of rotation) and
+// shrinks; one that must learn it from the fixes (fresh particles' rotations drawn uniformly,
+// as on a floor without a georeference) keeps half as many again or more.
+TEST(WalkFilter, TheCloudKeepsAsManyParticlesAsItsSpreadNeeds) {
+    const auto walk = [](bool told) {
+        fusion::WalkFilterConfig c;
+        c.seed = 9;
+        c.min_particles = 100;
+        c.kld_epsilon = 0.25;
+        c.kld_bin_rad = 0.3;
+        c.hint_share = told ? 1.0 : 0.0;
+        c.hint_sigma_rad = 0.05;
+        c.reseed_fraction = 0.05;
+        c.reseed_max_fraction = 0.9;
+        fusion::WalkFilter f(std::nullopt, c);
+        if (told) f.hint(0.0, false);
+        Point at{0, 0};
+        f.fix(at, Eigen::Matrix2d::Identity());
+        for (int i = 0; i < 12; ++i) {
+            for (int s = 0; s < 4; ++s) {
+                at = locus::pdr::step(at, 0.7, kPi / 2);
+                f.step(0.7, kPi / 2);
+            }
+            f.fix(at, Eigen::Matrix2d::Identity());
+        }
+        // Still on the walk: the smaller cloud follows it as well.
+        EXPECT_LT(locus::distance(f.position(), at), 1.0) << (told ? "told" : "learning");
+        return f.size();
+    };
+    const std::size_t told = walk(true), learning = walk(false);
+    EXPECT_GE(told, 100u);
+    EXPECT_LT(told, 1000u);
+    EXPECT_GT(2 * learning, 3 * told) << "told " << told << ", learning " << learning;
+}
+
 // A floor change through stairs moves the cloud by the stairs' shift and keeps what it learnt:
 // the same steps after it walk the same way as a filter that never changed floor, offset by
 // the shift (no map on either floor: nothing is re-drawn).

@@ -57,7 +57,7 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
     auto& pc = cfg.methods.particle;
     auto& rp = cfg.tuned_rules;
     double seed = static_cast<double>(c.seed), particles = pc.particles, n_max = rp.n_max, gamma = rp.gamma,
-           backward = cfg.backward_particles;
+           backward = cfg.backward_particles, min_particles = c.min_particles;
     const std::map<std::string, double*> keys = {
         {"initial_sigma_m", &c.initial_sigma_m}, {"scale_mean", &c.scale_mean}, {"scale_sigma", &c.scale_sigma},
         {"heading_sigma_rad", &c.heading_sigma_rad}, {"offset_walk_rad", &c.offset_walk_rad}, {"scale_walk", &c.scale_walk},
@@ -65,7 +65,9 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
         {"fix_sigma_m", &c.fix_sigma_m}, {"outlier_floor", &c.outlier_floor}, {"reseed_fraction", &c.reseed_fraction},
         {"reseed_max_fraction", &c.reseed_max_fraction}, {"estimate_radius_m", &c.estimate_radius_m},
         {"resample_fraction", &c.resample_fraction}, {"seed", &seed}, {"hint_share", &c.hint_share},
-        {"hint_sigma_rad", &c.hint_sigma_rad}, {"particle.particles", &particles},
+        {"hint_sigma_rad", &c.hint_sigma_rad}, {"min_particles", &min_particles}, {"kld_epsilon", &c.kld_epsilon},
+        {"kld_bin_m", &c.kld_bin_m}, {"kld_bin_rad", &c.kld_bin_rad}, {"cloud_share", &c.cloud_share},
+        {"cloud_sigma_rad", &c.cloud_sigma_rad}, {"particle.particles", &particles},
         {"particle.initial_sigma_m", &pc.initial_sigma_m}, {"particle.initial_bias_sigma_rad", &pc.initial_bias_sigma_rad},
         {"particle.initial_scale_sigma", &pc.initial_scale_sigma}, {"particle.heading_sigma_rad", &pc.heading_sigma_rad},
         {"particle.bias_walk_sigma_rad", &pc.bias_walk_sigma_rad}, {"particle.length_sigma", &pc.length_sigma},
@@ -88,6 +90,7 @@ void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
     }
     c.seed = static_cast<std::uint64_t>(seed);
     pc.particles = static_cast<int>(particles);
+    c.min_particles = static_cast<int>(min_particles);
     rp.n_max = static_cast<int>(n_max);
     rp.gamma = static_cast<int>(gamma);
     cfg.backward_particles = static_cast<int>(backward);

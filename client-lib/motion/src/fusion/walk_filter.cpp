@@ -85,7 +85,7 @@ bool WalkFilter::inside(Point p) const { return plan_ ? plan_->inside(p) : !map_
 
 bool WalkFilter::can_move(Point from, Point to) const { return plan_ ? plan_->can_move(from, to) : !map_ || map_->can_move(from, to); }
 
-void WalkFilter::fresh(std::size_t i, Point around, double sigma) {
+void WalkFilter::fresh(std::size_t i, Point around, double sigma, bool from_cloud) {
     Point at;
     for (int tries = 0; tries < 20; ++tries) {
         at = {around.x + sigma * rng_.normal(), around.y + sigma * rng_.normal()};
@@ -96,6 +96,10 @@ void WalkFilter::fresh(std::size_t i, Point around, double sigma) {
     if (hint_ && rng_.chance(config_.hint_share)) {
         offset_[i] = static_cast<float>(pdr::wrap_angle(hint_->first + config_.hint_sigma_rad * rng_.normal()));
         mirror_[i] = static_cast<std::int8_t>(hint_->second);
+    } else if (from_cloud && !hint_ && config_.cloud_share > 0.0 && rng_.chance(config_.cloud_share)) {
+        const std::size_t j = static_cast<std::size_t>(rng_.below(static_cast<int>(x_.size())));
+        offset_[i] = static_cast<float>(pdr::wrap_angle(offset_[j] + config_.cloud_sigma_rad * rng_.normal()));
+        mirror_[i] = mirror_[j];
     } else {
         offset_[i] = static_cast<float>(rng_.uniform(-kPi, kPi));
         mirror_[i] = rng_.chance(0.5) ? 1 : -1;
@@ -205,7 +209,7 @@ void WalkFilter::fix(Point at, const Eigen::Matrix2d& cov) {
     if (x_.empty()) {
         for (auto* v : {&x_, &y_, &offset_, &scale_, &weight_}) v->assign(static_cast<std::size_t>(n), 0.0f);
         mirror_.assign(static_cast<std::size_t>(n), 1);
-        for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) fresh(i, at, config_.initial_sigma_m);
+        for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) fresh(i, at, config_.initial_sigma_m, false);
         estimate();
         return;
     }
@@ -228,9 +232,66 @@ void WalkFilter::fix(Point at, const Eigen::Matrix2d& cov) {
     const double surprise = prior > 0.0 ? 1.0 - expected / prior : 1.0;
     const double share = std::max(config_.reseed_fraction,
                                   config_.reseed_fraction + (config_.reseed_max_fraction - config_.reseed_fraction) * surprise);
-    const int k = static_cast<int>(std::min(1.0, share) * n);
-    for (int i = 0; i < k; ++i) fresh(static_cast<std::size_t>(rng_.below(n)), at, std::sqrt(var));
+    const int size = static_cast<int>(x_.size());
+    const int k = static_cast<int>(std::min(1.0, share) * size);
+    for (int i = 0; i < k; ++i) fresh(static_cast<std::size_t>(rng_.below(size)), at, std::sqrt(var), true);
     estimate();
+}
+
+namespace {
+
+// Systematic resampling: one uniform offset u in [0, 1), n evenly spaced pointers into the
+// cumulative weights (which sum to `sum`).
+std::vector<std::uint32_t> systematic(const std::vector<float>& weight, double sum, std::size_t n, double u) {
+    std::vector<std::uint32_t> pick(n);
+    const double stride = sum / static_cast<double>(n);
+    const double first = u * stride;
+    double acc = 0.0;
+    std::size_t i = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double target = first + static_cast<double>(j) * stride;
+        while (acc + weight[i] < target && i + 1 < weight.size()) acc += weight[i++];
+        pick[j] = static_cast<std::uint32_t>(i);
+    }
+    return pick;
+}
+
+// The KLD-sampling bound (Fox 2003, eq. 12, with the Wilson–Hilferty approximation of the χ²
+// quantile): the samples that keep the KL divergence under epsilon with probability 0.99 when
+// the posterior occupies k bins.
+double kld_bound(std::size_t k, double epsilon) {
+    if (k < 2) return 0.0;
+    constexpr double kZ = 2.326;  // the standard normal's 0.99 quantile
+    const double d = static_cast<double>(k - 1), a = 2.0 / (9.0 * d);
+    const double c = 1.0 - a + std::sqrt(a) * kZ;
+    return d / (2.0 * epsilon) * c * c * c;
+}
+
+}  // namespace
+
+std::size_t WalkFilter::kld_size(const std::vector<std::uint32_t>& picks) const {
+    // Distinct bins among the picked particles, in an open-addressed set (a pick repeats a
+    // particle, and so its bin, as often as its weight says).
+    std::size_t cap = 64;
+    while (cap < 2 * picks.size()) cap *= 2;
+    std::vector<std::uint64_t> set(cap, 0);
+    const double inv_m = 1.0 / config_.kld_bin_m, inv_rad = 1.0 / config_.kld_bin_rad;
+    std::size_t k = 0;
+    std::uint32_t last = UINT32_MAX;
+    for (const std::uint32_t i : picks) {
+        if (i == last) continue;  // picks come in index order: a repeat is the same bin
+        last = i;
+        const auto bx = static_cast<std::int64_t>(std::floor(x_[i] * inv_m)), by = static_cast<std::int64_t>(std::floor(y_[i] * inv_m));
+        const auto br = static_cast<std::int64_t>(std::floor((offset_[i] + kPi) * inv_rad));
+        // 24 bits per axis (16,000 km at 1 m), 14 for the rotation, 1 for the mirror; never 0.
+        const std::uint64_t key = (static_cast<std::uint64_t>(bx & 0xFFFFFF) << 40) | (static_cast<std::uint64_t>(by & 0xFFFFFF) << 16) |
+                                  (static_cast<std::uint64_t>(br & 0x3FFF) << 2) | (mirror_[i] > 0 ? 2u : 0u) | 1u;
+        std::size_t h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
+        while (set[h] != 0 && set[h] != key) h = (h + 1) & (cap - 1);
+        if (set[h] == 0) set[h] = key, ++k;
+    }
+    const double bound = std::ceil(kld_bound(k, config_.kld_epsilon));
+    return static_cast<std::size_t>(std::clamp(bound, static_cast<double>(config_.min_particles), static_cast<double>(config_.particles)));
 }
 
 void WalkFilter::resample() {
@@ -238,25 +299,26 @@ void WalkFilter::resample() {
     double sum = 0.0, sum2 = 0.0;
     for (const float w : weight_) sum += w, sum2 += static_cast<double>(w) * w;
     const double n_eff = sum * sum / sum2;
-    if (n_eff >= config_.resample_fraction * static_cast<double>(n)) {
+    const bool degenerate = n_eff < config_.resample_fraction * static_cast<double>(n);
+    const bool adaptive = config_.min_particles < config_.particles;
+    const auto keep = [&] {
         const float norm = static_cast<float>(static_cast<double>(n) / sum);  // mean 1, as a re-drawn particle's
         for (float& w : weight_) w *= norm;
-        return;
-    }
-    // Systematic resampling: one uniform offset, n evenly spaced pointers into the cumulative weights.
-    std::vector<std::uint32_t> pick(n);
-    const double stride = sum / static_cast<double>(n);
-    const double u = rng_.uniform() * stride;
-    double acc = 0.0;
-    std::size_t i = 0;
-    for (std::size_t j = 0; j < n; ++j) {
-        const double target = u + static_cast<double>(j) * stride;
-        while (acc + weight_[i] < target && i + 1 < n) acc += weight_[i++];
-        pick[j] = static_cast<std::uint32_t>(i);
+    };
+    if (!degenerate && !adaptive) return keep();
+    const double u = rng_.uniform();
+    std::vector<std::uint32_t> pick = systematic(weight_, sum, n, u);
+    if (adaptive) {
+        // Resized only when the size needed moved by a tenth or more: each resampling costs
+        // the cloud some of its diversity.
+        const std::size_t target = kld_size(pick);
+        const bool resize = 10 * target < 9 * n || 10 * target > 11 * n;
+        if (!degenerate && !resize) return keep();
+        if (resize) pick = systematic(weight_, sum, target, u);
     }
     const auto gather = [&](auto& v) {
-        auto next = v;
-        for (std::size_t j = 0; j < n; ++j) next[j] = v[pick[j]];
+        std::remove_reference_t<decltype(v)> next(pick.size());
+        for (std::size_t j = 0; j < pick.size(); ++j) next[j] = v[pick[j]];
         v.swap(next);
     };
     gather(x_);
@@ -264,7 +326,7 @@ void WalkFilter::resample() {
     gather(offset_);
     gather(scale_);
     gather(mirror_);
-    std::fill(weight_.begin(), weight_.end(), 1.0f);
+    weight_.assign(pick.size(), 1.0f);
 }
 
 void WalkFilter::estimate() {

@@ -11,7 +11,7 @@
 // moves as in ParticleFilter. A share of the particles is re-drawn around every fix with
 // fresh φ, s and c, so a cloud that settled on a wrong hypothesis can always recover.
 //
-// Cost, n particles: a step is O(n) and, on a floor plan, independent of how many walls it
+// Cost, n particles (fewer once the cloud has settled: min_particles): a step is O(n) and, on a floor plan, independent of how many walls it
 // has (PlanWalkable::can_move: cell lookups, segment tests only against the walls in the cells
 // a move passes); a fix O(n) (the likelihoods, systematic resampling, the fresh particles);
 // the estimate (position(), spread()) is worked out once per step or fix, O(n) per mean-shift
@@ -31,7 +31,20 @@ namespace locus::fusion {
 
 // Tuned on the PUTMC walks xperia_traj1–5 only (docs/fusion.md); reported on the other seven.
 struct WalkFilterConfig {
-    int particles = 2000;
+    int particles = 2000;              // the cloud's size; with min_particles below it, its most
+    // KLD-resampling (Fox, "Adapting the sample size in particle filters through KLD-sampling",
+    // IJRR 2003; Li, Sun and Sattar, "Adapting sample size in particle filters through
+    // KLD-resampling", Electronics Letters 2013): at each fix the cloud is resampled to as
+    // many particles as keep, with probability 0.99, the KL divergence between the sampled and
+    // the true posterior under kld_epsilon, given how many bins of kld_bin_m × kld_bin_m ×
+    // kld_bin_rad of rotation (× mirror) the posterior occupies; never fewer than
+    // min_particles. A cloud that has settled on one place and rotation needs a few hundred,
+    // a cold start or one that a fix surprised (its fresh particles spread) up to all of them.
+    // min_particles at or above particles: a fixed size, resampled only when degenerate.
+    int min_particles = 2000;
+    double kld_epsilon = 0.05;
+    double kld_bin_m = 1.0;
+    double kld_bin_rad = 0.2;
     std::uint64_t seed = 1;
     double initial_sigma_m = 2.0;      // spread around the first fix
     double scale_mean = 1.15;          // initial step scale: lognormal around this...
@@ -58,6 +71,13 @@ struct WalkFilterConfig {
     // the fresh particles takes it, ±hint_sigma_rad; the rest draw φ and s uniformly.
     double hint_share = 0.0;
     double hint_sigma_rad = 0.35;
+    // Without one, this share of the fresh particles takes the rotation and mirror of a
+    // particle of the cloud drawn at random, ±cloud_sigma_rad, and the rest draw them
+    // uniformly: a cloud that has learnt the compass's rotation from the walk keeps it in its
+    // fresh particles too, so it stays tight enough for KLD-resampling to shrink it, while the
+    // uniform draws still let a wrong rotation be replaced.
+    double cloud_share = 0.0;
+    double cloud_sigma_rad = 0.2;
 
     // The setting for real phones on real walks, chosen on PUTMC walks 1–5 (docs/fusion.md,
     // "Real walks"): a larger step-scale prior (the first walker's detected steps cover about
@@ -72,7 +92,10 @@ struct WalkFilterConfig {
     // walker's, whose detected steps were short; other phones' are near their true length, and
     // PUTMC's filter, re-drawing up to 70 % of its cloud on a plan, hardly minds the prior
     // (all 12 walks 2.06 / 2.11 / 1.97 m at seeds 1–3 against 2.06 / 2.01 / 1.97; walks 6–12
-    // 1.94 / 2.05 / 1.85 against 2.13 / 2.05 / 1.97).
+    // 1.94 / 2.05 / 1.85 against 2.13 / 2.05 / 1.97). The cloud's size then adapts (700 to
+    // 2,000 particles, KLD-resampling) with 70 % of the fresh particles taking the cloud's own
+    // rotation: a live request on the PUTMC plan costs 2.2× less for 2.07 m against 2.04 m
+    // (all 12 walks, seeds 1–6; docs/results.md, "Tracking cost").
     static WalkFilterConfig real_walks() {
         WalkFilterConfig c;
         c.scale_mean = 1.0;
@@ -80,6 +103,10 @@ struct WalkFilterConfig {
         c.fix_sigma_m = 4.0;
         c.estimate_radius_m = 3.0;
         c.reseed_max_fraction = 0.7;
+        c.cloud_share = 0.7;
+        c.min_particles = 700;
+        c.kld_epsilon = 0.25;
+        c.kld_bin_rad = 0.5;
         return c;
     }
 
@@ -129,13 +156,17 @@ public:
     double spread() const { return spread_; }
     // What the filter holds: itself and its particles (not the shared floor plan).
     std::size_t memory_bytes() const;
+    // How many particles the cloud has now (config.particles, or fewer: min_particles).
+    std::size_t size() const { return x_.size(); }
 
 private:
-    void fresh(std::size_t i, Point around, double sigma);  // particle i drawn anew
+    // Particle i drawn anew; from_cloud: the cloud holds what the walk taught it (cloud_share).
+    void fresh(std::size_t i, Point around, double sigma, bool from_cloud);
     double snapped(double heading) const;
     bool can_move(Point from, Point to) const;
     bool inside(Point p) const;
     void resample();
+    std::size_t kld_size(const std::vector<std::uint32_t>& picks) const;  // the particles the picked cloud needs
     void estimate();  // position() and spread() of the cloud as it now is
 
     std::optional<Walkable> map_;
