@@ -100,7 +100,7 @@ void EventStreams::close(TrackStreamState& s) {
     if (!s.ticket->evicted) release(*s.ticket);
 }
 
-Events EventStreams::next(TrackStreamState& s) {
+Events EventStreams::next(TrackStreamState& s, double wait_s) {
     std::unique_lock lock(cache_.mutex());
     CachedTrack& t = *s.track;
     Events out;
@@ -116,7 +116,7 @@ Events EventStreams::next(TrackStreamState& s) {
         if (t.info.latest) out.fixes.push_back(*t.info.latest);
         s.seen = t.seq;
     } else {
-        t.changed.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s), [&] {
+        t.changed.wait_for(lock, std::chrono::duration<double>(wait_s), [&] {
             return t.seq > s.seen || t.info.state != State::live || cache_.stopping() || revoked() || s.ticket->evicted;
         });
         for (const auto& [seq, fix] : t.recent)
@@ -145,7 +145,7 @@ void EventStreams::close(MapStreamState& s) {
     if (!s.ticket->evicted) release(*s.ticket);
 }
 
-MapEvents EventStreams::next(MapStreamState& s) {
+MapEvents EventStreams::next(MapStreamState& s, double wait_s) {
     MapEvents out;
     if (!s.started) {
         // The sequence is read before the snapshot: a change between the two is written twice
@@ -166,7 +166,7 @@ MapEvents EventStreams::next(MapStreamState& s) {
         return out;
     }
     std::unique_lock lock(cache_.mutex());
-    map_changed_.wait_for(lock, std::chrono::duration<double>(options_.heartbeat_s),
+    map_changed_.wait_for(lock, std::chrono::duration<double>(wait_s),
                           [&] { return map_seq_ > s.seen || cache_.stopping() || s.ticket->evicted; });
     // A stream that fell more than map_event_buffer changes behind misses the oldest: the next
     // fix of each track shows it again.

@@ -87,10 +87,10 @@ public:
     // Taking the cache's mutex:
     void close(TrackStreamState& s);
     void close(MapStreamState& s);
-    // The first call answers the latest fix; each later one waits up to heartbeat_s for more.
-    Events next(TrackStreamState& s);
-    // The first call answers every live track's latest fix; each later one waits up to heartbeat_s for changes.
-    MapEvents next(MapStreamState& s);
+    // The first call answers the latest fix; each later one waits up to wait_s for more.
+    Events next(TrackStreamState& s, double wait_s);
+    // The first call answers every live track's latest fix; each later one waits up to wait_s for changes.
+    MapEvents next(MapStreamState& s, double wait_s);
 
 private:
     std::size_t held_by(const std::optional<std::string>& client) const;

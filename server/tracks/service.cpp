@@ -369,7 +369,7 @@ std::unique_ptr<Service::Stream> Service::open_stream(std::int64_t id, const std
     return s;
 }
 
-Events Service::next_events(Stream& stream) { return streams_.next(stream.state_); }
+Events Service::next_events(Stream& stream, double wait_s) { return streams_.next(stream.state_, wait_s); }
 
 Service::MapStream::~MapStream() { streams_.close(state_); }
 
@@ -385,7 +385,7 @@ std::unique_ptr<Service::MapStream> Service::open_map_stream(std::int64_t map_id
     return s;
 }
 
-MapEvents Service::next_map_events(MapStream& stream) { return streams_.next(stream.state_); }
+MapEvents Service::next_map_events(MapStream& stream, double wait_s) { return streams_.next(stream.state_, wait_s); }
 
 void Service::sweep() {
     fusions_.forget(sweeper_.sweep());  // with no other lock held: post_raw takes the sessions' first

@@ -107,8 +107,9 @@ public:
     // max_streams_per_client (track and map streams together; no client: exempt).
     // The token is authorised as by authorize(); a stream opened with a share ends when the share is revoked.
     std::unique_ptr<Stream> open_stream(std::int64_t id, const std::string& token, const std::optional<std::string>& client = std::nullopt);
-    // The first call answers the latest fix; each later one waits up to heartbeat_s for more.
-    Events next_events(Stream& stream);
+    // The first call answers the latest fix; each later one waits up to wait_s for more (the
+    // route waits a heartbeat_s in short slices, checking its reader between them).
+    Events next_events(Stream& stream, double wait_s);
 
     // Every live track of a map (or of one of its floors), then their changes: the viewer's live
     // layer. Shares max_streams with the track streams: Refused(busy) past it.
@@ -124,8 +125,8 @@ public:
     };
     std::unique_ptr<MapStream> open_map_stream(std::int64_t map_id, std::optional<std::int64_t> floor_id,
                                                const std::optional<std::string>& client = std::nullopt);
-    // The first call answers every live track's latest fix; each later one waits up to heartbeat_s for changes.
-    MapEvents next_map_events(MapStream& stream);
+    // The first call answers every live track's latest fix; each later one waits up to wait_s for changes.
+    MapEvents next_map_events(MapStream& stream, double wait_s);
 
     // One sweep now (the sweeper thread's work; tests call it through tiny flags instead).
     void sweep();

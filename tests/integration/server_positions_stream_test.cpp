@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "hierarchy.hpp"
+#include "raw_connection.hpp"
 #include "server_process.hpp"
 #include "sse_listener.hpp"
 #include "track_call.hpp"
@@ -186,6 +187,34 @@ TEST(ServerPositionsStream, AFollowedFloorSeesTracksComeMoveLeaveAndEnd) {
     EXPECT_EQ(events.size(), 7u);
     EXPECT_EQ(events.back().first, "leave");
     EXPECT_EQ(ground.seen().size(), 5u);
+}
+
+
+// A positions reader that hangs up gives its slot back at once (the stream's wait checks its
+// connection four times a second), not at its next heartbeat 15 s later: with room for one
+// stream, the next reader's stream opens within a few tenths of a second of the hang-up.
+TEST(ServerPositionsStream, AReaderThatHungUpGivesItsSlotBackAtOnce) {
+    ServerProcess s({"--quiet", "--api-key", "k1", "--max-track-streams", "1"});
+    s.set_api_key("k1");
+    const auto h = locus::testing::make_hierarchy(s);
+    const std::string path = "/v1/maps/" + std::to_string(h.map) + "/positions/events";
+    // A stream read on a raw connection: true once the server answered 200 within 0.3 s.
+    const auto stream = [&](std::unique_ptr<locus::testing::RawConnection>& c) {
+        c = std::make_unique<locus::testing::RawConnection>(s.port());
+        if (!c->connected() || !c->send(locus::testing::raw_get(path, "Authorization: Bearer k1\r\n"))) return false;
+        c->closed_within(std::chrono::milliseconds(300));
+        return c->pending().starts_with("HTTP/1.1 200");
+    };
+    std::unique_ptr<locus::testing::RawConnection> reader, retry;
+    ASSERT_TRUE(stream(reader)) << reader->pending();
+    EXPECT_FALSE(stream(retry)) << "the server's one stream is taken: " << retry->pending();
+    EXPECT_TRUE(retry->pending().starts_with("HTTP/1.1 503")) << retry->pending();
+    const auto hung_up = std::chrono::steady_clock::now();
+    reader.reset();
+    bool again = false;
+    while (!again && std::chrono::steady_clock::now() - hung_up < std::chrono::seconds(5)) again = stream(retry);
+    EXPECT_TRUE(again);
+    EXPECT_LT(std::chrono::steady_clock::now() - hung_up, std::chrono::seconds(3));
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "locus/api/client.hpp"
 #include "locus/plan/geojson.hpp"
 #include "plan_geojson.hpp"
+#include "raw_connection.hpp"
 #include "server_process.hpp"
 #include "track_call.hpp"
 #include "unix_time.hpp"
@@ -312,6 +313,33 @@ TEST(ServerTracks, OneTrackCannotTakeEveryStreamSlot) {
         again = retry.wait_for(1, 0.3);
     }
     EXPECT_TRUE(again);
+}
+
+// A reader that hangs up gives its stream's slot back at once: the stream's wait looks at its
+// connection four times a second, rather than learning of the hang-up from its next heartbeat's
+// failed write 15 s (the default heartbeat) later.
+TEST(ServerTracks, AStreamWhoseReaderHungUpGivesItsSlotBackAtOnce) {
+    ServerProcess s({"--quiet", "--max-streams-per-track", "1"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const Track a = open_track(s, {{"map_id", h.map}, {"label", "ann"}});
+    body_of(post_fixes(s, a, {fix(unix_now() - 1, h.floor, 0, 0)}));
+    // A stream read on a raw connection: true once its first fix came within 0.3 s.
+    const auto stream = [&](std::unique_ptr<locus::testing::RawConnection>& c) {
+        c = std::make_unique<locus::testing::RawConnection>(s.port());
+        if (!c->connected() || !c->send(locus::testing::raw_get(path_of(a, "/events"), "X-Track-Token: " + a.token + "\r\n"))) return false;
+        c->closed_within(std::chrono::milliseconds(300));
+        return c->pending().find("event: fix") != std::string::npos;
+    };
+    std::unique_ptr<locus::testing::RawConnection> reader, retry;
+    ASSERT_TRUE(stream(reader)) << reader->pending();
+    EXPECT_FALSE(stream(retry)) << "the track's one slot is taken: " << retry->pending();
+    EXPECT_NE(retry->pending().find(" 429 "), std::string::npos) << retry->pending();
+    const auto hung_up = std::chrono::steady_clock::now();
+    reader.reset();
+    bool again = false;
+    while (!again && std::chrono::steady_clock::now() - hung_up < std::chrono::seconds(5)) again = stream(retry);
+    EXPECT_TRUE(again);
+    EXPECT_LT(std::chrono::steady_clock::now() - hung_up, std::chrono::seconds(3));
 }
 
 // An anonymous loop of open and close (or delete) had no bound, so every track held is capped

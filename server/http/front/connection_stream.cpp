@@ -107,8 +107,12 @@ bool ConnectionStream::is_writable() const {
     const auto now = Clock::now();
     if (now >= write_deadline_) return false;
     const auto left = std::chrono::ceil<std::chrono::milliseconds>(write_deadline_ - now);
-    pollfd fd{fd_, POLLOUT, 0};
-    return ::poll(&fd, 1, static_cast<int>(std::min(write_timeout_, left).count())) > 0;
+    // A peer that closed (its FIN: POLLRDHUP) or reset the connection reads nothing more: an
+    // answer still being produced for it (an event stream waiting for news) ends now. An HTTP
+    // client does not half-close a connection it still reads from.
+    pollfd fd{fd_, POLLOUT | POLLRDHUP, 0};
+    if (::poll(&fd, 1, static_cast<int>(std::min(write_timeout_, left).count())) <= 0) return false;
+    return (fd.revents & (POLLRDHUP | POLLHUP | POLLERR)) == 0;
 }
 
 ssize_t ConnectionStream::write(const char* ptr, size_t size) {

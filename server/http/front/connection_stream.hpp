@@ -12,7 +12,9 @@
 // - a byte budget for the body, counted on the wire, so a chunked body cannot pass
 //   --max-body-bytes (cpp-httplib checks the limit against Content-Length only);
 // - a wake descriptor: when it becomes readable (server shutdown), waits for a next request,
-//   a request head or a body end at once (nothing has been written for that request yet).
+//   a request head or a body end at once (nothing has been written for that request yet);
+// - is_writable() is false once the peer closed or reset the connection, so an answer still
+//   being produced for nobody (an event stream waiting for news) ends at once.
 // All waits use poll(), so descriptors above FD_SETSIZE are fine.
 #include <httplib.h>
 

@@ -70,7 +70,11 @@ void App::install_position_routes() {
         });
         if (!stream) return;  // refused: res holds the error
         begin_event_stream(res, [&svc, &geo, stream](std::size_t, httplib::DataSink& sink) {
-            const auto batch = svc.next_map_events(*stream);
+            const auto next = next_batch(
+                sink, svc.options().heartbeat_s, [&](double wait_s) { return svc.next_map_events(*stream, wait_s); },
+                [](const tracks::MapEvents& b) { return !b.events.empty() || b.ended; });
+            if (!next) return false;  // the reader hung up
+            const tracks::MapEvents& batch = *next;
             std::string out;
             for (const auto& e : batch.events) {
                 if (e.kind == tracks::MapEvent::Kind::position) {

@@ -27,7 +27,11 @@ void App::install_track_stream_routes() {
         });
         if (!stream) return;  // refused: res holds the error
         begin_event_stream(res, [&svc, &geo, stream](std::size_t, httplib::DataSink& sink) {
-            const auto events = svc.next_events(*stream);
+            const auto next = next_batch(
+                sink, svc.options().heartbeat_s, [&](double wait_s) { return svc.next_events(*stream, wait_s); },
+                [](const tracks::Events& e) { return !e.fixes.empty() || e.ended; });
+            if (!next) return false;  // the reader hung up
+            const tracks::Events& events = *next;
             std::string out;
             for (const auto& f : events.fixes) out += sse_event("fix", fix_json(f, geo));
             if (events.fixes.empty() && !events.ended) out = ": heartbeat\n\n";
