@@ -309,6 +309,10 @@ TEST(ServerFairShare, WhatATrackWriterPostsIsMeteredInBytes) {
     expect_limited(call(s, "POST", fixes, third, owner), "rate_limited", "--client-track-bytes (10", "a third batch at once");
     const long retry = retry_after(s, "POST", fixes, third, owner);
     EXPECT_GE(retry, 10);  // what is missing of ~2 KB at 10 bytes a second
+    // The bytes are charged before the body is parsed: past the budget, even a body the route
+    // would refuse as invalid (422 once parsed) is refused for its bytes, without costing the parse.
+    expect_limited(call(s, "POST", fixes, json{{"fixes", std::string(bytes, 'x')}}, owner), "rate_limited", "--client-track-bytes (10",
+                   "an invalid body as long as the third batch");
     // Nothing of the refused batches was stored.
     const Response info = call(s, "GET", "/v1/tracks/" + id_of(t), nullptr, owner);
     ASSERT_EQ(info.status, 200) << info.raw;

@@ -33,6 +33,11 @@
 // `--scenario slow-readers`: the setup adds a map with a 5.6 MB plan; each connection asks for
 // it and reads 1 KB every 5 s. The map is deleted at the end.
 //
+// `--scenario steps-scans`: the hostile client opens --scan-tracks tracks and posts /steps
+// batches of 1,000 WiFi scans (the radio map's own RPs' means, each a scan to localize) to
+// them back to back; reported: the scans the server localized for it per second (its
+// `scan_fixes`), its answers, and with --server-pid the server's CPU time per second of the run.
+//
 // Prints one JSON object: what the phones saw (localize or route latency, refused track opens
 // and fixes) and what the hostile client got (answers by status), with the server's peak
 // resident memory above idle when --server-pid names it. Exits non-zero if a phone was refused
@@ -85,6 +90,7 @@ struct Args {
     std::string db;  // fixes: the server's SQLite file, whose growth is reported
     int body_connections = 24;  // bodies, slow-bodies: the hostile client's connections
     double big_floor_m = 290.0;  // route-build: the big map's floors' side (180 MB, under the default bound)
+    int scan_tracks = 4;  // steps-scans: the hostile client's tracks
 };
 
 // Answers by status, counted from several threads.
@@ -644,6 +650,71 @@ void run_slow_readers(const Args& a) {
            phones, answers, a, idle_rss_kb);
 }
 
+// `--scenario steps-scans`: see the file's comment. Each batch's scans are 0.1 s apart,
+// batch after batch 100 s apart, starting an hour ago: all new, all within the retention.
+void run_steps_scans(const Args& a) {
+    if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario steps-scans: its RPs are the scans, and the phones localize against it");
+    const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
+    api::Client setup(a.server.client_options());
+    const std::int64_t floor_id = setup.radiomap(a.radiomap).floor_id;
+    std::vector<json> readings;  // one scan's readings per localize body
+    for (const auto& b : localize_bodies(a.server, a.radiomap, "", "wknn")) readings.push_back(json::parse(b).at("scans").at(0));
+    if (readings.empty()) throw CommandError("radio map " + std::to_string(a.radiomap) + " has no RP to make scans of");
+    const std::string open_request = http_request("POST", "/v1/tracks", target.host_port, json{{"map_id", a.map}}.dump());
+    std::vector<OpenedTrack> tracks;
+    {
+        BenchConnection c(target.host, target.port, a.hostile_address);
+        for (int k = 0; k < a.scan_tracks; ++k)
+            if (auto t = open_track(c, open_request)) tracks.push_back(*t);
+    }
+    if (tracks.empty()) throw CommandError("the hostile client could not open a track");
+    const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
+    const double cpu_before = a.server_pid ? proc_cpu_seconds(a.server_pid) : -1.0;
+    const auto t0 = Clock::now();
+    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.seconds));
+    auto running = [&] { return Clock::now() < deadline; };
+    const double start = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count() - 3600;
+    StatusCounts posts;
+    std::atomic<long long> localized{0};
+    std::deque<std::thread> hostile;
+    for (std::size_t k = 0; k < tracks.size(); ++k)
+        hostile.emplace_back([&, k] {
+            const OpenedTrack& t = tracks[k];
+            BenchConnection c(target.host, target.port, a.hostile_address);
+            // A batch is made again only once one was taken (a refused one stored nothing), so
+            // the client's own CPU goes to sending; a refusal's Retry-After is not waited for.
+            std::string request;
+            for (int batch = 0; running();) {
+                if (request.empty()) {
+                    json scans = json::array();
+                    for (int i = 0; i < 1000; ++i)
+                        scans.push_back({{"t", start + 100.0 * batch + 0.1 * i}, {"readings", readings[(k * 1000 + static_cast<std::size_t>(i)) % readings.size()]}});
+                    request = http_request("POST", "/v1/tracks/" + t.id + "/steps", target.host_port, json{{"scans", scans}}.dump(),
+                                           "X-Track-Token: " + t.token + "\r\n");
+                }
+                std::string body;
+                const auto status = c.round_trip(request, &body);
+                posts.add(status);
+                if (status != 200) continue;
+                localized += static_cast<long long>(json::parse(body, nullptr, false).value("scan_fixes", json::array()).size());
+                ++batch;
+                request.clear();
+            }
+        });
+    LocalizingPhones phones(a, target, floor_id);
+    phones.run(running);
+    for (auto& t : hostile) t.join();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+    json out = {{"scenario", "steps-scans"},
+                {"seconds", elapsed},
+                {"rps", readings.size()},
+                {"tracks", tracks.size()},
+                {"scans_localized", localized.load()},
+                {"scans_localized_per_s", static_cast<double>(localized.load()) / elapsed}};
+    if (a.server_pid) out["server_cpu_s_per_s"] = (proc_cpu_seconds(a.server_pid) - cpu_before) / elapsed;
+    report(out, phones, posts, a, idle_rss_kb);
+}
+
 void run(const Args& a) {
     if (!a.hostile_address.starts_with("127.") || a.hostile_address == "127.0.0.1")
         throw CommandError("--hostile-address must be a loopback address other than 127.0.0.1 (e.g. 127.0.0.2)");
@@ -652,6 +723,7 @@ void run(const Args& a) {
     if (a.scenario == "fixes") return run_fixes(a);
     if (a.scenario == "bodies" || a.scenario == "slow-bodies") return run_bodies(a, a.scenario == "slow-bodies");
     if (a.scenario == "slow-readers") return run_slow_readers(a);
+    if (a.scenario == "steps-scans") return run_steps_scans(a);
     if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario all: the phones localize against it");
     const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
     api::Client setup(a.server.client_options());
@@ -783,8 +855,11 @@ LOCUS_COMMAND("bench-abuse", [](CLI::App& app) {
                     "all: bombs, track, stream and route floods at once; route-build: routes on a large map's graph; streams: "
                     "clients holding every stream they may, then a phone's own; fixes: two tracks posting 1,000-fix batches; "
                     "bodies: 8 MiB localize bodies on many connections; slow-bodies: 8 MiB bodies sent all but their last bytes; "
-                    "slow-readers: a 5.6 MB plan read 1 KB every 5 s on many connections")
-        ->capture_default_str()->check(CLI::IsMember({"all", "route-build", "streams", "fixes", "bodies", "slow-bodies", "slow-readers"}));
+                    "slow-readers: a 5.6 MB plan read 1 KB every 5 s on many connections; steps-scans: tracks posting /steps "
+                    "batches of 1,000 scans to localize")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"all", "route-build", "streams", "fixes", "bodies", "slow-bodies", "slow-readers", "steps-scans"}));
+    cmd->add_option("--scan-tracks", args->scan_tracks, "steps-scans: the hostile client's tracks")->capture_default_str()->check(CLI::Range(1, 16));
     cmd->add_option("--body-connections", args->body_connections, "bodies, slow-bodies, slow-readers: the hostile client's connections")
         ->capture_default_str()->check(CLI::Range(1, 500));
     cmd->add_option("--db", args->db, "fixes: the server's SQLite database file, to report how much it (and its WAL) grew");

@@ -110,15 +110,13 @@ bool FairShare::refuse(const httplib::Request& req, httplib::Response& res) {
     return true;
 }
 
-void FairShare::charge_track_write(const httplib::Request& req, std::size_t localizations) {
+void FairShare::charge_track_bytes(const httplib::Request& req) {
     const auto who = client(req);
     if (!who) return;
-    ClientBuckets::Verdict bytes, scans;
+    ClientBuckets::Verdict bytes;
     {
         std::lock_guard lock(mu_);
-        const double t = now();
-        bytes = track_writes_.take(*who, t, static_cast<double>(req.body.size()));
-        if (bytes.allowed && localizations > 0) scans = routes_.take(*who, t, static_cast<double>(localizations));
+        bytes = track_writes_.take(*who, now(), static_cast<double>(req.body.size()));
     }
     if (!bytes.allowed)
         throw ApiError(429, "rate_limited",
@@ -126,6 +124,17 @@ void FairShare::charge_track_write(const httplib::Request& req, std::size_t loca
                            " bytes a second, bursts of --client-track-bytes-burst " + number_text(options_.track_write_burst) +
                            "): what it posts is stored; retry after " + std::to_string(retry_seconds(bytes.wait_s)) + " s",
                        bytes.wait_s);
+}
+
+void FairShare::charge_localizations(const httplib::Request& req, std::size_t localizations) {
+    if (localizations == 0) return;
+    const auto who = client(req);
+    if (!who) return;
+    ClientBuckets::Verdict scans;
+    {
+        std::lock_guard lock(mu_);
+        scans = routes_.take(*who, now(), static_cast<double>(localizations));
+    }
     if (!scans.allowed)
         throw ApiError(429, "rate_limited",
                        "this client's scans to localize (" + std::to_string(localizations) + " in this request) come faster than --client-rate (" +

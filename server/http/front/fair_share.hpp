@@ -7,8 +7,9 @@
 // opens (POST /v1/tracks, --client-track-opens/--client-track-open-burst) and the expensive
 // anonymous reads (POST /v1/maps/{id}/route, GET /v1/maps/{id}/search, POST /v1/maps/{id}/localize,
 // GET /v1/radiomaps/{id}/quality; one bucket for the four, --client-rate/--client-burst).
-// What a track's writer stores, and the scans a thin client has the server localize, are
-// charged by the routes once the body is read (charge_track_write). What a client holds (live
+// What a track's writer stores is charged by the routes once the body is read, before it is
+// parsed (charge_track_bytes), and the scans a thin client has the server localize once it is
+// parsed (charge_localizations). What a client holds (live
 // tracks, event streams) is counted where it is held, by the tracks service (tracks::Options;
 // live tracks in the database, as a keyed hash); the routes ask client() for the key it
 // counts under.
@@ -17,7 +18,7 @@
 //
 // Costs: client() parses the peer and X-Forwarded-For (client_address.hpp); refuse() adds a
 // regex-free path check and, for a limited route, one ClientBuckets::take under a mutex;
-// charge_track_write() at most two.
+// charge_track_bytes() and charge_localizations() one each.
 // Memory: at most `table_capacity` buckets per table (three tables), whatever the clients.
 #include <httplib.h>
 
@@ -65,12 +66,15 @@ public:
     // request is on a rate-limited route and its client has no token left.
     bool refuse(const httplib::Request& req, httplib::Response& res);
 
-    // Once a track write's body is read (POST /v1/tracks/{id}/fixes and /steps): its bytes
-    // against --client-track-bytes, then the scans it asks the server to localize against the
-    // bucket map localize takes from (--client-rate), one token each, a batch of more than
-    // the burst admitted on a full bucket and paid for after. Throws ApiError 429 rate_limited
-    // with retry_after_s; a request refused for its scans has spent its bytes (it was received).
-    void charge_track_write(const httplib::Request& req, std::size_t localizations);
+    // Once a track write's body is read (POST /v1/tracks/{id}/fixes and /steps), before it is
+    // parsed: its bytes against --client-track-bytes, so a client past its budget is refused
+    // without costing the parse (a body refused later, as invalid or for its scans, has spent
+    // its bytes: it was received). Throws ApiError 429 rate_limited with retry_after_s.
+    void charge_track_bytes(const httplib::Request& req);
+    // Once a /steps body is parsed: the scans it asks the server to localize against the
+    // bucket map localize takes from (--client-rate), one token each, a batch of more than the
+    // burst admitted on a full bucket and paid for after. Throws ApiError 429 rate_limited.
+    void charge_localizations(const httplib::Request& req, std::size_t localizations);
 
     const FairShareOptions& options() const { return options_; }
 

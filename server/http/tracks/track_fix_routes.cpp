@@ -1,6 +1,6 @@
 // POST /v1/tracks/{id}/fixes {fixes: [{t, floor_id, x, y, accuracy_m, heading_deg?}]}: a phone
 // that runs client-lib posts its fused fixes (docs/tracks.md). The owner's token only; the
-// body's bytes are the client's (FairShare::charge_track_write).
+// body's bytes are the client's (FairShare::charge_track_bytes).
 #include <string>
 
 #include "http/app.hpp"
@@ -22,8 +22,8 @@ void App::install_track_fix_routes() {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             require_owner(svc, req, id, "a share token reads a track; only its owner's token posts fixes");
+            fair_share_.charge_track_bytes(req);
             const auto fixes = parse_fixes(parse_object(req.body), svc.options().retention_s);
-            fair_share_.charge_track_write(req, 0);
             if (const auto floor = svc.misplaced_floor(id, fixes))
                 throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
             const auto posted = svc.post(id, fixes);

@@ -2,7 +2,7 @@
 // pressure?: [{t, hpa}], gnss?: [{t, lat, lon, accuracy_m}]}: thin clients post raw PDR steps,
 // radio fixes, scans, their barometer's samples and GNSS fixes; the track's filter's fixes come back
 // (and are stored). The work is tracks/map_scans.hpp's post_steps; the body's bytes and its
-// scans to localize are the client's (FairShare::charge_track_write).
+// scans to localize are the client's (FairShare::charge_track_bytes, charge_localizations).
 // Eigen first: cpp-httplib (through app.hpp) pulls in <resolv.h>, whose `_res` macro breaks Eigen.
 #include "tracks/map_scans.hpp"
 
@@ -24,8 +24,9 @@ void App::install_track_step_routes() {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             require_owner(svc, req, id, "a share token reads a track; only its owner's token posts steps");
+            fair_share_.charge_track_bytes(req);  // before the parse: a client past its budget costs no more
             const auto input = parse_steps_request(parse_object(req.body), svc.options().retention_s);
-            fair_share_.charge_track_write(req, input.scans.size());
+            fair_share_.charge_localizations(req, input.scans.size());
             tracks::StepsDone done;
             try {
                 done = tracks::post_steps(svc, id, input, {store_, transmitters_, localizer_, geo});
