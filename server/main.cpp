@@ -261,6 +261,7 @@ int serve(const Flags& f, const sigset_t& signals) {
 
 int main(int argc, char** argv) {
     CLI::App cli{"locus-server: the Locus radio-map and localization service"};
+    cli.set_version_flag("--version", std::string("locus-server ") + LOCUS_VERSION);
     Flags flags;
     add_server_flags(cli, flags);
     add_client_flags(cli, flags);

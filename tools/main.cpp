@@ -3,6 +3,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "survey_connect.hpp"
@@ -88,6 +89,7 @@ std::optional<std::string> unknown_option(CLI::App& app) {
 
 int main(int argc, char** argv) {
     CLI::App app{"locus: tools for the Locus indoor positioning service"};
+    app.set_version_flag("--version", std::string("locus ") + LOCUS_VERSION);
     app.require_subcommand(1);
     locus::tools::install_all(app);
     try {

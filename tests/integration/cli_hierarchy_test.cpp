@@ -1,5 +1,6 @@
 // `locus map create`, `locus building create`, `locus floor create` against the real server:
-// each prints what it made; what is missing is said all at once and nothing is sent.
+// each prints what it made; what is missing is said all at once and nothing is sent. `list`
+// shows what there is, as a table or JSON; `--version` says which Locus it is.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -61,6 +62,57 @@ TEST(CliHierarchy, TheServersRefusalIsShown) {
     EXPECT_NE(bad.status, 0);
     EXPECT_NE(bad.err.find("999"), std::string::npos) << bad.err;
     EXPECT_EQ(s.get("/v1/maps").body.at("total"), 1);
+}
+
+// Every map, 120 (more than a page of the server's default size), listed as JSON; then a
+// building's floors as a table whose header names the columns and whose rows line up.
+TEST(CliHierarchy, ListShowsWhatThereIsAsATableOrJson) {
+    ServerProcess s;
+    for (int i = 0; i < 120; ++i) ASSERT_EQ(s.post("/v1/maps", {{"name", "Site " + std::to_string(i)}}).status, 201) << i;
+    const auto maps = run_command({LOCUS_CLI_BIN, "map", "list", "--server", s.url(), "--json"});
+    ASSERT_EQ(maps.status, 0) << maps.err;
+    const json all = json::parse(maps.out);
+    ASSERT_EQ(all.size(), 120u);
+    EXPECT_EQ(all.back().at("name"), "Site 119");
+    const std::string map_id = std::to_string(all.front().at("id").get<long long>());
+    const auto building = s.post("/v1/maps/" + map_id + "/buildings", {{"name", "Main"}});
+    const std::string building_id = std::to_string(building.body.at("id").get<long long>());
+    for (const auto& [name, level] : {std::pair{"Ground", 0}, std::pair{"Basement level", -1}})
+        ASSERT_EQ(s.post("/v1/buildings/" + building_id + "/floors", {{"name", name}, {"level", level}, {"width", 40.0}, {"height", 25.5}}).status, 201);
+    const auto floors = run_command({LOCUS_CLI_BIN, "floor", "list", "--server", s.url(), "--building", building_id});
+    ASSERT_EQ(floors.status, 0) << floors.err;
+    std::vector<std::string> lines;
+    for (std::size_t at = 0, end; (end = floors.out.find('\n', at)) != std::string::npos; at = end + 1) lines.push_back(floors.out.substr(at, end - at));
+    ASSERT_EQ(lines.size(), 3u) << floors.out;
+    EXPECT_TRUE(lines[0].starts_with("id")) << lines[0];
+    // Each column starts where its header does.
+    const std::size_t name_at = lines[0].find("name"), width_at = lines[0].find("width");
+    ASSERT_NE(name_at, std::string::npos);
+    for (const std::string& row : {lines[1], lines[2]}) {
+        EXPECT_EQ(row.find_first_not_of(' ', name_at), name_at) << row;
+        EXPECT_EQ(row.substr(width_at, 4), "40.0") << row;
+    }
+    EXPECT_NE(floors.out.find("Ground"), std::string::npos);
+    EXPECT_NE(floors.out.find("Basement level"), std::string::npos);
+    EXPECT_NE(floors.out.find("-1"), std::string::npos);
+    const auto none = run_command({LOCUS_CLI_BIN, "building", "list", "--server", s.url()});
+    EXPECT_EQ(none.status, 2);
+    EXPECT_NE(none.err.find("--map is required"), std::string::npos) << none.err;
+    const auto unknown = run_command({LOCUS_CLI_BIN, "floor", "list", "--server", s.url(), "--building", "999"});
+    EXPECT_NE(unknown.status, 0);
+    EXPECT_NE(unknown.err.find("999"), std::string::npos) << unknown.err;
+}
+
+TEST(CliHierarchy, BothProgramsSayTheirVersion) {
+    for (const auto& [bin, name] : {std::pair{LOCUS_CLI_BIN, "locus "}, std::pair{LOCUS_SERVER_BIN, "locus-server "}}) {
+        const auto r = run_command({bin, "--version"});
+        EXPECT_EQ(r.status, 0) << bin << ": " << r.err;
+        EXPECT_TRUE(r.out.starts_with(name)) << r.out;
+        // A version is numbers and dots (CMakeLists.txt's project()).
+        const std::string v = r.out.substr(std::string(name).size());
+        EXPECT_FALSE(v.empty());
+        EXPECT_EQ(v.find_first_not_of("0123456789.\n"), std::string::npos) << r.out;
+    }
 }
 
 TEST(CliHierarchy, APlanExportedFromOneFloorImportsOnAnother) {

@@ -1,7 +1,10 @@
 // `locus map create`, `locus building create`, `locus floor create`: a building of your own
 // from scratch (docs/your-building.md), without writing JSON by hand. Each prints the created
 // object as the server answers it (one JSON line, with its `id`). What is missing is said all
-// at once, before anything is sent.
+// at once, before anything is sent. `locus map list`, `locus building list --map ID`,
+// `locus floor list --building ID`: what there is, as a table (with --json, the server's
+// objects as one JSON array), every page of the collection.
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -25,6 +28,7 @@ struct Args {
     std::string name, description;
     int level = 0;
     std::optional<double> width, height, north_offset_deg;
+    bool json_out = false;  // list: JSON instead of a table
 };
 
 // "--width and --height are required" for every option still unset.
@@ -51,6 +55,47 @@ CLI::App* subcommand(CLI::App& app, const char* group, const char* what, std::sh
     args = std::make_shared<Args>();
     args->server.add_to(*cmd);
     cmd->add_option("--name", args->name, "its name (unique among its siblings)");
+    return cmd;
+}
+
+// A value as a table cell: text as it is, numbers as JSON writes them, nothing for null.
+std::string cell(const json& v) {
+    if (v.is_string()) return v.get<std::string>();
+    if (v.is_null()) return "";
+    return v.dump();
+}
+
+// `list`: every row of `path`, as one JSON array, or a table of `columns` (left-aligned,
+// two spaces apart, a header line).
+void list(const Args& a, const std::string& path, const std::vector<std::string>& columns) {
+    locus::api::Client client(a.server.client_options());
+    const std::vector<json> rows = client.list_all(path);
+    if (a.json_out) {
+        std::cout << json(rows).dump() << "\n";
+        return;
+    }
+    std::vector<std::size_t> width;
+    for (const auto& c : columns) width.push_back(c.size());
+    for (const auto& r : rows)
+        for (std::size_t i = 0; i < columns.size(); ++i) width[i] = std::max(width[i], cell(r.value(columns[i], json())).size());
+    const auto line = [&](const auto& text_of) {
+        std::string out;
+        for (std::size_t i = 0; i < columns.size(); ++i) {
+            const std::string t = text_of(i);
+            out += i + 1 == columns.size() ? t : t + std::string(width[i] - t.size() + 2, ' ');
+        }
+        std::cout << out << "\n";
+    };
+    line([&](std::size_t i) { return columns[i]; });
+    for (const auto& r : rows) line([&](std::size_t i) { return cell(r.value(columns[i], json())); });
+}
+
+CLI::App* list_subcommand(CLI::App& app, const char* group, const char* what, std::shared_ptr<Args>& args) {
+    auto& g = locus::tools::group(app, group, std::string("Create and list ") + group + "s");
+    auto* cmd = g.add_subcommand("list", what);
+    args = std::make_shared<Args>();
+    args->server.add_to(*cmd);
+    cmd->add_flag("--json", args->json_out, "the server's objects as one JSON array instead of a table");
     return cmd;
 }
 
@@ -93,6 +138,32 @@ LOCUS_COMMAND("floor-create", [](CLI::App& app) {
         json body = {{"name", args->name}, {"level", args->level}, {"width", *args->width}, {"height", *args->height}};
         if (args->north_offset_deg) body["north_offset_deg"] = *args->north_offset_deg;
         create(*args, "/v1/buildings/" + std::to_string(args->parent) + "/floors", body);
+    });
+});
+
+LOCUS_COMMAND("map-list", [](CLI::App& app) {
+    std::shared_ptr<Args> args;
+    auto* cmd = list_subcommand(app, "map", "List the maps", args);
+    cmd->callback([args] { list(*args, "/v1/maps", {"id", "name", "description"}); });
+});
+
+LOCUS_COMMAND("building-list", [](CLI::App& app) {
+    std::shared_ptr<Args> args;
+    auto* cmd = list_subcommand(app, "building", "List a map's buildings", args);
+    cmd->add_option("--map", args->parent, "the map's id");
+    cmd->callback([args] {
+        require({{"--map", args->parent > 0}});
+        list(*args, "/v1/maps/" + std::to_string(args->parent) + "/buildings", {"id", "name", "description"});
+    });
+});
+
+LOCUS_COMMAND("floor-list", [](CLI::App& app) {
+    std::shared_ptr<Args> args;
+    auto* cmd = list_subcommand(app, "floor", "List a building's floors", args);
+    cmd->add_option("--building", args->parent, "the building's id");
+    cmd->callback([args] {
+        require({{"--building", args->parent > 0}});
+        list(*args, "/v1/buildings/" + std::to_string(args->parent) + "/floors", {"id", "level", "name", "width", "height"});
     });
 });
 
