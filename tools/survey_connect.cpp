@@ -9,9 +9,9 @@
 
 namespace locus::tools {
 
-void ServerArgs::add_to(CLI::App& cmd, bool server_required) {
-    auto* s = cmd.add_option("--server", server, "server base URL, e.g. http://127.0.0.1:8080");
-    if (server_required) s->required();
+void ServerArgs::add_to(CLI::App& cmd) {
+    cmd.add_option("--server", server, "server base URL (default: $LOCUS_SERVER, else http://127.0.0.1:8080, the server of scripts/run.sh)")
+        ->envname("LOCUS_SERVER");
     cmd.add_option("--api-key", api_key, "API key for writes (default: $LOCUS_API_KEY)")->envname("LOCUS_API_KEY");
     cmd.add_option("--retries", retries, "attempts per request on network errors, 5xx and 429")
         ->capture_default_str()

@@ -16,7 +16,9 @@ struct ServerArgs {
     int retries = 6;
     double timeout_s = 30.0;
 
-    void add_to(CLI::App& cmd, bool server_required = true);
+    // --server (every command alike: $LOCUS_SERVER, else this default), --api-key
+    // ($LOCUS_API_KEY), --retries, --timeout.
+    void add_to(CLI::App& cmd);
     api::ClientOptions client_options() const;
 };
 

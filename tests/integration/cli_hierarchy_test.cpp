@@ -103,6 +103,19 @@ TEST(CliHierarchy, ListShowsWhatThereIsAsATableOrJson) {
     EXPECT_NE(unknown.err.find("999"), std::string::npos) << unknown.err;
 }
 
+// Every command finds the server alike: --server, else $LOCUS_SERVER (else 127.0.0.1:8080).
+TEST(CliHierarchy, LocusServerNamesTheServerWhenServerIsNotGiven) {
+    ServerProcess s;
+    const auto made = run_command({LOCUS_CLI_BIN, "map", "create", "--name", "From the environment"}, {"LOCUS_SERVER=" + s.url()});
+    ASSERT_EQ(made.status, 0) << made.err;
+    const auto listed = run_command({LOCUS_CLI_BIN, "map", "list", "--json"}, {"LOCUS_SERVER=" + s.url()});
+    ASSERT_EQ(listed.status, 0) << listed.err;
+    EXPECT_EQ(json::parse(listed.out).at(0).at("name"), "From the environment");
+    // --server wins over the environment.
+    const auto given = run_command({LOCUS_CLI_BIN, "map", "list", "--json", "--server", s.url()}, {"LOCUS_SERVER=http://127.0.0.1:1"});
+    EXPECT_EQ(given.status, 0) << given.err;
+}
+
 TEST(CliHierarchy, BothProgramsSayTheirVersion) {
     for (const auto& [bin, name] : {std::pair{LOCUS_CLI_BIN, "locus "}, std::pair{LOCUS_SERVER_BIN, "locus-server "}}) {
         const auto r = run_command({bin, "--version"});

@@ -334,7 +334,7 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     auto& eval = locus::tools::group(app, "eval", "Measure the matchers on real data sets");
     auto* cmd = eval.add_subcommand("ipin", "Score WiFi positioning of IPIN 2023 walks as the competition does (docs/ipin-import.md)");
     auto a = std::make_shared<Args>();
-    a->server.add_to(*cmd, false);
+    a->server.add_to(*cmd);
     cmd->add_option("DIR", a->dir, "the data set folder (with trials/)")->required();
     cmd->add_option("--trials", a->trials, "held-out walks: globs on the file names of DIR/trials (repeat: any matches)")->required();
     cmd->add_option("--train", a->train, "the yardstick's walks (a glob, as --trials)");

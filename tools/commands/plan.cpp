@@ -192,14 +192,14 @@ LOCUS_COMMAND("plan", [](CLI::App& app) {
 
     auto* imp = plan.add_subcommand("import", "Check a GeoJSON plan and store it as a floor's plan (PUT)");
     auto ia = std::make_shared<ImportArgs>();
-    ia->server.add_to(*imp, false);
+    ia->server.add_to(*imp);
     imp->add_option("file", ia->file, "the plan: a GeoJSON FeatureCollection in floor metres")->required()->check(CLI::ExistingFile);
     imp->add_option("--floor", ia->floor, "floor id")->required()->check(CLI::PositiveNumber);
     imp->callback([ia] { import_plan(*ia); });
 
     auto* exp = plan.add_subcommand("export", "A floor's stored plan as GeoJSON (plan import takes it back)");
     auto ea = std::make_shared<ExportArgs>();
-    ea->server.add_to(*exp, false);
+    ea->server.add_to(*exp);
     exp->add_option("--floor", ea->floor, "floor id")->required()->check(CLI::PositiveNumber);
     exp->add_option("--out,-o", ea->out, "file to write (default: stdout)");
     exp->callback([ea] { export_plan(*ea); });

@@ -257,7 +257,7 @@ void run_log(const Args& a) {
 LOCUS_COMMAND("replay", [](CLI::App& app) {
     auto args = std::make_shared<Args>();
     auto* cmd = app.add_subcommand("replay", "Run a walk file through PDR, fixes from a server, and fusion");
-    cmd->add_option("--server", args->server, "server base URL")->capture_default_str();
+    cmd->add_option("--server", args->server, "server base URL (default: $LOCUS_SERVER, else http://127.0.0.1:8080)")->envname("LOCUS_SERVER");
     cmd->add_option("--api-key", args->api_key, "API key (for --upload-survey)")->envname("LOCUS_API_KEY");
     cmd->add_option("--radiomap", args->radiomap, "radio map to localize against (a walk file)")->check(CLI::PositiveNumber);
     cmd->add_option("--map", args->map, "map to localize against, every floor (a GetSensorData/IPIN logfile)")->check(CLI::PositiveNumber);

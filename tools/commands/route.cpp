@@ -68,7 +68,7 @@ void run(const Args& a) {
 LOCUS_COMMAND("route", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("route", "Directions between two places of a map, through its floor plans");
     auto args = std::make_shared<Args>();
-    args->server.add_to(*cmd, false);
+    args->server.add_to(*cmd);
     cmd->add_option("--map", args->map, "map id")->required()->check(CLI::PositiveNumber);
     cmd->add_option("--from", args->from, "start: room:ID, poi:ID or FLOOR_ID:X,Y (metres)")->required();
     cmd->add_option("--to", args->to, "destination: room:ID, poi:ID or FLOOR_ID:X,Y (metres)")->required();

@@ -89,7 +89,7 @@ LOCUS_COMMAND("tune", [](CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "tune", "Let a radio map choose its own matcher settings by cross-validation over its RPs, and show the table");
     auto args = std::make_shared<Args>();
-    args->server.add_to(*cmd, false);
+    args->server.add_to(*cmd);
     cmd->add_option("--radiomap", args->radiomap, "radio map id")->required()->check(CLI::PositiveNumber);
     cmd->add_option("--folds", args->folds, "K of the K-fold CV (default: the server's, 10)")->check(CLI::Range(2, 50));
     cmd->add_flag("--json", args->as_json, "print the server's answer as JSON");
