@@ -265,6 +265,11 @@ def desktop_checks(driver, server):
     check(abs(drawn - api_route["length_m"]) < 1e-6 and abs(shown_length - api_route["length_m"]) < 1e-6,
           f"route drawn {drawn:.3f} m, API {api_route['length_m']:.3f} m")
     check(len(driver.find_elements(By.CSS_SELECTOR, "#map path.route-line")) == 1, "one route line on the map")
+    # The time as `locus route` prints it (tools/commands/route.cpp): seconds under 90 s, else minutes.
+    t = api_route["time_s"]
+    said = f"about {round(t)} s" if t < 90 else f"about {t / 60:.1f} min"
+    summary = driver.find_element(By.ID, "route-length").text
+    check(said in summary, f"the route's time as the CLI says it ({said}): {summary}")
     steps = [li.text for li in driver.find_elements(By.CSS_SELECTOR, "#route-steps li.step")]
     check(steps == [s["text"] for s in api_route["steps"]], f"instructions as the API's: {steps}")
     shot(driver, "viewer-route.png")

@@ -98,7 +98,9 @@ export class RoutePanel {
       return;
     }
     const r = this.route;
-    this.ui.summary.innerHTML = `<p id="route-length" data-length-m="${r.length_m}">${r.length_m.toFixed(1)} m, about ${Math.ceil(r.time_s / 60)} min`
+    // The time as `locus route` says it: seconds under a minute and a half, else minutes to a tenth.
+    const time = r.time_s < 90 ? `${Math.round(r.time_s)} s` : `${(r.time_s / 60).toFixed(1)} min`;
+    this.ui.summary.innerHTML = `<p id="route-length" data-length-m="${r.length_m}">${r.length_m.toFixed(1)} m, about ${time}`
       + `${r.legs.length > 1 ? `, ${r.legs.length} floors` : ''}</p>`;
     this.ui.steps.innerHTML = '';
     let leg = 0;
