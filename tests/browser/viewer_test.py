@@ -476,6 +476,8 @@ def key_checks(driver, server):
     driver.find_element(By.ID, "grid-fill").click()
     planned = driver.execute_script("return window.locusViewer.survey.points.length")
     driver.find_element(By.ID, "survey-create").click()
+    wait(driver, "return document.getElementById('live-status').textContent.includes('API key')",
+         "the live layer saying why it shows nothing")
     wait(driver, "return document.activeElement.id === 'api-key'", "the key asked for")
     check("API key" in driver.find_element(By.ID, "status").text and server.api(f"/v1/radiomaps/{rm}/rps?limit=1")["total"] == total,
           "without the key nothing is created and the key field takes the focus")
@@ -485,6 +487,9 @@ def key_checks(driver, server):
     wait(driver, "return document.getElementById('status').textContent.startsWith('Created')", "the RPs created with the key")
     check(server.api(f"/v1/radiomaps/{rm}/rps?limit=1")["total"] == total + planned, f"with the key, {planned} RPs created")
     check(driver.execute_script("return localStorage.getItem('locus.apiKey')") == "viewer-test-key", "the key kept in this browser")
+    # The live layer asked for positions, which need the key, before it was given, and said so;
+    # with the key saved it follows the floor again, and the note goes.
+    wait(driver, "return document.getElementById('live-status').textContent === ''", "the live note gone with the key")
     # The live layer asks for positions, which need the key, before it is given.
     errors = errors_in_log(driver, expected=["/rps - Failed to load resource: the server responded with a status of 401",
                                              "/positions/events?floor_id="])

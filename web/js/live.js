@@ -14,7 +14,8 @@ const TRAIL = 50;             // points of trail kept per device
 const RETRY_MS = 2000;        // after a dropped stream (server restart, network)
 
 // The viewer calls this on every floor change, and the returned stop function before the next.
-export function followFloor({ mapId, floorId, layer }) {
+// `note(text)` says why nothing is shown when the server refuses the stream ('' once it is open).
+export function followFloor({ mapId, floorId, layer, note = () => {} }) {
   const devices = new Map();  // track id → { trail, line, circle, dot, fix }
   const abort = new AbortController();
   let stopped = false;
@@ -74,9 +75,13 @@ export function followFloor({ mapId, floorId, layer }) {
         const res = await fetch(`/v1/maps/${mapId}/positions/events?floor_id=${floorId}`, { headers, signal: abort.signal });
         // No key (or a wrong one), a map gone: nothing to show, and asking again will not change it.
         if (!res.ok) {
-          await res.body?.cancel();
+          const said = await res.json().then((b) => b.error?.message ?? '', () => '');
+          note(res.status === 401 || res.status === 403
+            ? 'Live positions are the operator\'s: give the server\'s API key (below) to see them.'
+            : `No live positions: ${said || `HTTP ${res.status}`}`);
           return;
         }
+        note('');
         // The stream starts with every device's position: what was drawn before is stale.
         for (const id of [...devices.keys()]) remove(id);
         const reader = res.body.pipeThrough(new TextDecoderStream()).getReader();

@@ -22,6 +22,8 @@ L.control.scale({ imperial: false, metric: true, position: 'bottomright' }).addT
 const liveLayer = L.layerGroup().addTo(map);
 
 function status(text) { $('status').textContent = text; }
+// Why the live layer shows nothing (the positions stream refused), beside the status line.
+function liveNote(text) { $('live-status').textContent = text; }
 
 function fill(select, items, label) {
   select.innerHTML = '';
@@ -137,7 +139,7 @@ async function selectFloor(id) {
   survey.reset();
   survey.drawGrid();
   stopLive();
-  stopLive = followFloor({ mapId: state.mapId, floorId: floor.id, layer: liveLayer });
+  stopLive = followFloor({ mapId: state.mapId, floorId: floor.id, layer: liveLayer, note: liveNote });
   // When the floor became visible, for the first-paint measurement (scripts/viewer_first_paint.py).
   requestAnimationFrame(() => {
     window.locusViewer.lastFloorMs = performance.now() - started;
@@ -185,7 +187,7 @@ $('key-form').addEventListener('submit', (e) => {
   // Positions need the key on a keyed server: follow the floor again with it.
   if (state.floor) {
     stopLive();
-    stopLive = followFloor({ mapId: state.mapId, floorId: state.floor.id, layer: liveLayer });
+    stopLive = followFloor({ mapId: state.mapId, floorId: state.floor.id, layer: liveLayer, note: liveNote });
   }
 });
 $('panel-toggle').addEventListener('click', () => {
