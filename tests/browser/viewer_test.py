@@ -357,6 +357,31 @@ def desktop_checks(driver, server):
     check(not errors, f"no console errors {errors}")
 
 
+def link_checks(driver, server):
+    """The address names the map and floor shown: a link to the upper floor opens it, choosing
+    another floor changes the address, and a link pasted into the open page is followed."""
+    from selenium.webdriver.support.ui import Select
+    from selenium.webdriver.common.by import By
+
+    buildings = server.api("/v1/maps/1/buildings")["items"]
+    floors = sorted(server.api(f"/v1/buildings/{buildings[0]['id']}/floors")["items"], key=lambda f: f["level"])
+    ground = next(f for f in floors if f["level"] == 0)
+    upper = next(f for f in floors if f["id"] != ground["id"])
+    driver.get(f"{server.url}/#map=1&floor={upper['id']}")
+    wait_floor(driver, upper["id"])
+    check(True, "a link to the upper floor opened it")
+    Select(driver.find_element(By.ID, "floor-select")).select_by_value(str(ground["id"]))
+    wait_floor(driver, ground["id"])
+    wait(driver, f"return location.hash === '#map=1&floor={ground['id']}'", "the address naming the floor chosen")
+    driver.execute_script(f"location.hash = '#map=1&floor={upper['id']}'")
+    wait_floor(driver, upper["id"])
+    check(True, "a link pasted into the open page is followed")
+    driver.get("about:blank")  # a new load, not a hash change of the open page
+    driver.get(f"{server.url}/#map=999&floor=abc")
+    wait_floor(driver, ground["id"])
+    check(True, "a link naming no map of the server opens the first map's ground floor")
+
+
 def live_checks(driver, server):
     """A phone's track: its dot appears on the shown floor within a second of its fix, with the
     accuracy circle's radius, moves with its trail, and follows it to another floor."""
@@ -582,6 +607,7 @@ def main():
         driver = start_browser(1280, 800)
         desktop_checks(driver, server)
         live_checks(driver, server)
+        link_checks(driver, server)
         quality_checks(driver, server)
         create_checks(driver, server)
         driver.quit()

@@ -69,6 +69,13 @@ const survey = new SurveyPlanner(map, {
 
 map.on('click', (e) => { if (!route.takeClick(e.latlng)) survey.takeClick(e.latlng); });
 
+// The address names the map and floor shown (`#map=1&floor=2`), so a link opens that floor.
+function linked() {
+  const p = new URLSearchParams(location.hash.slice(1));
+  const num = (k) => (/^[1-9][0-9]*$/.test(p.get(k) || '') ? Number(p.get(k)) : null);
+  return { mapId: num('map'), floorId: num('floor') };
+}
+
 async function loadMaps() {
   state.maps = await listAll('/v1/maps');
   fill($('map-select'), state.maps, (m) => m.name);
@@ -76,10 +83,12 @@ async function loadMaps() {
     status('The server has no map yet.');
     return;
   }
-  await selectMap(state.maps[0].id);
+  const link = linked();
+  const known = state.maps.some((m) => m.id === link.mapId);
+  await selectMap(known ? link.mapId : state.maps[0].id, known ? link.floorId : null);
 }
 
-async function selectMap(id) {
+async function selectMap(id, floorId = null) {
   state.mapId = Number(id);
   $('map-select').value = String(id);
   state.buildings = await listAll(`/v1/maps/${id}/buildings`);
@@ -91,7 +100,10 @@ async function selectMap(id) {
     for (const f of floors) floorNames.set(f.id, `${state.buildings[i].name} / ${f.name}`);
   });
   route.clear();
-  if (state.buildings.length) await selectBuilding(state.buildings[0].id, undefined, perBuilding[0]);
+  // The linked floor's building, else the first.
+  const at = Math.max(0, perBuilding.findIndex((floors) => floors.some((f) => f.id === floorId)));
+  const linkedFloor = perBuilding[at]?.some((f) => f.id === floorId) ? floorId : undefined;
+  if (state.buildings.length) await selectBuilding(state.buildings[at].id, linkedFloor, perBuilding[at]);
   else fill($('floor-select'), [], () => '');
 }
 
@@ -123,6 +135,7 @@ async function selectFloor(id) {
     listAll(`/v1/floors/${id}/rooms`), listAll(`/v1/floors/${id}/pois`), planOf(id), imagePlacement(id), radiomapsP, exportP,
   ]);
   if (state.floor !== floor) return;  // another floor was chosen meanwhile
+  history.replaceState(null, '', `#map=${state.mapId}&floor=${floor.id}`);
   state.rooms = rooms;
   state.radiomaps = radiomaps;
   if (base) map.removeLayer(base);
@@ -215,5 +228,14 @@ installCreatePanel(viewer, {
 
 // A handle for tests and the first-paint script: the layers, read-only use.
 window.locusViewer = { map, radio, route, survey, quality, state, liveLayer, lastFloorMs: null };
+
+// A link pasted into this page's address bar: show what it names.
+window.addEventListener('hashchange', guard(async () => {
+  const link = linked();
+  if (link.floorId && link.floorId !== viewer.floorId()) {
+    if (link.mapId && link.mapId !== state.mapId && state.maps.some((m) => m.id === link.mapId)) await selectMap(link.mapId, link.floorId);
+    else await showFloorById(link.floorId);
+  }
+}));
 
 guard(loadMaps)();
