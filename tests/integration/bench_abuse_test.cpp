@@ -111,6 +111,24 @@ TEST(BenchAbuse, AFixFloodStoresOnlyTheClientsBudget) {
     }
 }
 
+// The steps-scans scenario: tracks posting 1,000-scan /steps batches get their client's
+// localize rate (--client-rate's burst, taken once, then paid for), nothing more; the phones are
+// never refused.
+TEST(BenchAbuse, AScanFloodOnStepsGetsTheClientsLocalizeRate) {
+    ServerProcess s({"--demo", "--api-key", "k3y", "--quiet"});
+    const auto r = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "steps-scans", "--server", s.url(), "--api-key", "k3y", "--map",
+                                "1", "--radiomap", "1", "--phones", "2", "--seconds", "3", "--phone-interval", "0.5", "--scan-tracks", "2"});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    const json out = json::parse(r.out);
+    EXPECT_EQ(out.at("scenario"), "steps-scans");
+    EXPECT_EQ(out.at("phones").at("fixes").at("refused"), 0) << out.dump();
+    const json& hostile = out.at("hostile").at("answers");
+    EXPECT_EQ(count(hostile, "200"), 1) << out.dump();  // the first batch, on a full bucket
+    EXPECT_GT(count(hostile, "429"), 0) << out.dump();
+    for (const auto& [status, n] : hostile.items()) EXPECT_NE(status[0], '5') << n << " × " << status;
+    EXPECT_EQ(out.at("scans_localized"), 1000) << out.dump();
+}
+
 // The bodies scenarios: 8 MiB bodies on several connections of one client, posted back to
 // back or held all but their last bytes; one client's bodies are admitted one at a time (429
 // too_many_bodies for the others), the phones are never refused, the memory stays bounded.

@@ -209,12 +209,10 @@ TEST(ServerPositionsStream, AReaderThatHungUpGivesItsSlotBackAtOnce) {
     ASSERT_TRUE(stream(reader)) << reader->pending();
     EXPECT_FALSE(stream(retry)) << "the server's one stream is taken: " << retry->pending();
     EXPECT_TRUE(retry->pending().starts_with("HTTP/1.1 503")) << retry->pending();
-    const auto hung_up = std::chrono::steady_clock::now();
     reader.reset();
-    bool again = false;
-    while (!again && std::chrono::steady_clock::now() - hung_up < std::chrono::seconds(5)) again = stream(retry);
-    EXPECT_TRUE(again);
-    EXPECT_LT(std::chrono::steady_clock::now() - hung_up, std::chrono::seconds(3));
+    const auto reopened = locus::testing::seconds_until([&] { return stream(retry); }, std::chrono::seconds(5));
+    ASSERT_TRUE(reopened.has_value()) << "the slot never came back";
+    EXPECT_LT(*reopened, 3.0);
 }
 
 }  // namespace

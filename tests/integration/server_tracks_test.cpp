@@ -334,12 +334,10 @@ TEST(ServerTracks, AStreamWhoseReaderHungUpGivesItsSlotBackAtOnce) {
     ASSERT_TRUE(stream(reader)) << reader->pending();
     EXPECT_FALSE(stream(retry)) << "the track's one slot is taken: " << retry->pending();
     EXPECT_NE(retry->pending().find(" 429 "), std::string::npos) << retry->pending();
-    const auto hung_up = std::chrono::steady_clock::now();
     reader.reset();
-    bool again = false;
-    while (!again && std::chrono::steady_clock::now() - hung_up < std::chrono::seconds(5)) again = stream(retry);
-    EXPECT_TRUE(again);
-    EXPECT_LT(std::chrono::steady_clock::now() - hung_up, std::chrono::seconds(3));
+    const auto reopened = locus::testing::seconds_until([&] { return stream(retry); }, std::chrono::seconds(5));
+    ASSERT_TRUE(reopened.has_value()) << "the slot never came back";
+    EXPECT_LT(*reopened, 3.0);
 }
 
 // An anonymous loop of open and close (or delete) had no bound, so every track held is capped

@@ -127,4 +127,11 @@ std::string raw_chunked_post(const std::string& path, const std::string& body, s
     return out + "0\r\n\r\n";
 }
 
+std::optional<double> seconds_until(const std::function<bool()>& attempt, std::chrono::milliseconds limit) {
+    const auto start = std::chrono::steady_clock::now();
+    while (std::chrono::steady_clock::now() - start < limit)
+        if (attempt()) return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return std::nullopt;
+}
+
 }  // namespace locus::testing

@@ -4,6 +4,7 @@
 // answers back one by one, so what the server does with each byte can be checked.
 #include <chrono>
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -52,5 +53,9 @@ std::string raw_post(const std::string& path, const std::string& body, const std
 // A POST with a chunked body, cut into chunks of `chunk_size` bytes.
 std::string raw_chunked_post(const std::string& path, const std::string& body, std::size_t chunk_size,
                              const std::string& extra_headers = {});
+
+// Seconds until `attempt` (say, a new connection asking for a stream: true once admitted)
+// first succeeds, trying again at once for up to `limit`; nullopt when it never does.
+std::optional<double> seconds_until(const std::function<bool()>& attempt, std::chrono::milliseconds limit);
 
 }  // namespace locus::testing

@@ -410,19 +410,24 @@ std::uintmax_t database_bytes(const std::string& path) {
     return total;
 }
 
+// Up to n tracks on --map opened by the hostile client (its opens are rate-limited too); at
+// least one, or the run has nothing to flood.
+std::vector<OpenedTrack> hostile_tracks(const Args& a, const Target& target, int n) {
+    const std::string open_request = http_request("POST", "/v1/tracks", target.host_port, json{{"map_id", a.map}}.dump());
+    std::vector<OpenedTrack> tracks;
+    BenchConnection c(target.host, target.port, a.hostile_address);
+    for (int k = 0; k < n; ++k)
+        if (auto t = open_track(c, open_request)) tracks.push_back(*t);
+    if (tracks.empty()) throw CommandError("the hostile client could not open a track");
+    return tracks;
+}
+
 void run_fixes(const Args& a) {
     if (a.radiomap <= 0) throw CommandError("--radiomap is required with --scenario fixes: the phones localize against it");
     const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
     api::Client setup(a.server.client_options());
     const std::int64_t floor_id = setup.radiomap(a.radiomap).floor_id;
-    const std::string open_request = http_request("POST", "/v1/tracks", target.host_port, json{{"map_id", a.map}}.dump());
-    std::vector<OpenedTrack> tracks;
-    {
-        BenchConnection c(target.host, target.port, a.hostile_address);
-        for (int k = 0; k < 2; ++k)
-            if (auto t = open_track(c, open_request)) tracks.push_back(*t);
-    }
-    if (tracks.empty()) throw CommandError("the hostile client could not open a track");
+    const std::vector<OpenedTrack> tracks = hostile_tracks(a, target, 2);
     const std::uintmax_t db_before = a.db.empty() ? 0 : database_bytes(a.db);
     const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
     const auto t0 = Clock::now();
@@ -660,14 +665,7 @@ void run_steps_scans(const Args& a) {
     std::vector<json> readings;  // one scan's readings per localize body
     for (const auto& b : localize_bodies(a.server, a.radiomap, "", "wknn")) readings.push_back(json::parse(b).at("scans").at(0));
     if (readings.empty()) throw CommandError("radio map " + std::to_string(a.radiomap) + " has no RP to make scans of");
-    const std::string open_request = http_request("POST", "/v1/tracks", target.host_port, json{{"map_id", a.map}}.dump());
-    std::vector<OpenedTrack> tracks;
-    {
-        BenchConnection c(target.host, target.port, a.hostile_address);
-        for (int k = 0; k < a.scan_tracks; ++k)
-            if (auto t = open_track(c, open_request)) tracks.push_back(*t);
-    }
-    if (tracks.empty()) throw CommandError("the hostile client could not open a track");
+    const std::vector<OpenedTrack> tracks = hostile_tracks(a, target, a.scan_tracks);
     const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
     const double cpu_before = a.server_pid ? proc_cpu_seconds(a.server_pid) : -1.0;
     const auto t0 = Clock::now();

@@ -49,11 +49,17 @@ void create(const Args& a, const std::string& path, json body) {
     std::cout << client.post(path, body).dump() << "\n";
 }
 
-CLI::App* subcommand(CLI::App& app, const char* group, const char* what, std::shared_ptr<Args>& args) {
+// `locus GROUP NAME`, with the server's options, its Args in `args`.
+CLI::App* command(CLI::App& app, const char* group, const char* name, const char* what, std::shared_ptr<Args>& args) {
     auto& g = locus::tools::group(app, group, std::string("Create and list ") + group + "s");
-    auto* cmd = g.add_subcommand("create", what);
+    auto* cmd = g.add_subcommand(name, what);
     args = std::make_shared<Args>();
     args->server.add_to(*cmd);
+    return cmd;
+}
+
+CLI::App* subcommand(CLI::App& app, const char* group, const char* what, std::shared_ptr<Args>& args) {
+    auto* cmd = command(app, group, "create", what, args);
     cmd->add_option("--name", args->name, "its name (unique among its siblings)");
     return cmd;
 }
@@ -91,10 +97,7 @@ void list(const Args& a, const std::string& path, const std::vector<std::string>
 }
 
 CLI::App* list_subcommand(CLI::App& app, const char* group, const char* what, std::shared_ptr<Args>& args) {
-    auto& g = locus::tools::group(app, group, std::string("Create and list ") + group + "s");
-    auto* cmd = g.add_subcommand("list", what);
-    args = std::make_shared<Args>();
-    args->server.add_to(*cmd);
+    auto* cmd = command(app, group, "list", what, args);
     cmd->add_flag("--json", args->json_out, "the server's objects as one JSON array instead of a table");
     return cmd;
 }
