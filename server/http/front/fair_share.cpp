@@ -86,16 +86,17 @@ bool FairShare::local(const httplib::Request& req) const {
     return client && is_loopback(*client);
 }
 
+ClientBuckets::Verdict FairShare::take(ClientBuckets& bucket, const std::string& who, double cost) {
+    std::lock_guard lock(mu_);
+    return bucket.take(who, now(), cost);
+}
+
 bool FairShare::refuse(const httplib::Request& req, httplib::Response& res) {
     const Limited what = limited(req);
     if (what == Limited::none) return false;
     const auto who = client(req);
     if (!who) return false;
-    ClientBuckets::Verdict v;
-    {
-        std::lock_guard lock(mu_);
-        v = (what == Limited::track_open ? opens_ : routes_).take(*who, now());
-    }
+    const ClientBuckets::Verdict v = take(what == Limited::track_open ? opens_ : routes_, *who, 1);
     if (v.allowed) return false;
     // Whole seconds, rounded up: a retry at Retry-After finds a token.
     const long long retry = retry_seconds(v.wait_s);
@@ -113,11 +114,7 @@ bool FairShare::refuse(const httplib::Request& req, httplib::Response& res) {
 void FairShare::charge_track_bytes(const httplib::Request& req) {
     const auto who = client(req);
     if (!who) return;
-    ClientBuckets::Verdict bytes;
-    {
-        std::lock_guard lock(mu_);
-        bytes = track_writes_.take(*who, now(), static_cast<double>(req.body.size()));
-    }
+    const ClientBuckets::Verdict bytes = take(track_writes_, *who, static_cast<double>(req.body.size()));
     if (!bytes.allowed)
         throw ApiError(429, "rate_limited",
                        "this client posted fixes and steps faster than --client-track-bytes (" + number_text(options_.track_write_rate) +
@@ -130,11 +127,7 @@ void FairShare::charge_localizations(const httplib::Request& req, std::size_t lo
     if (localizations == 0) return;
     const auto who = client(req);
     if (!who) return;
-    ClientBuckets::Verdict scans;
-    {
-        std::lock_guard lock(mu_);
-        scans = routes_.take(*who, now(), static_cast<double>(localizations));
-    }
+    const ClientBuckets::Verdict scans = take(routes_, *who, static_cast<double>(localizations));
     if (!scans.allowed)
         throw ApiError(429, "rate_limited",
                        "this client's scans to localize (" + std::to_string(localizations) + " in this request) come faster than --client-rate (" +

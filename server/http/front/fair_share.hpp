@@ -82,6 +82,8 @@ private:
     bool exempt(const httplib::Request& req) const;
     std::vector<std::string> forwarded(const httplib::Request& req) const;  // X-Forwarded-For values, when a proxy is trusted
     double now() const;  // seconds since the tables began, the buckets' clock
+    // `cost` of `who`'s tokens from one of the tables, now, under the tables' mutex.
+    ClientBuckets::Verdict take(ClientBuckets& bucket, const std::string& who, double cost);
 
     FairShareOptions options_;
     std::string api_key_;

@@ -11,9 +11,10 @@
 // moves as in ParticleFilter. A share of the particles is re-drawn around every fix with
 // fresh φ, s and c, so a cloud that settled on a wrong hypothesis can always recover.
 //
-// Cost, n particles (fewer once the cloud has settled: min_particles): a step is O(n) and, on a floor plan, independent of how many walls it
-// has (PlanWalkable::can_move: cell lookups, segment tests only against the walls in the cells
-// a move passes); a fix O(n) (the likelihoods, systematic resampling, the fresh particles);
+// Cost, n particles (fewer once the cloud has settled: min_particles): a step is O(n) and, on
+// a floor plan, independent of how many walls it has (PlanWalkable::can_move: cell lookups,
+// segment tests only against the walls in the cells a move passes); a fix O(n) (the
+// likelihoods, systematic resampling, the bins KLD-resampling counts, the fresh particles);
 // the estimate (position(), spread()) is worked out once per step or fix, O(n) per mean-shift
 // iteration, and only read after. The particles are stored as arrays of floats (21 bytes
 // each: memory_bytes()), and the random numbers come from FastRandom, seeded with
