@@ -215,6 +215,8 @@ public:
     }
 
     int refused() const { return opens_refused_ + fixes_refused_ + localize_errors_; }
+    // The localize bodies the phones send (each RP of --radiomap queried with its own means).
+    const std::vector<std::string>& bodies() const { return bodies_; }
     json to_json() const {
         std::vector<double> all;
         for (const auto& v : localize_ms_) all.insert(all.end(), v.begin(), v.end());
@@ -662,8 +664,10 @@ void run_steps_scans(const Args& a) {
     const Target target = loopback_target(a.server.client_options().base_url, "bench abuse");
     api::Client setup(a.server.client_options());
     const std::int64_t floor_id = setup.radiomap(a.radiomap).floor_id;
+    // The phones' bodies, read before the clock starts, are the flood's scans too.
+    LocalizingPhones phones(a, target, floor_id);
     std::vector<json> readings;  // one scan's readings per localize body
-    for (const auto& b : localize_bodies(a.server, a.radiomap, "", "wknn")) readings.push_back(json::parse(b).at("scans").at(0));
+    for (const auto& b : phones.bodies()) readings.push_back(json::parse(b).at("scans").at(0));
     if (readings.empty()) throw CommandError("radio map " + std::to_string(a.radiomap) + " has no RP to make scans of");
     const std::vector<OpenedTrack> tracks = hostile_tracks(a, target, a.scan_tracks);
     const long long idle_rss_kb = a.server_pid ? proc_status_kb(a.server_pid, "VmRSS:") : -1;
@@ -699,7 +703,6 @@ void run_steps_scans(const Args& a) {
                 request.clear();
             }
         });
-    LocalizingPhones phones(a, target, floor_id);
     phones.run(running);
     for (auto& t : hostile) t.join();
     const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
