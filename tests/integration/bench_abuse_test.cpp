@@ -176,6 +176,14 @@ TEST(BenchAbuse, AScenarioItCannotRunIsNamed) {
     const auto no_radiomap = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--server", s.url(), "--api-key", "k3y", "--map", "1"});
     EXPECT_NE(no_radiomap.status, 0);
     EXPECT_NE(no_radiomap.err.find("--radiomap"), std::string::npos) << no_radiomap.err;
+    // steps-scans makes its scans of a radio map's RPs: it needs one, and a --scan-tracks in range.
+    const auto no_scans = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "steps-scans", "--server", s.url(), "--map", "1"});
+    EXPECT_NE(no_scans.status, 0);
+    EXPECT_NE(no_scans.err.find("--radiomap is required with --scenario steps-scans"), std::string::npos) << no_scans.err;
+    const auto too_many = run_command({LOCUS_CLI_BIN, "bench", "abuse", "--scenario", "steps-scans", "--server", s.url(), "--map", "1",
+                                       "--radiomap", "1", "--scan-tracks", "17"});
+    EXPECT_NE(too_many.status, 0);
+    EXPECT_NE(too_many.err.find("--scan-tracks"), std::string::npos) << too_many.err;
     // A map with no floor plan to route on.
     s.set_api_key("k3y");
     const auto empty = s.post("/v1/maps", {{"name", "Empty"}});
