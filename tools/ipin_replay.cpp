@@ -34,8 +34,8 @@ const std::pair<const long long, MapFloors::Floor>* floor_of_level(const MapFloo
     return nullptr;
 }
 
-// The log as a thin client posts it: at each WiFi scan, the steps, pressure samples and GNSS
-// fixes since the last request, then the scan (its answer is the radio fix the server's filter
+// The log as a thin client posts it: at each WiFi scan, the steps, pressure samples, GNSS
+// fixes and BLE readings (as BLE scans) since the last request, then the scan (its answer is the radio fix the server's filter
 // needs to start); a last request with what follows the last scan. The walk's clock is moved
 // onto Unix time so that the walk ends now (the server refuses fixes from the future and older
 // than it keeps). A scan no RP hears (422 no_match) is posted again without it, steps before
@@ -48,6 +48,7 @@ std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFl
     if (!lw.steps.empty()) last_t = std::max(last_t, lw.steps.back().t_s);
     if (!lw.pressure.empty()) last_t = std::max(last_t, lw.pressure.back().t_s);
     if (!lw.gnss.empty()) last_t = std::max(last_t, lw.gnss.back().t);
+    if (!lw.ble.empty()) last_t = std::max(last_t, lw.ble.back().t);
     const double base = std::floor(now - last_t - 1.0);
     // The track is opened as a phone opens it (the server's defaults), or with the options given.
     json body = {{"map_id", o.map}, {"label", "replay " + lw.label + " (thin)"}};
@@ -106,7 +107,7 @@ std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFl
             post({{"fixes", json::array({{{"t", base + s.t}, {"floor_id", f->first}, {"x", at.x}, {"y", at.y}, {"accuracy_m", 0.5}}})}});
         }
     }
-    std::size_t step = 0, pressure = 0, gnss = 0;
+    std::size_t step = 0, pressure = 0, gnss = 0, ble = 0;
     auto until = [&](double t_end, std::optional<std::size_t> scan) {
         json batch = json::object();
         json steps = json::array(), pres = json::array(), fixes = json::array();
@@ -127,10 +128,29 @@ std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFl
         if (!steps.empty()) batch["steps"] = std::move(steps);
         if (!pres.empty()) batch["pressure"] = std::move(pres);
         if (!fixes.empty()) batch["gnss"] = std::move(fixes);
+        // The WiFi scan, and the BLE readings since the last request as the phone's BLE scans
+        // (one per instant of the log), in time order, the WiFi scan first at equal t.
+        std::vector<std::pair<double, json>> scans;
         if (scan) {
             json readings = json::array();
             for (const auto& m : lw.walk.scans[*scan]) readings.push_back({{"type", m.type}, {"bssid", m.bssid.str()}, {"rss", m.rss}});
-            batch["scans"] = json::array({{{"t", base + lw.walk.scan_times[*scan]}, {"readings", readings}}});
+            scans.emplace_back(lw.walk.scan_times[*scan], json{{"t", base + lw.walk.scan_times[*scan]}, {"readings", readings}});
+        }
+        std::optional<std::size_t> ble_scan;  // the BLE scan of the instant being read
+        for (; ble < lw.ble.size() && lw.ble[ble].t <= t_end; ++ble) {
+            if (!o.ble) continue;
+            const json reading = {{"type", "ble"}, {"bssid", lw.ble[ble].mac.str()}, {"rss", lw.ble[ble].rss_dbm}};
+            if (ble_scan && scans[*ble_scan].first == lw.ble[ble].t) {
+                scans[*ble_scan].second["readings"].push_back(reading);
+                continue;
+            }
+            ble_scan = scans.size();
+            scans.emplace_back(lw.ble[ble].t, json{{"t", base + lw.ble[ble].t}, {"readings", json::array({reading})}});
+        }
+        std::stable_sort(scans.begin(), scans.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        if (!scans.empty()) {
+            batch["scans"] = json::array();
+            for (auto& [t, j] : scans) batch["scans"].push_back(std::move(j));
         }
         if (!batch.empty()) post(std::move(batch));
     };

@@ -67,14 +67,12 @@ std::vector<BleReading> log_ble(const datasets::ipin::Log& log) {
 std::vector<BeaconFix> beacon_fixes(std::span<const BleReading> readings, std::span<const Beacon> beacons,
                                     const TrackerConfig& config) {
     std::vector<BeaconFix> out;
-    std::vector<std::optional<double>> last(beacons.size());
+    fusion::BeaconGate gate(config.ble_min_interval_s);
     for (const auto& r : readings) {
         if (!(r.rss_dbm >= config.ble_min_rss_dbm)) continue;
-        for (std::size_t b = 0; b < beacons.size(); ++b) {
-            if (beacons[b].mac != r.mac) continue;
-            if (last[b] && r.t - *last[b] < config.ble_min_interval_s) break;
-            last[b] = r.t;
-            out.push_back({r.t, beacons[b].floor, beacons[b].at});
+        for (const auto& b : beacons) {
+            if (b.mac != r.mac) continue;
+            if (gate.take(b.mac.str(), r.t)) out.push_back({r.t, b.floor, b.at});
             break;
         }
     }

@@ -32,6 +32,7 @@
 #include "ipin_eval.hpp"
 #include "phone_steps.hpp"
 #include "locus/motion/fusion/baro_floor.hpp"
+#include "locus/motion/fusion/beacon.hpp"
 #include "locus/motion/fusion/gnss.hpp"
 #include "locus/motion/fusion/kalman.hpp"
 #include "locus/motion/fusion/walk_filter.hpp"
@@ -74,15 +75,10 @@ struct TrackerConfig {
     double gnss_min_sigma_m = fusion::kGnssMinSigmaM;
     double gnss_gate = fusion::kGnssGateChi2;
     double gnss_min_interval_s = fusion::kGnssMinIntervalS;
-    // BLE: on these walks a reading at -65 dBm or more was heard within 6 m of its beacon at
-    // p75 (median 3 m) and from another floor twice in ~300; at -65 to -70 dBm the p75 is 9 m
-    // and weaker readings say little (median 12-24 m) (docs/results.md, "BLE beacons": the
-    // threshold and σ chosen there on the folds). One reading per beacon per
-    // ble_min_interval_s counts: a walker passing a beacon hears it for seconds, and those
-    // readings are one look.
-    double ble_min_rss_dbm = -65.0;
-    double ble_sigma_m = 6.0;
-    double ble_min_interval_s = 2.0;
+    // BLE: the settings the server's live tracks share (locus/motion/fusion/beacon.hpp).
+    double ble_min_rss_dbm = fusion::kBeaconMinRssDbm;
+    double ble_sigma_m = fusion::kBeaconSigmaM;
+    double ble_min_interval_s = fusion::kBeaconMinIntervalS;
     // Answers the rotation (and the step scale) must have been fitted on before the trackers lean on them.
     int alignment_pairs = 3;
     // The compass's rotation to the venue's frame when it is known: a rotation-vector azimuth is

@@ -32,9 +32,10 @@
 // none takes no GNSS), as a position measurement of σ its accuracy, at least
 // fusion::kGnssMinSigmaM, one per fusion::kGnssMinIntervalS at most, gated for the Kalman
 // methods (the settings `locus eval ipin`'s trackers run, locus/motion/fusion/gnss.hpp). It never
-// starts the filter. A walk_pf track also learns its phone's RSS offset (match::DeviceOffset),
-// held here with the filter so that it is taught once per scan, in time order, and starts afresh
-// where the filter does (a resume at a stored fix).
+// starts the filter. A walk_pf track also learns its phone's RSS offset (match::DeviceOffset)
+// and counts each of the map's beacons once per interval (docs/tracks.md, "Beacons"), held here
+// with the filter (tracks/scan_memory.hpp) so that each scan teaches once, in time order, and
+// starts afresh where the filter does (a resume at a stored fix).
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -61,6 +62,7 @@
 #include "tracks/fix.hpp"
 #include "tracks/fusion_method.hpp"
 #include "tracks/fusion_options.hpp"
+#include "tracks/scan_memory.hpp"
 
 namespace locus::tracks {
 
@@ -149,12 +151,12 @@ public:
     void set_anchors(std::shared_ptr<const FloorAnchors> anchors) { anchors_ = std::move(anchors); }
     // The latest t this filter has run (nullopt before its first input).
     std::optional<double> done_t() const { return done_t_; }
-    // walk_pf: the phone's RSS offset learnt from the track's scans so far, which the caller adds
-    // to each new scan before localizing it and then teaches with the answer (only a scan after
-    // done_t(): a retried one taught it already). Copied with the filter, so a refused request
-    // teaches nothing.
-    match::DeviceOffset& rss_offset() { return rss_offset_; }
-    const match::DeviceOffset& rss_offset() const { return rss_offset_; }
+    // walk_pf: what the track's scans so far taught (tracks/scan_memory.hpp): the phone's RSS
+    // offset, which the caller adds to each new scan before localizing it and then teaches with
+    // the answer, and when each beacon last counted (only a scan after done_t() teaches: a
+    // retried one taught it already). Copied with the filter, so a refused request teaches nothing.
+    ScanMemory& scan_memory() { return scan_memory_; }
+    const ScanMemory& scan_memory() const { return scan_memory_; }
     // Bytes this track's filter holds (not the floor's plan, which the floor's tracks share).
     std::size_t memory_bytes() const;
     // Starts the filter at a fix the track already stored (its latest), as if it were a radio
@@ -211,7 +213,7 @@ private:
     std::int64_t baro_asked_floor_ = 0;         // the floor levels_of was last asked for (0: never)
     std::optional<double> pressure_done_t_;   // the latest pressure sample run so far
     std::optional<double> gnss_t_;             // the latest GNSS fix the interval let through
-    match::DeviceOffset rss_offset_;
+    ScanMemory scan_memory_;
 };
 
 // walk_pf's configuration: WalkFilterConfig::real_walks(), known_rotation() of it when

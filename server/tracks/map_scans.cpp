@@ -66,6 +66,14 @@ MatchedScan MapScans::match(std::int64_t map_id, const TimedScan& scan, std::opt
     return out;
 }
 
+std::optional<PlacedBeacon> MapScans::beacon(std::int64_t map_id, const Reading& reading) {
+    if (reading.type != "ble") return std::nullopt;
+    const transmitters::KnownTransmitters& k = known(map_id);
+    const auto it = k.by_key.find(transmitters::transmitter_key(reading.type, reading.bssid.str()));
+    if (it == k.by_key.end()) return std::nullopt;
+    return PlacedBeacon{it->second.floor_id, it->second.tx.at};
+}
+
 RangedScan MapScans::range(std::int64_t map_id, const TimedScan& scan, bool multilateration, bool with_readings) {
     const transmitters::KnownTransmitters& k = known(map_id);  // read once for the batch
     transmitters::RangingRequest request;

@@ -38,6 +38,8 @@ public:
     // shares an AP with it (naming the scan). With an offset, the fingerprint costs a walk over
     // the postings of the scan's APs.
     MatchedScan match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db) override;
+    // Through the map's known transmitters (read once for the batch).
+    std::optional<PlacedBeacon> beacon(std::int64_t map_id, const Reading& reading) override;
     std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return sources_.geo.of_floor(floor_id); }
     // A ranging refusal (too_few_transmitters, no_fix) is answered, not thrown, its message
     // naming the scan; a scan with no reading throws CannotFuse invalid_field.

@@ -4,7 +4,9 @@
 #include <string>
 #include <tuple>
 
+#include "locus/motion/fusion/beacon.hpp"
 #include "tracks/radio_fix.hpp"
+#include "tracks/scan_memory.hpp"
 
 namespace locus::tracks {
 
@@ -35,7 +37,9 @@ RadioFix ranged_scan_fix(ScanLocalizer& localizer, std::int64_t map_id, FusionMe
 
 // walk_pf's scans, localized during the filter's run (Service::post_raw): each shifted by the
 // phone's offset learnt from the scans before it, in time order, then teaching it with the
-// fingerprint it was placed at, as `locus eval ipin` does (tools/commands/eval_ipin.cpp).
+// fingerprint it was placed at, as `locus eval ipin` does (tools/commands/eval_ipin.cpp); and
+// its strong readings of the map's beacons, fixes at them (after the scan's own fix at equal t,
+// as the evaluation orders them).
 class RunScans : public RunSources {
 public:
     RunScans(Service& svc, std::int64_t id, std::int64_t map_id, const std::vector<TimedScan>* scans, ScanLocalizer& localizer)
@@ -43,22 +47,38 @@ public:
 
     std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return localizer_.georeference(floor_id); }
 
-    std::vector<Fix> scans(match::DeviceOffset& offset, std::optional<double> done_t) override {
+    std::vector<Fix> scans(ScanMemory& memory, std::optional<double> done_t) override {
         std::vector<Fix> out;
+        scan_fixes.clear();
         if (!scans_) return out;
         for (const TimedScan& scan : *scans_) {
-            const MatchedScan m = localizer_.match(map_id_, scan, offset.offset_db());
-            if (!done_t || scan.t > *done_t) offset.add(scan.readings, m.placed_at);
-            out.push_back(matched_fix(scan.t, m.floor_id, m.at, m.spread));
+            const bool teaches = !done_t || scan.t > *done_t;
+            std::vector<Fix> near;
+            bool ble_only = true;
+            for (const Reading& r : scan.readings) {
+                ble_only = ble_only && r.type == "ble";
+                const auto b = localizer_.beacon(map_id_, r);
+                if (b && r.rss >= fusion::kBeaconMinRssDbm && teaches && memory.beacons.take(r.bssid.str(), scan.t))
+                    near.push_back({scan.t, b->floor_id, b->at.x, b->at.y, fusion::kBeaconSigmaM, std::nullopt});
+            }
+            try {
+                const MatchedScan m = localizer_.match(map_id_, scan, memory.offset.offset_db());
+                if (teaches) memory.offset.add(scan.readings, m.placed_at);
+                out.push_back(matched_fix(scan.t, m.floor_id, m.at, m.spread));
+                scan_fixes.push_back(out.back());
+            } catch (const CannotFuse& e) {
+                // A BLE scan is a proximity scan first: the radio map need not hold its beacons.
+                if (!(ble_only && e.code == "no_match")) throw;
+            }
+            out.insert(out.end(), near.begin(), near.end());
         }
         if (const auto floor = svc_.misplaced_floor(id_, out))
             throw ForeignFloor("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id_) + "'s map");
-        scan_fixes = out;
-        offset_db = offset.offset_db();
+        offset_db = memory.offset.offset_db();
         return out;
     }
 
-    std::vector<Fix> scan_fixes;
+    std::vector<Fix> scan_fixes;  // the matched ones, not the beacons'
     std::optional<double> offset_db;
 
 private:

@@ -6,7 +6,10 @@
 // transmitters are also ekf_ranging's measurements. On a walk_pf track each scan is shifted by
 // the phone's RSS offset its filter has learnt from the track's earlier scans before it is
 // matched, and then teaches the offset with the match (match::DeviceOffset, as `locus eval
-// ipin`'s trackers do): phones of different makes read the same AP several dB apart. GNSS fixes
+// ipin`'s trackers do): phones of different makes read the same AP several dB apart. Its scans'
+// strong readings of the map's BLE beacons (transmitters of type ble with a position) are also
+// fixes at the beacon (locus/motion/fusion/beacon.hpp, as `locus eval ipin`'s trackers take
+// them); a scan of BLE readings alone that no RP shares an AP with is then no error. GNSS fixes
 // are converted on the track's floor through its georeference, during the run. The localizers
 // and georeferences are behind ScanLocalizer: the server's are map_scans.hpp's (the localize
 // endpoint's matcher and ranging, the floors' georeference cache).
@@ -47,6 +50,12 @@ struct RangedScan {
     std::pair<std::string, std::string> refused;               // when no fix
 };
 
+// A BLE transmitter of the map with a position: its floor and where it stands.
+struct PlacedBeacon {
+    std::int64_t floor_id = 0;
+    Point at;
+};
+
 // How the track's map localizes a scan. One object serves one batch: it may read the map's
 // transmitters or radio-map snapshot once and keep them for the batch's other scans. Each
 // may throw CannotFuse for a scan it cannot localize (no reading, no match), which passes
@@ -59,6 +68,8 @@ public:
     // With an offset (dB), each reading is read that much stronger, and the answer carries the
     // fingerprint the scan was placed at; without, the scan is matched as read.
     virtual MatchedScan match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db) = 0;
+    // The map's beacon a reading is of (nullopt: not a BLE reading, or of no placed transmitter).
+    virtual std::optional<PlacedBeacon> beacon(std::int64_t map_id, const Reading& reading) = 0;
     // A floor's georeference (null: none), for GNSS.
     virtual std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) = 0;
     // By multilateration, else by the Kalman-fusion paper's trilateration.

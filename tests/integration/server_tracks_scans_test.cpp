@@ -1,5 +1,8 @@
-// The phone's RSS offset learnt online on a walk_pf track (docs/tracks.md, "GNSS and the phone's
-// offset"), against the real server: a radio map surveyed with one phone, a track whose phone
+// A walk_pf track's scans against the real server: the phone's RSS offset learnt online
+// (docs/tracks.md, "GNSS and the phone's offset") and the map's BLE beacons as fixes
+// (docs/tracks.md, "Beacons").
+//
+// The offset: a radio map surveyed with one phone, a track whose phone
 // reads every AP 8 dB weaker. The track learns the offset from its own scans (`rss_offset_db`
 // in the /steps answer approaches +8 dB as the estimator's prior lets it), a phone that reads as
 // the survey's learns about 0, a retried or refused batch teaches nothing, and a track of another
@@ -17,7 +20,7 @@
 #include "track_call.hpp"
 #include "unix_time.hpp"
 
-namespace server_tracks_offset_test {
+namespace server_tracks_scans_test {
 namespace {
 
 using locus::testing::Response;
@@ -174,5 +177,68 @@ TEST(ServerTracksOffset, AKalmanTrackHasNoOffset) {
     EXPECT_FALSE(got.contains("rss_offset_db")) << got.dump();
 }
 
+// The map's beacon: a BLE transmitter placed at the floor's far corner.
+constexpr const char* kBeacon = "0b:00:00:00:00:01";
+constexpr double kBeaconX = 28.0, kBeaconY = 18.0;
+
+void place_beacon(const ServerProcess& s, std::int64_t floor) {
+    const json body = {{"type", "ble"}, {"bssid", kBeacon}, {"x", kBeaconX}, {"y", kBeaconY}, {"tx_power", -59}};
+    ASSERT_EQ(s.post("/v1/floors/" + std::to_string(floor) + "/transmitters", body).status, 201);
+}
+
+json ble_scan(double t, const char* bssid, double rss) {
+    return {{"t", t}, {"readings", {{{"type", "ble"}, {"bssid", bssid}, {"rss", rss}}}}};
+}
+
+// A track started by a WiFi scan at (5, 5), read as the survey's phone reads.
+Track started_track(const ServerProcess& s, const locus::testing::Hierarchy& h, double t0) {
+    const Track t = open_track(s, {{"map_id", h.map}});
+    const json start = {{"scans", {{{"t", t0}, {"readings", readings_at(5.0, 5.0, 0.0, 0)}}}}};
+    const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, start.dump()));
+    EXPECT_EQ(got["fused"].size(), 1u) << got.dump();
+    return t;
+}
+
+TEST(ServerTracksBeacons, AStrongReadingOfTheMapsBeaconIsAFixAtIt) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    survey(s, h);
+    place_beacon(s, h.floor);
+    const double t0 = std::floor(unix_now()) - 100;
+    const Track t = started_track(s, h, t0);
+    // Heard at -60 dBm: a fix at the beacon (σ 6 m), so the estimate moves towards it, on its
+    // floor; the BLE scan needs no RP that hears the beacon (the radio map holds none).
+    const json near = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {ble_scan(t0 + 1, kBeacon, -60)}}}.dump()));
+    ASSERT_EQ(near["fused"].size(), 1u) << near.dump();
+    const json& f = near["fused"][0];
+    EXPECT_EQ(f["floor_id"], h.floor);
+    EXPECT_GT(f["x"].get<double>(), 8.0) << f.dump();  // from (5, 5) towards (28, 18)
+    EXPECT_GT(f["y"].get<double>(), 6.0) << f.dump();
+    EXPECT_EQ(near["scan_fixes"].size(), 0u);  // a beacon is no matched scan
+    // Heard again a second later: the same look, not another fix; the track is unmoved.
+    const json again = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {ble_scan(t0 + 2, kBeacon, -58)}}}.dump()));
+    EXPECT_EQ(again["fused"].size(), 0u) << again.dump();
+    // Past the interval it counts again.
+    const json later = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {ble_scan(t0 + 3.5, kBeacon, -58)}}}.dump()));
+    EXPECT_EQ(later["fused"].size(), 1u) << later.dump();
+}
+
+TEST(ServerTracksBeacons, AWeakReadingOrAnotherDeviceIsNoFixAndNoError) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    survey(s, h);
+    place_beacon(s, h.floor);
+    const double t0 = std::floor(unix_now()) - 100;
+    const Track t = started_track(s, h, t0);
+    const json scans = {{"scans", {ble_scan(t0 + 1, kBeacon, -80), ble_scan(t0 + 2, "0b:00:00:00:00:77", -50)}}};
+    const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, scans.dump()));
+    EXPECT_EQ(got["fused"].size(), 0u) << got.dump();
+    // A WiFi scan no RP hears is still refused, as before.
+    const json wifi = {{"scans", {{{"t", t0 + 3}, {"readings", {{{"type", "wifi"}, {"bssid", "0a:00:00:00:00:99"}, {"rss", -60}}}}}}}};
+    const Response refused = track_call(s, "POST", steps_path(t.id), {t.token}, wifi.dump());
+    EXPECT_EQ(refused.status, 422) << refused.raw;
+    EXPECT_EQ(refused.body["error"]["code"], "no_match");
+}
+
 }  // namespace
-}  // namespace server_tracks_offset_test
+}  // namespace server_tracks_scans_test
