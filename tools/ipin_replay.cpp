@@ -34,14 +34,18 @@ const std::pair<const long long, MapFloors::Floor>* floor_of_level(const MapFloo
     return nullptr;
 }
 
-// The log as a thin client posts it: at each WiFi scan, the steps, pressure samples, GNSS
-// fixes and BLE readings (as BLE scans) since the last request, then the scan (its answer is the radio fix the server's filter
-// needs to start); a last request with what follows the last scan. The walk's clock is moved
-// onto Unix time so that the walk ends now (the server refuses fixes from the future and older
-// than it keeps). A scan no RP hears (422 no_match) is posted again without it, steps before
-// the filter could start (422 cannot_fuse) are dropped, as a phone would go on.
-std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFloors& floors, const ReplayOptions& o, json& out,
-                          std::ostream& log) {
+}  // namespace
+
+// The log as a thin client posts it: at each WiFi scan, the steps, pressure samples, GNSS fixes
+// and BLE readings (as BLE scans) since the last request, then the scan (its answer is the
+// radio fix the server's filter needs to start); a last request with what follows the last
+// scan. The walk's clock is moved onto Unix time so that the walk ends now (the server refuses
+// fixes from the future and older than it keeps). A scan no RP hears (422 no_match) is posted
+// again without it, steps before the filter could start (422 cannot_fuse) are dropped, as a
+// phone would go on.
+
+std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const MapFloors& floors, const ReplayOptions& o, json& out,
+                            std::ostream& log) {
     const geo::FloorToEarth venue(venue_georeference());
     const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     double last_t = lw.end_s;
@@ -128,24 +132,31 @@ std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFl
         if (!steps.empty()) batch["steps"] = std::move(steps);
         if (!pres.empty()) batch["pressure"] = std::move(pres);
         if (!fixes.empty()) batch["gnss"] = std::move(fixes);
-        // The WiFi scan, and the BLE readings since the last request as the phone's BLE scans
-        // (one per instant of the log), in time order, the WiFi scan first at equal t.
+        // The WiFi scan, and the BLE readings since the last request as the phone's BLE scans,
+        // in time order, the WiFi scan first at equal t.
         std::vector<std::pair<double, json>> scans;
         if (scan) {
             json readings = json::array();
             for (const auto& m : lw.walk.scans[*scan]) readings.push_back({{"type", m.type}, {"bssid", m.bssid.str()}, {"rss", m.rss}});
             scans.emplace_back(lw.walk.scan_times[*scan], json{{"t", base + lw.walk.scan_times[*scan]}, {"readings", readings}});
         }
-        std::optional<std::size_t> ble_scan;  // the BLE scan of the instant being read
+        // A phone gathers its BLE results a second at a time (each scan posted is a localization):
+        // one scan per second of readings, stamped with its last reading's time.
+        std::optional<std::size_t> ble_scan;
+        double ble_from = 0.0;  // the open BLE scan's first reading's time
         for (; ble < lw.ble.size() && lw.ble[ble].t <= t_end; ++ble) {
             if (!o.ble) continue;
+            const double t = lw.ble[ble].t;
             const json reading = {{"type", "ble"}, {"bssid", lw.ble[ble].mac.str()}, {"rss", lw.ble[ble].rss_dbm}};
-            if (ble_scan && scans[*ble_scan].first == lw.ble[ble].t) {
+            if (ble_scan && t - ble_from < 1.0) {
+                scans[*ble_scan].first = t;
+                scans[*ble_scan].second["t"] = base + t;
                 scans[*ble_scan].second["readings"].push_back(reading);
                 continue;
             }
             ble_scan = scans.size();
-            scans.emplace_back(lw.ble[ble].t, json{{"t", base + lw.ble[ble].t}, {"readings", json::array({reading})}});
+            ble_from = t;
+            scans.emplace_back(t, json{{"t", base + t}, {"readings", json::array({reading})}});
         }
         std::stable_sort(scans.begin(), scans.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         if (!scans.empty()) {
@@ -160,24 +171,23 @@ std::vector<Fix> run_thin(api::Client& client, const LoadedWalk& lw, const MapFl
     out["requests"] = requests;
     out["refused_scans"] = refused_scans;
     out["dropped_steps"] = dropped_steps;
-    log << "thin track " << key.id << ": " << requests << " requests, " << estimates.size() << " fused fixes\n";
+    log << "live track " << key.id << ": " << requests << " requests, " << estimates.size() << " fused fixes\n";
     return estimates;
 }
 
-}  // namespace
-
 json replay_log(api::Client& client, const ReplayOptions& o, std::ostream& log) {
-    const bool tracker = o.rule == "walk_pf" || o.rule == "kalman" || o.rule == "pdr";
-    if (!tracker && o.rule != "wifi" && o.rule != "thin")
-        throw CommandError("unknown --rule '" + o.rule + "' for a logfile (walk_pf, kalman, pdr, wifi, thin)");
+    const bool live = o.rule == "walk_pf" || o.rule == "thin";
+    const bool tracker = o.rule == "kalman" || o.rule == "pdr";
+    if (!live && !tracker && o.rule != "wifi")
+        throw CommandError("unknown --rule '" + o.rule + "' for a logfile (walk_pf, the same as thin; kalman, pdr, wifi)");
     const LoadedWalk lw = load_walk(o.file);
     const MapFloors floors = map_floors(client, o.map, tracker);
     json out = {{"file", o.file}, {"format", "ipin"},    {"map", o.map},
                 {"rule", o.rule}, {"phone", lw.phone},   {"known_start", o.known_start},
                 {"landmarks", lw.truth.size()}};
     std::vector<Fix> estimates;
-    if (o.rule == "thin") {
-        estimates = run_thin(client, lw, floors, o, out, log);
+    if (live) {
+        estimates = live_track(client, lw, floors, o, out, log);
     } else if (o.rule == "wifi") {
         for (const auto& a : server_answers(client, o.map, floors, lw))
             if (a) estimates.push_back(*a);
@@ -186,8 +196,7 @@ json replay_log(api::Client& client, const ReplayOptions& o, std::ostream& log) 
         RpFingerprints fingerprints(client);
         const auto answers = o.offset ? server_answers(client, o.map, floors, lw, &offset, &fingerprints) : server_answers(client, o.map, floors, lw);
         if (o.offset) out["offset_db"] = offset.offset_db();
-        const Tracker t = o.rule == "pdr" ? Tracker::pdr : o.rule == "kalman" ? Tracker::kalman : Tracker::walk_pf;
-        estimates = run_tracker(t, lw, answers, floors, {o.known_start, o.gnss, o.ble});
+        estimates = run_tracker(o.rule == "pdr" ? Tracker::pdr : Tracker::kalman, lw, answers, floors, {o.known_start, o.gnss, o.ble});
     }
     const geo::FloorToEarth venue(venue_georeference());
     json list = json::array();

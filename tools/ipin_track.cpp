@@ -81,27 +81,19 @@ std::vector<BeaconFix> beacon_fixes(std::span<const BleReading> readings, std::s
 
 namespace {
 
-// The tracker's horizontal state: the walk filter, the Kalman filter or dead reckoning, each
-// beginning at a point.
+// The tracker's horizontal state: the Kalman filter or dead reckoning, each beginning at a point.
 class Horizontal {
 public:
-    Horizontal(Tracker kind, const TrackerConfig& config)
-        : kind_(kind), config_(config), wf_(std::nullopt, config.walk_filter) {}
+    Horizontal(Tracker kind, const TrackerConfig& config) : kind_(kind), config_(config) {}
 
     bool begun() const { return begun_; }
-    Point position() const {
-        if (kind_ == Tracker::walk_pf) return wf_.position();
-        if (kind_ == Tracker::kalman) return kf_->position();
-        return at_;
-    }
+    Point position() const { return kind_ == Tracker::kalman ? kf_->position() : at_; }
 
     // Begins at a point: a known start (tight) or the first answer (its σ).
     void begin(Point at, double sigma_m) {
         begun_ = true;
         at_ = at;
         align_.add_fix(at);
-        if (config_.compass_offset_rad) wf_.hint(*config_.compass_offset_rad, false);
-        if (kind_ == Tracker::walk_pf) wf_.fix(at, Eigen::Matrix2d::Identity() * sigma_m * sigma_m);
         fusion::KalmanConfig kc = config_.kalman;
         kc.initial_sigma_m = sigma_m;
         if (kind_ == Tracker::kalman) kf_.emplace(at, kc);
@@ -109,10 +101,6 @@ public:
     void step(const ImuStep& s) {
         if (!begun_) return;
         align_.add_step(s.length_m, s.azimuth_rad);
-        if (kind_ == Tracker::walk_pf) {
-            wf_.step(s.length_m, s.azimuth_rad);
-            return;
-        }
         // In the venue's frame: the known rotation, else the one learnt from the answers; the
         // step scaled by the answers' distance ratio once it is fitted.
         const bool aligned = align_.pairs() >= config_.alignment_pairs;
@@ -128,11 +116,7 @@ public:
             return;
         }
         align_.add_fix(at);
-        const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * config_.answer_sigma_m * config_.answer_sigma_m;
-        if (kind_ == Tracker::kalman) kf_->update(at, r);
-        if (kind_ != Tracker::walk_pf) return;
-        if (!config_.compass_offset_rad && align_.pairs() >= config_.alignment_pairs) wf_.hint(align_.offset_rad(), align_.mirrored());
-        wf_.fix(at, r);
+        if (kind_ == Tracker::kalman) kf_->update(at, Eigen::Matrix2d::Identity() * config_.answer_sigma_m * config_.answer_sigma_m);
     }
 
     void gnss(const GnssFix& g) {
@@ -147,21 +131,15 @@ public:
 
 private:
     // A position measurement that is not a WiFi answer (GNSS, a beacon): it teaches the heading
-    // alignment nothing; kalman drops it beyond the gate, walk_pf's outlier floor keeps a far
-    // one from ruling.
+    // alignment nothing, and kalman drops it beyond the gate.
     void measure(Point at, double sigma_m) {
         const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * sigma_m * sigma_m;
-        if (kind_ == Tracker::walk_pf) {
-            wf_.fix(at, r);
-            return;
-        }
         const Eigen::Vector2d d(at.x - kf_->position().x, at.y - kf_->position().y);
         if (d.dot((kf_->covariance() + r).inverse() * d) <= config_.gnss_gate) kf_->update(at, r);
     }
 
     Tracker kind_;
     TrackerConfig config_;
-    fusion::WalkFilter wf_;
     std::optional<fusion::KalmanFilter> kf_;
     fusion::HeadingAlignment align_;
     Point at_;

@@ -1,29 +1,30 @@
 #pragma once
-// The trackers of `locus eval ipin` (docs/ipin-import.md, "The trackers"): a walk's own IMU
-// (steps from ACCE, their azimuth from the rotation vector) fused with the server's WiFi answers,
-// the barometer, GNSS and the map's BLE beacons, causally, one estimate every 0.5 s from the file's start (the competition's
-// 2 Hz). Every event reaches the filters through fusion::run_walk in time order (pressure, step,
-// answer, tick at equal times), so an estimate at t uses only what was stamped at or before t:
-// cutting a walk at T leaves every estimate before T as it was.
+// The baseline trackers of `locus eval ipin` (docs/ipin-import.md, "The trackers"): a walk's own
+// IMU (steps from ACCE, their azimuth from the rotation vector) fused with the server's WiFi
+// answers, the barometer, GNSS and the map's BLE beacons, causally, one estimate every 0.5 s from
+// the file's start (the competition's 2 Hz). The default, walk_pf, is not here: it is the
+// server's own live track (tools/ipin_replay.hpp posts the walk to it), so that what the
+// evaluation reports is what a phone gets. Every event reaches these filters through
+// fusion::run_walk in time order (pressure, step, answer, tick at equal times), so an estimate
+// at t uses only what was stamped at or before t: cutting a walk at T leaves every estimate
+// before T as it was.
 //  - pdr: dead reckoning from the start; each step's compass azimuth turned into the venue's
-//    frame by the rotation (and mirror) learnt so far from the WiFi answers
-//    (fusion::HeadingAlignment), its length scaled by the scale learnt with it.
+//    frame by the floor's georeferenced rotation, else the rotation (and mirror) learnt so far
+//    from the WiFi answers (fusion::HeadingAlignment), its length scaled by the scale learnt
+//    with it.
 //  - kalman: fusion::KalmanFilter, the same steps as pdr as its control input, each answer a fix.
-//  - walk_pf: fusion::WalkFilter (no plan: free moves), which learns the compass rotation and the
-//    step scale itself, leaning on HeadingAlignment's rotation as a hint.
 //  GNSS (unless --no-gnss): each fix a position measurement of σ its reported accuracy (at
-//  least TrackerConfig::gnss_min_sigma_m) for kalman (gated) and walk_pf, once the tracker has
-//  begun; it names no floor. pdr does not take it (its rotation is fitted on the WiFi answers).
+//  least TrackerConfig::gnss_min_sigma_m) for kalman (gated), once it has begun; it names no
+//  floor. pdr does not take it (its rotation is fitted on the WiFi answers).
 //  BLE beacons (unless --no-ble): a reading of a beacon the map holds, at or above
 //  TrackerConfig::ble_min_rss_dbm (-65), says the phone is near it, on its floor: a position
-//  measurement at the beacon (σ ble_sigma_m) for kalman (gated) and walk_pf, and a floor vote.
+//  measurement at the beacon (σ ble_sigma_m) for kalman (gated), and a floor vote.
 // Floors: fusion::BaroFloor, the pressure with each answer's floor as a radio vote (and the start
 // floor, when known). Without a known start a tracker begins at the first answer; with one
 // (the competition gave its walks' first landmark) it stands there until the landmark's time
 // (the calibration minute is spent on it) and walks from then on.
 //
-// Cost per walk: log_steps O(ACCE samples · log AHRS samples); track O(events) for pdr and
-// O(events · particles) for walk_pf (2000 particles: a few ms per walk).
+// Cost per walk: log_steps O(ACCE samples · log AHRS samples); track O(events).
 #include <optional>
 #include <span>
 #include <vector>
@@ -35,7 +36,6 @@
 #include "locus/motion/fusion/beacon.hpp"
 #include "locus/motion/fusion/gnss.hpp"
 #include "locus/motion/fusion/kalman.hpp"
-#include "locus/motion/fusion/walk_filter.hpp"
 
 namespace locus::tools::ipin {
 
@@ -48,30 +48,21 @@ using ImuStep = PhoneStep;  // tools/phone_steps.hpp
 enum class HeadingSource { rotation_vector, gyro };
 // The rotation vector (the default): referenced to north, so the rotation to a georeferenced
 // frame is known; the gyroscope's integrated turn has no reference and drifts with its bias
-// (measured worse on the folds with walk_pf).
+// (measured worse on the folds with the walk filter, docs/results.md).
 std::vector<ImuStep> log_steps(const datasets::ipin::Log& log, HeadingSource source = HeadingSource::rotation_vector);
 
-enum class Tracker { pdr, kalman, walk_pf };
-
-// The walk filter on these walks: the server's live tracks' own default on a floor whose
-// georeference gives the compass's rotation (TrackerConfig::compass_offset_rad), the real-walk
-// setting with the rotation known (client-lib's WalkFilterConfig::known_rotation(real_walks())),
-// so that what `locus eval ipin` reports is what a phone gets (docs/results.md, "What a phone
-// gets").
-inline fusion::WalkFilterConfig ipin_walk_filter() { return fusion::WalkFilterConfig::known_rotation(fusion::WalkFilterConfig::real_walks()); }
+enum class Tracker { pdr, kalman };
 
 struct TrackerConfig {
-    fusion::WalkFilterConfig walk_filter = ipin_walk_filter();
     // kalman: the position filter of `locus eval walks` (its per-metre step noise for real
     // compasses, tools/walk_eval.hpp), the answers as fixes of σ answer_sigma_m.
     fusion::KalmanConfig kalman = {.initial_sigma_m = 1.0, .step_sigma_floor_m = 0.05, .step_sigma_per_m = 4.0};
-    double step_scale = 0.9;  // pdr and kalman: the steps' scale until the answers fit one (walk_pf's prior)
-    double answer_sigma_m = 6.0;  // σ of a WiFi answer for the filters (the walk filter takes at least its own)
+    double step_scale = 0.9;      // the steps' scale until the answers fit one
+    double answer_sigma_m = 6.0;  // σ of a WiFi answer for kalman
     double tick_s = 0.5;          // the competition's 2 Hz
     // GNSS indoors (locus/motion/fusion/gnss.hpp, the settings the server's live tracks share):
     // a fix's σ is its accuracy, at least gnss_min_sigma_m; kalman drops a fix beyond gnss_gate
-    // Mahalanobis units, walk_pf's outlier floor keeps a far fix from ruling; one fix per
-    // gnss_min_interval_s at most.
+    // Mahalanobis units; one fix per gnss_min_interval_s at most.
     double gnss_min_sigma_m = fusion::kGnssMinSigmaM;
     double gnss_gate = fusion::kGnssGateChi2;
     double gnss_min_interval_s = fusion::kGnssMinIntervalS;
@@ -83,9 +74,8 @@ struct TrackerConfig {
     int alignment_pairs = 3;
     // The compass's rotation to the venue's frame when it is known: a rotation-vector azimuth is
     // referenced to (magnetic) north, and a georeferenced floor's frame is north-up turned by its
-    // bearing, so the rotation is known up to declination and the phone's bias. Then pdr and kalman turn
-    // their steps by it, and walk_pf's particles draw their rotation around it (hint_share,
-    // ±hint_sigma_rad) instead of leaning on the rotation learnt from the answers.
+    // bearing, so the rotation is known up to declination and the phone's bias. Then pdr and
+    // kalman turn their steps by it instead of by the rotation learnt from the answers.
     std::optional<double> compass_offset_rad;
 };
 

@@ -5,6 +5,7 @@
 // map is the fixture's import (T01 and T52's scans).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -74,7 +75,8 @@ TEST(ReplayIpin, TheTrackersAndTheServersAnswersScoreTheWalkOnBothFloors) {
     }
     // The trackers' floor is the barometer's: both landmarks after the stairs are on -2.
     const json pf = json::parse(s.replay({}).out);
-    EXPECT_EQ(pf["rule"], "walk_pf");  // the default
+    EXPECT_EQ(pf["rule"], "walk_pf");  // the default: the live track, what a phone gets
+    EXPECT_TRUE(pf.contains("track")) << pf.dump();
     EXPECT_EQ(pf["score"]["floor_hit_rate"], 1.0);
     int below = 0;
     for (const auto& e : pf["estimates"])
@@ -121,6 +123,64 @@ TEST(ReplayIpin, TheThinClientPathRunsTheServersFilterOnALiveTrack) {
     EXPECT_EQ(opened["fusion_options"], expected);
 }
 
+// The log with a strong reading of beacon BLE1 (the import's, floor 0) every second from 20 s
+// to 30 s, while the walker is on floor 0 (each line in its place: the app writes one clock in order).
+std::string with_beacon_readings(const std::string& path) {
+    std::ifstream in(path);
+    std::string all, line;
+    int next = 20;
+    const auto readings_until = [&](double t) {
+        for (; next <= 30 && next <= t; ++next)
+            all += "BLE4;" + std::to_string(next) + ".000;iBeacon;BE:AC:20:23:00:01;-55;-59;1;1;11111111-1111-BEAC-2023-111111111111\n";
+    };
+    while (std::getline(in, line)) {
+        const auto semi = line.find(';');
+        if (line.empty() || line[0] == '%' || semi == std::string::npos) {
+            all += line + "\n";
+            continue;
+        }
+        readings_until(std::stod(line.substr(semi + 1)));
+        all += line + "\n";
+    }
+    readings_until(1e9);
+    const std::string out = make_temp_dir() + "/ble.txt";
+    std::ofstream(out) << all;
+    return out;
+}
+
+TEST(ReplayIpin, TheLogsBeaconReadingsReachTheLiveTrack) {
+    // Two servers with the same import: each replay's track is the first, so both filters draw
+    // the same random numbers (a track is seeded with its id) and only the beacons differ.
+    const Imported a, b;
+    const std::string file = with_beacon_readings(kT52);
+    const json with = json::parse(a.replay({}, file).out), without = json::parse(b.replay({"--no-ble"}, file).out);
+    ASSERT_EQ(with["track"]["id"], without["track"]["id"]);
+    // BLE1 as the import placed it (BLE_Locations.csv): each reading counted is a fix there, so
+    // from 20 s on the track is drawn towards it; before, nothing differs.
+    const double lat = 49.4611949564836, lon = 11.1112189713338;
+    const auto off = [&](const json& e) { return std::hypot(e["lat"].get<double>() - lat, (e["lon"].get<double>() - lon) * 0.65); };
+    double off_with = 0.0, off_without = 0.0;
+    std::size_t before = 0, during = 0;
+    for (const auto& e : with["estimates"]) {
+        const double t = e["t"].get<double>();
+        if (t < 20.0) ++before;
+        if (t >= 20.0 && t <= 31.0) {
+            off_with += off(e);
+            ++during;
+        }
+    }
+    for (const auto& e : without["estimates"]) {
+        const double t = e["t"].get<double>();
+        if (t >= 20.0 && t <= 31.0) off_without += off(e);
+    }
+    ASSERT_GT(before, 0u);
+    for (std::size_t i = 0; i < before; ++i) EXPECT_EQ(with["estimates"][i], without["estimates"][i]);
+    // Six fixes (one per beacon per 2 s) answer fused fixes of their own.
+    EXPECT_EQ(with["estimates"].size(), without["estimates"].size() + 6);
+    ASSERT_GT(during, 6u);
+    EXPECT_LT(off_with / during, 0.9 * off_without / (during - 6)) << with["estimates"].dump();
+}
+
 TEST(ReplayIpin, ALogWithoutPosiReplaysUnscored) {
     const Imported s;
     const std::string no_posi = without_tag(kT52, "POSI");
@@ -159,6 +219,13 @@ TEST(ReplayIpin, BadInputIsRefusedByName) {
     EXPECT_NE(out_of_range.err.find("fusion_options.step_scale"), std::string::npos) << out_of_range.err;
     const auto both = s.replay({"--rule", "thin", "--server-defaults", "--fusion-options", "{}"});
     EXPECT_NE(both.status, 0);
+    // walk_pf's live track learns its phone's offset itself; only it takes fusion_options.
+    const auto no_offset = s.replay({"--no-offset"});
+    EXPECT_NE(no_offset.status, 0);
+    EXPECT_NE(no_offset.err.find("--no-offset is for kalman and pdr"), std::string::npos) << no_offset.err;
+    const auto kalman_options = s.replay({"--rule", "kalman", "--fusion-options", "{}"});
+    EXPECT_NE(kalman_options.status, 0);
+    EXPECT_NE(kalman_options.err.find("--fusion-options opens walk_pf's live track"), std::string::npos) << kalman_options.err;
 
     // A malformed line is named by file and line; nothing is posted.
     const std::string dir = make_temp_dir();

@@ -1,6 +1,7 @@
 // The trackers of `locus eval ipin` (tools/ipin_track.hpp) on walks written for the test: the
 // known start, dead reckoning by hand, causality (a walk cut at T gives the same estimates up
-// to T), and the walk filter doing better than the answers it fuses.
+// to T), and the Kalman filter doing better than the answers it fuses. The default tracker,
+// walk_pf, is the server's live track (server_tracks_*_test, cli_replay_ipin_test).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -86,7 +87,7 @@ TEST(IpinTrack, ACutWalkLeavesEveryEarlierEstimateAsItWas) {
     const Synthetic full;
     for (const double t_cut : {9.3, 31.3, 50.0}) {
         const Synthetic cut = full.cut(t_cut);
-        for (const auto tracker : {ipin::Tracker::pdr, ipin::Tracker::kalman, ipin::Tracker::walk_pf}) {
+        for (const auto tracker : {ipin::Tracker::pdr, ipin::Tracker::kalman}) {
             for (const bool known : {false, true}) {
                 const std::optional<ipin::Fix> start =
                     known ? std::optional<ipin::Fix>(ipin::Fix{10.0, 0, Synthetic::truth(10.0)}) : std::nullopt;
@@ -108,9 +109,9 @@ TEST(IpinTrack, ACutWalkLeavesEveryEarlierEstimateAsItWas) {
     }
 }
 
-TEST(IpinTrack, WalkFilterTracksCloserThanTheAnswersItFuses) {
+TEST(IpinTrack, KalmanTracksCloserThanTheAnswersItFuses) {
     const Synthetic w;
-    const auto est = ipin::track(ipin::Tracker::walk_pf, w.input(std::nullopt), kFloors, north_up());
+    const auto est = ipin::track(ipin::Tracker::kalman, w.input(std::nullopt), kFloors, north_up());
     ASSERT_FALSE(est.empty());
     // Without a known start it begins at the first answer (t = 0).
     EXPECT_EQ(est.front().t, 0.0);
@@ -147,12 +148,12 @@ struct GnssWalk {
     }
 };
 
-TEST(IpinTrack, GnssPullsKalmanAndTheWalkFilterAndLeavesPdrAlone) {
+TEST(IpinTrack, GnssPullsKalmanAndLeavesPdrAlone) {
     const GnssWalk walk(8.0);
-    for (const auto tracker : {ipin::Tracker::kalman, ipin::Tracker::walk_pf}) {
+    for (const auto tracker : {ipin::Tracker::kalman}) {
         const auto without = walk.track(tracker, false), with = walk.track(tracker, true);
         ASSERT_EQ(without.size(), with.size());
-        EXPECT_NEAR(without.back().at.y, 0.0, 1.5);  // the walk filter's heading noise alone
+        EXPECT_NEAR(without.back().at.y, 0.0, 1.5);
         EXPECT_GT(with.back().at.y, without.back().at.y + 3.0) << static_cast<int>(tracker);  // drawn to the fixes 8 m north
         EXPECT_LT(with.back().at.y, 10.0) << static_cast<int>(tracker);
         // Before the first fix nothing differs.
@@ -219,7 +220,7 @@ TEST(IpinTrack, BeaconFixesAreTheStrongReadingsOfTheMapsBeaconsOncePerInterval) 
 }
 
 // GnssWalk's steps and start, with a beacon 8 m north of the walk heard every 3 s from 20 s.
-TEST(IpinTrack, ABeaconPullsKalmanAndTheWalkFilterAndNamesItsFloor) {
+TEST(IpinTrack, ABeaconPullsKalmanAndNamesItsFloor) {
     const GnssWalk walk(0.0);
     std::vector<ipin::BeaconFix> ble;
     for (double t = 20.0; t <= walk.w.end_s; t += 3.0) ble.push_back({t, -2, {Synthetic::truth(t).x, 8.0}});
@@ -228,7 +229,7 @@ TEST(IpinTrack, ABeaconPullsKalmanAndTheWalkFilterAndNamesItsFloor) {
         if (with_ble) in.ble = ble;
         return ipin::track(tracker, in, floors, north_up());
     };
-    for (const auto tracker : {ipin::Tracker::kalman, ipin::Tracker::walk_pf}) {
+    for (const auto tracker : {ipin::Tracker::kalman}) {
         const auto without = run(tracker, false, {}), with = run(tracker, true, {});
         ASSERT_EQ(without.size(), with.size());
         EXPECT_GT(with.back().at.y, without.back().at.y + 3.0) << static_cast<int>(tracker);

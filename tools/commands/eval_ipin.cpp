@@ -12,12 +12,15 @@
 // answer to POST /v1/maps/{id}/localize with the scan and nothing else; `wifi-baro`, the same
 // answers with their floor replaced by the barometric floor (locus/motion/fusion/baro_floor.hpp: the
 // walk's pressure, the map's floor elevations, each answer's floor as a radio vote), estimates
-// at each scan and every 0.5 s between (the last answer's position, the floor then); `pdr`,
-// `kalman` and `walk_pf` (the default), the walk's IMU fused with those answers, the barometer, GNSS (not with --no-gnss) and the
-// map's BLE beacons (not with --no-ble), estimates
-// every 0.5 s from the file's start (tools/ipin_track.hpp). Causal: an estimate at t uses only
-// the samples and answers at or before t. --known-start gives the trackers (and wifi-baro's
-// barometer) the first POSI landmark, as the competition gave its scoring walks' start. The
+// at each scan and every 0.5 s between (the last answer's position, the floor then); `walk_pf`
+// (the default), what a phone gets: the walk posted to a live track on the map as a thin client
+// posts it (tools/ipin_replay.hpp: steps, pressure, GNSS unless --no-gnss, BLE unless --no-ble,
+// the scans), the server's own filter (docs/tracks.md) answering, the track opened with no
+// options; `pdr` and `kalman`, baselines: the walk's IMU fused here with the server's answers,
+// the barometer, GNSS and the map's BLE beacons, estimates every 0.5 s from the file's start
+// (tools/ipin_track.hpp). Causal: an estimate at t uses only the samples and answers at or
+// before t. --known-start gives the trackers (and wifi-baro's barometer) the first POSI
+// landmark, as the competition gave its scoring walks' start. The
 // server's answers are brought from their floor's frame into the venue's through the floors'
 // georeferences (the same frame for every floor `locus import ipin` makes).
 #include <algorithm>
@@ -27,6 +30,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <sstream>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
@@ -35,6 +39,7 @@
 #include "datasets/ipin_log.hpp"
 #include "floor_geo_json.hpp"
 #include "ipin_eval.hpp"
+#include "ipin_replay.hpp"
 #include "ipin_track.hpp"
 #include "ipin_venue.hpp"
 #include "ipin_walk.hpp"
@@ -195,15 +200,17 @@ struct Context {
     std::optional<Yardstick> ys;
     MapFloors floors;
     match::Workspace workspace;
+    api::Client* client = nullptr;
 };
 
 // One method on one walk: `estimates` (time order) for the POSI scoring, the per-scan answers returned.
-// `answers`: the server's to the scans as read; `tracked`: those the trackers fuse (sent with
-// the phone's learnt offset, unless --no-offset).
+// `answers`: the server's to the scans as read; `tracked`: those kalman and pdr fuse (sent with
+// the phone's learnt offset, unless --no-offset); walk_pf's live track answers `live` (its id,
+// requests, the offset the server learnt).
 std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const LoadedWalk& lw,
                                                  const std::vector<std::optional<ipin::Fix>>& answers,
                                                  const std::vector<std::optional<ipin::Fix>>& tracked, Context& c,
-                                                 std::vector<ipin::Fix>& estimates) {
+                                                 std::vector<ipin::Fix>& estimates, json& live) {
     std::vector<std::optional<ipin::Fix>> per_scan;
     if (m == "yardstick") {
         per_scan.resize(lw.walk.scans.size());
@@ -218,8 +225,22 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
         const std::optional<int> start_floor =
             c.args.known_start && !lw.truth.empty() ? std::optional<int>(lw.truth.front().floor) : std::nullopt;
         return with_baro_floor(lw, answers, c.floors.baro, start_floor, estimates);
+    } else if (m == "walk_pf") {
+        // What a phone gets: the walk posted to a live track on the map, the server's own filter.
+        ipin::ReplayOptions o;
+        o.map = c.args.map;
+        o.known_start = c.args.known_start;
+        o.gnss = !c.args.no_gnss;
+        o.ble = !c.args.no_ble;
+        json track;
+        std::ostringstream quiet;
+        estimates = ipin::live_track(*c.client, lw, c.floors, o, track, quiet);
+        live = {{"track", track["track"]["id"]}, {"requests", track["requests"]}, {"refused_scans", track["refused_scans"]},
+                {"dropped_steps", track["dropped_steps"]}};
+        if (track.contains("rss_offset_db")) live["rss_offset_db"] = track["rss_offset_db"];
+        return at_scans(estimates, lw.walk.scan_times);
     } else {
-        const ipin::Tracker tracker = m == "pdr" ? ipin::Tracker::pdr : m == "kalman" ? ipin::Tracker::kalman : ipin::Tracker::walk_pf;
+        const ipin::Tracker tracker = m == "pdr" ? ipin::Tracker::pdr : ipin::Tracker::kalman;
         estimates = ipin::run_tracker(tracker, lw, tracked, c.floors, {c.args.known_start, !c.args.no_gnss, !c.args.no_ble});
         return at_scans(estimates, lw.walk.scan_times);
     }
@@ -255,17 +276,19 @@ void run(const Args& a) {
     const auto test = ipin::load_walks(a.dir, a.trials);
     Context c{a, std::nullopt, {}, {}};
     if (want_yardstick) c.ys = yardstick(ipin::load_walks(a.dir, a.train));
-    const bool want_trackers = std::any_of(methods.begin(), methods.end(), [](const std::string& m) {
-        return m == "pdr" || m == "kalman" || m == "walk_pf";
-    });
+    // kalman and pdr fuse the answers here; walk_pf's live track asks the server itself.
+    const bool want_trackers = std::any_of(methods.begin(), methods.end(), [](const std::string& m) { return m == "pdr" || m == "kalman"; });
+    if (a.no_offset && !want_trackers)
+        throw CommandError("--no-offset is for pdr and kalman: walk_pf's live track learns its phone's offset itself");
     const bool learns_offset = want_trackers && !a.no_offset;
-    const bool want_raw_answers = want_server && (!learns_offset || std::any_of(methods.begin(), methods.end(), [](const std::string& m) {
-                                                      return m == "wifi" || m == "wifi-baro";
-                                                  }));
+    const bool want_raw_answers = (want_trackers && !learns_offset) || std::any_of(methods.begin(), methods.end(), [](const std::string& m) {
+                                      return m == "wifi" || m == "wifi-baro";
+                                  });
     std::optional<api::Client> client;
     std::optional<ipin::RpFingerprints> fingerprints;
     if (want_server) {
         client.emplace(a.server.client_options());
+        c.client = &*client;
         fingerprints.emplace(*client);
         c.floors = ipin::map_floors(*client, a.map, want_baro);
         if (want_baro && c.floors.baro.empty())
@@ -292,7 +315,9 @@ void run(const Args& a) {
         }
         for (const auto& m : methods) {
             std::vector<ipin::Fix> estimates, scan_est, scan_truths;
-            const auto per_scan = run_method(m, lw, answers, tracked, c, estimates);
+            json live;
+            const auto per_scan = run_method(m, lw, answers, tracked, c, estimates, live);
+            if (!live.is_null()) row["live"] = live;
             for (std::size_t i = 0; i < per_scan.size(); ++i) {
                 if (!per_scan[i]) {
                     ++unanswered[m];
@@ -339,16 +364,17 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
     cmd->add_option("--trials", a->trials, "held-out walks: globs on the file names of DIR/trials (repeat: any matches)")->required();
     cmd->add_option("--train", a->train, "the yardstick's walks (a glob, as --trials)");
     cmd->add_option("--method", a->method,
-                    "yardstick, wifi (the server's answer), wifi-baro (its floor from the barometer), pdr, kalman, walk_pf "
-                    "(the trackers: IMU, WiFi, barometer, GNSS and BLE; walk_pf the default) or all (the default last)")
+                    "yardstick, wifi (the server's answer), wifi-baro (its floor from the barometer), pdr, kalman (baselines: "
+                    "IMU, WiFi, barometer, GNSS and BLE fused here), walk_pf (the default: the walk posted to a live track, "
+                    "the server's own filter, what a phone gets) or all (the default last)")
         ->capture_default_str()
         ->check(CLI::IsMember({"yardstick", "wifi", "wifi-baro", "pdr", "kalman", "walk_pf", "all"}));
     cmd->add_flag("--known-start", a->known_start,
                   "give the trackers (and wifi-baro's floor) the first POSI landmark's position, floor and time");
     cmd->add_flag("--no-gnss", a->no_gnss, "the trackers without the logs' GNSS fixes");
     cmd->add_flag("--no-ble", a->no_ble, "the trackers without the logs' readings of the map's BLE beacons");
-    cmd->add_flag("--no-offset", a->no_offset, "the trackers' scans sent as read, without the phone's RSS offset learnt online");
-    cmd->add_option("--map", a->map, "map id (for wifi and wifi-baro)");
+    cmd->add_flag("--no-offset", a->no_offset, "pdr's and kalman's scans sent as read, without the phone's RSS offset learnt online");
+    cmd->add_option("--map", a->map, "map id (every method but the yardstick; walk_pf posts to a live track on it: give the API key, --api-key or LOCUS_API_KEY, or a phone's rate limits apply)");
     cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");
     cmd->callback([a] { run(*a); });
 });

@@ -48,7 +48,7 @@ struct Args {
     // A GetSensorData/IPIN logfile (tools/ipin_replay.hpp): the map it walks, and what the trackers take.
     std::int64_t map = 0;
     bool known_start = false, no_gnss = false, no_ble = false, no_offset = false, server_defaults = false;
-    std::string fusion_options;  // --rule thin: the track's fusion_options (a JSON object)
+    std::string fusion_options;  // a logfile's walk_pf: the track's fusion_options (a JSON object)
 };
 
 // What the filters map-match on, and where it came from (said on stderr and in the JSON).
@@ -236,8 +236,11 @@ void run(const Args& a) {
 void run_log(const Args& a) {
     if (a.map <= 0) throw tools::CommandError("a logfile replays against a map: --map ID (every floor; not --radiomap)");
     if (a.radiomap > 0) throw tools::CommandError("--radiomap is for a walk file; a logfile takes --map");
-    if (!a.live.empty() || a.upload_survey) throw tools::CommandError("--live and --upload-survey take walk files (a logfile: --rule thin)");
+    if (!a.live.empty() || a.upload_survey) throw tools::CommandError("--live and --upload-survey take walk files (a logfile's walk_pf posts to a live track itself)");
     if (a.format != "json") throw tools::CommandError("a logfile replays as json");
+    const bool live = a.rule == "walk_pf" || a.rule == "thin";
+    if (live && a.no_offset) throw tools::CommandError("--no-offset is for kalman and pdr: walk_pf's live track learns its phone's offset itself");
+    if (!live && !a.fusion_options.empty()) throw tools::CommandError("--fusion-options opens walk_pf's live track; --rule " + a.rule + " opens none");
     api::ClientOptions opts;
     opts.base_url = a.server;
     opts.api_key = a.api_key;
@@ -264,13 +267,13 @@ LOCUS_COMMAND("replay", [](CLI::App& app) {
     cmd->add_flag("--known-start", args->known_start, "a logfile's first POSI landmark given to the tracker");
     cmd->add_flag("--no-gnss", args->no_gnss, "a logfile's GNSS fixes left out");
     cmd->add_flag("--no-ble", args->no_ble, "a logfile's beacon readings left out");
-    cmd->add_flag("--server-defaults", args->server_defaults, "--rule thin: the track opened with no fusion_options, as a phone opens it (the default)");
+    cmd->add_flag("--server-defaults", args->server_defaults, "a logfile's walk_pf (or thin): the live track opened with no fusion_options, as a phone opens it (the default)");
     cmd->add_option("--fusion-options", args->fusion_options,
-                    "--rule thin: the track's fusion_options, a JSON object (docs/tracks.md), instead of the server's defaults")
+                    "a logfile's walk_pf (or thin): the live track's fusion_options, a JSON object (docs/tracks.md), instead of the server's defaults")
         ->excludes(cmd->get_option("--server-defaults"));
-    cmd->add_flag("--no-offset", args->no_offset, "a logfile's scans sent as read (the trackers learn no phone offset)");
+    cmd->add_flag("--no-offset", args->no_offset, "a logfile's scans sent as read (kalman and pdr learn no phone offset; walk_pf's server learns its own)");
     cmd->add_option("--rule", args->rule, "fusion rule, kalman, particle, walk_pf (the default: best on real walks), pdr, wifi, "
-                    "or all; for a logfile walk_pf, kalman, pdr, wifi or thin (the server's live-track filter); for a walk with anchors also trilateration, multilateration, kalman_trilateration (alias: kalman_seed, "
+                    "or all; for a logfile walk_pf (the server's live-track filter, as a phone gets it; thin is the same), kalman, pdr or wifi; for a walk with anchors also trilateration, multilateration, kalman_trilateration (alias: kalman_seed, "
                     "deprecated), kalman_ranging, ekf_ranging")->capture_default_str();
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn/bayes")->capture_default_str()->check(CLI::Range(1, 100));
