@@ -29,6 +29,7 @@ std::vector<std::string> method_names(bool with_map, bool smooth) {
     for (const auto& r : tuned_rule_names()) m.push_back(std::string(r) + "_tuned");
     m.push_back("kalman");
     if (with_map) m.push_back("particle");
+    m.push_back("walk_pf_local");
     m.push_back("walk_pf");
     if (smooth) {
         m.push_back("rts_smoother");
@@ -212,13 +213,13 @@ WalkResult evaluate_walk(const putmc::Walk& walk, const std::vector<std::optiona
         const auto it = std::find_if(tracks.begin(), tracks.end(), [&](const sim::NamedTrack& t) { return t.method == name; });
         if (it != tracks.end()) r.tracks.push_back({name, at_scans(it->track, scan_t)});
     }
-    r.tracks.push_back({"walk_pf", at_scans(wf_track, scan_t)});
+    r.tracks.push_back({"walk_pf_local", at_scans(wf_track, scan_t)});
     if (config.smooth) {
         r.tracks.push_back({"rts_smoother", at_scans(rts(steps, fx, start, config.methods.kalman), scan_t)});
         // Two-filter particle smoother: walk_pf forwards and backwards, averaged at each scan
         // (both hold the scan's own fix; the forward one everything before, the backward one
         // everything after). Offline: it uses the future.
-        const auto fwd = r.tracks[r.tracks.size() - 2].at_scan;  // walk_pf
+        const auto fwd = r.tracks[r.tracks.size() - 2].at_scan;  // walk_pf_local
         fusion::WalkFilterConfig bc = wc;
         bc.particles = config.backward_particles;
         const auto bwd = at_scans_backward(walk_pf_backward(phone, fx, t0, map, bc), scan_t);

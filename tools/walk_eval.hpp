@@ -6,9 +6,11 @@
 // a scan is its state right after that scan's fix. Nothing before a walk's first fix is known
 // (no start point), and the map's rotation (and mirror) against the compass is learnt from
 // the fixes (fusion::HeadingAlignment), never given.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "datasets/putmc.hpp"
@@ -69,6 +71,7 @@ struct WalkResult {
     double offset_deg = 0.0;   // the alignment's final rotation and mirror
     bool mirrored = false;
     std::vector<MethodTrack> tracks;
+    std::optional<std::pair<std::int64_t, std::string>> live_track;  // walk_pf's live track (id, token), when the caller posted one
 };
 
 // fixes[i]: the server's fix of scan i (floor frame) or nullopt when it matched nothing.

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "server_process.hpp"
+#include "track_call.hpp"
 #include "build_paths.hpp"
 
 namespace putmc_cli_test {
@@ -18,6 +19,7 @@ namespace {
 using locus::testing::body_of;
 using locus::testing::run_command;
 using locus::testing::ServerProcess;
+using locus::testing::track_call;
 using nlohmann::json;
 
 const std::string kFixture = std::string(LOCUS_TEST_FIXTURES) + "/putmc";
@@ -85,7 +87,7 @@ TEST(EvalWalks, EveryMethodAtEveryScanThroughTheServer) {
     EXPECT_EQ(w["fixes"], 3);  // the walk's scans hear the survey's APs
     for (const char* m : {"wifi", "pdr", "only_wifi", "midpoint", "midpoint_threshold", "proportional", "proportional2",
                           "midpoint_tuned", "midpoint_threshold_tuned", "proportional_tuned", "proportional2_tuned",
-                          "kalman", "particle", "walk_pf", "rts_smoother", "pf_smoother"}) {
+                          "kalman", "particle", "walk_pf_local", "walk_pf", "rts_smoother", "pf_smoother"}) {
         ASSERT_TRUE(out["pooled"].contains(m)) << m;
         EXPECT_EQ(out["pooled"][m]["n"], 3) << m;
         EXPECT_GE(out["pooled"][m]["mean_m"].get<double>(), 0.0) << m;
@@ -98,6 +100,17 @@ TEST(EvalWalks, EveryMethodAtEveryScanThroughTheServer) {
                           fixes[i][1].get<double>() - w["truth"][i][1].get<double>());
     EXPECT_NEAR(out["pooled"]["wifi"]["mean_m"].get<double>(), sum / 3, 1e-9);
     EXPECT_NEAR(w["truth"][2][1].get<double>(), 105 / 2.83988631094 - 22.48080166395504, 1e-9);
+
+    // walk_pf is the server's own live track of the walk: one track per walk, closed, holding
+    // the fused fix eval walks scored at each scan.
+    ASSERT_TRUE(w.contains("live_track")) << w.dump();
+    const json track = body_of(
+        track_call(server, "GET", "/v1/tracks/" + w["live_track"]["id"].dump(), {w["live_track"]["token"].get<std::string>()}));
+    EXPECT_EQ(track["state"], "closed");
+    EXPECT_EQ(track["label"], "eval walks tiny_walk");
+    const json& last = w["methods"]["walk_pf"]["at_scans"][2];
+    EXPECT_NEAR(track["latest"]["x"].get<double>(), last[0].get<double>(), 1e-9);
+    EXPECT_NEAR(track["latest"]["y"].get<double>(), last[1].get<double>(), 1e-9);
 
     // One method, as a table.
     const auto r = run_command({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "walk_pf", kFixture});

@@ -1,6 +1,8 @@
 // `locus eval walks DIR --server URL --radiomap ID`: real phone walks (the PUTMC walks under
 // DIR/trajs, or one walk directory) through the real PDR, each scan localized by the server,
 // and every positioning method; error at each scan's ground-truth point, per walk and pooled.
+// walk_pf, the default, is the server's own live track of each walk (tools/putmc_live.hpp);
+// walk_pf_local the same filter run here on this command's answers, for --set tuning.
 // Causal (tools/walk_eval.hpp); --smooth adds an offline smoother, labelled as such. The floor
 // is the radio map's: its height flips PUTMC's y (as `locus import putmc` did) and its plan,
 // when it has one, is what the particle filters map-match on.
@@ -22,6 +24,7 @@
 #include "command_registry.hpp"
 #include "locus/api/client.hpp"
 #include "survey_connect.hpp"
+#include "putmc_live.hpp"
 #include "walk_eval.hpp"
 #include "walk_reality.hpp"
 
@@ -51,7 +54,8 @@ struct Args {
 };
 
 // --set KEY=VALUE: a method's parameter, for tuning (on walks 1–5 only: docs/fusion.md).
-// walk_pf's by name, the other methods' as particle.NAME, kalman.NAME, rules.NAME.
+// walk_pf_local's by name, the other methods' as particle.NAME, kalman.NAME, rules.NAME (the
+// live walk_pf runs the server's settings: a track's fusion_options are the way to others).
 void apply_tuning(walks::Config& cfg, const std::vector<std::string>& kv) {
     auto& c = cfg.walk_filter;
     auto& pc = cfg.methods.particle;
@@ -235,6 +239,21 @@ void run(const Args& a) {
     }
     if (failure) std::rethrow_exception(failure);
     const double filter_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_filters).count();
+    // walk_pf is what a phone gets: each walk posted to a live track on the radio map's map, the
+    // server's own filter answering (tools/putmc_live.hpp), one walk at a time (the API client
+    // is one connection), so that the tracks' ids, the filters' seeds, follow the walks' order.
+    const auto t_live = std::chrono::steady_clock::now();
+    if (!a.reality && (a.method == "all" || a.method == "walk_pf")) {
+        const std::int64_t map_id = client.get("/v1/buildings/" + std::to_string(floor.building_id)).at("map_id").get<std::int64_t>();
+        for (std::size_t w = 0; w < walk_data.size(); ++w) {
+            walks::LiveWalk live = walks::live_walk(client, map_id, walk_data[w]);
+            auto& tracks = results[w].tracks;
+            std::erase_if(tracks, [](const walks::MethodTrack& t) { return t.method == "walk_pf"; });
+            tracks.push_back({"walk_pf", std::move(live.at_scan)});
+            results[w].live_track = {live.track_id, live.token};
+        }
+    }
+    const double live_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_live).count();
     for (const auto& r : results)
         if (r.fixes == 0)
             std::cerr << "locus: " << r.name << ": no scan localized (every one answered no_match): skipped in the figures\n";
@@ -261,6 +280,7 @@ void run(const Args& a) {
         for (const auto& p : r.truth) truth.push_back({p.x, p.y});
         json w = {{"walk", r.name}, {"truth", truth}, {"scans", r.truth.size()}, {"fixes", r.fixes}, {"steps", r.steps},
                   {"offset_deg", r.offset_deg}, {"mirrored", r.mirrored}, {"methods", json::object()}};
+        if (r.live_track) w["live_track"] = {{"id", r.live_track->first}, {"token", r.live_track->second}};
         for (const auto& m : shown) {
             const auto e = walks::errors_of(r, m);
             w["methods"][m] = stats_json(walks::stats_of(e));
@@ -277,7 +297,7 @@ void run(const Args& a) {
     }
     for (const auto& m : shown) out["pooled"][m] = stats_json(walks::stats_of(pooled[m]));
     const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-    out["seconds"] = {{"total", total_s}, {"localize_http", http_s}, {"pdr_and_filters", filter_s}};
+    out["seconds"] = {{"total", total_s}, {"localize_http", http_s}, {"pdr_and_filters", filter_s}, {"live_tracks", live_s}};
 
     if (a.json_out) {
         std::cout << out.dump() << "\n";
@@ -307,7 +327,8 @@ void run(const Args& a) {
                       m.ends_with("_smoother") ? "  (offline: uses future data)" : "");
         std::cout << row;
     }
-    std::snprintf(line, sizeof line, "%.2f s (localize over HTTP %.2f s, PDR and filters %.2f s)\n", total_s, http_s, filter_s);
+    std::snprintf(line, sizeof line, "%.2f s (localize over HTTP %.2f s, PDR and filters %.2f s, live tracks %.2f s)\n", total_s, http_s,
+                  filter_s, live_s);
     std::cerr << line;
 }
 
@@ -325,14 +346,14 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_option("--walks", args->only, "only these walks (comma-separated directory names)");
     cmd->add_option("--algorithm", args->algorithm, "matcher the server uses")->capture_default_str();
     cmd->add_option("--k", args->k, "k for knn/wknn")->capture_default_str()->check(CLI::Range(1, 100));
-    cmd->add_option("--particles", args->particles, "walk_pf particles")->capture_default_str()->check(CLI::Range(10, 100000));
+    cmd->add_option("--particles", args->particles, "walk_pf_local particles")->capture_default_str()->check(CLI::Range(10, 100000));
     cmd->add_option("--jobs", args->jobs, "walks evaluated at once (threads); the figures do not depend on it")
         ->capture_default_str()
         ->check(CLI::Range(1, 256));
-    cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf's by name; particle.*, kalman.*; rules.* sets the *_tuned rules)");
+    cmd->add_option("--set", args->tune, "a method's parameter KEY=VALUE, for tuning (walk_pf_local's by name; particle.*, kalman.*; rules.* sets the *_tuned rules)");
     cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
     cmd->add_flag("--reality", args->reality, "instead of the methods: the walks' compass drift, step coverage and WiFi error correlation (what the simulator is calibrated to)");
-    cmd->add_flag("--smooth", args->smooth, "also the offline smoothers, RTS and forward-backward walk_pf (use each walk's future: not causal)");
+    cmd->add_flag("--smooth", args->smooth, "also the offline smoothers, RTS and forward-backward walk_pf_local (use each walk's future: not causal)");
     cmd->add_flag_callback("--no-walls", [args] { args->walls = false; }, "ignore the floor's plan (no map matching)");
     cmd->add_option("DIR", args->dir, "PUTMC directory (with trajs/) or one walk directory")->required()->check(CLI::ExistingDirectory);
     cmd->callback([args] { run(*args); });
