@@ -1,10 +1,12 @@
-// The ranging side of the localize body ("algorithm": "trilateration" | "multilateration",
-// server/http/localize/ranging_localize.*) and a transmitter's body (server/http/transmitter_fields.*),
-// then trilateration and multilateration on the parsed scan, each AP placed by its bssid's hash.
+// The ranging side of the localize body ("algorithm": "trilateration" | "multilateration" |
+// "proximity", server/http/localize/ranging_localize.*) and a transmitter's body
+// (server/http/transmitter_fields.*), then trilateration, multilateration and the nearest
+// transmitter on the parsed scan, each AP placed by its bssid's hash.
 //
 // Checks: the parsers throw nothing but http::ApiError 400/422; a request they accept has APs
 // of type wifi/ble with an rss in [-120, 0]; an accepted transmitter has a normalised bssid
-// and its type; a fix is finite, uses at least 3 transmitters, and its ellipse is not negative.
+// and its type; a fix is finite, uses at least 3 transmitters, and its ellipse is not negative;
+// the nearest transmitter is one heard, the strongest, at a finite range not below 0.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -19,6 +21,7 @@
 #include "http/transmitters/transmitter_fields.hpp"
 #include "json_mutator.hpp"
 #include "locus/radio_map.hpp"
+#include "transmitters/ranging_scan.hpp"
 
 using namespace locus;
 using namespace locus::http;
@@ -53,6 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     try {
         if (const auto r = parse_ranging_request(body)) {
             std::vector<ranging::Heard> heard;
+            transmitters::KnownTransmitters known;
             for (const auto& ap : r->query.aps) {
                 check(ap.type == "wifi" || ap.type == "ble", "an AP type other than wifi/ble", body);
                 check(valid_rss(ap.rss), "an rss outside [-120, 0]", body);
@@ -61,6 +65,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                        static_cast<double>((h / 10'000'000) % 300) / 100.0,
                                        {-30.0 - static_cast<double>(h % 50), 1.5 + static_cast<double>(h % 30) / 10.0}};
                 heard.push_back({t, ap.rss});
+                known.by_key[transmitters::transmitter_key(ap.type, ap.bssid)] = {1, t, static_cast<std::int64_t>(h % 1000), ""};
+            }
+            if (!heard.empty()) {
+                const auto n = transmitters::nearest_transmitter(known, r->query);
+                check(n.transmitter && n.heard == heard.size(), "no nearest transmitter, or a wrong count, for a scan of known ones", body);
+                for (const auto& ap : r->query.aps) check(!(ap.rss > n.rss), "a nearest transmitter weaker than another heard", body);
+                check(std::isfinite(n.range_m) && n.range_m >= 0.0, "a range that is not finite or below 0", body);
             }
             if (heard.size() >= 3) {
                 check_fix(ranging::trilaterate(heard, r->trilateration), heard.size(), body);

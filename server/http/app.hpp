@@ -12,6 +12,7 @@
 #include <string>
 
 #include "directory/service.hpp"
+#include "http/places_json.hpp"
 #include "http/plans/floor_geo.hpp"
 #include "http/plans/plan_answers.hpp"
 #include "http/front/fair_share.hpp"
@@ -112,6 +113,8 @@ private:
     directory::Service& directory_;
     transmitters::TransmitterCache transmitters_{store_};  // for the ranging localize and the thin clients' ranged scans
     FloorGeoCache geo_{store_};  // lat/lon in the answers of georeferenced floors
+    floors::FloorPlacesCache places_{store_};  // the room and POIs near every position answered
+    PositionViews views_{geo_, places_};
     PlanAnswers plan_answers_{store_};  // GET /v1/floors/{id}/plan's texts (plan_routes.cpp)
     tuning::Service tuning_{store_, settings_text()};  // tune and quality (tune_routes.cpp)
     AppOptions options_;

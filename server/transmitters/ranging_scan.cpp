@@ -23,6 +23,9 @@ void add_floor(TransmitterCache& cache, std::int64_t floor_id, double phone_heig
         const auto& z = f.values.at("z");
         k.tx.dz = std::holds_alternative<double>(z) ? std::get<double>(z) - phone_height : 0.0;
         k.tx.model = {f.get<double>("tx_power"), f.get<double>("path_loss_exponent")};
+        k.id = r.id;
+        if (const auto name = f.values.find("name"); name != f.values.end() && std::holds_alternative<std::string>(name->second))
+            k.name = std::get<std::string>(name->second);
         out.emplace(transmitter_key(f.get<std::string>("type"), f.get<std::string>("bssid")), k);
     }
 }
@@ -93,6 +96,26 @@ Ranged range_scan(const KnownTransmitters& known, const RangingRequest& request)
                                     " transmitters heard (fewer than 3 within the cutoff of " + number(request.trilateration.cutoff) +
                                     " m, or all in a line)");
     return {floor_id, *fix, count};
+}
+
+Nearest nearest_transmitter(const KnownTransmitters& known, const match::Query& query) {
+    Nearest out;
+    for (const auto& ap : query.aps) {
+        const auto k = known.by_key.find(transmitter_key(ap.type, ap.bssid));
+        if (k == known.by_key.end()) continue;
+        ++out.heard;
+        // The strongest reading; at equal RSS the first in the query's (type, bssid) order.
+        if (out.transmitter && !(ap.rss > out.rss)) continue;
+        out.transmitter = &k->second;
+        out.type = ap.type;
+        out.bssid = ap.bssid;
+        out.rss = ap.rss;
+    }
+    if (!out.transmitter)
+        throw Refused("no_known_transmitter", std::string("the scan hears no known transmitter") +
+                                                  (known.map_scope ? " on any floor of the map" : " of the radio map's floor"));
+    out.range_m = ranging::horizontal(ranging::range_of(out.transmitter->tx.model, out.rss), out.transmitter->tx.dz);
+    return out;
 }
 
 }  // namespace locus::transmitters

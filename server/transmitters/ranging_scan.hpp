@@ -1,7 +1,8 @@
 #pragma once
 // A scan ranged on the transmitters at known positions (the floors' transmitters), not on a
-// radio map's RPs: what POST …/localize answers with "algorithm": "trilateration" or
-// "multilateration" (http/localize/ranging_localize.hpp reads the body and writes the answer),
+// radio map's RPs: what POST …/localize answers with "algorithm": "trilateration",
+// "multilateration" or "proximity" (the nearest one: "you are at beacon X";
+// http/localize/ranging_localize.hpp reads the body and writes the answer),
 // and what a thin client's scans become on a track fused by a Kalman method
 // (tracks/map_scans.hpp).
 #include <cstddef>
@@ -19,6 +20,7 @@ namespace locus::transmitters {
 
 struct RangingRequest {
     bool multilateration = false;  // else the Kalman-fusion paper's trilateration
+    bool proximity = false;        // neither: the strongest known transmitter (nearest_transmitter)
     match::Query query;
     ranging::TrilaterationOptions trilateration;
     ranging::MultilaterationOptions multilateration_options;
@@ -37,6 +39,8 @@ struct Ranged {
 struct KnownTransmitter {
     std::int64_t floor_id = 0;
     ranging::Transmitter tx;
+    std::int64_t id = 0;         // the transmitter's row
+    std::string name;            // "" when it has none
 };
 // A transmitter's key in KnownTransmitters: "type|bssid", the bssid normalised.
 std::string transmitter_key(std::string_view type, std::string_view bssid);
@@ -52,5 +56,18 @@ KnownTransmitters known_transmitters(store::Store& store, TransmitterCache& cach
 // the method finds no position (every transmitter past the cutoff, or in a line). `known`
 // must have been read with the request's phone_height.
 Ranged range_scan(const KnownTransmitters& known, const RangingRequest& request);
+
+// The known transmitter the scan hears strongest: where the phone most likely is near (a
+// beacon at an entrance, a checkpoint), with the horizontal range its path-loss model gives
+// for the reading. Throws Refused no_known_transmitter when the scan hears none. Costs a
+// lookup per AP of the query.
+struct Nearest {
+    const KnownTransmitter* transmitter = nullptr;  // into `known`
+    std::string type, bssid;
+    double rss = 0.0;
+    double range_m = 0.0;
+    std::size_t heard = 0;  // known transmitters the scan hears, every floor
+};
+Nearest nearest_transmitter(const KnownTransmitters& known, const match::Query& query);
 
 }  // namespace locus::transmitters

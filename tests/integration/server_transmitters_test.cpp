@@ -287,6 +287,46 @@ TEST_F(RangingLocalize, BadRequestsNameTheProblem) {
     EXPECT_EQ(server->post("/v1/radiomaps/999999/localize", {{"algorithm", "multilateration"}, {"measurements", ms}}).status, 404);
 }
 
+// proximity: the known transmitter heard strongest, its position and its model's range.
+TEST_F(RangingLocalize, ProximityAnswersTheStrongestKnownTransmitter) {
+    // At (25, 15): the corner AP at (28, 18) is 4.2 m off, the strongest of the six by the models.
+    const double x = 25.0, y = 15.0;
+    for (const std::string& path : {"/v1/radiomaps/" + std::to_string(h.radiomap) + "/localize",
+                                   "/v1/maps/" + std::to_string(h.map) + "/localize"}) {
+        const json a = body_of(server->post(path, {{"algorithm", "proximity"}, {"measurements", measurements_at(x, y)}}));
+        EXPECT_EQ(a.at("algorithm"), "proximity") << path;
+        EXPECT_EQ(a.at("transmitter").at("bssid"), kLayout[2].bssid) << a.dump();
+        EXPECT_EQ(a.at("x"), kLayout[2].x);
+        EXPECT_EQ(a.at("y"), kLayout[2].y);
+        EXPECT_EQ(a.at("floor_id"), h.floor);
+        EXPECT_EQ(a.at("transmitters_heard"), std::size(kLayout));  // the unknown AP is not counted
+        EXPECT_NEAR(a.at("transmitter").at("rss").get<double>(), rss_at(kLayout[2], x, y), 1e-9);
+        // Its model inverted: the distance the reading was made at (the AP's height is unset, so
+        // the phone's: no height difference).
+        EXPECT_NEAR(a.at("range_m").get<double>(), std::hypot(x - kLayout[2].x, y - kLayout[2].y), 1e-6);
+    }
+    // One known transmitter is enough; a scan hearing none is refused by name.
+    const json one = {{{"bssid", kLayout[0].bssid}, {"rss", -70.0}}, {{"bssid", "0e:ee:ee:ee:ee:ee"}, {"rss", -40.0}}};
+    const json a = body_of(server->post("/v1/maps/" + std::to_string(h.map) + "/localize", {{"algorithm", "proximity"}, {"measurements", one}}));
+    EXPECT_EQ(a.at("transmitter").at("bssid"), kLayout[0].bssid);
+    EXPECT_EQ(a.at("transmitters_heard"), 1);
+    const auto none = server->post("/v1/maps/" + std::to_string(h.map) + "/localize",
+                                   {{"algorithm", "proximity"}, {"measurements", {{{"bssid", "0e:ee:ee:ee:ee:ee"}, {"rss", -40.0}}}}});
+    EXPECT_EQ(none.status, 422) << none.raw;
+    EXPECT_EQ(none.body["error"]["code"], "no_known_transmitter");
+    EXPECT_NE(none.body["error"]["message"].get<std::string>().find("hears no known transmitter"), std::string::npos) << none.raw;
+    // Only phone_height is an option of it.
+    const auto cutoff = server->post("/v1/maps/" + std::to_string(h.map) + "/localize",
+                                     {{"algorithm", "proximity"}, {"measurements", measurements_at(x, y)}, {"options", {{"cutoff", 5}}}});
+    EXPECT_EQ(cutoff.status, 422) << cutoff.raw;
+    EXPECT_NE(cutoff.body["error"]["message"].get<std::string>().find("options.cutoff"), std::string::npos) << cutoff.raw;
+    // phone_height is taken; these APs have no z, so they stand at the phone's height whatever it
+    // is and the range stays the reading's distance.
+    const json high = body_of(server->post("/v1/maps/" + std::to_string(h.map) + "/localize",
+                                           {{"algorithm", "proximity"}, {"measurements", measurements_at(x, y)}, {"options", {{"phone_height", -10.0}}}}));
+    EXPECT_NEAR(high.at("range_m").get<double>(), std::hypot(x - kLayout[2].x, y - kLayout[2].y), 1e-6);
+}
+
 // `locus import transmitters`: a file of APs and beacons, checked whole before any write;
 // a second import of it updates in place.
 TEST(ImportTransmitters, CsvIntoAFloorTwiceAndRefusedWhole) {

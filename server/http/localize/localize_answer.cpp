@@ -55,7 +55,8 @@ Writer& candidate_tail(Writer& w, long long floor_id, long long building_id) {
 }
 }  // namespace
 
-std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& request, FloorGeoCache* geo) {
+std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& request, FloorGeoCache* geo,
+                   floors::FloorPlacesCache* places) {
     // answer() runs on the HTTP worker thread that handles the request: that thread is the
     // matcher's caller, so it owns the workspace, warm for every request it serves.
     thread_local match::Workspace workspace;
@@ -79,6 +80,9 @@ std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& re
     w.key("room");
     if (room) w.raw("{").key("id").integer(room->id).key("name").text(room->name).raw("}");
     else w.raw("null");
+    // The checkpoints near the estimate: few, so through the JSON library.
+    const auto floor_places = places ? places->of_floor(result->floor_id) : nullptr;
+    w.key("nearby").raw(nearby_json(floor_places.get(), result->at).dump());
     w.key("rps").raw("[");
     for (std::size_t i = 0; i < result->rp_ids.size(); ++i) {
         if (i) w.raw(",");

@@ -21,13 +21,13 @@ void App::install_localize() {
                          guarded(req, res, [&] {
                              const auto id = parse_id(req.matches[1].str(), what);
                              if (const auto ranging = parse_ranging_request(req.body)) {
-                                 res.set_content(ranging_answer(store_, transmitters_, scope == Scope::map, id, *ranging), "application/json");
+                                 res.set_content(ranging_answer(store_, transmitters_, views_, scope == Scope::map, id, *ranging), "application/json");
                                  return;
                              }
                              const auto request = parse_localize_request(req.body);
                              // Moved in: set_content would copy the answer. As set_content
                              // does, any earlier Content-Type goes.
-                             res.body = answer(*localizer_.lookup(scope, id), request, &geo_);
+                             res.body = answer(*localizer_.lookup(scope, id), request, &geo_, &places_);
                              res.headers.erase("Content-Type");
                              res.set_header("Content-Type", "application/json");
                          });

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "http/api_error.hpp"
-#include "http/plans/floor_geo.hpp"
 #include "http/transmitters/transmitter_fields.hpp"
 #include "http/validation.hpp"
 #include "store/kinds.hpp"
@@ -37,18 +36,19 @@ int int_option(const json& o, const char* field, int lo, int hi, int fallback) {
 
 std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     // The fingerprint matchers' bodies are the hot path: they never hold these names.
-    if (body.find("lateration") == std::string::npos) return std::nullopt;
+    if (body.find("lateration") == std::string::npos && body.find("proximity") == std::string::npos) return std::nullopt;
     reject_deep(body);
     json j = json::parse(body, nullptr, false);
     if (j.is_discarded() || !j.is_object()) return std::nullopt;  // the full parser words the error
     const auto it = j.find("algorithm");
     if (it == j.end() || !it->is_string()) return std::nullopt;
     const auto& name = it->get_ref<const std::string&>();
-    if (name != "trilateration" && name != "multilateration") return std::nullopt;
+    if (name != "trilateration" && name != "multilateration" && name != "proximity") return std::nullopt;
     reject_nul(body);
     only_fields(j, {"algorithm", "scans", "measurements", "options"}, "");
     RangingRequest r;
     r.multilateration = name == "multilateration";
+    r.proximity = name == "proximity";
     const bool has_scans = j.contains("scans"), has_means = j.contains("measurements");
     if (has_scans == has_means) throw invalid_field("send exactly one of 'scans' or 'measurements'");
     if (has_scans) {
@@ -71,6 +71,7 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     if (j.contains("options")) {
         const json& o = j.at("options");
         if (!o.is_object()) throw invalid_field("'options' must be an object");
+        if (r.proximity) only_fields(o, {"phone_height"}, "options");  // nothing else is ranged
         only_fields(o, {"cutoff", "vote_slack", "correct", "max_transmitters", "sigma_db", "loss_scale", "max_iterations",
                         "phone_height"},
                     "options");
@@ -91,8 +92,42 @@ std::optional<RangingRequest> parse_ranging_request(const std::string& body) {
     return r;
 }
 
-std::string ranging_answer(store::Store& store, transmitters::TransmitterCache& cache, bool map_scope, std::int64_t id,
-                           const RangingRequest& request) {
+namespace {
+
+// The fields every ranging answer has: where, its floor and building, its room and the POIs
+// near it, and its WGS84 position when the floor is georeferenced.
+json placed(store::Store& store, PositionViews& views, std::int64_t floor_id, Point at, const char* algorithm) {
+    const auto floor = store.get(store::kind("floors"), floor_id);
+    json out = {{"x", at.x}, {"y", at.y}, {"floor_id", floor_id}, {"building_id", floor.parent_id.value()}, {"algorithm", algorithm}};
+    add_places(out, views.places.of_floor(floor_id).get(), at);
+    add_lat_lon(out, views.geo.of_floor(floor_id).get(), at);
+    return out;
+}
+
+// "proximity": the strongest known transmitter's own position, and how far its model puts
+// the phone from it.
+std::string proximity_answer(store::Store& store, PositionViews& views, const transmitters::KnownTransmitters& known,
+                             const match::Query& query) {
+    transmitters::Nearest n;
+    try {
+        n = transmitters::nearest_transmitter(known, query);
+    } catch (const transmitters::Refused& e) {
+        throw ApiError(422, e.code, e.what());
+    }
+    json out = placed(store, views, n.transmitter->floor_id, n.transmitter->tx.at, "proximity");
+    out["transmitter"] = {{"id", n.transmitter->id}, {"name", n.transmitter->name}, {"type", n.type}, {"bssid", n.bssid}, {"rss", n.rss}};
+    out["range_m"] = n.range_m;
+    out["transmitters_heard"] = n.heard;
+    return out.dump();
+}
+
+}  // namespace
+
+std::string ranging_answer(store::Store& store, transmitters::TransmitterCache& cache, PositionViews& views, bool map_scope,
+                           std::int64_t id, const RangingRequest& request) {
+    if (request.proximity)
+        return proximity_answer(store, views, transmitters::known_transmitters(store, cache, map_scope, id, request.phone_height),
+                                request.query);
     transmitters::Ranged ranged;
     try {
         ranged = transmitters::range_scan(transmitters::known_transmitters(store, cache, map_scope, id, request.phone_height), request);
@@ -103,28 +138,13 @@ std::string ranging_answer(store::Store& store, transmitters::TransmitterCache& 
     const auto* fix = &ranged.fix;
     const std::size_t count = ranged.heard;
     const char* algorithm = request.multilateration ? "multilateration" : "trilateration";
-    const auto floor = store.get(store::kind("floors"), floor_id);
-    const auto rooms = store.rooms_of_floor(floor_id);
-    const Room* room = room_at(rooms, fix->at);
-    json room_json = nullptr;
-    if (room) room_json = {{"id", room->id}, {"name", room->name}};
-    json out = {{"x", fix->at.x},
-                      {"y", fix->at.y},
-                      {"floor_id", floor_id},
-                      {"building_id", floor.parent_id.value()},
-                      {"room", room_json},
-                      {"algorithm", algorithm},
-                      {"uncertainty",
-                       {{"semi_major", std::isfinite(fix->uncertainty.semi_major) ? json(fix->uncertainty.semi_major) : json()},
-                        {"semi_minor", std::isfinite(fix->uncertainty.semi_minor) ? json(fix->uncertainty.semi_minor) : json()},
-                        {"angle_deg", fix->uncertainty.angle_deg}}},
-                      {"transmitters_heard", count},
-                      {"transmitters_used", fix->used},
-                      {"residual", fix->rms_residual}};
-    if (const auto g = georeference_of(floor)) {
-        const geo::FloorToEarth earth(*g);
-        add_lat_lon(out, &earth, fix->at);
-    }
+    json out = placed(store, views, floor_id, fix->at, algorithm);
+    out["uncertainty"] = {{"semi_major", std::isfinite(fix->uncertainty.semi_major) ? json(fix->uncertainty.semi_major) : json()},
+                          {"semi_minor", std::isfinite(fix->uncertainty.semi_minor) ? json(fix->uncertainty.semi_minor) : json()},
+                          {"angle_deg", fix->uncertainty.angle_deg}};
+    out["transmitters_heard"] = count;
+    out["transmitters_used"] = fix->used;
+    out["residual"] = fix->rms_residual;
     return out.dump();
 }
 

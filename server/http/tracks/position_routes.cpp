@@ -23,7 +23,7 @@ using nlohmann::json;
 
 void App::install_position_routes() {
     tracks::Service& svc = *options_.tracks;
-    FloorGeoCache& geo = geo_;
+    PositionViews& views = views_;
 
     const auto positions_scope = [this](const httplib::Request& req, httplib::Response& res) {
         if (options_.public_positions) {
@@ -47,13 +47,13 @@ void App::install_position_routes() {
         return std::pair{map_id, floor};
     };
 
-    server_.Get(R"(/v1/maps/(\d+)/positions)", [positions_scope, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/maps/(\d+)/positions)", [positions_scope, &svc, &views](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto [map_id, floor] = positions_scope(req, res);
             const double now = tracks::Service::now();
             json positions = json::array();
             for (const auto& t : svc.live_on_map(map_id, floor))
-                positions.push_back({{"track_id", t.id}, {"label", t.label}, {"fix", fix_json(*t.latest, geo)}, {"age_s", now - t.latest->t}});
+                positions.push_back({{"track_id", t.id}, {"label", t.label}, {"fix", fix_json(*t.latest, views)}, {"age_s", now - t.latest->t}});
             return std::pair{200, json{{"map_id", map_id}, {"positions", positions}}};
         });
     });
@@ -61,7 +61,7 @@ void App::install_position_routes() {
     // The live layer's stream: `position` {track_id, label, fix} for each new latest fix on the
     // map (or floor_id), `leave` {track_id, floor_id|null} when a shown track goes to another
     // floor (its floor) or ends (null). The first events are every live track's position.
-    server_.Get(R"(/v1/maps/(\d+)/positions/events)", [this, positions_scope, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/maps/(\d+)/positions/events)", [this, positions_scope, &svc, &views](const httplib::Request& req, httplib::Response& res) {
         std::shared_ptr<tracks::Service::MapStream> stream;
         respond_track(req, res, [&] {
             const auto scope = positions_scope(req, res);
@@ -69,7 +69,7 @@ void App::install_position_routes() {
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error
-        begin_event_stream(res, [&svc, &geo, stream](std::size_t, httplib::DataSink& sink) {
+        begin_event_stream(res, [&svc, &views, stream](std::size_t, httplib::DataSink& sink) {
             const auto next = next_batch(
                 sink, svc.options().heartbeat_s, [&](double wait_s) { return svc.next_map_events(*stream, wait_s); },
                 [](const tracks::MapEvents& b) { return !b.events.empty() || b.ended; });
@@ -78,7 +78,7 @@ void App::install_position_routes() {
             std::string out;
             for (const auto& e : batch.events) {
                 if (e.kind == tracks::MapEvent::Kind::position) {
-                    out += sse_event("position", json{{"track_id", e.track_id}, {"label", e.label}, {"fix", fix_json(*e.fix, geo)}});
+                    out += sse_event("position", json{{"track_id", e.track_id}, {"label", e.label}, {"fix", fix_json(*e.fix, views)}});
                 } else {
                     json floor = nullptr;
                     if (e.fix) floor = e.fix->floor_id;

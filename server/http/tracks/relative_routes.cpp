@@ -18,9 +18,9 @@ using nlohmann::json;
 
 void App::install_relative_routes() {
     tracks::Service& svc = *options_.tracks;
-    FloorGeoCache& geo = geo_;
+    PositionViews& views = views_;
 
-    server_.Get(R"(/v1/tracks/(\d+)/relative/(\d+))", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/tracks/(\d+)/relative/(\d+))", [this, &svc, &views](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto a_id = parse_id(req.matches[1].str(), "track");
             const auto b_id = parse_id(req.matches[2].str(), "track");
@@ -40,8 +40,8 @@ void App::install_relative_routes() {
                 if (e.why == tracks::Unrelated::Why::other_map) throw ApiError(422, "other_map", e.what());
                 throw ApiError(409, "no_fix", e.what());
             }
-            json out = {{"from", {{"track_id", a_id}, {"fix", fix_json(r.from, geo)}, {"age_s", r.from_age_s}}},
-                        {"to", {{"track_id", b_id}, {"fix", fix_json(r.to, geo)}, {"age_s", r.to_age_s}}},
+            json out = {{"from", {{"track_id", a_id}, {"fix", fix_json(r.from, views)}, {"age_s", r.from_age_s}}},
+                        {"to", {{"track_id", b_id}, {"fix", fix_json(r.to, views)}, {"age_s", r.to_age_s}}},
                         {"straight_distance_m", r.straight_distance_m},
                         {"bearing_deg", r.bearing_deg},
                         {"floor_difference", r.floor_difference}};
@@ -49,7 +49,7 @@ void App::install_relative_routes() {
             out["direction"] = r.relative_bearing_deg ? json(r.direction) : json(nullptr);
             if (r.route) {
                 out["walking_distance_m"] = r.route->length_m;
-                out["route"] = route_json(*r.route, geo);
+                out["route"] = route_json(*r.route, views.geo);
             } else {
                 out["walking_problem"] = r.walking_problem;
             }

@@ -16,9 +16,9 @@ using nlohmann::json;
 
 void App::install_track_fix_routes() {
     tracks::Service& svc = *options_.tracks;
-    FloorGeoCache& geo = geo_;
+    PositionViews& views = views_;
 
-    server_.Post(R"(/v1/tracks/(\d+)/fixes)", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Post(R"(/v1/tracks/(\d+)/fixes)", [this, &svc, &views](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             require_owner(svc, req, id, "a share token reads a track; only its owner's token posts fixes");
@@ -28,7 +28,7 @@ void App::install_track_fix_routes() {
                 throw invalid_field("floor " + std::to_string(*floor) + " is not a floor of track " + std::to_string(id) + "'s map");
             const auto posted = svc.post(id, fixes);
             json out = {{"stored", posted.stored}, {"duplicates", posted.duplicates}};
-            if (posted.latest) out["latest"] = fix_json(*posted.latest, geo);
+            if (posted.latest) out["latest"] = fix_json(*posted.latest, views);
             return std::pair{200, out};
         });
     });

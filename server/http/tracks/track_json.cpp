@@ -4,14 +4,15 @@ namespace locus::http {
 
 using nlohmann::json;
 
-json fix_json(const tracks::Fix& f, FloorGeoCache& geo) {
+json fix_json(const tracks::Fix& f, PositionViews& views) {
     json j = {{"t", f.t}, {"floor_id", f.floor_id}, {"x", f.x}, {"y", f.y}, {"accuracy_m", f.accuracy_m}};
     if (f.heading_deg) j["heading_deg"] = *f.heading_deg;
-    add_lat_lon(j, geo.of_floor(f.floor_id).get(), {f.x, f.y});  // when the floor is georeferenced
+    add_lat_lon(j, views.geo.of_floor(f.floor_id).get(), {f.x, f.y});  // when the floor is georeferenced
+    add_places(j, views.places.of_floor(f.floor_id).get(), {f.x, f.y});
     return j;
 }
 
-json track_json(const tracks::TrackInfo& t, FloorGeoCache& geo) {
+json track_json(const tracks::TrackInfo& t, PositionViews& views) {
     json j = {{"id", t.id},
               {"map_id", t.map_id},
               {"label", t.label},
@@ -21,7 +22,7 @@ json track_json(const tracks::TrackInfo& t, FloorGeoCache& geo) {
               {"fixes", t.fixes},
               {"fusion", tracks::fusion_method_name(t.fusion)}};
     if (!t.fusion_options.empty()) j["fusion_options"] = tracks::fusion_options_json(t.fusion_options);
-    if (t.latest) j["latest"] = fix_json(*t.latest, geo);  // absent before the first fix
+    if (t.latest) j["latest"] = fix_json(*t.latest, views);  // absent before the first fix
     if (t.ended_at) j["ended_at"] = *t.ended_at;
     return j;
 }

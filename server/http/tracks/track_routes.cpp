@@ -30,9 +30,9 @@ using nlohmann::json;
 
 void App::install_track_routes() {
     tracks::Service& svc = *options_.tracks;
-    FloorGeoCache& geo = geo_;
+    PositionViews& views = views_;
 
-    server_.Post("/v1/tracks", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Post("/v1/tracks", [this, &svc, &views](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const OpenRequest open = parse_open_request(parse_object(req.body));
             tracks::Opened o;
@@ -41,7 +41,7 @@ void App::install_track_routes() {
             } catch (const store::NotFound& e) {
                 throw invalid_field(std::string("'map_id': ") + e.what());
             }
-            json out = track_json(o.info, geo);
+            json out = track_json(o.info, views);
             out["token"] = o.token;
             out["ttl_s"] = svc.options().ttl_s;
             out["retention_s"] = svc.options().retention_s;
@@ -54,11 +54,11 @@ void App::install_track_routes() {
 
     // An action whose body is optional: `curl -X POST` with no body gets no 411.
     server_.allow_no_body("POST", R"(/v1/tracks/(\d+)/close)");
-    server_.Post(R"(/v1/tracks/(\d+)/close)", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Post(R"(/v1/tracks/(\d+)/close)", [&svc, &views](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             require_owner(svc, req, id, "only the track's owner closes it");
-            return std::pair{200, track_json(svc.close(id), geo)};
+            return std::pair{200, track_json(svc.close(id), views)};
         });
     });
 
@@ -71,15 +71,15 @@ void App::install_track_routes() {
         });
     });
 
-    server_.Get(R"(/v1/tracks/(\d+))", [&svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/tracks/(\d+))", [&svc, &views](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             svc.authorize(id, token_of(req));
             std::size_t limit = 100;
             if (req.has_param("limit")) limit = static_cast<std::size_t>(parse_query_integer(req.get_param_value("limit"), "limit", 0, 1000));
-            json out = track_json(svc.info(id), geo);
+            json out = track_json(svc.info(id), views);
             json trail = json::array();
-            for (const auto& f : svc.trail(id, limit)) trail.push_back(fix_json(f, geo));
+            for (const auto& f : svc.trail(id, limit)) trail.push_back(fix_json(f, views));
             out["trail"] = std::move(trail);
             return std::pair{200, out};
         });

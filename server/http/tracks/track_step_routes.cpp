@@ -18,9 +18,9 @@ using nlohmann::json;
 
 void App::install_track_step_routes() {
     tracks::Service& svc = *options_.tracks;
-    FloorGeoCache& geo = geo_;
+    PositionViews& views = views_;
 
-    server_.Post(R"(/v1/tracks/(\d+)/steps)", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Post(R"(/v1/tracks/(\d+)/steps)", [this, &svc, &views](const httplib::Request& req, httplib::Response& res) {
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
             require_owner(svc, req, id, "a share token reads a track; only its owner's token posts steps");
@@ -29,22 +29,22 @@ void App::install_track_step_routes() {
             fair_share_.charge_localizations(req, input.scans.size());
             tracks::StepsDone done;
             try {
-                done = tracks::post_steps(svc, id, input, {store_, transmitters_, localizer_, geo});
+                done = tracks::post_steps(svc, id, input, {store_, transmitters_, localizer_, views.geo});
             } catch (const tracks::CannotFuse& e) {
                 throw ApiError(422, e.code, e.what());
             } catch (const tracks::ForeignFloor& e) {
                 throw invalid_field(e.what());
             }
             json fused = json::array();
-            for (const auto& f : done.fused) fused.push_back(fix_json(f, geo));
+            for (const auto& f : done.fused) fused.push_back(fix_json(f, views));
             json out = {{"stored", done.posted.stored}, {"duplicates", done.posted.duplicates}, {"fused", fused}};
             if (!input.scans.empty()) {
                 json scan_fixes = json::array();
-                for (const auto& f : done.scan_fixes) scan_fixes.push_back(fix_json(f, geo));
+                for (const auto& f : done.scan_fixes) scan_fixes.push_back(fix_json(f, views));
                 out["scan_fixes"] = std::move(scan_fixes);
             }
             if (done.rss_offset_db) out["rss_offset_db"] = *done.rss_offset_db;
-            if (done.posted.latest) out["latest"] = fix_json(*done.posted.latest, geo);
+            if (done.posted.latest) out["latest"] = fix_json(*done.posted.latest, views);
             return std::pair{200, out};
         });
     });

@@ -16,9 +16,9 @@ using nlohmann::json;
 
 void App::install_track_stream_routes() {
     tracks::Service& svc = *options_.tracks;
-    FloorGeoCache& geo = geo_;
+    PositionViews& views = views_;
 
-    server_.Get(R"(/v1/tracks/(\d+)/events)", [this, &svc, &geo](const httplib::Request& req, httplib::Response& res) {
+    server_.Get(R"(/v1/tracks/(\d+)/events)", [this, &svc, &views](const httplib::Request& req, httplib::Response& res) {
         std::shared_ptr<tracks::Service::Stream> stream;
         respond_track(req, res, [&] {
             const auto id = parse_id(req.matches[1].str(), "track");
@@ -26,14 +26,14 @@ void App::install_track_stream_routes() {
             return std::pair{200, json()};
         });
         if (!stream) return;  // refused: res holds the error
-        begin_event_stream(res, [&svc, &geo, stream](std::size_t, httplib::DataSink& sink) {
+        begin_event_stream(res, [&svc, &views, stream](std::size_t, httplib::DataSink& sink) {
             const auto next = next_batch(
                 sink, svc.options().heartbeat_s, [&](double wait_s) { return svc.next_events(*stream, wait_s); },
                 [](const tracks::Events& e) { return !e.fixes.empty() || e.ended; });
             if (!next) return false;  // the reader hung up
             const tracks::Events& events = *next;
             std::string out;
-            for (const auto& f : events.fixes) out += sse_event("fix", fix_json(f, geo));
+            for (const auto& f : events.fixes) out += sse_event("fix", fix_json(f, views));
             if (events.fixes.empty() && !events.ended) out = ": heartbeat\n\n";
             if (events.ended)
                 out += sse_event("end", json{{"reason", events.evicted ? kEvicted : "the track is no longer live, or the server is stopping"}});
