@@ -384,7 +384,8 @@ def link_checks(driver, server):
 
 def live_checks(driver, server):
     """A phone's track: its dot appears on the shown floor within a second of its fix, with the
-    accuracy circle's radius, moves with its trail, and follows it to another floor."""
+    accuracy circle's radius and a label saying where it is in words (its room and nearest
+    checkpoint, as the fix says), moves with its trail, and follows it to another floor."""
     from selenium.webdriver.common.by import By
     from selenium.webdriver.support.ui import Select
 
@@ -399,13 +400,14 @@ def live_checks(driver, server):
     devices = "return window.locusViewer.liveLayer.locusDevices !== undefined;"
     device = ("const d = window.locusViewer.liveLayer.locusDevices; const v = d && d.get(arguments[0]);"
               "return v ? {x: v.fix.x, y: v.fix.y, floor: v.fix.floor_id, r: v.circle.getRadius(), trail: v.trail.length,"
+              " tip: v.dot.getTooltip().getContent(),"
               " circle: v.circle.getElement().getBoundingClientRect().width, dot: v.dot.getElement().getBoundingClientRect()} : null;")
 
     def fix_at(floor, x, y, accuracy):
         nonlocal posted
         posted = time.time()  # the phone's send: the dot's delay counts the POST too
-        server.api(f"/v1/tracks/{track['id']}/fixes",
-                   {"fixes": [{"t": time.time(), "floor_id": floor, "x": x, "y": y, "accuracy_m": accuracy}]}, "POST", headers=token)
+        return server.api(f"/v1/tracks/{track['id']}/fixes",
+                          {"fixes": [{"t": time.time(), "floor_id": floor, "x": x, "y": y, "accuracy_m": accuracy}]}, "POST", headers=token)
 
     posted = time.time()
 
@@ -419,8 +421,13 @@ def live_checks(driver, server):
         fail(f"timed out waiting for {what}")
 
     wait(driver, devices, "the live layer following the floor")
-    fix_at(ground["id"], 6.0, 4.0, 2.5)
+    # A checkpoint half a metre from where the phone will be: its label names it.
+    server.api(f"/v1/floors/{ground['id']}/pois", {"name": "Info point", "kind": "desk", "x": 6.5, "y": 4.0}, "POST")
+    answer = fix_at(ground["id"], 6.0, 4.0, 2.5)
     v, took = wait_device(lambda v: v is not None, "the phone's dot")
+    room = answer["latest"]["room"]
+    want_tip = "phone 7" + (f" · {room['name']}" if room else "") + " · near Info point"
+    check(v["tip"] == want_tip, f"the dot's label says where it is: {v['tip']!r}, the fix says {want_tip!r}")
     check(took < 1.0, f"the phone's dot appeared {took:.2f} s after its fix")
     check(abs(v["x"] - 6.0) < 1e-9 and v["floor"] == ground["id"] and v["r"] == 2.5, f"at its fix with the accuracy radius: {v}")
     px0 = screen_point(driver, 6.0, 4.0)

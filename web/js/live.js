@@ -3,13 +3,23 @@
 // a ReadableStream, not EventSource, because the stream wants the API key's Authorization
 // header, which EventSource cannot send. Each device is a dot with its label, the circle of its
 // accuracy_m and the trail of the positions seen since this floor was shown (the stream gives
-// latest fixes only; older fixes need the track's own token). A `leave` event (the device went to
-// another floor, or its track ended) removes it here; the other floor's stream shows it there.
+// latest fixes only; older fixes need the track's own token); its label says where it is in
+// words, as the fix does (docs/api.md: the room, and the nearest POI within the checkpoint
+// radius). A `leave` event (the device went to another floor, or its track ended) removes it
+// here; the other floor's stream shows it there.
 import { apiKey } from './api.js';
 import { ll } from './image_layer.js';
 import { esc } from './floor_view.js';
 
 const L = window.L;
+
+// "phone 7 · Reception · near Info desk": the device, its room and its nearest checkpoint.
+export function caption(name, fix) {
+  const parts = [name];
+  if (fix.room) parts.push(fix.room.name);
+  if (fix.nearby && fix.nearby.length) parts.push(`near ${fix.nearby[0].name}`);
+  return parts.join(' · ');
+}
 const TRAIL = 50;             // points of trail kept per device
 const RETRY_MS = 2000;        // after a dropped stream (server restart, network)
 
@@ -33,8 +43,8 @@ export function followFloor({ mapId, floorId, layer, note = () => {} }) {
     if (fix.floor_id !== floorId) return remove(id);
     const at = ll(fix.x, fix.y);
     let d = devices.get(id);
+    const name = label || `track ${id}`;
     if (!d) {
-      const name = label || `track ${id}`;
       d = {
         trail: [],
         line: L.polyline([], { className: 'live-trail', interactive: false }),
@@ -50,7 +60,7 @@ export function followFloor({ mapId, floorId, layer, note = () => {} }) {
     d.line.setLatLngs(d.trail);
     // L.CRS.Simple measures in map units, which are metres here: the radius is accuracy_m.
     d.circle.setLatLng(at).setRadius(fix.accuracy_m);
-    d.dot.setLatLng(at);
+    d.dot.setLatLng(at).setTooltipContent(esc(caption(name, fix)));
   }
 
   function handle(block) {
