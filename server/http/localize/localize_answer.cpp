@@ -80,9 +80,18 @@ std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& re
     w.key("room");
     if (room) w.raw("{").key("id").integer(room->id).key("name").text(room->name).raw("}");
     else w.raw("null");
-    // The checkpoints near the estimate: few, so through the JSON library.
-    const auto floor_places = places ? places->of_floor(result->floor_id) : nullptr;
-    w.key("nearby").raw(nearby_json(floor_places.get(), result->at).dump());
+    // The checkpoints near the estimate (as http/places_json.hpp writes them elsewhere).
+    w.key("nearby").raw("[");
+    if (const auto floor_places = places ? places->of_floor(result->floor_id) : nullptr) {
+        bool first = true;
+        for (const auto& n : floor_places->nearby(result->at)) {
+            if (!first) w.raw(",");
+            first = false;
+            w.raw("{").key("poi_id").integer(n.poi->id).key("name").text(n.poi->name).key("kind").text(n.poi->kind);
+            w.key("distance_m").number(n.distance_m).raw("}");
+        }
+    }
+    w.raw("]");
     w.key("rps").raw("[");
     for (std::size_t i = 0; i < result->rp_ids.size(); ++i) {
         if (i) w.raw(",");
