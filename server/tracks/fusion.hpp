@@ -151,6 +151,11 @@ public:
     void set_anchors(std::shared_ptr<const FloorAnchors> anchors) { anchors_ = std::move(anchors); }
     // The latest t this filter has run (nullopt before its first input).
     std::optional<double> done_t() const { return done_t_; }
+    // Where the filter is now, as a fused fix at done_t() (nullopt before it started).
+    std::optional<Fix> estimate() const {
+        if (!started() || !done_t_) return std::nullopt;
+        return fused(*done_t_, heading_deg_);
+    }
     // walk_pf: what the track's scans so far taught (tracks/scan_memory.hpp): the phone's RSS
     // offset, which the caller adds to each new scan before localizing it and then teaches with
     // the answer, and when each beacon last counted (only a scan after done_t() teaches: a

@@ -97,7 +97,7 @@ std::vector<Fix> FusionSessions::Run::run(FusionMethod method, const FusionOptio
     std::vector<RadioFix> merged;
     const std::vector<RadioFix>* all = &radio;
     if (sources) {
-        std::vector<Fix> placed = sources->scans(next_->scan_memory(), next_->done_t());
+        std::vector<Fix> placed = sources->scans(next_->scan_memory(), next_->done_t(), next_->estimate());
         if (!placed.empty()) {
             merged = radio;
             for (const Fix& f : placed) merged.emplace_back(f);

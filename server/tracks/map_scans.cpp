@@ -48,7 +48,8 @@ CannotFuse no_reading(const TimedScan& scan) { return CannotFuse("invalid_field"
 
 }  // namespace
 
-MatchedScan MapScans::match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db) {
+MatchedScan MapScans::match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db,
+                            std::optional<match::Near> near) {
     if (!snapshot_) snapshot_ = sources_.localizer.lookup(localize::Service::Scope::map, map_id);
     thread_local match::Workspace workspace;  // as the localize endpoint's: the HTTP worker owns it
     Scan shifted = scan.readings;
@@ -58,7 +59,13 @@ MatchedScan MapScans::match(std::int64_t map_id, const TimedScan& scan, std::opt
     if (query.aps.empty()) throw no_reading(scan);
     // A request naming no algorithm and no options: the radio map's stored defaults.
     const match::Setting& setting = snapshot_->defaults;
-    const auto result = match::localize(snapshot_->index, query, setting.algorithm, setting.options, workspace);
+    std::optional<match::Result> result;
+    if (near) {
+        match::Options options = setting.options;
+        options.near = near;
+        result = match::localize(snapshot_->index, query, setting.algorithm, options, workspace);
+    }
+    if (!result) result = match::localize(snapshot_->index, query, setting.algorithm, setting.options, workspace);
     if (!result)
         throw CannotFuse("no_match", "'" + scan.where + "': no reference point of the track's map shares an access point with the scan");
     MatchedScan out{result->floor_id, result->at, candidate_spread(*result, setting.options.k), {}};

@@ -37,7 +37,8 @@ public:
     // Throws CannotFuse invalid_field for a scan with no reading, no_match when no RP of the map
     // shares an AP with it (naming the scan). With an offset, the fingerprint costs a walk over
     // the postings of the scan's APs.
-    MatchedScan match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db) override;
+    MatchedScan match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db,
+                      std::optional<match::Near> near = std::nullopt) override;
     // Through the map's known transmitters (read once for the batch).
     std::optional<PlacedBeacon> beacon(std::int64_t map_id, const Reading& reading) override;
     std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return sources_.geo.of_floor(floor_id); }

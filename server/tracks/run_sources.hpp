@@ -29,7 +29,9 @@ public:
     // added and then teaching it, and its strong readings of the map's beacons as fixes at them
     // (one per beacon per interval, the memory's gate), unless at or before `done_t` (a retried
     // scan taught it the first time).
-    virtual std::vector<Fix> scans(ScanMemory& memory, std::optional<double> done_t) = 0;
+    // `estimate`: where the filter is before the batch (nullopt before it started), round
+    // which the scans are matched first (the dynamic subarea, docs/tracks.md).
+    virtual std::vector<Fix> scans(ScanMemory& memory, std::optional<double> done_t, const std::optional<Fix>& estimate) = 0;
 };
 
 }  // namespace locus::tracks

@@ -35,9 +35,24 @@ RadioFix ranged_scan_fix(ScanLocalizer& localizer, std::int64_t map_id, FusionMe
     return f;
 }
 
-// walk_pf's scans, localized during the filter's run (Service::post_raw): each shifted by the
-// phone's offset learnt from the scans before it, in time order, then teaching it with the
-// fingerprint it was placed at, as `locus eval ipin` does (tools/commands/eval_ipin.cpp); and
+// The dynamic subarea of a scan (docs/spec.md §4.2, Lu et al. 2016; docs/tracks.md,
+// "Subarea"): only the RPs round where the track's filter is count, as far as its own
+// uncertainty (kSubareaSigmas × its accuracy) and the walker's reach since (kSubareaWalkMps ×
+// the time) allow, plus kSubareaBaseM; a scan no RP there shares an AP with is matched on the
+// whole map. Chosen on the IPIN 2023 folds and PUTMC (docs/results.md, "The subarea"): wider
+// changed nothing, narrower cost PUTMC.
+constexpr double kSubareaBaseM = 3.0, kSubareaSigmas = 2.0, kSubareaWalkMps = 1.5;
+
+std::optional<match::Near> subarea(const std::optional<Fix>& estimate, double t) {
+    if (!estimate) return std::nullopt;
+    return match::Near{{estimate->x, estimate->y},
+                       kSubareaBaseM + kSubareaSigmas * estimate->accuracy_m + kSubareaWalkMps * std::max(0.0, t - estimate->t)};
+}
+
+// walk_pf's scans, localized during the filter's run (Service::post_raw): each matched within
+// the subarea round the filter's estimate before the batch, shifted by the phone's offset learnt
+// from the scans before it, in time order, then teaching it with the fingerprint it was placed
+// at, as `locus eval ipin` does (tools/commands/eval_ipin.cpp); and
 // its strong readings of the map's beacons, fixes at them (after the scan's own fix at equal t,
 // as the evaluation orders them).
 class RunScans : public RunSources {
@@ -47,7 +62,7 @@ public:
 
     std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return localizer_.georeference(floor_id); }
 
-    std::vector<Fix> scans(ScanMemory& memory, std::optional<double> done_t) override {
+    std::vector<Fix> scans(ScanMemory& memory, std::optional<double> done_t, const std::optional<Fix>& estimate) override {
         std::vector<Fix> out;
         scan_fixes.clear();
         if (!scans_) return out;
@@ -62,7 +77,7 @@ public:
                     near.push_back({scan.t, b->floor_id, b->at.x, b->at.y, fusion::kBeaconSigmaM, std::nullopt});
             }
             try {
-                const MatchedScan m = localizer_.match(map_id_, scan, memory.offset.offset_db());
+                const MatchedScan m = localizer_.match(map_id_, scan, memory.offset.offset_db(), subarea(estimate, scan.t));
                 if (teaches) memory.offset.add(scan.readings, m.placed_at);
                 out.push_back(matched_fix(scan.t, m.floor_id, m.at, m.spread));
                 scan_fixes.push_back(out.back());

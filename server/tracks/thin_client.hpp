@@ -24,6 +24,7 @@
 #include "locus/geo/georeference.hpp"
 #include "locus/geometry.hpp"
 #include "locus/match/device_offset.hpp"
+#include "locus/match/options.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "tracks/fusion.hpp"
 #include "tracks/service.hpp"
@@ -66,8 +67,11 @@ public:
     // The map's known transmitters, each floor's, as ekf_ranging's anchors.
     virtual std::shared_ptr<const FloorAnchors> anchors(std::int64_t map_id) = 0;
     // With an offset (dB), each reading is read that much stronger, and the answer carries the
-    // fingerprint the scan was placed at; without, the scan is matched as read.
-    virtual MatchedScan match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db) = 0;
+    // fingerprint the scan was placed at; without, the scan is matched as read. With `near`,
+    // only RPs within its radius are candidates (match::Near), and when none of them shares an
+    // AP with the scan it is matched on the whole map.
+    virtual MatchedScan match(std::int64_t map_id, const TimedScan& scan, std::optional<double> rss_offset_db,
+                              std::optional<match::Near> near = std::nullopt) = 0;
     // The map's beacon a reading is of (nullopt: not a BLE reading, or of no placed transmitter).
     virtual std::optional<PlacedBeacon> beacon(std::int64_t map_id, const Reading& reading) = 0;
     // A floor's georeference (null: none), for GNSS.

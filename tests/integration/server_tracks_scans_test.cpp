@@ -240,5 +240,35 @@ TEST(ServerTracksBeacons, AWeakReadingOrAnotherDeviceIsNoFixAndNoError) {
     EXPECT_EQ(refused.body["error"]["code"], "no_match");
 }
 
+// The subarea: a walk_pf track's scans are matched among the RPs round its filter's estimate.
+// Two RPs 26 m apart read alike (a corridor's two ends under the same APs): matched on the whole
+// map a scan of theirs lands between them; on a track standing at the west end it is the west
+// RP. A scan only the east RP hears is matched on the whole map (no RP round the track hears it).
+TEST(ServerTracksSubarea, ATracksScansAreMatchedRoundWhereItIs) {
+    ServerProcess s({"--quiet"});
+    const auto h = locus::testing::make_hierarchy(s);
+    const auto mean = [](const char* bssid, double rss) { return json{{"type", "wifi"}, {"bssid", bssid}, {"mean", rss}, {"variance", 4.0}, {"count", 10}}; };
+    const json twins = {{"name", "twins"},
+                        {"rps",
+                         {{{"name", "west"}, {"x", 2.0}, {"y", 5.0}, {"scans", 10}, {"measurements", {mean("aa:00:00:00:00:01", -50), mean("aa:00:00:00:00:02", -60)}}},
+                          {{"name", "east"}, {"x", 28.0}, {"y", 5.0}, {"scans", 10},
+                           {"measurements", {mean("aa:00:00:00:00:01", -50), mean("aa:00:00:00:00:02", -60), mean("aa:00:00:00:00:03", -55)}}}}}};
+    ASSERT_EQ(s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", twins).status, 201);
+    const json alike = json::array({{{"bssid", "aa:00:00:00:00:01"}, {"rss", -50}}, {{"bssid", "aa:00:00:00:00:02"}, {"rss", -60}}});
+    const json whole = body_of(s.post("/v1/maps/" + std::to_string(h.map) + "/localize", {{"scans", {alike}}}));
+    EXPECT_GT(whole["x"].get<double>(), 5.0) << whole.dump();  // between the twins, not at the west one
+    const Track t = open_track(s, {{"map_id", h.map}});
+    const double t0 = std::floor(unix_now()) - 100;
+    body_of(track_call(s, "POST", steps_path(t.id), {t.token},
+                       json{{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 2.0}, {"y", 5.0}, {"accuracy_m", 1.0}}}}}.dump()));
+    const json near = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {{{"t", t0 + 1}, {"readings", alike}}}}}.dump()));
+    ASSERT_EQ(near["scan_fixes"].size(), 1u) << near.dump();
+    EXPECT_DOUBLE_EQ(near["scan_fixes"][0]["x"].get<double>(), 2.0) << near.dump();
+    const json east_only = json::array({{{"bssid", "aa:00:00:00:00:03"}, {"rss", -55}}});
+    const json far = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {{{"t", t0 + 2}, {"readings", east_only}}}}}.dump()));
+    ASSERT_EQ(far["scan_fixes"].size(), 1u) << far.dump();
+    EXPECT_DOUBLE_EQ(far["scan_fixes"][0]["x"].get<double>(), 28.0) << far.dump();
+}
+
 }  // namespace
 }  // namespace server_tracks_scans_test

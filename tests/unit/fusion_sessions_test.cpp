@@ -55,7 +55,7 @@ public:
     Flag inside, release;
     bool released = false;
     std::shared_ptr<const locus::geo::FloorToEarth> georeference(std::int64_t) override { return nullptr; }
-    std::vector<tracks::Fix> scans(tracks::ScanMemory&, std::optional<double>) override {
+    std::vector<tracks::Fix> scans(tracks::ScanMemory&, std::optional<double>, const std::optional<tracks::Fix>&) override {
         inside.raise();
         released = release.wait();
         return {};
