@@ -92,8 +92,17 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
                 return;
             } catch (const api::ApiError& e) {
                 if (e.code() == "no_match" && batch.contains("scans")) {
-                    ++refused_scans;
-                    batch.erase("scans");
+                    // The WiFi scan the map cannot answer goes; the BLE scans beside it stay.
+                    json kept = json::array();
+                    for (auto& sc : batch["scans"]) {
+                        const bool ble = std::all_of(sc["readings"].begin(), sc["readings"].end(),
+                                                     [](const json& r) { return r.value("type", "wifi") == "ble"; });
+                        if (ble) kept.push_back(std::move(sc));
+                        else ++refused_scans;
+                    }
+                    if (kept.empty()) batch.erase("scans");
+                    else if (kept.size() == batch["scans"].size()) throw;  // BLE scans alone refused: not ours to drop
+                    else batch["scans"] = std::move(kept);
                 } else if (e.code() == "cannot_fuse" && batch.contains("steps")) {
                     dropped_steps += batch["steps"].size();
                     batch.erase("steps");

@@ -72,8 +72,12 @@ public:
             bool ble_only = true;
             for (const Reading& r : scan.readings) {
                 ble_only = ble_only && r.type == "ble";
-                const auto b = localizer_.beacon(map_id_, r);
-                if (b && r.rss >= fusion::kBeaconMinRssDbm && teaches && memory.beacons.take(r.bssid.str(), scan.t))
+                // A beacon is a measurement for a running filter on its floor, as the evaluation's
+                // trackers take it: never what starts a track or moves it to another floor (a
+                // strong reading through a stairwell: twice in ~300 on the IPIN walks).
+                const auto b = estimate ? localizer_.beacon(map_id_, r) : std::nullopt;
+                if (b && b->floor_id == estimate->floor_id && r.rss >= fusion::kBeaconMinRssDbm && teaches &&
+                    memory.beacons.take(r.bssid.str(), scan.t))
                     near.push_back({scan.t, b->floor_id, b->at.x, b->at.y, fusion::kBeaconSigmaM, std::nullopt});
             }
             try {

@@ -7,9 +7,10 @@
 // the phone's RSS offset its filter has learnt from the track's earlier scans before it is
 // matched, and then teaches the offset with the match (match::DeviceOffset, as `locus eval
 // ipin`'s trackers do): phones of different makes read the same AP several dB apart. Its scans'
-// strong readings of the map's BLE beacons (transmitters of type ble with a position) are also
-// fixes at the beacon (locus/motion/fusion/beacon.hpp, as `locus eval ipin`'s trackers take
-// them); a scan of BLE readings alone that no RP shares an AP with is then no error. GNSS fixes
+// strong readings of the map's BLE beacons (transmitters of type ble with a position) on the
+// floor its running filter is on are also fixes at the beacon (locus/motion/fusion/beacon.hpp,
+// as `locus eval ipin`'s trackers take them: never a track's start or a floor change); a scan of
+// BLE readings alone that no RP shares an AP with is then no error. GNSS fixes
 // are converted on the track's floor through its georeference, during the run. The localizers
 // and georeferences are behind ScanLocalizer: the server's are map_scans.hpp's (the localize
 // endpoint's matcher and ranging, the floors' georeference cache).

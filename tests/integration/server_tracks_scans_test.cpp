@@ -199,13 +199,20 @@ Track started_track(const ServerProcess& s, const locus::testing::Hierarchy& h, 
     return t;
 }
 
-TEST(ServerTracksBeacons, AStrongReadingOfTheMapsBeaconIsAFixAtIt) {
-    ServerProcess s({"--quiet"});
-    const auto h = locus::testing::make_hierarchy(s);
-    survey(s, h);
-    place_beacon(s, h.floor);
-    const double t0 = std::floor(unix_now()) - 100;
-    const Track t = started_track(s, h, t0);
+// The surveyed floor with its beacon, and a track started at (5, 5).
+struct ServerTracksBeacons : ::testing::Test {
+    ServerProcess s{{"--quiet"}};
+    locus::testing::Hierarchy h = locus::testing::make_hierarchy(s);
+    double t0 = std::floor(unix_now()) - 100;
+    Track t;
+    void SetUp() override {
+        survey(s, h);
+        place_beacon(s, h.floor);
+        t = started_track(s, h, t0);
+    }
+};
+
+TEST_F(ServerTracksBeacons, AStrongReadingOfTheMapsBeaconIsAFixAtIt) {
     // Heard at -60 dBm: a fix at the beacon (σ 6 m), so the estimate moves towards it, on its
     // floor; the BLE scan needs no RP that hears the beacon (the radio map holds none).
     const json near = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {ble_scan(t0 + 1, kBeacon, -60)}}}.dump()));
@@ -223,13 +230,7 @@ TEST(ServerTracksBeacons, AStrongReadingOfTheMapsBeaconIsAFixAtIt) {
     EXPECT_EQ(later["fused"].size(), 1u) << later.dump();
 }
 
-TEST(ServerTracksBeacons, AWeakReadingOrAnotherDeviceIsNoFixAndNoError) {
-    ServerProcess s({"--quiet"});
-    const auto h = locus::testing::make_hierarchy(s);
-    survey(s, h);
-    place_beacon(s, h.floor);
-    const double t0 = std::floor(unix_now()) - 100;
-    const Track t = started_track(s, h, t0);
+TEST_F(ServerTracksBeacons, AWeakReadingOrAnotherDeviceIsNoFixAndNoError) {
     const json scans = {{"scans", {ble_scan(t0 + 1, kBeacon, -80), ble_scan(t0 + 2, "0b:00:00:00:00:77", -50)}}};
     const json got = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, scans.dump()));
     EXPECT_EQ(got["fused"].size(), 0u) << got.dump();
@@ -238,6 +239,25 @@ TEST(ServerTracksBeacons, AWeakReadingOrAnotherDeviceIsNoFixAndNoError) {
     const Response refused = track_call(s, "POST", steps_path(t.id), {t.token}, wifi.dump());
     EXPECT_EQ(refused.status, 422) << refused.raw;
     EXPECT_EQ(refused.body["error"]["code"], "no_match");
+}
+
+TEST_F(ServerTracksBeacons, ABeaconNeitherStartsATrackNorMovesItToAnotherFloor) {
+    // A track with no fix yet: the beacon is heard, and nothing starts.
+    const Track fresh = open_track(s, {{"map_id", h.map}});
+    const json none = body_of(track_call(s, "POST", steps_path(fresh.id), {fresh.token}, json{{"scans", {ble_scan(t0 + 1, kBeacon, -55)}}}.dump()));
+    EXPECT_EQ(none["fused"].size(), 0u) << none.dump();
+    EXPECT_FALSE(none.contains("latest")) << none.dump();
+    // A beacon upstairs heard strongly (through a stairwell) by the running track: it stays put.
+    const auto upper = body_of(s.post("/v1/buildings/" + std::to_string(h.building) + "/floors",
+                                      {{"name", "Upper"}, {"level", 1}, {"width", 30.0}, {"height", 20.0}}),
+                               201)
+                           .at("id")
+                           .get<std::int64_t>();
+    const json up = {{"type", "ble"}, {"bssid", "0b:00:00:00:00:02"}, {"x", 5.0}, {"y", 5.0}, {"tx_power", -59}};
+    ASSERT_EQ(s.post("/v1/floors/" + std::to_string(upper) + "/transmitters", up).status, 201);
+    const json heard = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {ble_scan(t0 + 1, "0b:00:00:00:00:02", -50)}}}.dump()));
+    EXPECT_EQ(heard["fused"].size(), 0u) << heard.dump();
+    EXPECT_EQ(heard["latest"]["floor_id"], h.floor);
 }
 
 // The subarea: a walk_pf track's scans are matched among the RPs round its filter's estimate.
