@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -12,7 +11,7 @@
 #include "ipin_eval.hpp"
 #include "ipin_venue.hpp"
 #include "ipin_walk.hpp"
-#include "locus/api/error.hpp"
+#include "live_post.hpp"
 
 namespace locus::tools::ipin {
 
@@ -83,35 +82,9 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
         }
         if (answer.contains("rss_offset_db")) out["rss_offset_db"] = answer["rss_offset_db"];
     };
-    std::size_t requests = 0, refused_scans = 0, dropped_steps = 0;
+    PostCounts counts;
     auto post = [&](json batch) {
-        for (;;) {
-            try {
-                ++requests;
-                take(client.post_steps(key, batch));
-                return;
-            } catch (const api::ApiError& e) {
-                if (e.code() == "no_match" && batch.contains("scans")) {
-                    // The WiFi scan the map cannot answer goes; the BLE scans beside it stay.
-                    json kept = json::array();
-                    for (auto& sc : batch["scans"]) {
-                        const bool ble = std::all_of(sc["readings"].begin(), sc["readings"].end(),
-                                                     [](const json& r) { return r.value("type", "wifi") == "ble"; });
-                        if (ble) kept.push_back(std::move(sc));
-                        else ++refused_scans;
-                    }
-                    if (kept.empty()) batch.erase("scans");
-                    else if (kept.size() == batch["scans"].size()) throw;  // BLE scans alone refused: not ours to drop
-                    else batch["scans"] = std::move(kept);
-                } else if (e.code() == "cannot_fuse" && batch.contains("steps")) {
-                    dropped_steps += batch["steps"].size();
-                    batch.erase("steps");
-                } else {
-                    throw;
-                }
-                if (batch.empty()) return;
-            }
-        }
+        if (const auto answer = post_going_on(client, key, std::move(batch), counts)) take(*answer);
     };
     if (o.known_start && !lw.truth.empty()) {
         const Fix& s = lw.truth.front();
@@ -124,13 +97,10 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
     auto until = [&](double t_end, std::optional<std::size_t> scan) {
         json batch = json::object();
         json steps = json::array(), pres = json::array(), fixes = json::array();
-        for (; step < lw.steps.size() && lw.steps[step].t_s <= t_end; ++step) {
-            double heading = lw.steps[step].azimuth_rad * 180.0 / std::numbers::pi - bearing_deg;
-            heading = std::fmod(heading, 360.0);
-            if (heading < 0.0) heading += 360.0;
-            if (!(heading < 360.0)) heading = 0.0;
-            steps.push_back({{"t", base + lw.steps[step].t_s}, {"length_m", lw.steps[step].length_m}, {"heading_deg", heading}});
-        }
+        for (; step < lw.steps.size() && lw.steps[step].t_s <= t_end; ++step)
+            steps.push_back({{"t", base + lw.steps[step].t_s},
+                             {"length_m", lw.steps[step].length_m},
+                             {"heading_deg", heading_deg(lw.steps[step].azimuth_rad, bearing_deg)}});
         for (; pressure < lw.pressure.size() && lw.pressure[pressure].t_s <= t_end; ++pressure)
             pres.push_back({{"t", base + lw.pressure[pressure].t_s}, {"hpa", lw.pressure[pressure].hpa}});
         for (; gnss < lw.gnss.size() && lw.gnss[gnss].t <= t_end; ++gnss) {
@@ -145,9 +115,8 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
         // in time order, the WiFi scan first at equal t.
         std::vector<std::pair<double, json>> scans;
         if (scan) {
-            json readings = json::array();
-            for (const auto& m : lw.walk.scans[*scan]) readings.push_back({{"type", m.type}, {"bssid", m.bssid.str()}, {"rss", m.rss}});
-            scans.emplace_back(lw.walk.scan_times[*scan], json{{"t", base + lw.walk.scan_times[*scan]}, {"readings", readings}});
+            scans.emplace_back(lw.walk.scan_times[*scan],
+                               json{{"t", base + lw.walk.scan_times[*scan]}, {"readings", readings_json(lw.walk.scans[*scan])}});
         }
         // A phone gathers its BLE results a second at a time (each scan posted is a localization):
         // one scan per second of readings, stamped with its last reading's time.
@@ -177,10 +146,10 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
     for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) until(lw.walk.scan_times[i], i);
     until(std::numeric_limits<double>::infinity(), std::nullopt);  // what follows the last scan
     client.close_track(key);
-    out["requests"] = requests;
-    out["refused_scans"] = refused_scans;
-    out["dropped_steps"] = dropped_steps;
-    log << "live track " << key.id << ": " << requests << " requests, " << estimates.size() << " fused fixes\n";
+    out["requests"] = counts.requests;
+    out["refused_scans"] = counts.refused_scans;
+    out["dropped_steps"] = counts.dropped_steps;
+    log << "live track " << key.id << ": " << counts.requests << " requests, " << estimates.size() << " fused fixes\n";
     return estimates;
 }
 

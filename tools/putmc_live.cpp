@@ -2,12 +2,10 @@
 
 #include <chrono>
 #include <cmath>
-#include <numbers>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "locus/api/error.hpp"
 #include "putmc_thin.hpp"
 
 namespace locus::tools::walks {
@@ -30,37 +28,15 @@ LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::put
         json batch = json::object();
         if (!b.steps.empty()) {
             json steps = json::array();
-            for (const auto& s : b.steps) {
-                double heading = std::fmod(s.azimuth_rad * 180.0 / std::numbers::pi, 360.0);
-                if (heading < 0.0) heading += 360.0;
-                if (!(heading < 360.0)) heading = 0.0;
-                steps.push_back({{"t", base + s.t_s}, {"length_m", s.length_m}, {"heading_deg", heading}});
-            }
+            for (const auto& s : b.steps)
+                steps.push_back({{"t", base + s.t_s}, {"length_m", s.length_m}, {"heading_deg", heading_deg(s.azimuth_rad)}});
             batch["steps"] = std::move(steps);
         }
-        if (!b.scan->readings.empty()) {
-            json readings = json::array();
-            for (const auto& r : b.scan->readings) readings.push_back({{"type", r.type}, {"bssid", r.bssid.str()}, {"rss", r.rss}});
-            batch["scans"] = json::array({{{"t", base + b.t_s}, {"readings", std::move(readings)}}});
-        }
-        while (!batch.empty()) {
-            try {
-                ++out.requests;
-                const json answer = client.post_steps(key, batch);
-                const json& fused = answer.at("fused");
-                if (!fused.empty()) latest = Point{fused.back().at("x").get<double>(), fused.back().at("y").get<double>()};
-                break;
-            } catch (const api::ApiError& e) {
-                if (e.code() == "no_match" && batch.contains("scans")) {
-                    ++out.refused_scans;
-                    batch.erase("scans");
-                } else if (e.code() == "cannot_fuse" && batch.contains("steps")) {
-                    out.dropped_steps += batch["steps"].size();
-                    batch.erase("steps");
-                } else {
-                    throw;
-                }
-            }
+        if (!b.scan->readings.empty())
+            batch["scans"] = json::array({{{"t", base + b.t_s}, {"readings", readings_json(b.scan->readings)}}});
+        if (const auto answer = post_going_on(client, key, std::move(batch), out.posted)) {
+            const json& fused = answer->at("fused");
+            if (!fused.empty()) latest = Point{fused.back().at("x").get<double>(), fused.back().at("y").get<double>()};
         }
         out.at_scan[i] = latest;
     }

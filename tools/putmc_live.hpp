@@ -11,7 +11,6 @@
 // phone would go on.
 //
 // Cost: one request per scan; the track is closed at the end.
-#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -19,6 +18,7 @@
 
 #include "datasets/putmc.hpp"
 #include "locus/api/client.hpp"
+#include "live_post.hpp"
 #include "locus/geometry.hpp"
 
 namespace locus::tools::walks {
@@ -27,7 +27,7 @@ struct LiveWalk {
     std::vector<std::optional<Point>> at_scan;  // the track's latest fused fix after each scan's request (floor frame)
     std::int64_t track_id = 0;
     std::string token;  // the owner's, to read the track afterwards
-    std::size_t requests = 0, refused_scans = 0, dropped_steps = 0;
+    PostCounts posted;
 };
 
 LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::putmc::Walk& walk);

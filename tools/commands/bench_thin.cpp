@@ -26,6 +26,7 @@
 #include "bench_load.hpp"
 #include "command_registry.hpp"
 #include "datasets/putmc.hpp"
+#include "live_post.hpp"
 #include "proc_status.hpp"
 #include "putmc_thin.hpp"
 #include "survey_connect.hpp"
@@ -87,9 +88,7 @@ std::string body_of(const Request& r, double shift, bool first) {
     if (!first)
         for (const auto& s : r.steps)  // an azimuth in (−π, π]: within the ±360° the server takes
             steps.push_back({{"t", s.t_s + shift}, {"length_m", s.length_m}, {"heading_deg", s.azimuth_rad * 180.0 / std::numbers::pi}});
-    json readings = json::array();
-    for (const auto& x : r.readings) readings.push_back({{"type", x.type}, {"bssid", x.bssid.str()}, {"rss", x.rss}});
-    return json{{"steps", steps}, {"scans", {{{"t", r.t + shift}, {"readings", readings}}}}}.dump();
+    return json{{"steps", steps}, {"scans", {{{"t", r.t + shift}, {"readings", readings_json(r.readings)}}}}}.dump();
 }
 
 double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
