@@ -67,6 +67,29 @@ TEST(BarrierCells, CrossingsAreThoseOfTestingEveryBarrier) {
     EXPECT_GT(crossing, 10000);  // the sample does test crossings
 }
 
+TEST(BarrierCells, AMoveWithinTheMarginIsAnsweredByItsStartCell) {
+    const WalkGrid g = build_walk_grid(busy_plan());
+    const BarrierCells cells(g, 1.0);
+    const auto all = barriers_of(g);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> x(0.0, 20.0), y(0.0, 8.0), len(0.0, 1.0), dir(-3.2, 3.2);
+    int crossing = 0;
+    for (int i = 0; i < 200000; ++i) {
+        // Some moves start on a cell corner, or end exactly a margin away along an axis.
+        Point a{x(rng), y(rng)};
+        if (i % 7 == 0) a = {std::round(a.x * 4) / 4, std::round(a.y * 4) / 4};
+        const double l = i % 13 == 0 ? 1.0 : len(rng), h = i % 11 == 0 ? 0.0 : dir(rng);
+        const Point b{a.x + l * std::cos(h), a.y + l * std::sin(h)};
+        if (g.cell_at(a) < 0) continue;  // on the grid's far edge: no start cell
+        const bool expected = std::any_of(all.begin(), all.end(), [&](const Segment& s) { return locus::segments_intersect(a, b, s.a, s.b); });
+        ASSERT_EQ(cells.crosses_from(g.cell_at(a), a, b), expected) << a.x << "," << a.y << " → " << b.x << "," << b.y;
+        crossing += expected;
+    }
+    EXPECT_GT(crossing, 20000);
+    // A cell lists more than its own walls: the thin wall x = 10, a metre off, for a move from (9.1, 2).
+    EXPECT_TRUE(cells.crosses_from(g.cell_at({9.1, 2.0}), {9.1, 2.0}, {10.05, 2.0}));
+}
+
 TEST(BarrierCells, AShortMoveThroughAThinWallIsCaught) {
     const WalkGrid g = build_walk_grid(plan_fixture::two_rooms());
     const BarrierCells cells(g, 0.1);
@@ -76,7 +99,7 @@ TEST(BarrierCells, AShortMoveThroughAThinWallIsCaught) {
     EXPECT_TRUE(cells.crosses({9.999, 6.0}, {10.001, 6.001}));
     EXPECT_FALSE(cells.crosses({9.85, 4.0}, {10.15, 4.0}));  // through the door
     EXPECT_FALSE(cells.crosses({2.0, 2.0}, {2.0, 2.0}));
-    EXPECT_GT(cells.memory_bytes(), cells.entries() * sizeof(Segment));
+    EXPECT_GT(cells.memory_bytes(), cells.entries() * sizeof(std::uint32_t));
 }
 
 TEST(PlanWalkable, CellTestsAgreeWithTestingEveryPolygonAndWall) {

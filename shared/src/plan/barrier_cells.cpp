@@ -58,7 +58,7 @@ BarrierCells::BarrierCells(const WalkGrid& grid, double margin)
     listed_.resize(first_[cells]);
     std::vector<std::uint32_t> fill(first_.begin(), first_.end() - 1);
     for (std::uint32_t i = 0; i < barriers_.size(); ++i) {
-        each_cell(barriers_[i], [&](int c) { listed_[fill[static_cast<std::size_t>(c)]++] = barriers_[i]; });
+        each_cell(barriers_[i], [&](int c) { listed_[fill[static_cast<std::size_t>(c)]++] = i; });
         // Off the grid no cell lists it: a move that leaves the grid tests it directly.
         if (!inside_grid(barriers_[i].a) || !inside_grid(barriers_[i].b)) outer_.push_back(i);
     }
@@ -68,7 +68,8 @@ bool BarrierCells::crosses_in(int cell, Point a, Point b) const {
     // Segments that share a point have overlapping (closed) boxes: most listed walls fail that
     // cheaper test first.
     const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
-    for (const Segment* s = begin(cell); s != end(cell); ++s) {
+    for (std::uint32_t k = first_[static_cast<std::size_t>(cell)]; k < first_[static_cast<std::size_t>(cell) + 1]; ++k) {
+        const Segment* s = &barriers_[listed_[k]];
         if (std::max(s->a.x, s->b.x) < x0 || std::min(s->a.x, s->b.x) > x1 || std::max(s->a.y, s->b.y) < y0 || std::min(s->a.y, s->b.y) > y1)
             continue;
         if (segments_intersect(a, b, s->a, s->b)) return true;
@@ -113,7 +114,8 @@ bool BarrierCells::near(Point p, double d) const {
     const double fc = (p.x - origin_.x) * inv_cell_, fr = (p.y - origin_.y) * inv_cell_;
     if (fc >= 0.0 && fr >= 0.0 && fc < cols_ && fr < rows_ && d <= margin_) {
         const int cell = static_cast<int>(fr) * cols_ + static_cast<int>(fc);
-        for (const Segment* s = begin(cell); s != end(cell); ++s) {
+        for (std::uint32_t k = first_[static_cast<std::size_t>(cell)]; k < first_[static_cast<std::size_t>(cell) + 1]; ++k) {
+            const Segment* s = &barriers_[listed_[k]];
             // Farther than d from the wall's box is farther than d from the wall.
             if (std::max(s->a.x, s->b.x) < p.x - d || std::min(s->a.x, s->b.x) > p.x + d || std::max(s->a.y, s->b.y) < p.y - d ||
                 std::min(s->a.y, s->b.y) > p.y + d)
@@ -127,7 +129,7 @@ bool BarrierCells::near(Point p, double d) const {
 
 std::size_t BarrierCells::memory_bytes() const {
     return sizeof(*this) + barriers_.capacity() * sizeof(Segment) + first_.capacity() * sizeof(std::uint32_t) +
-           listed_.capacity() * sizeof(Segment) + outer_.capacity() * sizeof(std::uint32_t);
+           listed_.capacity() * sizeof(std::uint32_t) + outer_.capacity() * sizeof(std::uint32_t);
 }
 
 }  // namespace locus::plan

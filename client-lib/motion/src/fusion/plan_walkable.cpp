@@ -107,6 +107,7 @@ PlanWalkable::PlanWalkable(locus::plan::Plan plan) : plan_(std::move(plan)) {
         ring_first_[c + 1] = static_cast<std::uint32_t>(ring_edges_.size());
     }
     cells_ = locus::plan::BarrierCells(grid_, kWallMargin);
+    step_cells_ = locus::plan::BarrierCells(grid_, kStepReach);
     axis_ = corridor_axis(plan_);
 }
 
@@ -150,7 +151,7 @@ bool PlanWalkable::in_spaces_mixed(Point p, int cell) const {
 }
 
 std::size_t PlanWalkable::memory_bytes() const {
-    std::size_t n = sizeof(*this) + cells_.memory_bytes() - sizeof(cells_);
+    std::size_t n = sizeof(*this) + cells_.memory_bytes() - sizeof(cells_) + step_cells_.memory_bytes() - sizeof(step_cells_);
     n += (clear_.capacity() + centre_clear_.capacity()) * sizeof(float) + space_kind_.capacity() + space_bounds_.capacity() * sizeof(locus::plan::Bounds);
     n += ring_first_.capacity() * sizeof(std::uint32_t) + ring_edges_.capacity() * sizeof(RingEdge);
     n += grid_.flags.capacity() + grid_.moves.capacity() + grid_.space.capacity() * sizeof(std::int32_t);
