@@ -62,6 +62,15 @@ BarrierCells::BarrierCells(const WalkGrid& grid, double margin)
         // Off the grid no cell lists it: a move that leaves the grid tests it directly.
         if (!inside_grid(barriers_[i].a) || !inside_grid(barriers_[i].b)) outer_.push_back(i);
     }
+    // Nearest the cell's centre first: a blocked move is most often stopped by the nearest
+    // wall, and the test ends at the first barrier crossed.
+    for (std::size_t c = 0; c < cells; ++c) {
+        const Point centre{origin_.x + (static_cast<double>(c % static_cast<std::size_t>(cols_)) + 0.5) * cell_,
+                           origin_.y + (static_cast<double>(c / static_cast<std::size_t>(cols_)) + 0.5) * cell_};
+        const auto d = [&](std::uint32_t i) { return distance2_to_segment(centre, barriers_[i].a, barriers_[i].b); };
+        std::sort(listed_.begin() + first_[c], listed_.begin() + first_[c + 1],
+                  [&](std::uint32_t i, std::uint32_t j) { return d(i) < d(j) || (d(i) == d(j) && i < j); });
+    }
 }
 
 bool BarrierCells::crosses_in(int cell, Point a, Point b) const {

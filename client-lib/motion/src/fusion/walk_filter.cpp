@@ -5,6 +5,7 @@
 #include <numbers>
 #include <utility>
 
+#include "cloud_moments.hpp"
 #include "locus/motion/pdr/heading_convention.hpp"
 
 namespace locus::fusion {
@@ -331,35 +332,28 @@ void WalkFilter::resample() {
 
 void WalkFilter::estimate() {
     const std::size_t n = x_.size();
-    double x = 0.0, y = 0.0, w = 0.0;
-    for (std::size_t i = 0; i < n; ++i) x += weight_[i] * x_[i], y += weight_[i] * y_[i], w += weight_[i];
-    if (w <= 0.0) {
+    constexpr float kAll = INFINITY;
+    // The weighted mean, round the first particle so that the float differences stay small.
+    const Point first = n ? Point{x_[0], y_[0]} : Point{};
+    const CloudMoments all = cloud_moments(x_.data(), y_.data(), weight_.data(), n, first, kAll);
+    if (!(all.w > 0.0)) {
         estimate_ = {};
         spread_ = 0.0;
         return;
     }
-    Point at{x / w, y / w};
+    Point at{first.x + all.x / all.w, first.y + all.y / all.w};
     // Mean shift with a flat kernel: once the particles within the radius stay the same, the
-    // point does too (to rounding), and the iterations left would change nothing.
-    const double r2 = config_.estimate_radius_m * config_.estimate_radius_m;
-    for (int it = 0; r2 > 0.0 && it < 5; ++it) {
-        double sx = 0.0, sy = 0.0, sw = 0.0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double dx = x_[i] - at.x, dy = y_[i] - at.y;
-            if (dx * dx + dy * dy <= r2) sx += weight_[i] * dx, sy += weight_[i] * dy, sw += weight_[i];
-        }
-        if (sw <= 0.0) break;
-        const Point shift{sx / sw, sy / sw};
+    // point does too (to the float sums' rounding, a µm), and the iterations left would change nothing.
+    const float r2 = static_cast<float>(config_.estimate_radius_m * config_.estimate_radius_m);
+    for (int it = 0; r2 > 0.0f && it < 5; ++it) {
+        const CloudMoments m = cloud_moments(x_.data(), y_.data(), weight_.data(), n, at, r2);
+        if (m.w <= 0.0) break;
+        const Point shift{m.x / m.w, m.y / m.w};
         at = {at.x + shift.x, at.y + shift.y};
-        if (std::abs(shift.x) < 1e-9 && std::abs(shift.y) < 1e-9) break;
+        if (std::abs(shift.x) < 1e-6 && std::abs(shift.y) < 1e-6) break;
     }
     estimate_ = at;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const double dx = x_[i] - at.x, dy = y_[i] - at.y;
-        sum += weight_[i] * (dx * dx + dy * dy);
-    }
-    spread_ = std::sqrt(sum / w);
+    spread_ = std::sqrt(cloud_moments(x_.data(), y_.data(), weight_.data(), n, at, kAll).d2 / all.w);
 }
 
 std::size_t WalkFilter::memory_bytes() const {
