@@ -7,13 +7,14 @@ namespace locus::tracks {
 bool FusionOptions::empty() const {
     for (const auto& spec : kFusionOptions)
         if (this->*spec.field) return false;
-    return true;
+    return !subarea;
 }
 
 nlohmann::json fusion_options_json(const FusionOptions& o) {
     nlohmann::json j = nlohmann::json::object();
     for (const auto& spec : kFusionOptions)
         if (const auto& v = o.*spec.field) j[spec.name] = *v;
+    if (o.subarea) j[kSubareaOption] = *o.subarea;
     return j;
 }
 
@@ -26,6 +27,7 @@ FusionOptions fusion_options_of_text(const std::string& text) {
     if (!j.is_object()) return o;  // written by fusion_options_text only: not expected
     for (const auto& spec : kFusionOptions)
         if (const auto it = j.find(spec.name); it != j.end() && it->is_number()) o.*spec.field = it->get<double>();
+    if (const auto it = j.find(kSubareaOption); it != j.end() && it->is_boolean()) o.subarea = it->get<bool>();
     return o;
 }
 

@@ -39,6 +39,10 @@ struct FusionOptions {
     // floor's georeferenced bearing): the compass's rotation is drawn round 0, not learnt.
     std::optional<double> rotation_sigma_deg;
     std::optional<double> rotation_walk_deg;           // the rotation's random walk per step (the compass's drift)
+    // walk_pf: false matches every scan on the whole map instead of round the filter's estimate
+    // (the dynamic subarea, docs/tracks.md "Subarea"; on when absent). Not a number, so not in
+    // kFusionOptions: read and written beside it.
+    std::optional<bool> subarea;
 
     bool empty() const;
 };
@@ -79,6 +83,8 @@ inline bool takes(const FusionOptionSpec& spec, FusionMethod m) {
     return (m == FusionMethod::kalman_trilateration && spec.trilateration) || (m == FusionMethod::kalman_ranging && spec.ranging) ||
            (m == FusionMethod::ekf_ranging && spec.ekf) || (m == FusionMethod::walk_pf && spec.walk);
 }
+
+inline constexpr const char* kSubareaOption = "subarea";
 
 // The options set, as a JSON object (as answered, and as stored: text, "" when none); unknown
 // names are ignored when read back.

@@ -65,10 +65,11 @@ MatchedScan MapScans::match(std::int64_t map_id, const TimedScan& scan, std::opt
         options.near = near;
         result = match::localize(snapshot_->index, query, setting.algorithm, options, workspace);
     }
+    const bool fell_back = near && !result;
     if (!result) result = match::localize(snapshot_->index, query, setting.algorithm, setting.options, workspace);
     if (!result)
         throw CannotFuse("no_match", "'" + scan.where + "': no reference point of the track's map shares an access point with the scan");
-    MatchedScan out{result->floor_id, result->at, candidate_spread(*result, setting.options.k), {}};
+    MatchedScan out{result->floor_id, result->at, candidate_spread(*result, setting.options.k), {}, fell_back};
     if (rss_offset_db) out.placed_at = placed_at(snapshot_->index, query, result->rp_ids);
     return out;
 }

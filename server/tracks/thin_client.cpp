@@ -57,14 +57,15 @@ std::optional<match::Near> subarea(const std::optional<Fix>& estimate, double t)
 // as the evaluation orders them).
 class RunScans : public RunSources {
 public:
-    RunScans(Service& svc, std::int64_t id, std::int64_t map_id, const std::vector<TimedScan>* scans, ScanLocalizer& localizer)
-        : svc_(svc), id_(id), map_id_(map_id), scans_(scans), localizer_(localizer) {}
+    RunScans(Service& svc, std::int64_t id, std::int64_t map_id, const std::vector<TimedScan>* scans, ScanLocalizer& localizer, bool use_subarea)
+        : svc_(svc), id_(id), map_id_(map_id), scans_(scans), localizer_(localizer), use_subarea_(use_subarea) {}
 
     std::shared_ptr<const geo::FloorToEarth> georeference(std::int64_t floor_id) override { return localizer_.georeference(floor_id); }
 
     std::vector<Fix> scans(ScanMemory& memory, std::optional<double> done_t, const std::optional<Fix>& estimate) override {
         std::vector<Fix> out;
         scan_fixes.clear();
+        scan_areas.clear();
         if (!scans_) return out;
         for (const TimedScan& scan : *scans_) {
             const bool teaches = !done_t || scan.t > *done_t;
@@ -81,10 +82,12 @@ public:
                     near.push_back({scan.t, b->floor_id, b->at.x, b->at.y, fusion::kBeaconSigmaM, std::nullopt});
             }
             try {
-                const MatchedScan m = localizer_.match(map_id_, scan, memory.offset.offset_db(), subarea(estimate, scan.t));
+                const auto near = use_subarea_ ? subarea(estimate, scan.t) : std::nullopt;
+                const MatchedScan m = localizer_.match(map_id_, scan, memory.offset.offset_db(), near);
                 if (teaches) memory.offset.add(scan.readings, m.placed_at);
                 out.push_back(matched_fix(scan.t, m.floor_id, m.at, m.spread));
                 scan_fixes.push_back(out.back());
+                scan_areas.push_back({near, m.fell_back});
             } catch (const CannotFuse& e) {
                 // A BLE scan is a proximity scan first: the radio map need not hold its beacons.
                 if (!(ble_only && e.code == "no_match")) throw;
@@ -98,6 +101,7 @@ public:
     }
 
     std::vector<Fix> scan_fixes;  // the matched ones, not the beacons'
+    std::vector<ScanArea> scan_areas;
     std::optional<double> offset_db;
 
 private:
@@ -105,6 +109,7 @@ private:
     std::int64_t id_, map_id_;
     const std::vector<TimedScan>* scans_;  // null: the scans went the other way (not walk_pf)
     ScanLocalizer& localizer_;
+    bool use_subarea_;
 };
 
 }  // namespace
@@ -119,7 +124,7 @@ StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLo
     std::shared_ptr<const FloorAnchors> anchors;
     if (track.fusion == FusionMethod::ekf_ranging && track.state == State::live) anchors = localizer.anchors(track.map_id);
     const bool learns_offset = track.fusion == FusionMethod::walk_pf;
-    RunScans run_scans(svc, id, track.map_id, learns_offset ? &in.scans : nullptr, localizer);
+    RunScans run_scans(svc, id, track.map_id, learns_offset ? &in.scans : nullptr, localizer, track.fusion_options.subarea.value_or(true));
     // walk_pf's scans are localized in the run (RunScans), with the offset its filter learnt.
     const std::vector<TimedScan> none;
     for (const TimedScan& scan : learns_offset ? none : in.scans) {
@@ -129,7 +134,7 @@ StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLo
             const MatchedScan m = localizer.match(track.map_id, scan, std::nullopt);
             radio.emplace_back(matched_fix(scan.t, m.floor_id, m.at, m.spread));
         }
-        if (!radio.back().unplaced) done.scan_fixes.push_back(radio.back());
+        if (!radio.back().unplaced) done.scan_fixes.push_back(radio.back()), done.scan_areas.emplace_back();
     }
     if (!in.scans.empty()) std::stable_sort(radio.begin(), radio.end(), by_time);
     std::vector<Fix> placed;
@@ -148,6 +153,7 @@ StepsDone post_steps(Service& svc, std::int64_t id, const StepsInput& in, ScanLo
     }
     if (learns_offset) {
         done.scan_fixes = std::move(run_scans.scan_fixes);
+        done.scan_areas = std::move(run_scans.scan_areas);
         done.rss_offset_db = run_scans.offset_db;
     }
     return done;

@@ -28,6 +28,7 @@
 #include "locus/match/options.hpp"
 #include "locus/ranging/trilateration.hpp"
 #include "tracks/fusion.hpp"
+#include "tracks/scan_area.hpp"
 #include "tracks/service.hpp"
 #include "tracks/steps_input.hpp"
 
@@ -41,7 +42,9 @@ struct MatchedScan {
     Point at;
     std::vector<Point> spread;
     match::Fingerprint placed_at;
+    bool fell_back = false;  // asked within `near`, matched on the whole map: no RP there shares an AP with it
 };
+
 
 // The map's transmitters' answer for a scan: a ranging fix on the floor heard most, or the
 // ranging's refusal (fewer than three known transmitters heard, no fix) as {code, message};
@@ -90,6 +93,7 @@ struct StepsDone {
     Posted posted;
     std::vector<Fix> fused;       // the filter's fixes of this batch
     std::vector<Fix> scan_fixes;  // each scan's radio fix that has a position, in the scans' order
+    std::vector<ScanArea> scan_areas;  // and where each was matched
     std::optional<double> rss_offset_db;  // walk_pf: the phone's offset learnt, after this batch
 };
 

@@ -263,31 +263,64 @@ TEST_F(ServerTracksBeacons, ABeaconNeitherStartsATrackNorMovesItToAnotherFloor) 
 // The subarea: a walk_pf track's scans are matched among the RPs round its filter's estimate.
 // Two RPs 26 m apart read alike (a corridor's two ends under the same APs): matched on the whole
 // map a scan of theirs lands between them; on a track standing at the west end it is the west
-// RP. A scan only the east RP hears is matched on the whole map (no RP round the track hears it).
-TEST(ServerTracksSubarea, ATracksScansAreMatchedRoundWhereItIs) {
-    ServerProcess s({"--quiet"});
-    const auto h = locus::testing::make_hierarchy(s);
-    const auto mean = [](const char* bssid, double rss) { return json{{"type", "wifi"}, {"bssid", bssid}, {"mean", rss}, {"variance", 4.0}, {"count", 10}}; };
-    const json twins = {{"name", "twins"},
-                        {"rps",
-                         {{{"name", "west"}, {"x", 2.0}, {"y", 5.0}, {"scans", 10}, {"measurements", {mean("aa:00:00:00:00:01", -50), mean("aa:00:00:00:00:02", -60)}}},
-                          {{"name", "east"}, {"x", 28.0}, {"y", 5.0}, {"scans", 10},
-                           {"measurements", {mean("aa:00:00:00:00:01", -50), mean("aa:00:00:00:00:02", -60), mean("aa:00:00:00:00:03", -55)}}}}}};
-    ASSERT_EQ(s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", twins).status, 201);
+// RP. A scan only the east RP hears is matched on the whole map (no RP round the track hears it),
+// and the answer says so. A track opened with `fusion_options.subarea: false` matches on the
+// whole map throughout.
+class ServerTracksSubarea : public ::testing::Test {
+protected:
+    void SetUp() override {
+        h = locus::testing::make_hierarchy(s);
+        const auto mean = [](const char* bssid, double rss) { return json{{"type", "wifi"}, {"bssid", bssid}, {"mean", rss}, {"variance", 4.0}, {"count", 10}}; };
+        const json twins = {{"name", "twins"},
+                            {"rps",
+                             {{{"name", "west"}, {"x", 2.0}, {"y", 5.0}, {"scans", 10}, {"measurements", {mean("aa:00:00:00:00:01", -50), mean("aa:00:00:00:00:02", -60)}}},
+                              {{"name", "east"}, {"x", 28.0}, {"y", 5.0}, {"scans", 10},
+                               {"measurements", {mean("aa:00:00:00:00:01", -50), mean("aa:00:00:00:00:02", -60), mean("aa:00:00:00:00:03", -55)}}}}}};
+        ASSERT_EQ(s.post("/v1/floors/" + std::to_string(h.floor) + "/radiomaps/import", twins).status, 201);
+    }
+    // A track standing at the west RP (one fix), then answers a scan both RPs read alike.
+    json alike_scan_on(const Track& t) {
+        body_of(track_call(s, "POST", steps_path(t.id), {t.token},
+                           json{{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 2.0}, {"y", 5.0}, {"accuracy_m", 1.0}}}}}.dump()));
+        return body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {{{"t", t0 + 1}, {"readings", alike}}}}}.dump()));
+    }
+    ServerProcess s{{"--quiet"}};
+    locus::testing::Hierarchy h;
     const json alike = json::array({{{"bssid", "aa:00:00:00:00:01"}, {"rss", -50}}, {{"bssid", "aa:00:00:00:00:02"}, {"rss", -60}}});
+    const double t0 = std::floor(unix_now()) - 100;
+};
+
+TEST_F(ServerTracksSubarea, ATracksScansAreMatchedRoundWhereItIs) {
     const json whole = body_of(s.post("/v1/maps/" + std::to_string(h.map) + "/localize", {{"scans", {alike}}}));
     EXPECT_GT(whole["x"].get<double>(), 5.0) << whole.dump();  // between the twins, not at the west one
     const Track t = open_track(s, {{"map_id", h.map}});
-    const double t0 = std::floor(unix_now()) - 100;
-    body_of(track_call(s, "POST", steps_path(t.id), {t.token},
-                       json{{"fixes", {{{"t", t0}, {"floor_id", h.floor}, {"x", 2.0}, {"y", 5.0}, {"accuracy_m", 1.0}}}}}.dump()));
-    const json near = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {{{"t", t0 + 1}, {"readings", alike}}}}}.dump()));
+    const json near = alike_scan_on(t);
     ASSERT_EQ(near["scan_fixes"].size(), 1u) << near.dump();
-    EXPECT_DOUBLE_EQ(near["scan_fixes"][0]["x"].get<double>(), 2.0) << near.dump();
+    const json& fix = near["scan_fixes"][0];
+    EXPECT_DOUBLE_EQ(fix["x"].get<double>(), 2.0) << near.dump();
+    // Round the filter's estimate (near the west RP), 3 m + 2σ + 1.5 m/s × 1 s at least.
+    EXPECT_NEAR(fix["subarea"]["x"].get<double>(), 2.0, 1.5) << near.dump();
+    EXPECT_GT(fix["subarea"]["radius_m"].get<double>(), 4.5) << near.dump();
+    EXPECT_LT(fix["subarea"]["radius_m"].get<double>(), 26.0) << near.dump();
+    EXPECT_EQ(fix["subarea"]["fell_back"], false) << near.dump();
     const json east_only = json::array({{{"bssid", "aa:00:00:00:00:03"}, {"rss", -55}}});
     const json far = body_of(track_call(s, "POST", steps_path(t.id), {t.token}, json{{"scans", {{{"t", t0 + 2}, {"readings", east_only}}}}}.dump()));
     ASSERT_EQ(far["scan_fixes"].size(), 1u) << far.dump();
     EXPECT_DOUBLE_EQ(far["scan_fixes"][0]["x"].get<double>(), 28.0) << far.dump();
+    EXPECT_EQ(far["scan_fixes"][0]["subarea"]["fell_back"], true) << far.dump();
+}
+
+TEST_F(ServerTracksSubarea, ATrackMayTurnItOff) {
+    const Track t = open_track(s, {{"map_id", h.map}, {"fusion_options", {{"subarea", false}}}});
+    const json info = body_of(track_call(s, "GET", "/v1/tracks/" + std::to_string(t.id), {t.token}));
+    EXPECT_EQ(info["fusion_options"], json({{"subarea", false}})) << info.dump();
+    const json got = alike_scan_on(t);
+    ASSERT_EQ(got["scan_fixes"].size(), 1u) << got.dump();
+    EXPECT_GT(got["scan_fixes"][0]["x"].get<double>(), 5.0) << got.dump();  // the whole map's answer
+    EXPECT_TRUE(got["scan_fixes"][0]["subarea"].is_null()) << got.dump();
+    // Turned on by name is the default: the west RP.
+    const Track on = open_track(s, {{"map_id", h.map}, {"fusion_options", {{"subarea", true}}}});
+    EXPECT_DOUBLE_EQ(alike_scan_on(on)["scan_fixes"][0]["x"].get<double>(), 2.0);
 }
 
 }  // namespace

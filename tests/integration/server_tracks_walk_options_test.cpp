@@ -117,6 +117,9 @@ TEST(ServerTracksWalkOptions, OptionsOfAnotherMethodOrOutOfRangeAreRefused) {
         {{{"fusion", "walk_pf"}, {"fusion_options", {{"rotation_walk_deg", 45.0}}}}, "fusion_options.rotation_walk_deg"},
         {{{"fusion", "kalman_trilateration"}, {"fusion_options", {{"step_scale", 1.0}}}}, "fusion_options.step_scale"},
         {{{"fusion", "particle"}, {"fusion_options", {{"step_scale", 1.0}}}}, "particle takes none"},
+        {{{"fusion_options", {{"subarea", "no"}}}}, "fusion_options.subarea"},
+        {{{"fusion_options", {{"subarea", 0}}}}, "fusion_options.subarea"},
+        {{{"fusion", "kalman_ranging"}, {"fusion_options", {{"subarea", false}}}}, "fusion_options.subarea"},
     };
     for (const auto& [fields, name] : bad) {
         json req = fields;

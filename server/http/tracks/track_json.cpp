@@ -12,6 +12,13 @@ json fix_json(const tracks::Fix& f, PositionViews& views) {
     return j;
 }
 
+json scan_fix_json(const tracks::Fix& f, const tracks::ScanArea& area, PositionViews& views) {
+    json j = fix_json(f, views);
+    j["subarea"] = area.near ? json{{"x", area.near->at.x}, {"y", area.near->at.y}, {"radius_m", area.near->radius}, {"fell_back", area.fell_back}}
+                             : json(nullptr);
+    return j;
+}
+
 json track_json(const tracks::TrackInfo& t, PositionViews& views) {
     json j = {{"id", t.id},
               {"map_id", t.map_id},

@@ -155,7 +155,8 @@ std::vector<tracks::Gnss> parse_gnss(const json* arr, double retention_s) {
 }
 
 // `fusion_options` of POST /v1/tracks: for the Kalman methods and walk_pf, only the options the
-// method takes (tracks/fusion_options.hpp), each a finite number in its range.
+// method takes (tracks/fusion_options.hpp), each a finite number in its range; walk_pf's
+// `subarea` a boolean.
 tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMethod method) {
     tracks::FusionOptions out;
     const auto it = body.find("fusion_options");
@@ -168,12 +169,18 @@ tracks::FusionOptions parse_fusion_options(const json& body, tracks::FusionMetho
     if (!it->is_object()) throw invalid_field("'fusion_options' must be an object");
     for (auto item = it->begin(); item != it->end(); ++item) {
         const std::string name = item.key();  // not a structured binding: the lambda below captures it (clang 14)
+        if (name == tracks::kSubareaOption && method == tracks::FusionMethod::walk_pf) {
+            if (!item->is_boolean()) throw invalid_field("'fusion_options.subarea' must be true or false");
+            out.subarea = item->get<bool>();
+            continue;
+        }
         const auto spec = std::find_if(tracks::kFusionOptions.begin(), tracks::kFusionOptions.end(),
                                        [&name](const tracks::FusionOptionSpec& s) { return name == s.name; });
         if (spec == tracks::kFusionOptions.end() || !tracks::takes(*spec, method)) {
             std::string known;
             for (const auto& s : tracks::kFusionOptions)
                 if (tracks::takes(s, method)) known += std::string(known.empty() ? "" : ", ") + s.name;
+            if (method == tracks::FusionMethod::walk_pf) known += std::string(", ") + tracks::kSubareaOption;
             throw invalid_field("'fusion_options." + name + "' is not an option of " + tracks::fusion_method_name(method) +
                                 " (it takes " + known + ")");
         }

@@ -40,7 +40,7 @@ void App::install_track_step_routes() {
             json out = {{"stored", done.posted.stored}, {"duplicates", done.posted.duplicates}, {"fused", fused}};
             if (!input.scans.empty()) {
                 json scan_fixes = json::array();
-                for (const auto& f : done.scan_fixes) scan_fixes.push_back(fix_json(f, views));
+                for (std::size_t i = 0; i < done.scan_fixes.size(); ++i) scan_fixes.push_back(scan_fix_json(done.scan_fixes[i], done.scan_areas[i], views));
                 out["scan_fixes"] = std::move(scan_fixes);
             }
             if (done.rss_offset_db) out["rss_offset_db"] = *done.rss_offset_db;
