@@ -12,14 +12,18 @@ namespace locus::tools::walks {
 
 using nlohmann::json;
 
-LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::putmc::Walk& walk) {
+LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::putmc::Walk& walk, bool subarea) {
     const std::vector<ThinBatch> batches = thin_batches(walk);
     LiveWalk out;
     out.at_scan.resize(batches.size());
+    out.scan_fix.resize(batches.size());
     if (batches.empty()) return out;
     const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     const double base = std::floor(now - batches.back().t_s - 1.0);
-    const api::TrackKey key = client.open_track(map_id, "eval walks " + walk.name).key;
+    json open = {{"map_id", map_id}, {"label", "eval walks " + walk.name}};
+    if (!subarea) open["fusion_options"] = {{"subarea", false}};
+    const json opened = client.post("/v1/tracks", open);
+    const api::TrackKey key{opened.at("id").get<std::int64_t>(), opened.at("token").get<std::string>()};
     out.track_id = key.id;
     out.token = key.token;
     std::optional<Point> latest;
@@ -37,6 +41,8 @@ LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::put
         if (const auto answer = post_going_on(client, key, std::move(batch), out.posted)) {
             const json& fused = answer->at("fused");
             if (!fused.empty()) latest = Point{fused.back().at("x").get<double>(), fused.back().at("y").get<double>()};
+            if (const auto s = answer->find("scan_fixes"); s != answer->end() && !s->empty())
+                out.scan_fix[i] = Point{s->back().at("x").get<double>(), s->back().at("y").get<double>()};
         }
         out.at_scan[i] = latest;
     }

@@ -8,7 +8,7 @@
 // server's defaults). The walk's clock is moved so that the walk ends now (the server refuses
 // fixes from the future and older than it keeps). A scan no RP hears (422 no_match) is posted
 // again without it and steps before the track's first fix (422 cannot_fuse) are dropped, as a
-// phone would go on.
+// phone would go on. Each scan's own fix is kept too (where the track's subarea matched it).
 //
 // Cost: one request per scan; the track is closed at the end.
 #include <cstdint>
@@ -25,11 +25,14 @@ namespace locus::tools::walks {
 
 struct LiveWalk {
     std::vector<std::optional<Point>> at_scan;  // the track's latest fused fix after each scan's request (floor frame)
+    std::vector<std::optional<Point>> scan_fix;  // the scan's own fix (the request's scan_fixes), none when refused
     std::int64_t track_id = 0;
     std::string token;  // the owner's, to read the track afterwards
     PostCounts posted;
 };
 
-LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::putmc::Walk& walk);
+// subarea false: the track opened with fusion_options.subarea false (its scans matched on the
+// whole map), to measure what the subarea does.
+LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::putmc::Walk& walk, bool subarea = true);
 
 }  // namespace locus::tools::walks

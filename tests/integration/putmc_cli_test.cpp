@@ -112,11 +112,22 @@ TEST(EvalWalks, EveryMethodAtEveryScanThroughTheServer) {
     EXPECT_NEAR(track["latest"]["x"].get<double>(), last[0].get<double>(), 1e-9);
     EXPECT_NEAR(track["latest"]["y"].get<double>(), last[1].get<double>(), 1e-9);
 
-    // One method, as a table.
+    // The live track's own scan fixes, scored beside it; its track matched them in its subarea.
+    ASSERT_TRUE(out["pooled"].contains("walk_pf.scan_fixes")) << out["pooled"].dump();
+    EXPECT_EQ(out["pooled"]["walk_pf.scan_fixes"]["n"], 3);
+    EXPECT_FALSE(track.contains("fusion_options")) << track.dump();
+
+    // One method, as a table, with the scan fixes' row; --no-subarea opens the tracks without it.
     const auto r = run_command({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "walk_pf", kFixture});
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("pooled (1 walks)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("walk_pf.scan_fixes"), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("kalman"), std::string::npos) << r.out;
+    const json off = run_ok({LOCUS_CLI_BIN, "eval", "walks", "--server", server.url(), "--radiomap", rm, "--method", "walk_pf", "--no-subarea", "--json", kFixture});
+    const json& ow = off["walks"][0];
+    const json opened = body_of(track_call(server, "GET", "/v1/tracks/" + ow["live_track"]["id"].dump(), {ow["live_track"]["token"].get<std::string>()}));
+    EXPECT_EQ(opened["fusion_options"], json({{"subarea", false}})) << opened.dump();
+    EXPECT_EQ(off["pooled"]["walk_pf.scan_fixes"]["n"], 3);
 }
 
 TEST(EvalWalks, BadInputIsNamed) {

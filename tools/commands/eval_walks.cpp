@@ -48,10 +48,15 @@ struct Args {
     bool smooth = false;
     bool walls = true;
     bool reality = false;  // the statistics the simulator is calibrated to, instead of the methods
+    bool subarea = true;   // walk_pf's live tracks match their scans in the subarea (the server's default)
     int particles = 2000;
     int jobs = std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::string> tune;  // --set KEY=VALUE
 };
+
+// Not a method: the live walk_pf track's scan fixes (each scan as its /steps matched it, in the
+// track's subarea), scored like one.
+constexpr const char* kScanFixes = "walk_pf.scan_fixes";
 
 // --set KEY=VALUE: a method's parameter, for tuning (on walks 1–5 only: docs/fusion.md).
 // walk_pf_local's by name, the other methods' as particle.NAME, kalman.NAME, rules.NAME (the
@@ -246,10 +251,11 @@ void run(const Args& a) {
     if (!a.reality && (a.method == "all" || a.method == "walk_pf")) {
         const std::int64_t map_id = client.get("/v1/buildings/" + std::to_string(floor.building_id)).at("map_id").get<std::int64_t>();
         for (std::size_t w = 0; w < walk_data.size(); ++w) {
-            walks::LiveWalk live = walks::live_walk(client, map_id, walk_data[w]);
+            walks::LiveWalk live = walks::live_walk(client, map_id, walk_data[w], a.subarea);
             auto& tracks = results[w].tracks;
-            std::erase_if(tracks, [](const walks::MethodTrack& t) { return t.method == "walk_pf"; });
+            std::erase_if(tracks, [](const walks::MethodTrack& t) { return t.method == "walk_pf" || t.method == kScanFixes; });
             tracks.push_back({"walk_pf", std::move(live.at_scan)});
+            tracks.push_back({kScanFixes, std::move(live.scan_fix)});
             results[w].live_track = {live.track_id, live.token};
         }
     }
@@ -270,7 +276,8 @@ void run(const Args& a) {
             for (const auto& p : r.truth) inside += map->inside(p), ++total;
         std::cerr << inside << " of " << total << " ground-truth points are walkable on the plan\n";
     }
-    const std::vector<std::string> shown = a.method == "all" ? names : std::vector<std::string>{a.method};
+    std::vector<std::string> shown = a.method == "all" ? names : std::vector<std::string>{a.method};
+    if (a.method == "all" || a.method == "walk_pf") shown.insert(std::find(shown.begin(), shown.end(), "walk_pf") + 1, kScanFixes);
     json out = {{"radiomap", a.radiomap}, {"algorithm", a.algorithm}, {"k", a.k}, {"walls", map.has_value()},
                 {"causal", "every method but the *_smoother ones: estimate at a scan from data up to that scan"},
                 {"no_match", no_match_total}, {"walks", json::array()}, {"pooled", json::object()}};
@@ -354,6 +361,8 @@ LOCUS_COMMAND("eval-walks", [](CLI::App& app) {
     cmd->add_flag("--json", args->json_out, "one JSON document instead of tables");
     cmd->add_flag("--reality", args->reality, "instead of the methods: the walks' compass drift, step coverage and WiFi error correlation (what the simulator is calibrated to)");
     cmd->add_flag("--smooth", args->smooth, "also the offline smoothers, RTS and forward-backward walk_pf_local (use each walk's future: not causal)");
+    cmd->add_flag_callback("--no-subarea", [args] { args->subarea = false; },
+                           "walk_pf's live tracks opened with fusion_options.subarea false: their scans matched on the whole map");
     cmd->add_flag_callback("--no-walls", [args] { args->walls = false; }, "ignore the floor's plan (no map matching)");
     cmd->add_option("DIR", args->dir, "PUTMC directory (with trajs/) or one walk directory")->required()->check(CLI::ExistingDirectory);
     cmd->callback([args] { run(*args); });
