@@ -35,18 +35,11 @@ RadioFix ranged_scan_fix(ScanLocalizer& localizer, std::int64_t map_id, FusionMe
     return f;
 }
 
-// The dynamic subarea of a scan (docs/spec.md §4.2, Lu et al. 2016; docs/tracks.md,
-// "Subarea"): only the RPs round where the track's filter is count, as far as its own
-// uncertainty (kSubareaSigmas × its accuracy) and the walker's reach since (kSubareaWalkMps ×
-// the time) allow, plus kSubareaBaseM; a scan no RP there shares an AP with is matched on the
-// whole map. Chosen on the IPIN 2023 folds and PUTMC (docs/results.md, "The subarea"): wider
-// changed nothing, narrower cost PUTMC.
-constexpr double kSubareaBaseM = 3.0, kSubareaSigmas = 2.0, kSubareaWalkMps = 1.5;
-
+// A scan's subarea round the filter's estimate (tracks/scan_area.hpp); a scan no RP there
+// shares an AP with is matched on the whole map.
 std::optional<match::Near> subarea(const std::optional<Fix>& estimate, double t) {
     if (!estimate) return std::nullopt;
-    return match::Near{{estimate->x, estimate->y},
-                       kSubareaBaseM + kSubareaSigmas * estimate->accuracy_m + kSubareaWalkMps * std::max(0.0, t - estimate->t)};
+    return subarea_round(*estimate, t);
 }
 
 // walk_pf's scans, localized during the filter's run (Service::post_raw): each matched within

@@ -287,7 +287,8 @@ protected:
     ServerProcess s{{"--quiet"}};
     locus::testing::Hierarchy h;
     const json alike = json::array({{{"bssid", "aa:00:00:00:00:01"}, {"rss", -50}}, {{"bssid", "aa:00:00:00:00:02"}, {"rss", -60}}});
-    const double t0 = std::floor(unix_now()) - 100;
+    // Recent: a localize naming the track reaches as far as the walker could have walked since.
+    const double t0 = std::floor(unix_now()) - 3;
 };
 
 TEST_F(ServerTracksSubarea, ATracksScansAreMatchedRoundWhereItIs) {
@@ -310,6 +311,65 @@ TEST_F(ServerTracksSubarea, ATracksScansAreMatchedRoundWhereItIs) {
     EXPECT_EQ(far["scan_fixes"][0]["subarea"]["fell_back"], true) << far.dump();
 }
 
+// A localize on the map naming the track (and sent with its token) is matched in the track's
+// subarea too, and says where; the whole map when the track has no fix yet.
+TEST_F(ServerTracksSubarea, ALocalizeNamingTheTrackUsesItsSubarea) {
+    const Track t = open_track(s, {{"map_id", h.map}});
+    const std::string path = "/v1/maps/" + std::to_string(h.map) + "/localize";
+    const auto localize = [&](const json& readings, const std::string& token) {
+        return track_call(s, "POST", path, {token}, json{{"scans", {readings}}, {"track_id", t.id}}.dump());
+    };
+    const json before = body_of(localize(alike, t.token));
+    EXPECT_GT(before["x"].get<double>(), 5.0) << before.dump();  // no fix yet: the whole map
+    EXPECT_TRUE(before["subarea"].is_null()) << before.dump();
+    alike_scan_on(t);  // the track now stands at the west RP
+    const json near = body_of(localize(alike, t.token));
+    EXPECT_DOUBLE_EQ(near["x"].get<double>(), 2.0) << near.dump();
+    EXPECT_EQ(near["subarea"]["fell_back"], false) << near.dump();
+    EXPECT_GT(near["subarea"]["radius_m"].get<double>(), 3.0) << near.dump();
+    const json east = body_of(localize(json::array({{{"bssid", "aa:00:00:00:00:03"}, {"rss", -55}}}), t.token));
+    EXPECT_DOUBLE_EQ(east["x"].get<double>(), 28.0) << east.dump();
+    EXPECT_EQ(east["subarea"]["fell_back"], true) << east.dump();
+    // Without the track, as before: no "subarea" in the answer.
+    const json plain = body_of(s.post(path, {{"scans", {alike}}}));
+    EXPECT_FALSE(plain.contains("subarea")) << plain.dump();
+}
+
+TEST_F(ServerTracksSubarea, ALocalizeNamingATrackWrongIsRefusedByName) {
+    const Track t = open_track(s, {{"map_id", h.map}});
+    const std::string path = "/v1/maps/" + std::to_string(h.map) + "/localize";
+    const auto call = [&](const json& body, const std::string& token, const std::string& on = "") {
+        return track_call(s, "POST", on.empty() ? path : on, {token}, body.dump());
+    };
+    const json scan = {{"scans", {alike}}};
+    const auto with = [&](const json& extra) {
+        json b = scan;
+        b.update(extra);
+        return b;
+    };
+    EXPECT_EQ(call(with({{"track_id", t.id}}), "").status, 401);
+    EXPECT_EQ(call(with({{"track_id", t.id}}), "trk_wrong").status, 403);
+    EXPECT_EQ(call(with({{"track_id", t.id + 100}}), t.token).status, 403);  // unknown: as a wrong token
+    for (const json& bad : {json("1"), json(0), json(-3), json(1.5), json::array({1}), json(nullptr)}) {
+        const Response r = call(with({{"track_id", bad}}), t.token);
+        EXPECT_EQ(r.status, 422) << bad.dump();
+        EXPECT_NE(r.raw.find("track_id"), std::string::npos) << r.raw;
+    }
+    const Response both = call(with({{"track_id", t.id}, {"options", {{"near", {{"x", 1.0}, {"y", 1.0}, {"radius", 5.0}}}}}}), t.token);
+    EXPECT_EQ(both.status, 422) << both.raw;
+    EXPECT_NE(both.raw.find("options.near"), std::string::npos) << both.raw;
+    const auto rm = body_of(s.get("/v1/floors/" + std::to_string(h.floor) + "/radiomaps"));
+    const std::string on_radiomap = "/v1/radiomaps/" + rm["items"][0]["id"].dump() + "/localize";
+    const Response radiomap = call(with({{"track_id", t.id}}), t.token, on_radiomap);
+    EXPECT_EQ(radiomap.status, 422) << radiomap.raw;
+    // A track on another map.
+    const auto other = body_of(s.post("/v1/maps", {{"name", "elsewhere"}}), 201).at("id").get<std::int64_t>();
+    const Track there = open_track(s, {{"map_id", other}});
+    const Response foreign = call(with({{"track_id", there.id}}), there.token);
+    EXPECT_EQ(foreign.status, 422) << foreign.raw;
+    EXPECT_NE(foreign.raw.find("is on map"), std::string::npos) << foreign.raw;
+}
+
 TEST_F(ServerTracksSubarea, ATrackMayTurnItOff) {
     const Track t = open_track(s, {{"map_id", h.map}, {"fusion_options", {{"subarea", false}}}});
     const json info = body_of(track_call(s, "GET", "/v1/tracks/" + std::to_string(t.id), {t.token}));
@@ -318,6 +378,11 @@ TEST_F(ServerTracksSubarea, ATrackMayTurnItOff) {
     ASSERT_EQ(got["scan_fixes"].size(), 1u) << got.dump();
     EXPECT_GT(got["scan_fixes"][0]["x"].get<double>(), 5.0) << got.dump();  // the whole map's answer
     EXPECT_TRUE(got["scan_fixes"][0]["subarea"].is_null()) << got.dump();
+    // A localize naming it matches on the whole map too.
+    const json named = body_of(track_call(s, "POST", "/v1/maps/" + std::to_string(h.map) + "/localize", {t.token},
+                                          json{{"scans", {alike}}, {"track_id", t.id}}.dump()));
+    EXPECT_GT(named["x"].get<double>(), 5.0) << named.dump();
+    EXPECT_TRUE(named["subarea"].is_null()) << named.dump();
     // Turned on by name is the default: the west RP.
     const Track on = open_track(s, {{"map_id", h.map}, {"fusion_options", {{"subarea", true}}}});
     EXPECT_DOUBLE_EQ(alike_scan_on(on)["scan_fixes"][0]["x"].get<double>(), 2.0);

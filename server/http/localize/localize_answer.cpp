@@ -61,7 +61,16 @@ std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& re
     // matcher's caller, so it owns the workspace, warm for every request it serves.
     thread_local match::Workspace workspace;
     const auto setting = resolve(request, snapshot.defaults);
-    const auto result = match::localize(snapshot.index, request.query, setting.algorithm, setting.options, workspace);
+    // A named track's subarea first (docs/tracks.md "Subarea"), the whole map when no RP there
+    // shares an AP with the scan.
+    std::optional<match::Result> result;
+    if (request.track_subarea) {
+        match::Options options = setting.options;
+        options.near = request.track_subarea;
+        result = match::localize(snapshot.index, request.query, setting.algorithm, options, workspace);
+    }
+    const bool fell_back = request.track_subarea && !result;
+    if (!result) result = match::localize(snapshot.index, request.query, setting.algorithm, setting.options, workspace);
     if (!result)
         throw ApiError(422, "no_match",
                        "no reference point shares an access point with the scan" +
@@ -98,6 +107,12 @@ std::string answer(const localize::Snapshot& snapshot, const LocalizeRequest& re
         w.integer(result->rp_ids[i]);
     }
     w.raw("]");
+    if (request.track_id) {
+        w.key("subarea");
+        if (const auto& near = request.track_subarea)
+            w.raw("{").key("x").number(near->at.x).key("y").number(near->at.y).key("radius_m").number(near->radius).key("fell_back").raw(fell_back ? "true" : "false").raw("}");
+        else w.raw("null");
+    }
     w.key("score").number(result->score).key("matched_aps").integer(result->matched_aps);
     w.key("algorithm").raw("\"").raw(result->algorithm).raw("\"");  // one of our own plain names
     w.key("candidates").raw("[");

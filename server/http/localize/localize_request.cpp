@@ -108,6 +108,7 @@ public:
     bool has_scans = false, has_means = false;
     json options;  // the small "options" object, as a tree
     bool has_options = false;
+    std::optional<std::int64_t> track_id;
 
     LocalizeRequest finish(const std::string& body) {
         reject_nul(body);
@@ -130,6 +131,8 @@ public:
             r.options = parse_options(options, {});
             r.options_given = std::move(options);
         }
+        r.track_id = track_id;
+        if (track_id && r.options.near) throw invalid_field("send 'track_id' (its subarea) or 'options.near', not both");
         return r;
     }
 
@@ -138,8 +141,15 @@ public:
         if (in_options()) return tree_value(json(b));
         return value(Kind::other);
     }
-    bool number_integer(number_integer_t v) override { return number(static_cast<double>(v), json(v)); }
-    bool number_unsigned(number_unsigned_t v) override { return number(static_cast<double>(v), json(v)); }
+    bool number_integer(number_integer_t v) override {
+        if (depth_ == 1 && top_ == Top::track_id) return id(v > 0 ? std::optional<std::int64_t>(v) : std::nullopt);
+        return number(static_cast<double>(v), json(v));
+    }
+    bool number_unsigned(number_unsigned_t v) override {
+        if (depth_ == 1 && top_ == Top::track_id)
+            return id(v > 0 && v <= static_cast<number_unsigned_t>(INT64_MAX) ? std::optional<std::int64_t>(static_cast<std::int64_t>(v)) : std::nullopt);
+        return number(static_cast<double>(v), json(v));
+    }
     bool number_float(number_float_t v, const string_t&) override { return number(v, json(v)); }
     bool string(string_t& v) override {
         if (in_options()) return tree_value(json(v));
@@ -191,7 +201,7 @@ public:
     bool key(string_t& k) override {
         if (depth_ == 1) {
             top_ = k == "algorithm" ? Top::algorithm : k == "scans" ? Top::scans : k == "measurements" ? Top::means
-                 : k == "options" ? Top::options : Top::unknown;
+                 : k == "options" ? Top::options : k == "track_id" ? Top::track_id : Top::unknown;
             has_scans = has_scans || top_ == Top::scans;
             has_means = has_means || top_ == Top::means;
             has_options = has_options || top_ == Top::options;
@@ -213,7 +223,7 @@ public:
     }
 
 private:
-    enum class Top { none, algorithm, scans, means, options, unknown };
+    enum class Top { none, algorithm, scans, means, options, track_id, unknown };
     enum class Kind { null, number, text, other };
     enum class Field { type, bssid, rss, mean, other };
     // The reading being parsed; its strings are reused from one reading to the next.
@@ -243,6 +253,7 @@ private:
             if (depth_ == 1) fail(invalid_field("'options' must be an object"));
             return tree_value(kind == Kind::null ? json() : json("?"));
         }
+        if (depth_ == 1 && top_ == Top::track_id) return id(std::nullopt);  // not an integer
         if (depth_ == 1 && top_ == Top::algorithm) {
             if (kind != Kind::text || text_.empty() || text_.size() > 32)
                 fail(invalid_field("'algorithm' must be 1 to 32 characters"));
@@ -275,6 +286,13 @@ private:
                 break;
         }
         return fail(invalid_field("unknown field '" + where() + "." + (field_ == Field::mean ? "mean" : field_name_) + "'"));
+    }
+
+    // "track_id"'s value: a positive integer, else 422 naming it.
+    bool id(std::optional<std::int64_t> v) {
+        if (!v) return fail(invalid_field("'track_id' must be a positive integer id"));
+        track_id = v;
+        return true;
     }
 
     bool start_reading() {
@@ -324,6 +342,7 @@ private:
         else if (top_ == Top::means) fail(invalid_field("'measurements' must be an array of {bssid, rss}"));
         else if (top_ == Top::algorithm) fail(invalid_field("'algorithm' must be a string"));
         else if (top_ == Top::options) fail(invalid_field("'options' must be an object"));
+        else if (top_ == Top::track_id) fail(invalid_field("'track_id' must be a positive integer id"));
         return true;
     }
 

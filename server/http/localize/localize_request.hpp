@@ -2,6 +2,7 @@
 // The localize request body: {"algorithm", "scans" | "measurements", "options"}.
 #include <nlohmann/json.hpp>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -28,6 +29,11 @@ struct LocalizeRequest {
     match::Options options;  // as sent, over the built-in defaults
     bool algorithm_given = false;
     nlohmann::json options_given;  // the "options" object as sent (checked); null: none
+    // "track_id": match in that live track's subarea (POST /v1/maps/{id}/localize, with the
+    // track's token; docs/tracks.md "Subarea"). The route resolves it into track_subarea:
+    // none when the track has no fix yet or its subarea is off (the whole map answers).
+    std::optional<std::int64_t> track_id;
+    std::optional<match::Near> track_subarea;
 };
 
 // What the request runs with on an index whose radio map stores `defaults`: whatever the
