@@ -67,8 +67,9 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
                 bearing_deg = f.frame->georeference().bearing_deg;
                 break;
             }
-    const json track = client.post("/v1/tracks", body);
-    const api::TrackKey key{track.at("id").get<std::int64_t>(), track.at("token").get<std::string>()};
+    const json opened = client.post("/v1/tracks", body);
+    OpenTrack track(client, {opened.at("id").get<std::int64_t>(), opened.at("token").get<std::string>()});
+    const api::TrackKey& key = track.key();
     out["track"] = {{"id", key.id}, {"token", key.token}};
     if (body.contains("fusion_options")) out["fusion_options"] = body["fusion_options"];
     std::vector<Fix> estimates;
@@ -145,7 +146,7 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
     };
     for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) until(lw.walk.scan_times[i], i);
     until(std::numeric_limits<double>::infinity(), std::nullopt);  // what follows the last scan
-    client.close_track(key);
+    track.close();
     out["requests"] = counts.requests;
     out["refused_scans"] = counts.refused_scans;
     out["dropped_steps"] = counts.dropped_steps;

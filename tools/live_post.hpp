@@ -5,6 +5,7 @@
 // part of it is refused. Cost: one request per call, more when the server refuses a part.
 #include <cstddef>
 #include <optional>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -30,5 +31,32 @@ struct PostCounts {
 // The server's answer to `batch`, or nullopt when nothing of it was left to post; any other
 // refusal passes (api::ApiError).
 std::optional<nlohmann::json> post_going_on(api::Client& client, const api::TrackKey& key, nlohmann::json batch, PostCounts& counts);
+
+// The replay's live track, closed at its end (close(), whose errors pass) or, when a request
+// threw before, by the destructor (errors ignored): a track left open would count against
+// the client's live tracks until its TTL.
+class OpenTrack {
+public:
+    OpenTrack(api::Client& client, api::TrackKey key) : client_(client), key_(std::move(key)) {}
+    OpenTrack(const OpenTrack&) = delete;
+    OpenTrack& operator=(const OpenTrack&) = delete;
+    ~OpenTrack() {
+        if (!open_) return;
+        try {
+            client_.close_track(key_);
+        } catch (...) {  // a request already failed: its error is the one to report
+        }
+    }
+    const api::TrackKey& key() const { return key_; }
+    void close() {
+        open_ = false;
+        client_.close_track(key_);
+    }
+
+private:
+    api::Client& client_;
+    api::TrackKey key_;
+    bool open_ = true;
+};
 
 }  // namespace locus::tools

@@ -23,7 +23,8 @@ LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::put
     json open = {{"map_id", map_id}, {"label", "eval walks " + walk.name}};
     if (!subarea) open["fusion_options"] = {{"subarea", false}};
     const json opened = client.post("/v1/tracks", open);
-    const api::TrackKey key{opened.at("id").get<std::int64_t>(), opened.at("token").get<std::string>()};
+    OpenTrack track(client, {opened.at("id").get<std::int64_t>(), opened.at("token").get<std::string>()});
+    const api::TrackKey& key = track.key();
     out.track_id = key.id;
     out.token = key.token;
     std::optional<Point> latest;
@@ -46,7 +47,7 @@ LiveWalk live_walk(api::Client& client, std::int64_t map_id, const datasets::put
         }
         out.at_scan[i] = latest;
     }
-    client.close_track(key);
+    track.close();
     return out;
 }
 
