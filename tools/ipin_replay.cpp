@@ -44,7 +44,8 @@ const std::pair<const long long, MapFloors::Floor>* floor_of_level(const MapFloo
 // phone would go on.
 
 std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const MapFloors& floors, const ReplayOptions& o, json& out,
-                            std::ostream& log) {
+                            std::ostream& log, std::vector<std::optional<Fix>>* scan_fixes) {
+    if (scan_fixes) scan_fixes->assign(lw.walk.scans.size(), std::nullopt);
     const geo::FloorToEarth venue(venue_georeference());
     const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     double last_t = lw.end_s;
@@ -73,19 +74,24 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
     out["track"] = {{"id", key.id}, {"token", key.token}};
     if (body.contains("fusion_options")) out["fusion_options"] = body["fusion_options"];
     std::vector<Fix> estimates;
-    auto take = [&](const json& answer) {
-        for (const auto& f : answer.value("fused", json::array())) {
-            const auto it = floors.by_id.find(f.at("floor_id").get<long long>());
-            if (it == floors.by_id.end()) continue;
-            const Point at{f.at("x").get<double>(), f.at("y").get<double>()};
-            estimates.push_back({f.at("t").get<double>() - base, it->second.level,
-                                 it->second.frame ? venue.to_floor(it->second.frame->to_geodetic(at)) : at});
-        }
+    // A fix of the answer in the venue's frame, on the log's clock (none: not a floor of the map).
+    auto venue_fix = [&](const json& f) -> std::optional<Fix> {
+        const auto it = floors.by_id.find(f.at("floor_id").get<long long>());
+        if (it == floors.by_id.end()) return std::nullopt;
+        const Point at{f.at("x").get<double>(), f.at("y").get<double>()};
+        return Fix{f.at("t").get<double>() - base, it->second.level, it->second.frame ? venue.to_floor(it->second.frame->to_geodetic(at)) : at};
+    };
+    auto take = [&](const json& answer, std::optional<std::size_t> scan) {
+        for (const auto& f : answer.value("fused", json::array()))
+            if (const auto e = venue_fix(f)) estimates.push_back(*e);
         if (answer.contains("rss_offset_db")) out["rss_offset_db"] = answer["rss_offset_db"];
+        if (scan && scan_fixes)
+            for (const auto& f : answer.value("scan_fixes", json::array()))
+                if (std::abs(f.at("t").get<double>() - (base + lw.walk.scan_times[*scan])) < 1e-6) (*scan_fixes)[*scan] = venue_fix(f);
     };
     PostCounts counts;
-    auto post = [&](json batch) {
-        if (const auto answer = post_going_on(client, key, std::move(batch), counts)) take(*answer);
+    auto post = [&](json batch, std::optional<std::size_t> scan = std::nullopt) {
+        if (const auto answer = post_going_on(client, key, std::move(batch), counts)) take(*answer, scan);
     };
     if (o.known_start && !lw.truth.empty()) {
         const Fix& s = lw.truth.front();
@@ -142,7 +148,7 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
             batch["scans"] = json::array();
             for (auto& [t, j] : scans) batch["scans"].push_back(std::move(j));
         }
-        if (!batch.empty()) post(std::move(batch));
+        if (!batch.empty()) post(std::move(batch), scan);
     };
     for (std::size_t i = 0; i < lw.walk.scans.size(); ++i) until(lw.walk.scan_times[i], i);
     until(std::numeric_limits<double>::infinity(), std::nullopt);  // what follows the last scan

@@ -51,8 +51,10 @@ nlohmann::json replay_log(api::Client& client, const ReplayOptions& options, std
 // The walk on a live track of the map, as walk_pf replays it (`options`: map, known_start, gnss,
 // ble, fusion_options): the server's fused fixes in the venue's frame, on the log's clock, in
 // time order. `out` gets the track's {id, token}, requests, refused_scans, dropped_steps and
-// rss_offset_db (and fusion_options when given); the track is closed at the end.
+// rss_offset_db (and fusion_options when given); the track is closed at the end. With
+// `scan_fixes`: per WiFi scan of the walk, its own fix as the server matched it (scan_fixes of
+// its request, venue frame), none when refused.
 std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const MapFloors& floors, const ReplayOptions& options,
-                            nlohmann::json& out, std::ostream& log);
+                            nlohmann::json& out, std::ostream& log, std::vector<std::optional<Fix>>* scan_fixes = nullptr);
 
 }  // namespace locus::tools::ipin

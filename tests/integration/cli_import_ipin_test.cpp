@@ -205,6 +205,17 @@ TEST(ImportIpin, CreatesTheVenueAndASecondRunChangesNothing) {
     EXPECT_EQ(e["trials"][0]["phone"], "SM-G930F");
     // The yardstick maps only floor 0 (T01): the two POSI instants on -2 are 15 m or more off.
     EXPECT_GE(e["trials"][0]["methods"]["yardstick"]["p75_m"].get<double>(), 15.0);
+    // walk_pf's live track's own scan fixes are scored at the scans, as the other methods' answers
+    // are ("scans"): every scan the map answered has one.
+    const json& scan_fixes = e["pooled"]["walk_pf"]["scan_fixes"];
+    EXPECT_GT(scan_fixes["n"].get<int>(), 0) << e["pooled"]["walk_pf"].dump();
+    EXPECT_EQ(scan_fixes["n"], e["pooled"]["wifi"]["scans"]["n"]) << e["pooled"].dump();
+    EXPECT_EQ(e["trials"][0]["methods"]["walk_pf"]["scan_fixes"]["n"], scan_fixes["n"]);
+    // --no-subarea opens the live track with its subarea off: the same scans, scored alike.
+    const auto off = run_command({LOCUS_CLI_BIN, "eval", "ipin", kFixture, "--server", server.url(), "--map", std::to_string(map_id),
+                                  "--trials", "*Trial52*", "--method", "walk_pf", "--no-subarea", "--json"});
+    ASSERT_EQ(off.status, 0) << off.err;
+    EXPECT_EQ(json::parse(off.out)["pooled"]["walk_pf"]["scan_fixes"]["n"], scan_fixes["n"]);
 }
 
 TEST(ImportIpin, BadInputImportsNothing) {

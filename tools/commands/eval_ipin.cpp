@@ -68,6 +68,7 @@ struct Args {
     bool no_gnss = false;
     bool no_offset = false;
     bool no_ble = false;
+    bool subarea = true;  // walk_pf's live tracks match their scans in the subarea (the server's default)
     bool json_out = false;
 };
 
@@ -201,6 +202,7 @@ struct Context {
     MapFloors floors;
     match::Workspace workspace;
     api::Client* client = nullptr;
+    std::vector<std::optional<ipin::Fix>> scan_fixes;  // walk_pf's last walk: each scan's own fix from the live track
 };
 
 // One method on one walk: `estimates` (time order) for the POSI scoring, the per-scan answers returned.
@@ -232,9 +234,10 @@ std::vector<std::optional<ipin::Fix>> run_method(const std::string& m, const Loa
         o.known_start = c.args.known_start;
         o.gnss = !c.args.no_gnss;
         o.ble = !c.args.no_ble;
+        if (!c.args.subarea) o.fusion_options = R"({"subarea": false})";
         json track;
         std::ostringstream quiet;
-        estimates = ipin::live_track(*c.client, lw, c.floors, o, track, quiet);
+        estimates = ipin::live_track(*c.client, lw, c.floors, o, track, quiet, &c.scan_fixes);
         live = {{"track", track["track"]["id"]}, {"requests", track["requests"]}, {"refused_scans", track["refused_scans"]},
                 {"dropped_steps", track["dropped_steps"]}};
         if (track.contains("rss_offset_db")) live["rss_offset_db"] = track["rss_offset_db"];
@@ -274,7 +277,7 @@ void run(const Args& a) {
     if (want_yardstick && a.train.empty()) throw CommandError("--method " + a.method + " needs --train GLOB (the yardstick's walks)");
     if (want_server && a.map <= 0) throw CommandError("--method " + a.method + " needs --map ID (and --server URL)");
     const auto test = ipin::load_walks(a.dir, a.trials);
-    Context c{a, std::nullopt, {}, {}};
+    Context c{a, std::nullopt, {}, {}, nullptr, {}};
     if (want_yardstick) c.ys = yardstick(ipin::load_walks(a.dir, a.train));
     // kalman and pdr fuse the answers here; walk_pf's live track asks the server itself.
     const bool want_trackers = std::any_of(methods.begin(), methods.end(), [](const std::string& m) { return m == "pdr" || m == "kalman"; });
@@ -295,6 +298,7 @@ void run(const Args& a) {
             throw CommandError("--method " + a.method + " needs the map's floors' elevation_m (none has one)");
     }
     std::map<std::string, ipin::Errors> pooled, pooled_scans;
+    ipin::Errors pooled_scan_fixes;
     std::map<std::string, std::size_t> unanswered;
     json trials = json::array();
     for (const auto& lw : test) {
@@ -334,6 +338,15 @@ void run(const Args& a) {
             ipin::pool(pooled_scans[m], at_scans);
             json f = ipin::figures(at_posi);
             f["scans"] = ipin::figures(at_scans);
+            if (m == "walk_pf") {
+                // The live track's own scan fixes (matched in its subarea), at the same scans.
+                std::vector<ipin::Fix> fix_est, fix_truths;
+                for (std::size_t i = 0; i < c.scan_fixes.size(); ++i)
+                    if (c.scan_fixes[i] && truth_of_scan[i]) fix_est.push_back(*c.scan_fixes[i]), fix_truths.push_back(*truth_of_scan[i]);
+                const auto scan_fix_errors = ipin::score_pairs(fix_est, fix_truths);
+                ipin::pool(pooled_scan_fixes, scan_fix_errors);
+                f["scan_fixes"] = ipin::figures(scan_fix_errors);
+            }
             row["methods"][m] = f;
         }
         trials.push_back(row);
@@ -344,6 +357,7 @@ void run(const Args& a) {
         json f = ipin::figures(pooled[m]);
         f["scans"] = ipin::figures(pooled_scans[m]);
         f["unanswered_scans"] = unanswered[m];
+        if (m == "walk_pf") f["scan_fixes"] = ipin::figures(pooled_scan_fixes);
         out["pooled"][m] = f;
     }
     if (a.json_out) {
@@ -373,6 +387,8 @@ LOCUS_COMMAND("eval-ipin", [](CLI::App& app) {
                   "give the trackers (and wifi-baro's floor) the first POSI landmark's position, floor and time");
     cmd->add_flag("--no-gnss", a->no_gnss, "the trackers without the logs' GNSS fixes");
     cmd->add_flag("--no-ble", a->no_ble, "the trackers without the logs' readings of the map's BLE beacons");
+    cmd->add_flag_callback("--no-subarea", [a] { a->subarea = false; },
+                           "walk_pf's live tracks opened with fusion_options.subarea false: their scans matched on the whole map");
     cmd->add_flag("--no-offset", a->no_offset, "pdr's and kalman's scans sent as read, without the phone's RSS offset learnt online");
     cmd->add_option("--map", a->map, "map id (every method but the yardstick; walk_pf posts to a live track on it: give the API key, --api-key or LOCUS_API_KEY, or a phone's rate limits apply)");
     cmd->add_flag("--json", a->json_out, "one JSON object on stdout instead of the table");
