@@ -85,9 +85,13 @@ std::vector<Fix> live_track(api::Client& client, const LoadedWalk& lw, const Map
         for (const auto& f : answer.value("fused", json::array()))
             if (const auto e = venue_fix(f)) estimates.push_back(*e);
         if (answer.contains("rss_offset_db")) out["rss_offset_db"] = answer["rss_offset_db"];
+        // The WiFi scan's: the first at its t (a BLE scan at the same t is posted after it).
         if (scan && scan_fixes)
             for (const auto& f : answer.value("scan_fixes", json::array()))
-                if (std::abs(f.at("t").get<double>() - (base + lw.walk.scan_times[*scan])) < 1e-6) (*scan_fixes)[*scan] = venue_fix(f);
+                if (std::abs(f.at("t").get<double>() - (base + lw.walk.scan_times[*scan])) < 1e-6) {
+                    (*scan_fixes)[*scan] = venue_fix(f);
+                    break;
+                }
     };
     PostCounts counts;
     auto post = [&](json batch, std::optional<std::size_t> scan = std::nullopt) {

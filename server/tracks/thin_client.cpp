@@ -75,12 +75,12 @@ public:
                     near.push_back({scan.t, b->floor_id, b->at.x, b->at.y, fusion::kBeaconSigmaM, std::nullopt});
             }
             try {
-                const auto near = use_subarea_ ? subarea(estimate, scan.t) : std::nullopt;
-                const MatchedScan m = localizer_.match(map_id_, scan, memory.offset.offset_db(), near);
+                const auto area = use_subarea_ ? subarea(estimate, scan.t) : std::nullopt;
+                const MatchedScan m = localizer_.match(map_id_, scan, memory.offset.offset_db(), area);
                 if (teaches) memory.offset.add(scan.readings, m.placed_at);
                 out.push_back(matched_fix(scan.t, m.floor_id, m.at, m.spread));
                 scan_fixes.push_back(out.back());
-                scan_areas.push_back({near, m.fell_back});
+                scan_areas.push_back({area, m.fell_back});
             } catch (const CannotFuse& e) {
                 // A BLE scan is a proximity scan first: the radio map need not hold its beacons.
                 if (!(ble_only && e.code == "no_match")) throw;

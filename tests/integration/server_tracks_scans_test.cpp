@@ -368,6 +368,11 @@ TEST_F(ServerTracksSubarea, ALocalizeNamingATrackWrongIsRefusedByName) {
     const Response foreign = call(with({{"track_id", there.id}}), there.token);
     EXPECT_EQ(foreign.status, 422) << foreign.raw;
     EXPECT_NE(foreign.raw.find("is on map"), std::string::npos) << foreign.raw;
+    // A closed track.
+    ASSERT_EQ(track_call(s, "POST", "/v1/tracks/" + std::to_string(t.id) + "/close", {t.token}).status, 200);
+    const Response closed = call(with({{"track_id", t.id}}), t.token);
+    EXPECT_EQ(closed.status, 409) << closed.raw;
+    EXPECT_EQ(closed.body["error"]["code"], "track_closed") << closed.raw;
 }
 
 TEST_F(ServerTracksSubarea, ATrackMayTurnItOff) {

@@ -17,8 +17,9 @@ namespace locus::http {
 
 namespace {
 
-// The subarea of the track a localize on map `map_id` names: none when the track has no fix
-// yet or its subarea is off. Only its owner's token names it.
+// The subarea of the live track a localize on map `map_id` names: none when the track has no fix
+// yet or its subarea is off. Only its owner's token names it. The time since its latest fix is
+// the server's (since the fix was posted): the fix's own t is the phone's clock.
 std::optional<match::Near> track_subarea(tracks::Service* svc, const httplib::Request& req, std::int64_t map_id, std::int64_t track_id) {
     if (!svc) throw invalid_field("'track_id': this server keeps no live tracks");
     try {
@@ -26,8 +27,12 @@ std::optional<match::Near> track_subarea(tracks::Service* svc, const httplib::Re
         const tracks::TrackInfo track = svc->info(track_id);
         if (track.map_id != map_id)
             throw invalid_field("'track_id': track " + std::to_string(track_id) + " is on map " + std::to_string(track.map_id));
+        if (track.state != tracks::State::live)
+            throw ApiError(409, "track_closed", "track " + std::to_string(track_id) + " is closed: only a live track's subarea is used");
         if (!track.latest || !track.fusion_options.subarea.value_or(true)) return std::nullopt;
-        return tracks::subarea_round(*track.latest, tracks::Service::now());
+        tracks::Fix latest = *track.latest;
+        latest.t = track.last_fix_at;
+        return tracks::subarea_round(latest, tracks::Service::now());
     } catch (const tracks::Refused& e) {
         throw api_error_of(e);
     }

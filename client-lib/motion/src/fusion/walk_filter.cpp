@@ -343,14 +343,18 @@ void WalkFilter::estimate() {
     }
     Point at{first.x + all.x / all.w, first.y + all.y / all.w};
     // Mean shift with a flat kernel: once the particles within the radius stay the same, the
-    // point does too (to the float sums' rounding, a µm), and the iterations left would change nothing.
+    // point does too, and the iterations left would change nothing.
     const float r2 = static_cast<float>(config_.estimate_radius_m * config_.estimate_radius_m);
     for (int it = 0; r2 > 0.0f && it < 5; ++it) {
-        const CloudMoments m = cloud_moments(x_.data(), y_.data(), weight_.data(), n, at, r2);
+        // Round the float centre the sums are taken from, so that a pass that changes nothing
+        // leaves the point where it was.
+        const Point centre{static_cast<float>(at.x), static_cast<float>(at.y)};
+        const CloudMoments m = cloud_moments(x_.data(), y_.data(), weight_.data(), n, centre, r2);
         if (m.w <= 0.0) break;
         const Point shift{m.x / m.w, m.y / m.w};
-        at = {at.x + shift.x, at.y + shift.y};
-        if (std::abs(shift.x) < 1e-6 && std::abs(shift.y) < 1e-6) break;
+        at = {centre.x + shift.x, centre.y + shift.y};
+        // The next pass would start from the same float centre, and so give the same point.
+        if (static_cast<float>(at.x) == static_cast<float>(centre.x) && static_cast<float>(at.y) == static_cast<float>(centre.y)) break;
     }
     estimate_ = at;
     spread_ = std::sqrt(cloud_moments(x_.data(), y_.data(), weight_.data(), n, at, kAll).d2 / all.w);
