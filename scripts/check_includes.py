@@ -136,10 +136,10 @@ ALLOWED = {
 }
 
 # The store's interface: the typed documents, the Store and its change feed, the resource kinds,
-# Db (for its error type), and the live tracks' repository (their SQL, on their own connection).
-# Its other headers are the backends.
+# Db (for its error type), the live tracks' repository (their SQL, on their own connection), and
+# the per-floor cache on the change feed. Its other headers are the backends.
 STORE_INTERFACE = ["server/store/store.hpp", "server/store/documents.hpp", "server/store/kinds.hpp",
-                   "server/store/db.hpp", "server/store/track_repository.hpp"]
+                   "server/store/db.hpp", "server/store/track_repository.hpp", "server/store/floor_cache.hpp"]
 STORE_INTERNAL_USERS = ["server/store", "server/main", "tests", "bench", "fuzz"]
 
 # Headers that are not ours, by group. A name with neither a dot nor a slash is the standard library.

@@ -18,45 +18,33 @@ std::optional<geo::Georeference> georeference_of(const store::Record& floor) {
     return geo::Georeference{{got[0], got[1]}, {got[2], got[3]}, got[4]};
 }
 
-FloorGeoCache::FloorGeoCache(store::Store& store) : store_(store) {
-    token_ = store_.subscribe([this](const store::Change& c) { on_change(c); });
+namespace {
+
+store::FloorDrop geo_drops(const store::Change& c) {
+    if (!c.kind) return store::FloorDrop::none;
+    const auto& name = c.kind->name;
+    if (name == "floors") return c.plan ? store::FloorDrop::none : store::FloorDrop::floor;  // the plan is not the row
+    // Their floors go by cascade without a change each (and "everything changed" from another
+    // server sharing PostgreSQL comes as a deleted map).
+    if ((name == "maps" || name == "buildings") && c.deleted) return store::FloorDrop::all;
+    return store::FloorDrop::none;
 }
 
-FloorGeoCache::~FloorGeoCache() { store_.unsubscribe(token_); }
-
-void FloorGeoCache::on_change(const store::Change& c) {
-    if (!c.kind) return;
-    const auto name = c.kind->name;
-    if (name == "floors" && c.plan) return;  // the plan, not the row
-    std::lock_guard lock(mu_);
-    if (name == "floors") {
-        floors_.erase(c.id);
-        ++generation_;
-    } else if ((name == "maps" || name == "buildings") && c.deleted) {
-        // Their floors go by cascade without a change each (and "everything changed" from
-        // another server sharing PostgreSQL comes as a deleted map).
-        floors_.clear();
-        ++generation_;
-    }
+std::shared_ptr<const geo::FloorToEarth> geo_of_floor(store::Store& store, std::int64_t floor_id) {
+    if (const auto g = georeference_of(store.get(store::kind("floors"), floor_id))) return std::make_shared<const geo::FloorToEarth>(*g);
+    return nullptr;
 }
+
+}  // namespace
+
+FloorGeoCache::FloorGeoCache(store::Store& store) : cache_(store, geo_of_floor, geo_drops) {}
 
 std::shared_ptr<const geo::FloorToEarth> FloorGeoCache::of_floor(std::int64_t floor_id) {
-    std::uint64_t generation = 0;
-    {
-        std::lock_guard lock(mu_);
-        if (const auto it = floors_.find(floor_id); it != floors_.end()) return it->second;
-        generation = generation_;
-    }
-    std::shared_ptr<const geo::FloorToEarth> read;
     try {
-        if (const auto g = georeference_of(store_.get(store::kind("floors"), floor_id)))
-            read = std::make_shared<const geo::FloorToEarth>(*g);
+        return cache_.of_floor(floor_id);
     } catch (const store::NotFound&) {
         return nullptr;  // not kept: ids are never reused, but nothing asks twice for a gone floor
     }
-    std::lock_guard lock(mu_);
-    if (generation == generation_) floors_[floor_id] = read;
-    return read;
 }
 
 }  // namespace locus::floors

@@ -7,11 +7,10 @@
 // floor, no query.
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <unordered_map>
 
 #include "locus/geo/georeference.hpp"
+#include "store/floor_cache.hpp"
 #include "store/store.hpp"
 
 namespace locus::floors {
@@ -22,21 +21,12 @@ std::optional<geo::Georeference> georeference_of(const store::Record& floor);
 class FloorGeoCache {
 public:
     explicit FloorGeoCache(store::Store& store);
-    ~FloorGeoCache();
-    FloorGeoCache(const FloorGeoCache&) = delete;
-    FloorGeoCache& operator=(const FloorGeoCache&) = delete;
 
     // Null when the floor has no georeference or no longer exists.
     std::shared_ptr<const geo::FloorToEarth> of_floor(std::int64_t floor_id);
 
 private:
-    void on_change(const store::Change& change);
-
-    store::Store& store_;
-    std::mutex mu_;
-    std::unordered_map<std::int64_t, std::shared_ptr<const geo::FloorToEarth>> floors_;  // null: none
-    std::uint64_t generation_ = 0;  // bumped by every invalidation: a read that raced a write is not kept
-    std::size_t token_ = 0;
+    store::FloorCache<geo::FloorToEarth> cache_;  // null kept: no georeference
 };
 
 }  // namespace locus::floors

@@ -8,26 +8,6 @@
 
 namespace locus::floors {
 
-FloorPlacesCache::FloorPlacesCache(store::Store& store) : store_(store) {
-    token_ = store_.subscribe([this](const store::Change& c) { on_change(c); });
-}
-
-FloorPlacesCache::~FloorPlacesCache() { store_.unsubscribe(token_); }
-
-void FloorPlacesCache::on_change(const store::Change& c) {
-    if (!c.kind) return;
-    const auto& name = c.kind->name;
-    std::lock_guard lock(mu_);
-    if (name == "floors") {
-        // A plan saved with rooms replaces them (plans keep rooms, docs/plans.md).
-        floors_.erase(c.id);
-        ++generation_;
-    } else if (name == "rooms" || name == "pois" || ((name == "maps" || name == "buildings") && c.deleted)) {
-        floors_.clear();
-        ++generation_;
-    }
-}
-
 namespace {
 
 std::vector<Poi> pois_of_floor(store::Store& store, std::int64_t floor_id) {
@@ -44,25 +24,30 @@ std::vector<Poi> pois_of_floor(store::Store& store, std::int64_t floor_id) {
     return out;
 }
 
+store::FloorDrop places_drops(const store::Change& c) {
+    if (!c.kind) return store::FloorDrop::none;
+    const auto& name = c.kind->name;
+    // A plan saved with rooms replaces them (plans keep rooms, docs/plans.md).
+    if (name == "floors") return store::FloorDrop::floor;
+    if (name == "rooms" || name == "pois" || ((name == "maps" || name == "buildings") && c.deleted)) return store::FloorDrop::all;
+    return store::FloorDrop::none;
+}
+
+std::shared_ptr<const FloorPlaces> places_of_floor(store::Store& store, std::int64_t floor_id) {
+    store.get(store::kind("floors"), floor_id);  // NotFound for a floor that is gone
+    return std::make_shared<const FloorPlaces>(store.rooms_of_floor(floor_id), pois_of_floor(store, floor_id));
+}
+
 }  // namespace
 
+FloorPlacesCache::FloorPlacesCache(store::Store& store) : cache_(store, places_of_floor, places_drops) {}
+
 std::shared_ptr<const FloorPlaces> FloorPlacesCache::of_floor(std::int64_t floor_id) {
-    std::uint64_t generation = 0;
-    {
-        std::lock_guard lock(mu_);
-        if (const auto it = floors_.find(floor_id); it != floors_.end()) return it->second;
-        generation = generation_;
-    }
-    std::shared_ptr<const FloorPlaces> read;
     try {
-        store_.get(store::kind("floors"), floor_id);  // NotFound for a floor that is gone
-        read = std::make_shared<const FloorPlaces>(store_.rooms_of_floor(floor_id), pois_of_floor(store_, floor_id));
+        return cache_.of_floor(floor_id);
     } catch (const store::NotFound&) {
         return nullptr;
     }
-    std::lock_guard lock(mu_);
-    if (generation == generation_) floors_[floor_id] = read;
-    return read;
 }
 
 }  // namespace locus::floors

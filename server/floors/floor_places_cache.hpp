@@ -7,10 +7,9 @@
 // hash lookup under a mutex per floor, no query.
 #include <cstdint>
 #include <memory>
-#include <mutex>
-#include <unordered_map>
 
 #include "locus/floor_places.hpp"
+#include "store/floor_cache.hpp"
 #include "store/store.hpp"
 
 namespace locus::floors {
@@ -18,21 +17,12 @@ namespace locus::floors {
 class FloorPlacesCache {
 public:
     explicit FloorPlacesCache(store::Store& store);
-    ~FloorPlacesCache();
-    FloorPlacesCache(const FloorPlacesCache&) = delete;
-    FloorPlacesCache& operator=(const FloorPlacesCache&) = delete;
 
     // Null when the floor no longer exists.
     std::shared_ptr<const FloorPlaces> of_floor(std::int64_t floor_id);
 
 private:
-    void on_change(const store::Change& change);
-
-    store::Store& store_;
-    std::mutex mu_;
-    std::unordered_map<std::int64_t, std::shared_ptr<const FloorPlaces>> floors_;
-    std::uint64_t generation_ = 0;  // bumped by every invalidation: a read that raced a write is not kept
-    std::size_t token_ = 0;
+    store::FloorCache<FloorPlaces> cache_;
 };
 
 }  // namespace locus::floors

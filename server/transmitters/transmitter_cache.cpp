@@ -5,35 +5,23 @@
 
 namespace locus::transmitters {
 
-TransmitterCache::TransmitterCache(store::Store& store) : store_(store) {
-    token_ = store_.subscribe([this](const store::Change& c) { on_change(c); });
-}
+namespace {
 
-TransmitterCache::~TransmitterCache() { store_.unsubscribe(token_); }
-
-void TransmitterCache::on_change(const store::Change& c) {
-    if (!c.kind) return;
-    const auto name = c.kind->name;
+store::FloorDrop transmitter_drops(const store::Change& c) {
+    if (!c.kind) return store::FloorDrop::none;
+    const auto& name = c.kind->name;
     // A transmitter's change names no floor, and deleting a floor (or what holds it) deletes
     // its transmitters by cascade without one each: drop everything, the next read refills.
     const bool holder = name == "maps" || name == "buildings" || name == "floors";
-    if (name != "transmitters" && !(holder && c.deleted)) return;
-    std::lock_guard lock(mu_);
-    floors_.clear();
-    ++generation_;
+    return name == "transmitters" || (holder && c.deleted) ? store::FloorDrop::all : store::FloorDrop::none;
 }
 
-std::shared_ptr<const std::vector<store::Record>> TransmitterCache::of_floor(std::int64_t floor_id) {
-    std::uint64_t generation = 0;
-    {
-        std::lock_guard lock(mu_);
-        if (const auto it = floors_.find(floor_id); it != floors_.end()) return it->second;
-        generation = generation_;
-    }
-    auto read = std::make_shared<const std::vector<store::Record>>(transmitters_of_floor(store_, floor_id));
-    std::lock_guard lock(mu_);
-    if (generation == generation_) floors_[floor_id] = read;
-    return read;
+std::shared_ptr<const std::vector<store::Record>> read_transmitters(store::Store& store, std::int64_t floor_id) {
+    return std::make_shared<const std::vector<store::Record>>(transmitters_of_floor(store, floor_id));
 }
+
+}  // namespace
+
+TransmitterCache::TransmitterCache(store::Store& store) : cache_(store, read_transmitters, transmitter_drops) {}
 
 }  // namespace locus::transmitters

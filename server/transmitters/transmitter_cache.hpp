@@ -4,11 +4,10 @@
 // localize by ranging does no transmitter query (the fingerprint matchers keep their
 // snapshots the same way).
 #include <cstdint>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <vector>
 
+#include "store/floor_cache.hpp"
 #include "store/store.hpp"
 
 namespace locus::transmitters {
@@ -16,22 +15,12 @@ namespace locus::transmitters {
 class TransmitterCache {
 public:
     explicit TransmitterCache(store::Store& store);
-    ~TransmitterCache();
-    TransmitterCache(const TransmitterCache&) = delete;
-    TransmitterCache& operator=(const TransmitterCache&) = delete;
 
     // The floor's transmitters by id, as the store has them (NotFound for an unknown floor).
-    std::shared_ptr<const std::vector<store::Record>> of_floor(std::int64_t floor_id);
+    std::shared_ptr<const std::vector<store::Record>> of_floor(std::int64_t floor_id) { return cache_.of_floor(floor_id); }
 
 private:
-    void on_change(const store::Change& change);
-
-    store::Store& store_;
-    std::mutex mu_;
-    std::map<std::int64_t, std::shared_ptr<const std::vector<store::Record>>> floors_;
-    // Bumped by every invalidation: a read that raced with a write is not kept.
-    std::uint64_t generation_ = 0;
-    std::size_t token_ = 0;
+    store::FloorCache<std::vector<store::Record>> cache_;
 };
 
 }  // namespace locus::transmitters
